@@ -1,0 +1,82 @@
+// Reference tracer throughput on one core: primary (closest-hit) and shadow (any-hit) rays per
+// second over the camera rays of a scene. Usage:
+//   bench_tracer [SCENE.yaml] [--width W --height H] [--repeat N] [--scene-root DIR]
+#include "kernels/reference_tracer.h"
+#include "testbench/pipeline.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <vector>
+
+using namespace rtsim;
+
+namespace {
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  std::string scene_file = std::string(RTSIM_SOURCE_DIR) + "/configs/scenes/kitchen.yaml";
+  PrepareOptions prep;
+  prep.width = 480;
+  prep.height = 270;
+  int repeat = 5;
+  for (int i = 1; i < argc; ++i) {
+    auto next = [&] { return i + 1 < argc ? argv[++i] : (fmt::print(stderr, "missing value\n"), std::exit(2), ""); };
+    if (!std::strcmp(argv[i], "--width")) prep.width = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--height")) prep.height = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--scene-root")) prep.scene_root = next();
+    else scene_file = argv[i];
+  }
+  const PreparedScene p = prepare_scene(scene_file, prep);
+  const ReferenceTracer tracer(*p.image);
+  const PinholeCamera cam(p.scene.camera, p.scene.width, p.scene.height);
+  std::vector<Ray> primary;
+  for (int y = 0; y < p.scene.height; ++y)
+    for (int x = 0; x < p.scene.width; ++x) primary.push_back(cam.ray(x, y));
+
+  // Shadow rays exactly as the tracer's shading builds them.
+  const float offset = 1e-5f * p.image->header().bounds.diagonal();
+  std::vector<Ray> shadow;
+  for (const Ray& r : primary) {
+    const Hit h = tracer.closest_hit(r);
+    if (h.tri == kNoHit) continue;
+    const Triangle& t = p.scene.triangles[h.tri];
+    Vec3 n = glm::normalize(t.normal());
+    if (glm::dot(n, r.d) > 0.f) n = -n;
+    const Vec3 hp = r.o + h.t * r.d;
+    for (const PointLight& l : p.scene.lights) {
+      Ray s;
+      s.o = hp + offset * (glm::dot(n, l.position - hp) >= 0.f ? n : -n);
+      s.d = l.position - s.o;
+      s.tmax = 1.f;
+      shadow.push_back(s);
+    }
+  }
+  std::vector<double> prim_rate, shadow_rate;
+  uint64_t sink = 0;
+  for (int k = 0; k < repeat; ++k) {
+    auto t0 = std::chrono::steady_clock::now();
+    for (const Ray& r : primary) sink += tracer.closest_hit(r).tri;
+    auto t1 = std::chrono::steady_clock::now();
+    for (const Ray& r : shadow) sink += tracer.occluded(r);
+    auto t2 = std::chrono::steady_clock::now();
+    prim_rate.push_back(primary.size() / std::chrono::duration<double>(t1 - t0).count());
+    shadow_rate.push_back(shadow.size() / std::chrono::duration<double>(t2 - t1).count());
+    fmt::print("run {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s\n", k, prim_rate.back() / 1e6,
+               shadow_rate.back() / 1e6);
+  }
+  fmt::print("{}: {} triangles, {}x{}, {} primary rays, {} shadow rays, one core\n", p.scene.name,
+             p.scene.triangles.size(), p.scene.width, p.scene.height, primary.size(), shadow.size());
+  fmt::print("median of {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s (checksum {})\n", repeat,
+             median(prim_rate) / 1e6, median(shadow_rate) / 1e6, sink);
+  return 0;
+}

@@ -1,0 +1,122 @@
+#include "kernels/memory_image.h"
+
+#include "common/error.h"
+
+#include <fmt/format.h>
+
+#include <limits>
+
+namespace rtsim {
+
+static_assert(sizeof(float) == 4 && std::numeric_limits<float>::is_iec559, "IEEE-754 floats");
+
+namespace image {
+namespace {
+
+void store_u32(uint8_t* p, uint32_t v) { std::memcpy(p, &v, 4); }
+void store_f32(uint8_t* p, float v) { std::memcpy(p, &v, 4); }
+void store_vec3(uint8_t* p, const Vec3& v) {
+  store_f32(p, v.x);
+  store_f32(p + 4, v.y);
+  store_f32(p + 8, v.z);
+}
+uint32_t align_up(uint64_t x) {
+  return static_cast<uint32_t>((x + kSectionAlign - 1) / kSectionAlign * kSectionAlign);
+}
+
+}  // namespace
+
+Header decode_header(const uint8_t* p) {
+  Header h;
+  h.magic = load_u32(p);
+  h.version = load_u32(p + 4);
+  Section* sections[] = {&h.nodes, &h.leaves, &h.prims, &h.triangles, &h.materials, &h.lights};
+  for (int i = 0; i < 6; ++i) {
+    sections[i]->base = load_u32(p + 8 + 8 * i);
+    sections[i]->count = load_u32(p + 12 + 8 * i);
+  }
+  h.image_bytes = load_u32(p + 56);
+  h.light_count = load_u32(p + 60);
+  h.bounds.lo = load_vec3(p + 64);
+  h.bounds.hi = load_vec3(p + 76);
+  return h;
+}
+
+}  // namespace image
+
+using namespace image;
+
+MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
+  Header& h = header_;
+  uint64_t cursor = kHeaderBytes;
+  auto place = [&](Section& s, size_t count, uint32_t record_bytes) {
+    s.base = align_up(cursor);
+    s.count = static_cast<uint32_t>(count);
+    cursor = uint64_t(s.base) + uint64_t(count) * record_bytes;
+  };
+  place(h.nodes, tree.nodes.size(), kNodeBytes);
+  place(h.leaves, tree.leaves.size(), kLeafBytes);
+  place(h.prims, tree.prims.size(), kPrimBytes);
+  place(h.triangles, scene.triangles.size(), kTriangleBytes);
+  place(h.materials, scene.materials.size(), kMaterialBytes);
+  place(h.lights, scene.lights.size(), kLightBytes);
+  // Addresses are 32-bit in every record; refuse what cannot be addressed.
+  if (cursor > std::numeric_limits<uint32_t>::max())
+    throw InputError(fmt::format("scene too large for the 32-bit memory image ({} bytes)", cursor));
+  h.image_bytes = align_up(cursor);
+  h.light_count = static_cast<uint32_t>(scene.lights.size());
+  h.bounds = tree.bounds;
+  bytes_.assign(h.image_bytes, 0);
+
+  uint8_t* b = bytes_.data();
+  store_u32(b, h.magic);
+  store_u32(b + 4, h.version);
+  const Section* sections[] = {&h.nodes, &h.leaves, &h.prims, &h.triangles, &h.materials, &h.lights};
+  for (int i = 0; i < 6; ++i) {
+    store_u32(b + 8 + 8 * i, sections[i]->base);
+    store_u32(b + 12 + 8 * i, sections[i]->count);
+  }
+  store_u32(b + 56, h.image_bytes);
+  store_u32(b + 60, h.light_count);
+  store_vec3(b + 64, h.bounds.lo);
+  store_vec3(b + 76, h.bounds.hi);
+
+  const uint32_t all_lights = h.light_count >= 32 ? ~0u : (1u << h.light_count) - 1u;
+  for (size_t i = 0; i < tree.nodes.size(); ++i) {
+    uint8_t* p = b + node_addr(static_cast<uint32_t>(i));
+    store_u32(p, tree.nodes[i].word0);
+    store_u32(p + 4, tree.nodes[i].word1);
+  }
+  for (size_t i = 0; i < tree.leaves.size(); ++i) {
+    uint8_t* p = b + leaf_addr(static_cast<uint32_t>(i));
+    store_u32(p, tree.leaves[i].first);
+    store_u32(p + 4, tree.leaves[i].count);
+    store_u32(p + 8, all_lights);
+  }
+  for (size_t i = 0; i < tree.prims.size(); ++i) store_u32(b + prim_addr(static_cast<uint32_t>(i)), tree.prims[i]);
+  for (size_t i = 0; i < scene.triangles.size(); ++i) {
+    const Triangle& t = scene.triangles[i];
+    uint8_t* p = b + triangle_addr(static_cast<uint32_t>(i));
+    store_vec3(p, t.v0);
+    store_vec3(p + 12, t.v1);
+    store_vec3(p + 24, t.v2);
+    store_u32(p + 36, t.material);
+  }
+  for (size_t i = 0; i < scene.materials.size(); ++i) {
+    const Material& m = scene.materials[i];
+    uint8_t* p = b + material_addr(static_cast<uint32_t>(i));
+    store_vec3(p, m.diffuse);
+    store_f32(p + 12, m.reflectance);
+    store_vec3(p + 16, m.specular);
+    store_f32(p + 28, m.shininess);
+  }
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    uint8_t* p = b + light_addr(static_cast<uint32_t>(i));
+    store_vec3(p, scene.lights[i].position);
+    store_vec3(p + 16, scene.lights[i].color);
+  }
+}
+
+void MemoryImage::set_leaf_lvb(uint32_t leaf, uint32_t lvb) { store_u32(&bytes_[leaf_addr(leaf) + 8], lvb); }
+
+}  // namespace rtsim

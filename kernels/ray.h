@@ -1,0 +1,65 @@
+// Rays and the ray-triangle test shared by the reference tracer and the IST model, so that both
+// compute bit-identical hits from the same bytes.
+#pragma once
+
+#include "common/geometry.h"
+
+#include <cmath>
+#include <cstdint>
+
+namespace rtsim {
+
+inline constexpr uint32_t kNoHit = 0xffffffffu;
+
+struct Ray {
+  Vec3 o, d;
+  float tmin = 0.f;
+  float tmax = INFINITY;
+};
+
+// Per-ray constants of the watertight test (Woop, Benthin, Wald, JCGT 2013): the axis of
+// largest |d| becomes z, and a shear maps d onto +z.
+struct RayShear {
+  int kx, ky, kz;
+  float sx, sy, sz;
+
+  explicit RayShear(const Vec3& d) {
+    Vec3 a = glm::abs(d);
+    kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+    kx = kz == 2 ? 0 : kz + 1;
+    ky = kx == 2 ? 0 : kx + 1;
+    if (d[kz] < 0.f) std::swap(kx, ky);  // keep the winding so edge signs stay meaningful
+    sx = -d[kx] / d[kz];
+    sy = -d[ky] / d[kz];
+    sz = 1.f / d[kz];
+  }
+};
+
+// Watertight, two-sided ray-triangle test. On a hit in (tmin, tmax) writes t and returns true.
+inline bool intersect_triangle(const Ray& ray, const RayShear& s, const Vec3& p0, const Vec3& p1,
+                               const Vec3& p2, float& t_out) {
+  Vec3 a = p0 - ray.o, b = p1 - ray.o, c = p2 - ray.o;
+  float ax = a[s.kx] + s.sx * a[s.kz], ay = a[s.ky] + s.sy * a[s.kz];
+  float bx = b[s.kx] + s.sx * b[s.kz], by = b[s.ky] + s.sy * b[s.kz];
+  float cx = c[s.kx] + s.sx * c[s.kz], cy = c[s.ky] + s.sy * c[s.kz];
+  float u = cx * by - cy * bx;
+  float v = ax * cy - ay * cx;
+  float w = bx * ay - by * ax;
+  // An edge through the ray's origin: decide it in double so shared edges never leak rays.
+  if (u == 0.f || v == 0.f || w == 0.f) {
+    u = static_cast<float>(double(cx) * by - double(cy) * bx);
+    v = static_cast<float>(double(ax) * cy - double(ay) * cx);
+    w = static_cast<float>(double(bx) * ay - double(by) * ax);
+  }
+  if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
+  float det = u + v + w;
+  if (det == 0.f) return false;
+  float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
+  float t_scaled = u * az + v * bz + w * cz;
+  float t = t_scaled / det;
+  if (!(t > ray.tmin && t < ray.tmax)) return false;
+  t_out = t;
+  return true;
+}
+
+}  // namespace rtsim

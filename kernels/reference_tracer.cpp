@@ -1,0 +1,293 @@
+#include "kernels/reference_tracer.h"
+
+#include "common/error.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace rtsim {
+
+namespace {
+
+constexpr int kStackDepth = 64;
+// Relative slack on t when deciding which leaf holds a hit and when traversal may stop: a hit
+// on a cell face must be found by a leaf on either side despite rounding.
+constexpr float kRelEps = 1e-5f;
+
+struct StackEntry {
+  uint32_t node;
+  float tmin, tmax;
+};
+
+// Slab test against the root cell; NaN (0 * inf) comparisons fall through and keep the range.
+bool clip_to_box(const Ray& ray, const Vec3& inv, const AABB& box, float& t0, float& t1) {
+  t0 = ray.tmin;
+  t1 = ray.tmax;
+  for (int a = 0; a < 3; ++a) {
+    float tn = (box.lo[a] - ray.o[a]) * inv[a];
+    float tf = (box.hi[a] - ray.o[a]) * inv[a];
+    if (tn > tf) std::swap(tn, tf);
+    tf *= 1.f + 4e-7f;  // pbrt's 1 + 2 gamma(3): never lose a ray grazing the box
+    t0 = tn > t0 ? tn : t0;
+    t1 = tf < t1 ? tf : t1;
+    if (t0 > t1) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+ReferenceTracer::ReferenceTracer(const MemoryImage& image)
+    : image_(image), mem_(image.bytes().data()), h_(image.header()) {
+  abs_eps_ = 1e-6f * std::max(h_.bounds.diagonal(), 1e-20f);
+  if (h_.nodes.count == 0) throw InputError("memory image has no kd-tree nodes");
+}
+
+template <bool kAnyHit>
+bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const {
+  Vec3 inv(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z);
+  float tmin, tmax;
+  if (!clip_to_box(ray, inv, h_.bounds, tmin, tmax)) return false;
+  const RayShear shear(ray.d);
+  StackEntry stack[kStackDepth];
+  int sp = 0;
+  uint32_t node_index = 0;
+  float best = ray.tmax;
+  bool found = false;
+  for (;;) {
+    const KdNode node = image::decode_node(mem_ + h_.nodes.base + node_index * image::kNodeBytes);
+    if (!node.is_leaf()) {
+      ++c.nodes;
+      const int axis = node.axis();
+      const float split = node.split();
+      const float t_plane = (split - ray.o[axis]) * inv[axis];
+      const bool below_first = ray.o[axis] < split || (ray.o[axis] == split && ray.d[axis] <= 0.f);
+      const uint32_t first = below_first ? node_index + 1 : node.above_child();
+      const uint32_t second = below_first ? node.above_child() : node_index + 1;
+      if (!(t_plane > 0.f) || t_plane > tmax) {
+        node_index = first;
+      } else if (t_plane < tmin) {
+        node_index = second;
+      } else {
+        if (sp == kStackDepth) throw std::logic_error("kd-tree deeper than the traversal stack");
+        stack[sp++] = {second, t_plane, tmax};
+        node_index = first;
+        tmax = t_plane;
+      }
+      continue;
+    }
+    ++c.leaves;
+    const uint32_t count = node.prim_count();
+    if (count > 0) {
+      const image::LeafRecord leaf =
+          image::decode_leaf(mem_ + h_.leaves.base + node.leaf_index() * image::kLeafBytes);
+      // Only hits inside this cell (with slack) belong to this leaf; later cells find the rest.
+      Ray r = ray;
+      if (!kAnyHit) {
+        r.tmin = std::max(ray.tmin, tmin * (1.f - kRelEps) - abs_eps_);
+        r.tmax = std::min(best, tmax * (1.f + kRelEps) + abs_eps_);
+        // Equal t may still win on a lower triangle index: admit it, then break the tie below.
+        r.tmax = std::nextafter(r.tmax, INFINITY);
+      }
+      for (uint32_t k = 0; k < count; ++k) {
+        const uint32_t tri = image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
+        const image::TriangleRecord t = image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
+        ++c.tri_tests;
+        float t_hit;
+        if (!intersect_triangle(r, shear, t.v0, t.v1, t.v2, t_hit)) continue;
+        if (kAnyHit) {
+          hit.tri = tri;
+          hit.t = t_hit;
+          hit.leaf = node.leaf_index();
+          return true;
+        }
+        if (t_hit < best || (t_hit == best && tri < hit.tri)) {
+          best = t_hit;
+          hit.tri = tri;
+          hit.t = t_hit;
+          hit.leaf = node.leaf_index();
+          found = true;
+          r.tmax = std::nextafter(std::min(best, r.tmax), INFINITY);
+        }
+      }
+    }
+    // Pop the next cell front to back; stop once it starts beyond the best hit.
+    for (;;) {
+      if (sp == 0) return found;
+      const StackEntry& e = stack[--sp];
+      if (found && e.tmin * (1.f - kRelEps) - abs_eps_ > best) return found;
+      node_index = e.node;
+      tmin = e.tmin;
+      tmax = e.tmax;
+      break;
+    }
+  }
+}
+
+Hit ReferenceTracer::closest_hit(const Ray& ray, TraversalCounters* counters) const {
+  TraversalCounters local;
+  Hit hit;
+  traverse<false>(ray, hit, counters ? *counters : local);
+  return hit;
+}
+
+bool ReferenceTracer::occluded(const Ray& ray, TraversalCounters* counters) const {
+  TraversalCounters local;
+  Hit hit;
+  return traverse<true>(ray, hit, counters ? *counters : local);
+}
+
+namespace {
+
+const Vec3 kBackground(0.08f, 0.09f, 0.12f);
+constexpr float kAmbient = 0.1f;
+
+struct Worker {
+  const ReferenceTracer& tracer;
+  const MemoryImage& image;
+  const TracerOptions& opt;
+  float offset;
+  TraceStats stats;
+
+  // Shades a hit: shadow rays to every light (unless culled), then an optional mirror bounce.
+  Vec3 shade(const Ray& ray, const Hit& hit, int depth, PixelRecord* rec) {
+    const image::TriangleRecord tri = image.triangle(hit.tri);
+    const image::MaterialRecord mat = image.material(tri.material);
+    Vec3 n = glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    if (glm::dot(n, ray.d) > 0.f) n = -n;  // two-sided: face the incoming ray
+    const Vec3 p = ray.o + hit.t * ray.d;
+    const uint32_t lvb = image.leaf(hit.leaf).lvb;
+    if (rec) rec->lvb = lvb;
+    Vec3 color = kAmbient * mat.diffuse;
+    for (uint32_t i = 0; i < image.header().light_count; ++i) {
+      const image::LightRecord light = image.light(i);
+      const Vec3 to_light = light.position - p;
+      const Vec3 side = glm::dot(n, to_light) >= 0.f ? n : -n;
+      Ray shadow;
+      shadow.o = p + offset * side;
+      shadow.d = light.position - shadow.o;
+      shadow.tmin = 0.f;
+      shadow.tmax = 1.f;
+      LightCounters& lc = stats.per_light[i];
+      ++lc.shadow_rays;
+      bool blocked = false;
+      if (opt.cull_with_lvb && !((lvb >> i) & 1u)) {
+        ++lc.culled;
+        if (rec) rec->culled |= uint16_t(1u << i);
+        if (opt.verify_culls && tracer.occluded(shadow)) ++lc.wrong_culls;
+      } else {
+        ++lc.traced;
+        ++stats.shadow_rays_traced;
+        blocked = tracer.occluded(shadow, &stats.any);
+      }
+      if (blocked) {
+        ++lc.occluded;
+        if (rec) rec->occluded |= uint16_t(1u << i);
+        continue;
+      }
+      const float cos_theta = glm::dot(n, glm::normalize(to_light));
+      if (cos_theta > 0.f) color += cos_theta * mat.diffuse * light.color;
+    }
+    if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
+      Ray refl;
+      refl.o = p + offset * n;
+      refl.d = ray.d - 2.f * glm::dot(ray.d, n) * n;
+      ++stats.reflection_rays;
+      const Hit rh = tracer.closest_hit(refl, &stats.closest);
+      Vec3 rc = kBackground;
+      if (rh.tri != kNoHit) {
+        ++stats.reflection_hits;
+        rc = shade(refl, rh, depth + 1, nullptr);
+      }
+      color = (1.f - mat.reflectance) * color + mat.reflectance * rc;
+    }
+    return color;
+  }
+
+  void run_rows(const PinholeCamera& cam, int y0, int y1, TraceResult& out) {
+    for (int y = y0; y < y1; ++y) {
+      for (int x = 0; x < cam.width(); ++x) {
+        const size_t idx = size_t(y) * cam.width() + x;
+        PixelRecord& rec = out.pixels[idx];
+        const Ray ray = cam.ray(x, y);
+        ++stats.primary_rays;
+        rec.hit = tracer.closest_hit(ray, &stats.closest);
+        Vec3 c = kBackground;
+        if (rec.hit.tri != kNoHit) {
+          ++stats.primary_hits;
+          c = shade(ray, rec.hit, 0, &rec);
+        }
+        for (int k = 0; k < 3; ++k) {
+          // Display gamma 2.2 on a clamped linear value.
+          const float v = std::pow(std::clamp(c[k], 0.f, 1.f), 1.f / 2.2f);
+          out.rgb[3 * idx + k] = static_cast<uint8_t>(std::lround(v * 255.f));
+        }
+      }
+    }
+  }
+};
+
+}  // namespace
+
+TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptions& opt) const {
+  if (opt.width <= 0 || opt.height <= 0)
+    throw InputError(fmt::format("resolution {}x{} is not positive", opt.width, opt.height));
+  const auto start = std::chrono::steady_clock::now();
+  const PinholeCamera cam(camera, opt.width, opt.height);
+  TraceResult out;
+  out.width = opt.width;
+  out.height = opt.height;
+  out.pixels.assign(size_t(opt.width) * opt.height, PixelRecord{});
+  out.rgb.assign(size_t(opt.width) * opt.height * 3, 0);
+
+  int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  threads = std::min(threads, opt.height);
+  const float offset = opt.shadow_offset * h_.bounds.diagonal();
+  std::vector<Worker> workers;
+  workers.reserve(threads);
+  for (int i = 0; i < threads; ++i) {
+    workers.push_back(Worker{*this, image_, opt, offset, {}});
+    workers.back().stats.per_light.assign(h_.light_count, {});
+  }
+  // Interleaved bands of rows balance the load; each pixel is independent, so the result
+  // does not depend on the thread count.
+  constexpr int kBand = 8;
+  auto body = [&](int w) {
+    for (int y0 = w * kBand; y0 < opt.height; y0 += threads * kBand)
+      workers[w].run_rows(cam, y0, std::min(y0 + kBand, opt.height), out);
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(body, w);
+  body(0);
+  for (auto& t : pool) t.join();
+
+  TraceStats& s = out.stats;
+  s.per_light.assign(h_.light_count, {});
+  for (const Worker& w : workers) {
+    s.primary_rays += w.stats.primary_rays;
+    s.primary_hits += w.stats.primary_hits;
+    s.reflection_rays += w.stats.reflection_rays;
+    s.reflection_hits += w.stats.reflection_hits;
+    s.shadow_rays_traced += w.stats.shadow_rays_traced;
+    s.closest.add(w.stats.closest);
+    s.any.add(w.stats.any);
+    for (uint32_t i = 0; i < h_.light_count; ++i) {
+      LightCounters& d = s.per_light[i];
+      const LightCounters& l = w.stats.per_light[i];
+      d.shadow_rays += l.shadow_rays;
+      d.traced += l.traced;
+      d.occluded += l.occluded;
+      d.culled += l.culled;
+      d.wrong_culls += l.wrong_culls;
+    }
+  }
+  s.threads = threads;
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace rtsim

@@ -1,0 +1,93 @@
+// The golden model: a functional ray tracer that reads the memory image, as the hardware does.
+// Whatever the SystemC model computes per ray must equal what this computes, bit for bit.
+#pragma once
+
+#include "kernels/camera.h"
+#include "kernels/memory_image.h"
+#include "kernels/ray.h"
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace rtsim {
+
+struct TracerOptions {
+  int width = 0, height = 0;
+  int reflection_depth = 0;       // mirror bounces for materials with reflectance > 0
+  int threads = 0;                // 0 = every core
+  bool cull_with_lvb = false;     // skip shadow rays whose leaf's LVB bit is 0
+  bool verify_culls = false;      // trace culled shadow rays anyway and count the wrong ones
+  float shadow_offset = 1e-5f;    // shadow/reflection origin offset, relative to the scene diagonal
+};
+
+struct Hit {
+  uint32_t tri = kNoHit;
+  float t = 0.f;
+  uint32_t leaf = kNoHit;  // the leaf whose cell holds the hit point (its LVB word applies)
+};
+
+// What one primary ray (one pixel) produced.
+struct PixelRecord {
+  Hit hit;
+  uint32_t lvb = 0;        // LVB word of hit.leaf
+  uint16_t occluded = 0;   // bit i: shadow ray to light i is blocked (or was culled: never)
+  uint16_t culled = 0;     // bit i: shadow ray to light i was culled by the LVB
+};
+
+struct TraversalCounters {
+  uint64_t nodes = 0;      // inner nodes visited
+  uint64_t leaves = 0;     // leaves visited (including empty ones)
+  uint64_t tri_tests = 0;  // ray-triangle tests
+  void add(const TraversalCounters& o) {
+    nodes += o.nodes;
+    leaves += o.leaves;
+    tri_tests += o.tri_tests;
+  }
+};
+
+struct LightCounters {
+  uint64_t shadow_rays = 0;  // shadow decisions made (traced + culled)
+  uint64_t traced = 0;
+  uint64_t occluded = 0;
+  uint64_t culled = 0;
+  uint64_t wrong_culls = 0;  // culled but in fact occluded (verify_culls only)
+};
+
+struct TraceStats {
+  uint64_t primary_rays = 0, primary_hits = 0;
+  uint64_t reflection_rays = 0, reflection_hits = 0;
+  uint64_t shadow_rays_traced = 0;
+  std::vector<LightCounters> per_light;
+  TraversalCounters closest, any;  // closest-hit (primary, reflection) and any-hit (shadow) work
+  double seconds = 0;
+  int threads = 1;
+};
+
+struct TraceResult {
+  int width = 0, height = 0;
+  std::vector<PixelRecord> pixels;  // row-major, row 0 at the top
+  std::vector<uint8_t> rgb;         // 8-bit sRGB-ish colour, 3 bytes per pixel
+  TraceStats stats;
+};
+
+class ReferenceTracer {
+ public:
+  explicit ReferenceTracer(const MemoryImage& image);
+
+  Hit closest_hit(const Ray& ray, TraversalCounters* counters = nullptr) const;
+  bool occluded(const Ray& ray, TraversalCounters* counters = nullptr) const;
+
+  TraceResult trace_frame(const Camera& camera, const TracerOptions& options) const;
+
+ private:
+  template <bool kAnyHit>
+  bool traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const;
+
+  const MemoryImage& image_;
+  const uint8_t* mem_;
+  image::Header h_;
+  float abs_eps_;  // absolute slack on t, from the scene size
+};
+
+}  // namespace rtsim

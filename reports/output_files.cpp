@@ -1,0 +1,63 @@
+#include "reports/output_files.h"
+
+#include "common/error.h"
+
+#include <stb_image_write.h>
+
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace rtsim {
+
+void write_file_atomic(const std::string& path, const std::string& contents) {
+  const std::filesystem::path target(path);
+  if (target.has_parent_path()) std::filesystem::create_directories(target.parent_path());
+  const std::string tmp = fmt::format("{}.tmp.{}", path, getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(contents.data(), std::streamsize(contents.size()));
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw InputError(fmt::format("{}: cannot write", path));
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw InputError(fmt::format("{}: cannot rename the temporary file into place", path));
+  }
+}
+
+void write_json(const std::string& path, const nlohmann::json& j) { write_file_atomic(path, j.dump(2) + "\n"); }
+
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height, int width) {
+  std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}, {}), }}", height, width);
+  // The magic, version and length take 10 bytes; pad so the data starts 64-byte aligned.
+  const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
+  header.append(total - 10 - header.size() - 1, ' ');
+  header.push_back('\n');
+  std::string out("\x93NUMPY\x01\x00", 8);
+  const uint16_t hlen = static_cast<uint16_t>(header.size());
+  out.push_back(char(hlen & 0xff));
+  out.push_back(char(hlen >> 8));
+  out += header;
+  for (uint16_t v : data) {
+    out.push_back(char(v & 0xff));
+    out.push_back(char(v >> 8));
+  }
+  write_file_atomic(path, out);
+}
+
+void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height) {
+  std::string png;
+  auto sink = [](void* ctx, void* data, int size) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size); };
+  if (!stbi_write_png_to_func(sink, &png, width, height, 3, rgb.data(), width * 3))
+    throw InputError(fmt::format("{}: PNG encoding failed", path));
+  write_file_atomic(path, png);
+}
+
+}  // namespace rtsim

@@ -1,0 +1,59 @@
+// The one scene type every loader produces: world-space triangles, materials, lights, camera.
+#pragma once
+
+#include "common/geometry.h"
+
+#include <string>
+#include <vector>
+
+namespace rtsim {
+
+// NFF/BART material, kept as read so shading can use what the file says.
+struct Material {
+  Vec3 diffuse{0.8f};   // diffuse colour (colour * Kd for NFF 'f')
+  Vec3 specular{0.f};   // specular colour (colour * Ks for NFF 'f')
+  float shininess = 0.f;
+  float reflectance = 0.f;    // mirror weight used by reflection rays (0 = no reflection ray)
+  float transmittance = 0.f;  // kept for reference; geometry is opaque in rtsim
+  float ior = 1.f;
+};
+
+struct PointLight {
+  Vec3 position{0.f};
+  Vec3 color{1.f};
+};
+
+// Pinhole camera. `up` is kept as given by the file (not orthogonalised against `dir`).
+struct Camera {
+  Vec3 eye{0.f, 0.f, 0.f};
+  Vec3 dir{0.f, 0.f, -1.f};  // unit view direction
+  Vec3 up{0.f, 1.f, 0.f};
+  float vfov_deg = 45.f;     // vertical field of view
+  float hither = 0.f;
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Triangle> triangles;
+  std::vector<Material> materials;  // Triangle::material indexes this
+  std::vector<PointLight> lights;
+  Camera camera;
+  bool has_camera = false;
+  int width = 0, height = 0;  // 0 = not given by the file
+  double time = 0.0;          // animation time the scene was evaluated at
+
+  AABB bounds() const {
+    AABB b;
+    for (const Triangle& t : triangles) b.extend(t.bounds());
+    return b;
+  }
+  uint32_t add_material(const Material& m) {
+    materials.push_back(m);
+    return static_cast<uint32_t>(materials.size() - 1);
+  }
+};
+
+// The mask format (uint16, bit 0 = hit, bit 1+i = light i) bounds the light count.
+inline constexpr int kMaxLights = 15;
+
+}  // namespace rtsim

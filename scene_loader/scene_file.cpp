@@ -1,0 +1,191 @@
+#include "scene_loader/scene_file.h"
+
+#include "common/yaml_reader.h"
+#include "scene_loader/aff_loader.h"
+#include "scene_loader/gltf_loader.h"
+#include "scene_loader/obj_loader.h"
+#include "scene_loader/ply_loader.h"
+#include "scene_loader/procedural.h"
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace rtsim {
+
+namespace {
+
+Material read_material(YamlMap m) {
+  Material mat;
+  mat.diffuse = m.get_vec3("diffuse", mat.diffuse);
+  mat.specular = m.get_vec3("specular", mat.specular);
+  mat.shininess = m.get_in_range("shininess", mat.shininess, 0.f, 1e6f);
+  mat.reflectance = m.get_in_range("reflectance", mat.reflectance, 0.f, 1.f);
+  m.finish();
+  return mat;
+}
+
+std::string lower_extension(const fs::path& p) {
+  std::string e = p.extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
+}
+
+void load_geometry_file(YamlMap& g, const fs::path& root, double time, Scene& scene) {
+  const fs::path rel = g.require<std::string>("file");
+  const fs::path path = rel.is_absolute() ? rel : root / rel;
+  if (!fs::exists(path))
+    g.fail("file", fmt::format("geometry file '{}' not found (scene root '{}'; set --scene-root or RTSIM_SCENE_ROOT)",
+                               path.string(), root.string()));
+  const std::string ext = lower_extension(path);
+  const bool has_material = g.has("material");
+  if (ext == ".aff" || ext == ".nff") {
+    if (has_material) g.fail("material", "AFF/NFF files carry their own materials");
+    load_aff(path.string(), time, scene);
+  } else if (ext == ".ply") {
+    const Material mat = has_material ? read_material(g.map("material")) : Material{};
+    load_ply(path.string(), scene.add_material(mat), scene);
+  } else if (ext == ".obj") {
+    if (has_material) g.fail("material", "OBJ files carry their own materials (.mtl)");
+    load_obj(path.string(), scene);
+  } else if (ext == ".gltf" || ext == ".glb") {
+    if (has_material) g.fail("material", "glTF files carry their own materials");
+    load_gltf(path.string(), scene);
+  } else {
+    g.fail("file", fmt::format("unknown geometry format '{}' (expected .aff, .nff, .ply, .obj, .gltf or .glb)", ext));
+  }
+}
+
+void load_triangles(YamlMap& g, Scene& scene) {
+  YamlMap t = g.map("triangles");
+  const YAML::Node verts = t.raw("vertices");
+  const YAML::Node idx = t.raw("indices");
+  std::vector<Vec3> v;
+  for (size_t i = 0; i < verts.size(); ++i) {
+    const YAML::Node n = verts[i];
+    if (!n.IsSequence() || n.size() != 3) t.fail("vertices", fmt::format("entry {}: expected [x, y, z]", i), n);
+    try {
+      v.emplace_back(n[0].as<float>(), n[1].as<float>(), n[2].as<float>());
+    } catch (const YAML::Exception&) {
+      t.fail("vertices", fmt::format("entry {}: expected 3 numbers", i), n);
+    }
+  }
+  const uint32_t mat = scene.add_material(t.has("material") ? read_material(t.map("material")) : Material{});
+  for (size_t i = 0; i < idx.size(); ++i) {
+    const YAML::Node n = idx[i];
+    if (!n.IsSequence() || n.size() != 3) t.fail("indices", fmt::format("entry {}: expected [a, b, c]", i), n);
+    size_t k[3];
+    for (int j = 0; j < 3; ++j) {
+      long x = -1;
+      try {
+        x = n[j].as<long>();
+      } catch (const YAML::Exception&) {
+      }
+      if (x < 0 || size_t(x) >= v.size())
+        t.fail("indices", fmt::format("entry {}: expected vertex indices in [0, {}]", i, v.size() - 1), n);
+      k[j] = size_t(x);
+    }
+    scene.triangles.push_back(Triangle{v[k[0]], v[k[1]], v[k[2]], mat});
+  }
+  t.finish();
+}
+
+void load_procedural(YamlMap& g, Scene& scene) {
+  YamlMap p = g.map("procedural");
+  const std::string kind = p.get<std::string>("kind", "city");
+  if (kind != "city") p.fail("kind", "expected 'city'");
+  CityParams c;
+  c.blocks = p.get<int>("blocks", c.blocks);
+  c.seed = p.get<uint32_t>("seed", c.seed);
+  c.sphere_segments = p.get<int>("sphere_segments", c.sphere_segments);
+  c.lights = p.get<int>("lights", c.lights);
+  p.finish();
+  make_city(c, scene);
+}
+
+Camera read_camera(YamlMap c) {
+  Camera cam;
+  cam.eye = c.require_vec3("eye");
+  if (c.has("dir") == c.has("at")) c.fail("dir", "give exactly one of 'dir' and 'at'");
+  const Vec3 dir = c.has("dir") ? c.require_vec3("dir") : c.require_vec3("at") - cam.eye;
+  if (glm::length(dir) == 0.f) c.fail(c.has("dir") ? "dir" : "at", "view direction has zero length");
+  cam.dir = glm::normalize(dir);
+  cam.up = c.get_vec3("up", Vec3(0, 1, 0));
+  if (glm::length(glm::cross(cam.dir, cam.up)) < 1e-6f) c.fail("up", "expected a vector not parallel to the view direction");
+  cam.vfov_deg = c.get_in_range("vfov_deg", 45.f, 1e-3f, 179.f);
+  c.finish();
+  return cam;
+}
+
+}  // namespace
+
+std::string default_scene_root() {
+  if (const char* env = std::getenv("RTSIM_SCENE_ROOT"); env && *env) return env;
+  for (const fs::path& p : {fs::path("../shared/scenes"), fs::path(RTSIM_DEFAULT_SOURCE_DIR) / "../shared/scenes"})
+    if (fs::is_directory(p)) return fs::weakly_canonical(p).string();
+  return ".";
+}
+
+Scene load_scene_file(const std::string& path, const SceneFileOptions& options) {
+  YamlMap top = YamlMap::load_file(path);
+  const fs::path root = options.scene_root.empty() ? default_scene_root() : options.scene_root;
+  Scene scene;
+  scene.name = top.get<std::string>("name", fs::path(path).stem().string());
+  scene.time = top.get<double>("time", 0.0);
+  for (YamlMap& g : top.list_of_maps("geometry")) {
+    const int kinds = g.has("file") + g.has("triangles") + g.has("procedural");
+    if (kinds != 1) g.fail("file", "expected exactly one of 'file', 'triangles', 'procedural'");
+    if (g.has("file")) load_geometry_file(g, root, scene.time, scene);
+    else if (g.has("triangles")) load_triangles(g, scene);
+    else load_procedural(g, scene);
+    g.finish();
+  }
+  if (top.has("camera")) {
+    scene.camera = read_camera(top.map("camera"));
+    scene.has_camera = true;
+  } else {
+    top.get<int>("camera", 0);  // an explicit 'camera: ~' means "from the file"
+  }
+  if (!scene.has_camera) top.fail("camera", "no camera: the geometry files define none, so give one here");
+
+  if (top.has("lights")) {
+    YamlMap l = top.map("lights");
+    if (!l.get<bool>("from_files", true)) scene.lights.clear();
+    if (l.has("add")) {
+      for (YamlMap& a : l.list_of_maps("add")) {
+        PointLight light;
+        light.position = a.require_vec3("position");
+        light.color = a.get_vec3("color", light.color);
+        a.finish();
+        scene.lights.push_back(light);
+      }
+    }
+    l.finish();
+  }
+  if (scene.lights.empty()) top.fail("lights", "the scene has no light");
+  if (scene.lights.size() > size_t(kMaxLights))
+    top.fail("lights", fmt::format("{} lights; at most {} are supported (one mask bit each)", scene.lights.size(), kMaxLights));
+
+  if (top.has("resolution")) {
+    const YAML::Node r = top.raw("resolution");
+    int w = 0, h = 0;
+    try {
+      if (r.IsSequence() && r.size() == 2) w = r[0].as<int>(), h = r[1].as<int>();
+    } catch (const YAML::Exception&) {
+    }
+    if (w <= 0 || h <= 0 || w > 16384 || h > 16384) top.fail("resolution", "expected [width, height], each in [1, 16384]");
+    scene.width = w;
+    scene.height = h;
+  }
+  if (scene.width <= 0 || scene.height <= 0) {
+    scene.width = 640;
+    scene.height = 360;
+  }
+  if (scene.triangles.empty()) top.fail("geometry", "the scene has no triangles");
+  top.finish();
+  return scene;
+}
+
+}  // namespace rtsim

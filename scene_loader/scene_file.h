@@ -1,0 +1,22 @@
+// The scene description file (YAML): which geometry to load, at what time, seen by which camera,
+// lit by which lights. Format: docs/scene-files.md.
+#pragma once
+
+#include "scene_loader/scene.h"
+
+#include <string>
+
+namespace rtsim {
+
+struct SceneFileOptions {
+  std::string scene_root;  // relative geometry paths resolve here; empty = default_scene_root()
+};
+
+// $RTSIM_SCENE_ROOT, else ../shared/scenes (from the working directory, then from the source
+// tree) when it exists, else the working directory.
+std::string default_scene_root();
+
+// Loads the scene a YAML file describes; every error names the file, line and key.
+Scene load_scene_file(const std::string& path, const SceneFileOptions& options = {});
+
+}  // namespace rtsim

@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Installs the dependencies, builds rtsim and runs the default job: the procedural city.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j "$(nproc)"
+./build/rtsim info configs/scenes/city.yaml
+./build/rtsim render configs/scenes/city.yaml --out out/city

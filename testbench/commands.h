@@ -1,0 +1,26 @@
+// The rtsim subcommands. Each returns the process exit code; bad input throws InputError.
+#pragma once
+
+#include "testbench/pipeline.h"
+
+#include <string>
+
+namespace rtsim {
+
+struct RenderArgs {
+  std::string scene;
+  std::string out;
+  PrepareOptions prepare;
+  int threads = 0;
+  int reflection_depth = 0;
+};
+int run_render(const RenderArgs& args);
+
+struct InfoArgs {
+  std::string scene;
+  PrepareOptions prepare;
+  bool json = false;
+};
+int run_info(const InfoArgs& args);
+
+}  // namespace rtsim

@@ -1,0 +1,36 @@
+// rtsim info: what a scene file loads to, and the kd-tree built over it.
+#include "testbench/commands.h"
+
+#include <fmt/format.h>
+
+namespace rtsim {
+
+int run_info(const InfoArgs& args) {
+  const PreparedScene p = prepare_scene(args.scene, args.prepare);
+  if (args.json) {
+    const nlohmann::json j = {{"scene", scene_json(p)},
+                              {"kdtree", kdtree_json(p.tree.stats)},
+                              {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
+    fmt::print("{}\n", j.dump(2));
+    return 0;
+  }
+  const Scene& s = p.scene;
+  const Camera& c = s.camera;
+  const KdTreeStats& k = p.tree.stats;
+  fmt::print("scene        {} ({})\n", s.name, p.file);
+  fmt::print("triangles    {}\nmaterials    {}\nresolution   {}x{}\ntime         {}\n", s.triangles.size(),
+             s.materials.size(), s.width, s.height, s.time);
+  fmt::print("camera       eye ({:.7g}, {:.7g}, {:.7g})  dir ({:.7g}, {:.7g}, {:.7g})  up ({:.7g}, {:.7g}, {:.7g})  vfov {:.6g} deg\n",
+             c.eye.x, c.eye.y, c.eye.z, c.dir.x, c.dir.y, c.dir.z, c.up.x, c.up.y, c.up.z, c.vfov_deg);
+  for (size_t i = 0; i < s.lights.size(); ++i)
+    fmt::print("light {:<6} ({:.7g}, {:.7g}, {:.7g})\n", i, s.lights[i].position.x, s.lights[i].position.y,
+               s.lights[i].position.z);
+  fmt::print("kd-tree      {} nodes, {} leaves ({} empty), {} references, {:.2f} mean / {} max per non-empty leaf\n",
+             k.nodes, k.leaves, k.empty_leaves, k.prim_refs, k.mean_prims_per_leaf, k.max_prims_per_leaf);
+  fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n", k.max_depth, k.depth_limit,
+             k.sah_cost, k.build_seconds);
+  fmt::print("image        {} bytes\nload         {:.3f} s\n", p.image->header().image_bytes, p.load_seconds);
+  return 0;
+}
+
+}  // namespace rtsim

@@ -1,0 +1,66 @@
+#include "testbench/pipeline.h"
+
+#include "common/error.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+
+namespace rtsim {
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
+}  // namespace
+
+PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions& options) {
+  PreparedScene p;
+  p.file = scene_file;
+  auto t0 = std::chrono::steady_clock::now();
+  p.scene = load_scene_file(scene_file, SceneFileOptions{options.scene_root});
+  if (options.width > 0) p.scene.width = options.width;
+  if (options.height > 0) p.scene.height = options.height;
+  p.load_seconds = seconds_since(t0);
+  t0 = std::chrono::steady_clock::now();
+  p.tree = build_kdtree(p.scene.triangles, options.kdtree);
+  p.image = std::make_unique<MemoryImage>(p.scene, p.tree);
+  p.build_seconds = seconds_since(t0);
+  return p;
+}
+
+nlohmann::json scene_json(const PreparedScene& p) {
+  const Scene& s = p.scene;
+  nlohmann::json lights = nlohmann::json::array();
+  for (const PointLight& l : s.lights) lights.push_back({{"position", vec(l.position)}, {"color", vec(l.color)}});
+  const AABB b = s.bounds();
+  return {{"name", s.name},
+          {"file", p.file},
+          {"time", s.time},
+          {"triangles", s.triangles.size()},
+          {"materials", s.materials.size()},
+          {"lights", lights},
+          {"camera",
+           {{"eye", vec(s.camera.eye)}, {"dir", vec(s.camera.dir)}, {"up", vec(s.camera.up)}, {"vfov_deg", s.camera.vfov_deg}}},
+          {"resolution", {s.width, s.height}},
+          {"bounds", {{"lo", vec(b.lo)}, {"hi", vec(b.hi)}}},
+          {"image_bytes", p.image ? p.image->header().image_bytes : 0}};
+}
+
+nlohmann::json kdtree_json(const KdTreeStats& s) {
+  return {{"nodes", s.nodes},
+          {"inner_nodes", s.inner_nodes},
+          {"leaves", s.leaves},
+          {"empty_leaves", s.empty_leaves},
+          {"nonempty_leaves", s.leaves - s.empty_leaves},
+          {"prim_refs", s.prim_refs},
+          {"mean_prims_per_leaf", s.mean_prims_per_leaf},
+          {"max_prims_per_leaf", s.max_prims_per_leaf},
+          {"max_depth", s.max_depth},
+          {"depth_limit", s.depth_limit},
+          {"sah_cost", s.sah_cost},
+          {"build_seconds", s.build_seconds}};
+}
+
+}  // namespace rtsim

@@ -1,0 +1,35 @@
+// The host-side preparation every command shares: scene file -> Scene -> kd-tree -> memory image.
+#pragma once
+
+#include "kernels/kdtree.h"
+#include "kernels/memory_image.h"
+#include "scene_loader/scene_file.h"
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+
+namespace rtsim {
+
+struct PrepareOptions {
+  std::string scene_root;  // empty = default
+  int width = 0, height = 0;  // 0 = from the scene file
+  KdTreeParams kdtree;
+};
+
+struct PreparedScene {
+  std::string file;
+  Scene scene;
+  KdTree tree;
+  std::unique_ptr<MemoryImage> image;
+  double load_seconds = 0, build_seconds = 0;
+};
+
+PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions& options);
+
+// The scene and kd-tree statistics, as written into every report.
+nlohmann::json scene_json(const PreparedScene& p);
+nlohmann::json kdtree_json(const KdTreeStats& s);
+
+}  // namespace rtsim

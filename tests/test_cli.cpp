@@ -1,0 +1,150 @@
+// The rtsim command end to end: outputs of `render`, and exit code 2 with one clear message for
+// every kind of bad input.
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace rtsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RunResult {
+  int code = -1;
+  std::string out, err;
+};
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+RunResult run(const std::string& args) {
+  const fs::path dir = test::temp_dir("cli_run");
+  const std::string cmd = std::string(RTSIM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
+                          (dir / "err").string();
+  const int status = std::system(cmd.c_str());
+  RunResult r;
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  r.out = slurp(dir / "out");
+  r.err = slurp(dir / "err");
+  fs::remove_all(dir);
+  return r;
+}
+
+void write(const fs::path& p, const std::string& s) {
+  std::ofstream(p, std::ios::binary) << s;
+}
+
+// Bad input: exit code 2 and one line on stderr that contains every expected fragment.
+void expect_input_error(const std::string& args, const std::vector<std::string>& fragments) {
+  const RunResult r = run(args);
+  EXPECT_EQ(r.code, 2) << args << "\nstderr: " << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+  for (const std::string& f : fragments) EXPECT_NE(r.err.find(f), std::string::npos) << "'" << f << "' not in: " << r.err;
+}
+
+TEST(Cli, RenderWritesImageMaskAndStatistics) {
+  const fs::path out = test::temp_dir("cli_render");
+  const RunResult r = run("render " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --out " +
+                          out.string() + " --width 80 --height 45");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string png = slurp(out / "render.png");
+  ASSERT_GT(png.size(), 8u);
+  EXPECT_EQ(png.substr(1, 3), "PNG");
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "render.json"));
+  EXPECT_EQ(j["rays"]["primary"], 80 * 45);
+  const std::string npy = slurp(out / "mask.npy");
+  ASSERT_GT(npy.size(), 10u);
+  EXPECT_EQ(npy.substr(0, 6), "\x93NUMPY");
+  const size_t header_len = uint8_t(npy[8]) | (uint8_t(npy[9]) << 8);
+  const std::string header = npy.substr(10, header_len);
+  EXPECT_NE(header.find("'descr': '<u2'"), std::string::npos);
+  EXPECT_NE(header.find("'shape': (45, 80)"), std::string::npos);
+  EXPECT_EQ((10 + header_len) % 64, 0u);
+  ASSERT_EQ(npy.size(), 10 + header_len + 2 * 80 * 45);
+  // The mask agrees with the counts in render.json.
+  const size_t lights = j["per_light"].size();
+  uint64_t hits = 0;
+  std::vector<uint64_t> occluded(lights, 0);
+  for (size_t i = 0; i < size_t(80 * 45); ++i) {
+    const uint16_t v = uint8_t(npy[10 + header_len + 2 * i]) | (uint8_t(npy[11 + header_len + 2 * i]) << 8);
+    hits += v & 1u;
+    for (size_t l = 0; l < lights; ++l) occluded[l] += (v >> (1 + l)) & 1u;
+  }
+  EXPECT_EQ(hits, j["rays"]["primary_hits"].get<uint64_t>());
+  EXPECT_GT(hits, 0u);
+  for (size_t l = 0; l < lights; ++l) EXPECT_EQ(occluded[l], j["per_light"][l]["occluded"].get<uint64_t>());
+  fs::remove_all(out);
+}
+
+TEST(Cli, InfoPrintsSceneAndTreeAsJson) {
+  const RunResult r = run("info " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --json");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_GT(j["scene"]["triangles"].get<int>(), 0);
+  EXPECT_EQ(j["kdtree"]["leaves"].get<uint64_t>(), j["kdtree"]["inner_nodes"].get<uint64_t>() + 1);
+}
+
+TEST(Cli, MissingSceneFileIsAnInputError) {
+  expect_input_error("info /nonexistent/scene.yaml", {"/nonexistent/scene.yaml", "not found"});
+}
+
+TEST(Cli, UnknownYamlKeyIsNamed) {
+  const fs::path dir = test::temp_dir("cli_yaml");
+  write(dir / "s.yaml",
+        "name: t\ngeometry:\n  - procedural: {kind: city, blocks: 2}\nresolution: [8, 8]\ncolour: red\n");
+  expect_input_error("info " + (dir / "s.yaml").string(), {"s.yaml:5", "colour", "unknown key"});
+  write(dir / "n.yaml", "geometry:\n  - procedural: {kind: city, blocks: 2, seeds: 3}\n");
+  expect_input_error("info " + (dir / "n.yaml").string(), {"n.yaml:2", "geometry[0].procedural.seeds"});
+  write(dir / "r.yaml", "geometry:\n  - procedural: {kind: city}\nresolution: [8, -8]\n");
+  expect_input_error("info " + (dir / "r.yaml").string(), {"r.yaml:3", "resolution", "expected"});
+  fs::remove_all(dir);
+}
+
+TEST(Cli, MissingGeometryFileIsNamed) {
+  const fs::path dir = test::temp_dir("cli_geom");
+  write(dir / "s.yaml", "geometry:\n  - file: nowhere/model.ply\n");
+  expect_input_error("info " + (dir / "s.yaml").string() + " --scene-root " + dir.string(),
+                     {"s.yaml:2", "nowhere/model.ply", "not found"});
+  fs::remove_all(dir);
+}
+
+TEST(Cli, MalformedGeometryFilesAreInputErrors) {
+  const fs::path dir = test::temp_dir("cli_bad");
+  const std::string cam = "camera: {eye: [0, 0, 5], at: [0, 0, 0], vfov_deg: 40}\nlights: {add: [{position: [0, 5, 5]}]}\n";
+  // PLY whose face count is larger than the data.
+  write(dir / "bad.ply",
+        "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+        "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  write(dir / "ply.yaml", "geometry:\n  - file: bad.ply\n" + cam);
+  expect_input_error("info " + (dir / "ply.yaml").string() + " --scene-root " + dir.string(), {"bad.ply"});
+  // OBJ face index out of range.
+  write(dir / "bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n");
+  write(dir / "obj.yaml", "geometry:\n  - file: bad.obj\n" + cam);
+  expect_input_error("info " + (dir / "obj.yaml").string() + " --scene-root " + dir.string(), {"bad.obj", "4"});
+  // AFF with an unknown keyword, and one cut short inside a polygon.
+  write(dir / "unknown.aff", "l 0 5 0\nzz 1 2 3\n");
+  write(dir / "aff.yaml", "geometry:\n  - file: unknown.aff\n" + cam);
+  expect_input_error("info " + (dir / "aff.yaml").string() + " --scene-root " + dir.string(), {"unknown.aff:2", "zz"});
+  write(dir / "short.aff", "l 0 5 0\np 3\n0 0 0\n1 0 0\n");
+  write(dir / "short.yaml", "geometry:\n  - file: short.aff\n" + cam);
+  expect_input_error("info " + (dir / "short.yaml").string() + " --scene-root " + dir.string(), {"short.aff"});
+  fs::remove_all(dir);
+}
+
+TEST(Cli, BadCommandLineExitsWithTwo) {
+  EXPECT_EQ(run("render").code, 2);
+  EXPECT_EQ(run("nosuchcommand").code, 2);
+  EXPECT_EQ(run("render x.yaml --out d --width -3").code, 2);
+}
+
+}  // namespace
+}  // namespace rtsim

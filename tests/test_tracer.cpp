@@ -1,0 +1,170 @@
+// The reference tracer against brute force, on the memory image it reads.
+#include "kernels/kdtree.h"
+#include "kernels/memory_image.h"
+#include "kernels/reference_tracer.h"
+#include "scene_loader/scene_file.h"
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace rtsim {
+namespace {
+
+struct BruteHit {
+  uint32_t tri = kNoHit;
+  float t = 0;
+};
+
+BruteHit brute_closest(const std::vector<Triangle>& tris, const Ray& ray) {
+  const RayShear s(ray.d);
+  BruteHit best;
+  Ray r = ray;
+  for (uint32_t i = 0; i < tris.size(); ++i) {
+    float t;
+    if (intersect_triangle(r, s, tris[i].v0, tris[i].v1, tris[i].v2, t) &&
+        (best.tri == kNoHit || t < best.t || (t == best.t && i < best.tri))) {
+      best = {i, t};
+      r.tmax = std::nextafter(t, INFINITY);
+    }
+  }
+  return best;
+}
+
+bool brute_occluded(const std::vector<Triangle>& tris, const Ray& ray) {
+  const RayShear s(ray.d);
+  float t;
+  for (const Triangle& tri : tris)
+    if (intersect_triangle(ray, s, tri.v0, tri.v1, tri.v2, t)) return true;
+  return false;
+}
+
+Vec3 random_unit(std::mt19937& rng) {
+  std::normal_distribution<float> n(0.f, 1.f);
+  Vec3 v;
+  do v = Vec3(n(rng), n(rng), n(rng));
+  while (glm::length(v) < 1e-3f);
+  return glm::normalize(v);
+}
+
+// Half the rays are camera rays through random pixels, half start anywhere in the scene box.
+void check_against_brute_force(const Scene& scene, int rays, uint32_t seed) {
+  const KdTree tree = build_kdtree(scene.triangles);
+  const MemoryImage image(scene, tree);
+  const ReferenceTracer tracer(image);
+  const PinholeCamera cam(scene.camera, scene.width, scene.height);
+  const AABB box = scene.bounds();
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(0.f, 1.f);
+  int hits = 0, mismatches = 0;
+  for (int i = 0; i < rays; ++i) {
+    Ray ray;
+    if (i % 2 == 0) {
+      ray = cam.ray(int(u(rng) * scene.width) % scene.width, int(u(rng) * scene.height) % scene.height);
+    } else {
+      ray.o = box.lo + Vec3(u(rng), u(rng), u(rng)) * box.extent();
+      ray.d = random_unit(rng);
+    }
+    const Hit h = tracer.closest_hit(ray);
+    const BruteHit b = brute_closest(scene.triangles, ray);
+    if (h.tri != b.tri || (b.tri != kNoHit && h.t != b.t)) {
+      if (++mismatches <= 5)
+        ADD_FAILURE() << "ray " << i << ": kd-tree tri " << h.tri << " t " << h.t << ", brute force tri " << b.tri
+                      << " t " << b.t;
+      continue;
+    }
+    if (b.tri == kNoHit) continue;
+    ++hits;
+    // The leaf credited with the hit must hold the hit point (its LVB word is the one that applies).
+    ASSERT_NE(h.leaf, kNoHit);
+    const AABB cell = tree.leaves[h.leaf].cell;
+    const Vec3 p = ray.o + h.t * ray.d;
+    const Vec3 slack = 1e-4f * box.extent() + 1e-6f;
+    EXPECT_TRUE(AABB{cell.lo - slack, cell.hi + slack}.contains(p)) << "ray " << i;
+    // A shadow segment from the hit towards a random light must agree with brute force too.
+    const Vec3 light = scene.lights[i % scene.lights.size()].position;
+    Ray shadow;
+    shadow.o = p - 1e-4f * ray.d * glm::length(box.extent());
+    shadow.d = light - shadow.o;
+    shadow.tmax = 1.f;
+    EXPECT_EQ(tracer.occluded(shadow), brute_occluded(scene.triangles, shadow)) << "shadow ray " << i;
+  }
+  EXPECT_EQ(mismatches, 0);
+  EXPECT_GT(hits, rays / 10) << "too few rays hit anything for the test to mean much";
+}
+
+Scene load_setup(const std::string& name) {
+  return load_scene_file((test::source_dir() / "configs/scenes" / (name + ".yaml")).string(),
+                         SceneFileOptions{test::shared_scenes().string()});
+}
+
+TEST(ReferenceTracer, MatchesBruteForceOnCity) { check_against_brute_force(load_setup("city"), 10000, 1); }
+
+TEST(ReferenceTracer, MatchesBruteForceOnBunny) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  check_against_brute_force(load_setup("bunny"), 10000, 2);
+}
+
+TEST(ReferenceTracer, MatchesBruteForceOnKitchen) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  check_against_brute_force(load_setup("kitchen"), 10000, 3);
+}
+
+TEST(ReferenceTracer, MatchesBruteForceOnRobots) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  check_against_brute_force(load_setup("robots"), 10000, 4);
+}
+
+TEST(ReferenceTracer, FrameIsIndependentOfThreadCount) {
+  Scene scene = load_setup("city");
+  const KdTree tree = build_kdtree(scene.triangles);
+  const MemoryImage image(scene, tree);
+  const ReferenceTracer tracer(image);
+  TracerOptions opt;
+  opt.width = 96;
+  opt.height = 54;
+  opt.reflection_depth = 2;
+  opt.threads = 1;
+  const TraceResult a = tracer.trace_frame(scene.camera, opt);
+  opt.threads = 3;
+  const TraceResult b = tracer.trace_frame(scene.camera, opt);
+  EXPECT_EQ(a.rgb, b.rgb);
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    EXPECT_EQ(a.pixels[i].hit.tri, b.pixels[i].hit.tri);
+    EXPECT_EQ(a.pixels[i].occluded, b.pixels[i].occluded);
+  }
+  EXPECT_EQ(a.stats.primary_rays, uint64_t(96 * 54));
+  EXPECT_GT(a.stats.reflection_rays, 0u) << "the city has a mirror material";
+  uint64_t shadow = 0;
+  for (const LightCounters& l : a.stats.per_light) {
+    EXPECT_EQ(l.shadow_rays, a.stats.primary_hits + a.stats.reflection_hits);
+    EXPECT_EQ(l.culled, 0u) << "LVB culling is off by default";
+    shadow += l.traced;
+  }
+  EXPECT_EQ(shadow, a.stats.shadow_rays_traced);
+}
+
+TEST(ReferenceTracer, LvbCullingSkipsOnlyRaysWithBitZero) {
+  Scene scene = load_setup("city");
+  const KdTree tree = build_kdtree(scene.triangles);
+  MemoryImage image(scene, tree);
+  // Clear light 0's bit in every leaf: every shadow ray to light 0 must be culled, none other.
+  for (uint32_t i = 0; i < tree.leaves.size(); ++i) image.set_leaf_lvb(i, image.leaf(i).lvb & ~1u);
+  const ReferenceTracer tracer(image);
+  TracerOptions opt;
+  opt.width = 64;
+  opt.height = 36;
+  opt.cull_with_lvb = true;
+  opt.verify_culls = true;
+  const TraceResult r = tracer.trace_frame(scene.camera, opt);
+  ASSERT_GE(r.stats.per_light.size(), 2u);
+  EXPECT_EQ(r.stats.per_light[0].culled, r.stats.per_light[0].shadow_rays);
+  EXPECT_EQ(r.stats.per_light[0].traced, 0u);
+  EXPECT_GT(r.stats.per_light[0].wrong_culls, 0u) << "some culled rays are occluded in the city";
+  EXPECT_EQ(r.stats.per_light[1].culled, 0u);
+}
+
+}  // namespace
+}  // namespace rtsim
