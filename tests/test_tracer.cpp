@@ -81,7 +81,8 @@ void check_against_brute_force(const Scene& scene, int rays, uint32_t seed) {
     const AABB cell = tree.leaves[h.leaf].cell;
     const Vec3 p = ray.o + h.t * ray.d;
     const Vec3 slack = 1e-4f * box.extent() + 1e-6f;
-    EXPECT_TRUE(AABB{cell.lo - slack, cell.hi + slack}.contains(p)) << "ray " << i;
+    const AABB grown{cell.lo - slack, cell.hi + slack};
+    EXPECT_TRUE(grown.contains(p)) << "ray " << i;
     // A shadow segment from the hit towards a random light must agree with brute force too.
     const Vec3 light = scene.lights[i % scene.lights.size()].position;
     Ray shadow;
