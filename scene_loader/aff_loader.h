@@ -1,0 +1,17 @@
+// Loader for BART's AFF scenes (NFF plus includes, transforms, meshes and keyframe animation).
+#pragma once
+
+#include "scene_loader/scene.h"
+
+#include <string>
+
+namespace rtsim {
+
+// Loads `path` and the files it includes, with every animated transform (and the camera)
+// evaluated at animation time `time`. Appends triangles, materials and lights to `scene` and
+// sets its camera, resolution and time. Spheres and cones are tessellated; textures are
+// ignored (texture files are never opened). Throws InputError ("FILE:LINE: ...") for
+// malformed input, unknown keywords and missing include files.
+void load_aff(const std::string& path, double time, Scene& scene);
+
+}  // namespace rtsim

@@ -1,0 +1,39 @@
+// A procedural test scene: a small city that is the same, bit for bit, on every machine.
+#pragma once
+
+#include "scene_loader/scene.h"
+
+#include <cstdint>
+
+namespace rtsim {
+
+struct CityParams {
+  int blocks = 8;            // the city is blocks x blocks buildings (1..64)
+  uint32_t seed = 1;         // same seed -> identical scene
+  int sphere_segments = 16;  // segments around each sphere (4..256); it has segments/2 stacks
+  int lights = 4;            // point lights above the city (1..15)
+};
+
+// Appends the city to `scene` (triangles, materials, lights) and sets its name ("city"),
+// camera and resolution (640x360).
+//
+// Layout (y up, metres): blocks of 10 x 10 with streets 3 wide, the city spans
+// W = 10 * blocks + 3 on x and z from the origin.
+// - ground: one quad (2 triangles) covering the city;
+// - one box building per block, random footprint inset and height 3..25, walls and roof only
+//   (10 triangles);
+// - a mirror sphere (reflectance 0.5) on the roof of every building whose (column + row) is even,
+//   and one sphere per row standing in the street before it;
+// - each sphere has S = sphere_segments segments and S/2 stacks: 2 * S * (S/2 - 1) triangles.
+// So the triangle count is 2 + 10 b^2 + (ceil(b^2 / 2) + b) * 2 S (S/2 - 1) for b = blocks.
+// Lights sit on a ring above the city, each of colour 1/sqrt(lights) (NFF's convention). The
+// camera looks at the city centre from above the corner at the origin, 45 degrees vertical fov.
+//
+// Determinism: a private splitmix64 generator and integer-to-float conversion, and sin/cos from
+// Taylor series (libm's may differ in the last bit between machines); needs IEEE arithmetic
+// without FMA contraction, which the build sets (-ffp-contract=off).
+//
+// Throws InputError when a parameter is outside its range.
+void make_city(const CityParams& params, Scene& scene);
+
+}  // namespace rtsim

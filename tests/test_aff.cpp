@@ -1,0 +1,526 @@
+// BART AFF loader and Kochanek-Bartels splines.
+
+#include "common/error.h"
+#include "scene_loader/aff_loader.h"
+#include "scene_loader/kb_spline.h"
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rtsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kPi = 3.14159265358979323846;
+
+// ---- helpers ---------------------------------------------------------------------------------
+
+void write_file(const fs::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::binary);
+  f << text;
+}
+
+// Loads `text` written to DIR/name (DIR fresh per call).
+Scene load_text(const std::string& text, double time = 0.0, const std::string& name = "scene.aff") {
+  fs::path dir = test::temp_dir("aff");
+  write_file(dir / name, text);
+  Scene s;
+  load_aff((dir / name).string(), time, s);
+  return s;
+}
+
+// Expects InputError whose message has "<file>:<line>:" and `also`.
+void expect_input_error(const std::string& path, const std::string& file_name, long line,
+                        const std::string& also) {
+  try {
+    Scene s;
+    load_aff(path, 0.0, s);
+    FAIL() << "no InputError for " << file_name;
+  } catch (const InputError& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find(file_name + ":" + std::to_string(line) + ":"), std::string::npos) << msg;
+    EXPECT_NE(msg.find(also), std::string::npos) << msg;
+  }
+}
+
+void expect_text_error(const std::string& text, long line, const std::string& also) {
+  fs::path dir = test::temp_dir("aff_err");
+  write_file(dir / "bad.aff", text);
+  expect_input_error((dir / "bad.aff").string(), "bad.aff", line, also);
+}
+
+void expect_vec(const Vec3& got, double x, double y, double z, double tol) {
+  EXPECT_NEAR(got.x, x, tol);
+  EXPECT_NEAR(got.y, y, tol);
+  EXPECT_NEAR(got.z, z, tol);
+}
+
+// Catmull-Rom through p1..p2 with neighbours p0, p3, evenly spaced (written out independently
+// of the KB code: the textbook matrix form).
+double catmull_rom(double p0, double p1, double p2, double p3, double s) {
+  return 0.5 * (2 * p1 + (-p0 + p2) * s + (2 * p0 - 5 * p1 + 4 * p2 - p3) * s * s +
+                (-p0 + 3 * p1 - 3 * p2 + p3) * s * s * s);
+}
+
+std::vector<KbKey<double>> scalar_keys(const std::vector<double>& times,
+                                       const std::vector<double>& values, Tcb tcb = {}) {
+  std::vector<KbKey<double>> keys;
+  for (std::size_t i = 0; i < times.size(); ++i) keys.push_back({times[i], values[i], tcb});
+  return keys;
+}
+
+// Rotation angle in degrees between two unit quaternions (sign-independent).
+double angle_between_deg(const glm::dquat& a, const glm::dquat& b) {
+  double d = std::min(1.0, std::abs(glm::dot(a, b)));
+  return 2.0 * std::acos(d) * 180.0 / kPi;
+}
+
+// ---- KB splines ------------------------------------------------------------------------------
+
+TEST(KbSpline, HitsInnerKeysAndIsCatmullRomWithZeroTcb) {
+  std::vector<double> p = {0.0, 1.0, 4.0, 2.0, 5.0, -1.0};
+  KbSpline<double> s(scalar_keys({0, 1, 2, 3, 4, 5}, p));
+  for (int k = 1; k <= 4; ++k) EXPECT_NEAR(s.evaluate(k), p[k], 1e-12) << "key " << k;
+  EXPECT_NEAR(s.evaluate(1.5), catmull_rom(p[0], p[1], p[2], p[3], 0.5), 1e-12);
+  EXPECT_NEAR(s.evaluate(2.25), catmull_rom(p[1], p[2], p[3], p[4], 0.25), 1e-12);
+  EXPECT_NEAR(s.evaluate(3.8), catmull_rom(p[2], p[3], p[4], p[5], 0.8), 1e-12);
+  // The midpoint of the first segment is not the chord midpoint: the curve really bends.
+  EXPECT_GT(std::abs(s.evaluate(1.5) - 2.5), 0.1);
+}
+
+TEST(KbSpline, ClampsOutsideSecondAndNextToLastKeys) {
+  std::vector<double> p = {10.0, 1.0, 4.0, 2.0, -7.0};
+  KbSpline<double> s(scalar_keys({-1, 0, 1, 2, 3}, p));
+  EXPECT_DOUBLE_EQ(s.evaluate(-0.5), 1.0);  // between first and second key: second key
+  EXPECT_DOUBLE_EQ(s.evaluate(-100.0), 1.0);
+  EXPECT_DOUBLE_EQ(s.evaluate(0.0), 1.0);
+  EXPECT_DOUBLE_EQ(s.evaluate(2.0), 2.0);
+  EXPECT_DOUBLE_EQ(s.evaluate(2.5), 2.0);   // between next-to-last and last: next-to-last
+  EXPECT_DOUBLE_EQ(s.evaluate(100.0), 2.0);
+}
+
+TEST(KbSpline, FullTensionGivesZeroTangents) {
+  // Zero tangents leave the Hermite blend p1 + (3s^2 - 2s^3)(p2 - p1).
+  Tcb tight{1.0, 0.0, 0.0};
+  KbSpline<double> s(scalar_keys({0, 1, 2, 3}, {5.0, 1.0, 3.0, -4.0}, tight));
+  EXPECT_NEAR(s.evaluate(1.5), 2.0, 1e-12);
+  double u = 0.3, h = 3 * u * u - 2 * u * u * u;
+  EXPECT_NEAR(s.evaluate(1.0 + u), 1.0 + h * 2.0, 1e-12);
+}
+
+TEST(KbSpline, UnevenKeySpacingScalesTangents) {
+  // Times 0, 1, 3, 4: the segment 1 -> 3 is twice as long as its neighbours. KB's adjustment
+  // scales the Catmull-Rom tangent at key 1 by 2*(t2-t1)/(t2-t0) and at key 2 by
+  // 2*(t2-t1)/(t3-t1), both measured in the segment's own parameter s in [0, 1].
+  double p0 = 0, p1 = 1, p2 = 5, p3 = 4;
+  KbSpline<double> s(scalar_keys({0, 1, 3, 4}, {p0, p1, p2, p3}));
+  double m1 = (2.0 * 2.0 / 3.0) * 0.5 * (p2 - p0);
+  double m2 = (2.0 * 2.0 / 3.0) * 0.5 * (p3 - p1);
+  double u = 0.25;
+  double h00 = 2 * u * u * u - 3 * u * u + 1, h10 = u * u * u - 2 * u * u + u;
+  double h01 = -2 * u * u * u + 3 * u * u, h11 = u * u * u - u * u;
+  EXPECT_NEAR(s.evaluate(1.5), h00 * p1 + h10 * m1 + h01 * p2 + h11 * m2, 1e-12);
+}
+
+TEST(KbSpline, VectorKeysInterpolatePerComponent) {
+  std::vector<KbKey<glm::dvec3>> keys;
+  std::vector<glm::dvec3> p = {{0, 0, 0}, {1, 2, 3}, {4, -2, 0}, {2, 2, 2}, {5, 0, 1}};
+  for (int i = 0; i < 5; ++i) keys.push_back({double(i), p[i], {}});
+  KbSpline<glm::dvec3> s(keys);
+  glm::dvec3 v = s.evaluate(2.4);
+  EXPECT_NEAR(v.x, catmull_rom(p[1].x, p[2].x, p[3].x, p[4].x, 0.4), 1e-12);
+  EXPECT_NEAR(v.y, catmull_rom(p[1].y, p[2].y, p[3].y, p[4].y, 0.4), 1e-12);
+  EXPECT_NEAR(v.z, catmull_rom(p[1].z, p[2].z, p[3].z, p[4].z, 0.4), 1e-12);
+}
+
+TEST(KbSpline, RejectsFewerThanFourKeys) {
+  EXPECT_THROW(KbSpline<double>(scalar_keys({0, 1, 2}, {0, 1, 2})), std::invalid_argument);
+  EXPECT_THROW(KbQuatSpline(std::vector<KbKey<glm::dquat>>(3)), std::invalid_argument);
+}
+
+std::vector<KbKey<glm::dquat>> rotation_keys(const std::vector<glm::dvec3>& axes,
+                                             const std::vector<double>& degrees) {
+  std::vector<KbKey<glm::dquat>> keys;
+  for (std::size_t i = 0; i < axes.size(); ++i)
+    keys.push_back({double(i), quat_from_axis_angle(axes[i], degrees[i]), {}});
+  return keys;
+}
+
+TEST(KbQuatSpline, HitsKeysAndStaysUnit) {
+  std::vector<glm::dvec3> axes = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, -2, 3}, {0, 1, 1}};
+  std::vector<double> deg = {10, 40, -70, 120, 200, 5};
+  auto keys = rotation_keys(axes, deg);
+  KbQuatSpline s(keys);
+  for (int k = 1; k <= 4; ++k)
+    EXPECT_LT(angle_between_deg(s.evaluate(k), keys[k].value), 1e-6) << "key " << k;
+  for (double t = -1.0; t <= 6.0; t += 0.05) EXPECT_NEAR(glm::length(s.evaluate(t)), 1.0, 1e-12);
+  // Clamping like the vector spline.
+  EXPECT_LT(angle_between_deg(s.evaluate(0.3), keys[1].value), 1e-9);
+  EXPECT_LT(angle_between_deg(s.evaluate(4.7), keys[4].value), 1e-9);
+}
+
+TEST(KbQuatSpline, EvenStepsAboutOneAxisInterpolateLinearly) {
+  // Equal steps about one axis make every tangent equal to the step, so squad reduces to
+  // slerp: 15 degrees halfway between the 10 and 20 degree keys. Key 2 is given as -q (the
+  // same rotation) to check that the spline still takes the short way round.
+  auto keys = rotation_keys({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}}, {0, 10, 20, 30, 40});
+  keys[2].value = -keys[2].value;
+  KbQuatSpline s(keys);
+  glm::dquat q = s.evaluate(1.5);
+  EXPECT_LT(angle_between_deg(q, quat_from_axis_angle({0, 0, 1}, 15)), 1e-9);
+  EXPECT_LT(angle_between_deg(s.evaluate(2.75), quat_from_axis_angle({0, 0, 1}, 27.5)), 1e-9);
+}
+
+TEST(KbQuatSpline, AxisAngleNormalisesAxis) {
+  glm::dquat a = quat_from_axis_angle({0, 0, 2}, 90);
+  glm::dvec3 x = a * glm::dvec3(1, 0, 0);
+  EXPECT_NEAR(x.x, 0.0, 1e-12);
+  EXPECT_NEAR(x.y, 1.0, 1e-12);
+  EXPECT_NEAR(glm::length(a), 1.0, 1e-12);
+}
+
+// ---- the shared BART scenes ------------------------------------------------------------------
+
+struct Timed {
+  Scene scene;
+  double seconds;
+};
+Timed load_timed(const fs::path& p, double time) {
+  Timed r;
+  auto t0 = std::chrono::steady_clock::now();
+  load_aff(p.string(), time, r.scene);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+void expect_materials_valid(const Scene& s) {
+  ASSERT_FALSE(s.materials.empty());
+  for (const Triangle& t : s.triangles) ASSERT_LT(t.material, s.materials.size());
+}
+
+TEST(AffScenes, KitchenAtTimeZero) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  Timed r = load_timed(test::shared_scenes() / "bart/kitchen/kitchen.aff", 0.0);
+  std::cout << "kitchen: " << r.scene.triangles.size() << " triangles in " << r.seconds * 1e3
+            << " ms\n";
+  const Scene& s = r.scene;
+  EXPECT_EQ(s.triangles.size(), 110561u);
+  EXPECT_EQ(s.time, 0.0);
+  ASSERT_TRUE(s.has_camera);
+  expect_vec(s.camera.eye, 3.75, 2.3, 3.6, 1e-4);
+  expect_vec(s.camera.dir, -0.3134643, -0.4198143, -0.8517605, 1e-4);
+  expect_vec(s.camera.up, -0.1270031, 0.9074437, -0.4005198, 1e-4);
+  EXPECT_NEAR(glm::length(s.camera.dir), 1.0, 1e-6);
+  EXPECT_NEAR(s.camera.vfov_deg, 40.0, 1e-4);
+  EXPECT_EQ(s.width, 800);
+  EXPECT_EQ(s.height, 600);
+
+  ASSERT_EQ(s.lights.size(), 6u);
+  const double pos[6][3] = {{2.15, 2, 0.9}, {2.35, 2, 0.9}, {2.15, 2, 1.1},
+                            {2.35, 2, 1.1}, {4.35, 1.4, 1.0}, {0.25, 1.4, 1.0}};
+  for (int i = 0; i < 6; ++i) {
+    expect_vec(s.lights[i].position, pos[i][0], pos[i][1], pos[i][2], 1e-6);
+    double c = i < 4 ? 0.3 : 0.4;
+    expect_vec(s.lights[i].color, c, c, c, 1e-6);
+  }
+  expect_materials_valid(s);
+}
+
+TEST(AffScenes, RobotsAtTimeZero) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  Timed r = load_timed(test::shared_scenes() / "bart/robots/Robot.aff", 0.0);
+  std::cout << "robots: " << r.scene.triangles.size() << " triangles in " << r.seconds * 1e3
+            << " ms\n";
+  const Scene& s = r.scene;
+  EXPECT_EQ(s.triangles.size(), 71708u);
+  ASSERT_TRUE(s.has_camera);
+  expect_vec(s.camera.eye, -3.5, 2.0, -203.0, 1e-4);
+  expect_vec(s.camera.dir, 0.0588120, 0.0987075, -0.9933771, 1e-4);
+  expect_vec(s.camera.up, -0.0058429, 0.9951165, 0.0985344, 1e-4);
+  EXPECT_NEAR(s.camera.vfov_deg, 36.8699, 1e-4);
+  ASSERT_EQ(s.lights.size(), 1u);
+  expect_vec(s.lights[0].position, 1, 500, 1, 1e-6);
+  expect_vec(s.lights[0].color, 1, 1, 1, 0);
+  expect_materials_valid(s);
+}
+
+TEST(AffScenes, KitchenCameraFollowsKeysOverTime) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  Scene s;
+  load_aff((test::shared_scenes() / "bart/kitchen/kitchen.aff").string(), 5.0, s);
+  EXPECT_EQ(s.time, 5.0);
+  EXPECT_EQ(s.triangles.size(), 110561u);  // no visibility keys in the kitchen
+  // Key at t = 5: eye (3.5, 0.2, 0.1), rotation -180 deg about -Y: looks down +Z.
+  expect_vec(s.camera.eye, 3.5, 0.2, 0.1, 1e-5);
+  expect_vec(s.camera.dir, 0, 0, 1, 1e-5);
+  expect_vec(s.camera.up, 0, 1, 0, 1e-5);
+
+  // The toy car moves between t = 0 and t = 8 (its transl keys go from x = 4.45 to ~3.2).
+  Scene s0, s8;
+  load_aff((test::shared_scenes() / "bart/kitchen/kitchen.aff").string(), 0.0, s0);
+  load_aff((test::shared_scenes() / "bart/kitchen/kitchen.aff").string(), 8.0, s8);
+  ASSERT_EQ(s0.triangles.size(), s8.triangles.size());
+  std::size_t moved = 0;
+  for (std::size_t i = 0; i < s0.triangles.size(); ++i)
+    if (s0.triangles[i].v0 != s8.triangles[i].v0) ++moved;
+  EXPECT_GT(moved, 1000u);
+  EXPECT_LT(moved, s0.triangles.size() / 2);
+}
+
+TEST(AffScenes, FiniteGeometryAcrossTheAnimations) {
+  // Times inside the kitchen wheels' coincident keys (7.16) and the robots' key list that
+  // jumps back in time (Robot1.aff), near the ends of the camera paths, and past them.
+  RTSIM_REQUIRE_SHARED_SCENES();
+  struct Case {
+    const char* file;
+    std::size_t triangles;
+    std::vector<double> times;
+  };
+  for (const Case& c : {Case{"bart/kitchen/kitchen.aff", 110561u, {7.16, 7.2, 19.9, 30.0}},
+                        Case{"bart/robots/Robot.aff", 71708u, {12.5, 43.0, 48.2, 60.0}}}) {
+    for (double t : c.times) {
+      Scene s;
+      load_aff((test::shared_scenes() / c.file).string(), t, s);
+      EXPECT_EQ(s.triangles.size(), c.triangles) << c.file << " t=" << t;
+      std::size_t bad = 0;
+      for (const Triangle& tri : s.triangles)
+        for (Vec3 v : {tri.v0, tri.v1, tri.v2})
+          if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) ++bad;
+      EXPECT_EQ(bad, 0u) << c.file << " t=" << t;
+      EXPECT_NEAR(glm::length(s.camera.dir), 1.0, 1e-5) << c.file << " t=" << t;
+      EXPECT_NEAR(glm::length(s.camera.up), 1.0, 1e-5) << c.file << " t=" << t;
+    }
+  }
+}
+
+// ---- small synthetic scenes ------------------------------------------------------------------
+
+const char* kOneTriangle = "m vertices 3  1 0 0  0 1 0  0 0 1  triangles 1  0 1 2\n";
+
+TEST(AffLoader, StaticTransformsComposeOuterTimesInner) {
+  // xs: scale 2, rotate 90 about Y, translate (1,0,0): (1,0,0) -> (2,0,0) -> (0,0,-2) -> (1,0,-2).
+  Scene s = load_text(std::string("xs 2 2 2  0 1 0 90  1 0 0 {\n") + kOneTriangle + "}\n");
+  ASSERT_EQ(s.triangles.size(), 1u);
+  expect_vec(s.triangles[0].v0, 1, 0, -2, 1e-6);
+  expect_vec(s.triangles[0].v1, 1, 2, 0, 1e-6);
+  // Outer translate, inner scale: (1,0,0) -> (3,0,0) -> (3,5,0).
+  Scene n = load_text(std::string("xs 1 1 1 1 0 0 0  0 5 0 {\n xs 3 3 3 1 0 0 0 0 0 0 {\n") +
+                      kOneTriangle + "}\n}\n");
+  expect_vec(n.triangles[0].v0, 3, 5, 0, 1e-6);
+}
+
+TEST(AffLoader, AnimatedTransformUsesLaterKeysAndVisibility) {
+  std::string text = std::string("x mover {\n") + kOneTriangle +
+                     "}\n"
+                     "k mover {\n"
+                     "  transl 4\n"
+                     "   -1  0 0 0  0 0 0\n"
+                     "    0  0 0 0  0 0 0\n"
+                     "    2  4 0 0  0 0 0\n"
+                     "    3  4 0 0  0 0 0\n"
+                     "  rot 4\n"
+                     "   -1  0 0 1 0  0 0 0\n"
+                     "    0  0 0 1 0  0 0 0\n"
+                     "    2  0 0 1 90  0 0 0\n"
+                     "    3  0 0 1 90  0 0 0\n"
+                     "  visibility 2\n"
+                     "    5 0\n"
+                     "    7 1\n"
+                     "}\n";
+  Scene s0 = load_text(text, 0.0);
+  expect_vec(s0.triangles.at(0).v0, 1, 0, 0, 1e-6);
+  // t = 2: rotate (1,0,0) by 90 deg about Z -> (0,1,0), then translate by (4,0,0).
+  Scene s2 = load_text(text, 2.0);
+  expect_vec(s2.triangles.at(0).v0, 4, 1, 0, 1e-6);
+  // Between the keys the translation is the KB curve (symmetric here: halfway at t = 1).
+  Scene s1 = load_text(text, 1.0);
+  EXPECT_NEAR(s1.triangles.at(0).v2.x, 2.0, 1e-6);
+  EXPECT_TRUE(load_text(text, 5.0).triangles.empty());  // invisible from t = 5
+  EXPECT_TRUE(load_text(text, 6.5).triangles.empty());
+  EXPECT_EQ(load_text(text, 7.0).triangles.size(), 1u);  // visible again from t = 7
+  EXPECT_EQ(load_text(text, 4.9).triangles.size(), 1u);
+}
+
+TEST(AffLoader, InvisibleParentHidesChildrenButNotSiblings) {
+  std::string text = std::string("x outer {\n x inner {\n") + kOneTriangle + " }\n" +
+                     kOneTriangle + "}\n" + kOneTriangle +
+                     "k outer { visibility 1  0 0 }\n";
+  EXPECT_EQ(load_text(text, 1.0).triangles.size(), 1u);
+  EXPECT_EQ(load_text(text, -1.0).triangles.size(), 3u);
+}
+
+TEST(AffLoader, CameraFromViewAndFromCameraKeys) {
+  std::string view =
+      "v\nfrom 1 2 3\nat 1 2 -7\nup 0 2 0\nangle 30\nhither 0.5\nresolution 640 480\n";
+  Scene s = load_text(view);
+  ASSERT_TRUE(s.has_camera);
+  expect_vec(s.camera.eye, 1, 2, 3, 0);
+  expect_vec(s.camera.dir, 0, 0, -1, 1e-7);
+  expect_vec(s.camera.up, 0, 2, 0, 0);  // kept as given
+  EXPECT_FLOAT_EQ(s.camera.vfov_deg, 30.f);
+  EXPECT_FLOAT_EQ(s.camera.hither, 0.5f);
+  EXPECT_EQ(s.width, 640);
+  EXPECT_EQ(s.height, 480);
+
+  // k camera overrides v: rotation 90 deg about Y turns -Z into -X.
+  Scene k = load_text(view +
+                      "k camera {\n transl 4\n -1 9 9 9 0 0 0\n 0 5 6 7 0 0 0\n 1 5 6 7 0 0 0\n"
+                      " 2 9 9 9 0 0 0\n rot 4\n -1 0 1 0 90 0 0 0\n 0 0 1 0 90 0 0 0\n"
+                      " 1 0 1 0 90 0 0 0\n 2 0 1 0 0 0 0 0\n}\n");
+  expect_vec(k.camera.eye, 5, 6, 7, 1e-6);
+  expect_vec(k.camera.dir, -1, 0, 0, 1e-6);
+  expect_vec(k.camera.up, 0, 1, 0, 1e-6);
+  EXPECT_FLOAT_EQ(k.camera.vfov_deg, 30.f);
+}
+
+TEST(AffLoader, MaterialsAreGlobalInParseOrder) {
+  std::string text = std::string(
+                         "f 1 0.5 0.25  0.8 0.2  30 0.1 1.5\n") +
+                     kOneTriangle +
+                     "xs 1 1 1 1 0 0 0 0 0 0 {\n"
+                     "  fm 0.1 0.1 0.1  0.9 0.8 0.7  0.3 0.6 0.9  12 0 1.3\n"
+                     "}\n" +
+                     kOneTriangle;
+  Scene s = load_text(text);
+  ASSERT_EQ(s.triangles.size(), 2u);
+  ASSERT_EQ(s.materials.size(), 2u);
+  const Material& f = s.materials[s.triangles[0].material];
+  expect_vec(f.diffuse, 0.8, 0.4, 0.2, 1e-6);
+  expect_vec(f.specular, 0.2, 0.1, 0.05, 1e-6);
+  EXPECT_FLOAT_EQ(f.shininess, 30.f);
+  EXPECT_FLOAT_EQ(f.reflectance, 0.2f);
+  EXPECT_FLOAT_EQ(f.transmittance, 0.1f);
+  EXPECT_FLOAT_EQ(f.ior, 1.5f);
+  // The fm inside the braces still applies after the closing brace.
+  const Material& fm = s.materials[s.triangles[1].material];
+  expect_vec(fm.diffuse, 0.9, 0.8, 0.7, 1e-6);
+  expect_vec(fm.specular, 0.3, 0.6, 0.9, 1e-6);
+  EXPECT_NEAR(fm.reflectance, 0.6, 1e-6);
+  EXPECT_FLOAT_EQ(fm.shininess, 12.f);
+}
+
+TEST(AffLoader, PrimitivesLightsCommentsAndMeshSections) {
+  std::string text =
+      "# comment line\n"
+      "% another comment\n"
+      "l 1 2 3\n"
+      "l 4 5 6  0.5 0.25 1\n"
+      "b 0 0 0\nam 1 1 1\na 0 10 100\n"
+      "p 5  0 0 0  1 0 0  2 1 0  1 2 0  0 1 0\n"
+      "pp 3  0 0 0 0 0 1  1 0 0 0 0 1  0 1 0 0 0 1\n"
+      "tt tex.ppm 0 0 0 0 0  1 0 0 1 0  0 1 0 0 1\n"
+      "m vertices 4  0 0 0  1 0 0  1 1 0  0 1 0\n"
+      "  normals 1  0 0 1\n"
+      "  texturecoords 4 missing_texture.ppm  0 0 1 0 1 1 0 1\n"
+      "  triangles 2  0 1 2  0 0 0  0 1 2   0 2 3  0 0 0  0 2 3\n";
+  Scene s = load_text(text);
+  EXPECT_EQ(s.triangles.size(), 3u + 1u + 1u + 2u);
+  ASSERT_EQ(s.lights.size(), 2u);
+  expect_vec(s.lights[0].color, 1, 1, 1, 0);
+  expect_vec(s.lights[1].position, 4, 5, 6, 0);
+  expect_vec(s.lights[1].color, 0.5, 0.25, 1, 0);
+  EXPECT_FALSE(s.has_camera);
+}
+
+TEST(AffLoader, SpheresAndConesAreTessellated) {
+  Scene s = load_text("s 1 2 3 2\n");
+  EXPECT_EQ(s.triangles.size(), 528u);
+  for (const Triangle& t : s.triangles) {
+    for (Vec3 v : {t.v0, t.v1, t.v2}) EXPECT_NEAR(glm::length(v - Vec3(1, 2, 3)), 2.0, 1e-5);
+    // Counter-clockwise seen from outside: the normal points away from the centre.
+    EXPECT_GT(glm::dot(t.normal(), (t.v0 + t.v1 + t.v2) / 3.f - Vec3(1, 2, 3)), 0.f);
+  }
+  Scene c = load_text("c\n0 0 0 1\n0 3 0 0.5\n");
+  EXPECT_EQ(c.triangles.size(), 48u);
+  Scene cone = load_text("c 0 0 0 1  0 0 2 0\n");  // pointed cone: one triangle per side
+  EXPECT_EQ(cone.triangles.size(), 24u);
+  for (const Triangle& t : c.triangles) {
+    Vec3 mid = (t.v0 + t.v1 + t.v2) / 3.f;
+    EXPECT_GT(glm::dot(t.normal(), Vec3(mid.x, 0, mid.z)), 0.f);
+  }
+}
+
+TEST(AffLoader, IncludesResolveRelativeToIncludingFile) {
+  fs::path dir = test::temp_dir("aff_inc");
+  fs::create_directories(dir / "sub");
+  write_file(dir / "top.aff", "xs 1 1 1 1 0 0 0  10 0 0 {\n i 0 sub/a.aff\n}\n");
+  write_file(dir / "sub" / "a.aff", std::string("i 0 b.aff\n") + kOneTriangle);
+  write_file(dir / "sub" / "b.aff", kOneTriangle);
+  Scene s;
+  load_aff((dir / "top.aff").string(), 0.0, s);
+  ASSERT_EQ(s.triangles.size(), 2u);
+  expect_vec(s.triangles[0].v0, 11, 0, 0, 1e-6);
+}
+
+TEST(AffLoader, AppendsToExistingScene) {
+  fs::path dir = test::temp_dir("aff_append");
+  write_file(dir / "a.aff", std::string("fm 0 0 0 1 0 0 0 0 0 1 0 1\n") + kOneTriangle);
+  Scene s;
+  s.add_material(Material{});
+  s.triangles.push_back(Triangle{});
+  load_aff((dir / "a.aff").string(), 0.0, s);
+  ASSERT_EQ(s.triangles.size(), 2u);
+  EXPECT_EQ(s.triangles[1].material, 1u);
+  EXPECT_FLOAT_EQ(s.materials[1].diffuse.x, 1.f);
+}
+
+// ---- malformed input -------------------------------------------------------------------------
+
+TEST(AffErrors, TruncatedMesh) {
+  expect_text_error("fm 0 0 0 1 1 1 0 0 0 1 0 1\n"
+                    "m\nvertices 3\n0 0 0\n1 0 0\n0 1 0\ntriangles 2\n0 1 2\n0 1\n",
+                    9, "end of file");
+  expect_text_error("m\nvertices 3\n0 0 0\n1 0\n", 4, "end of file");
+}
+
+TEST(AffErrors, TruncatedViewBlock) {
+  expect_text_error("v\nfrom 0 0 0\nat 0 0 -1\nup 0 1 0\nangle 45\n", 5, "'hither'");
+  expect_text_error("v\nfrom 0 0 0\nat 0 0\nup 0 1 0\n", 4, "'up'");
+}
+
+TEST(AffErrors, UnknownKeyword) {
+  expect_text_error("b 0 0 0\n\nsphere 1 2 3 4\n", 3, "unknown keyword");
+  expect_text_error("k cam {\n transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 2 0 0 0 0 0 0\n"
+                    " 3 0 0 0 0 0 0\n spin 4\n}\n",
+                    7, "'spin'");
+}
+
+TEST(AffErrors, MissingIncludeNamesIncludingFileAndLine) {
+  expect_text_error("b 0 0 0\n# comment\ni 0 no_such_file.aff\n", 3, "no_such_file.aff");
+}
+
+TEST(AffErrors, ErrorInsideIncludeNamesThatFile) {
+  fs::path dir = test::temp_dir("aff_inc_err");
+  write_file(dir / "top.aff", "i 0 child.aff\n");
+  write_file(dir / "child.aff", std::string(kOneTriangle) + "\n\nm vertices 1 0 0 0 triangles 1 0 0 7\n");
+  expect_input_error((dir / "top.aff").string(), "child.aff", 4, "vertex index");
+}
+
+TEST(AffErrors, OtherMalformedInputs) {
+  expect_text_error("m vertices 2 0 0 0 1 1 1\ntriangles 1 0 1 2\n", 2, "vertex index");
+  expect_text_error("xs 1 1 1 0 1 0 90 0 0 0 {\n\n", 1, "'}'");
+  expect_text_error("\n}\n", 2, "'}'");
+  expect_text_error("k a {\n rot 3\n 0 1 0 0 0 0 0 0\n}\n", 2, "at least 4");
+  expect_text_error("l 1 2 x\n", 1, "a number");
+  expect_text_error("xs 1 1 1 0 1 0 90 0 0 0\nm\n", 2, "'{'");
+  Scene s;
+  EXPECT_THROW(load_aff("/nonexistent/dir/none.aff", 0.0, s), InputError);
+}
+
+TEST(AffErrors, MissingTextureFileDoesNotThrow) {
+  EXPECT_NO_THROW(load_text("m vertices 3 0 0 0 1 0 0 0 1 0\n"
+                            "texturecoords 3 /no/such/texture.ppm 0 0 1 0 0 1\n"
+                            "triangles 1 0 1 2 0 1 2\n"));
+}
+
+}  // namespace
+}  // namespace rtsim
