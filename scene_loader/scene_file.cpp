@@ -119,6 +119,18 @@ Camera read_camera(YamlMap c) {
   return cam;
 }
 
+KdTreeParams read_kdtree(YamlMap k) {
+  KdTreeParams p;
+  p.traversal_cost = k.get_in_range("traversal_cost", p.traversal_cost, 1e-6f, 1e6f);
+  p.intersection_cost = k.get_in_range("intersection_cost", p.intersection_cost, 1e-6f, 1e6f);
+  p.empty_bonus = k.get_in_range("empty_bonus", p.empty_bonus, 0.f, 0.99f);
+  // The traversal stacks hold 64 entries.
+  p.max_depth = k.get_in_range("max_depth", p.max_depth, 0, 63);
+  p.max_prims_per_leaf = k.get_in_range("max_prims_per_leaf", p.max_prims_per_leaf, 0, 1 << 20);
+  k.finish();
+  return p;
+}
+
 }  // namespace
 
 std::string default_scene_root() {
@@ -128,10 +140,11 @@ std::string default_scene_root() {
   return ".";
 }
 
-Scene load_scene_file(const std::string& path, const SceneFileOptions& options) {
+SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& options) {
   YamlMap top = YamlMap::load_file(path);
   const fs::path root = options.scene_root.empty() ? default_scene_root() : options.scene_root;
-  Scene scene;
+  SceneSetup setup;
+  Scene& scene = setup.scene;
   scene.name = top.get<std::string>("name", fs::path(path).stem().string());
   scene.time = top.get<double>("time", 0.0);
   for (YamlMap& g : top.list_of_maps("geometry")) {
@@ -184,8 +197,9 @@ Scene load_scene_file(const std::string& path, const SceneFileOptions& options) 
     scene.height = 360;
   }
   if (scene.triangles.empty()) top.fail("geometry", "the scene has no triangles");
+  if (top.has("kdtree")) setup.kdtree = read_kdtree(top.map("kdtree"));
   top.finish();
-  return scene;
+  return setup;
 }
 
 }  // namespace rtsim

@@ -2,6 +2,7 @@
 // lit by which lights. Format: docs/scene-files.md.
 #pragma once
 
+#include "kernels/kdtree.h"
 #include "scene_loader/scene.h"
 
 #include <string>
@@ -16,7 +17,13 @@ struct SceneFileOptions {
 // tree) when it exists, else the working directory.
 std::string default_scene_root();
 
+// What a scene file describes: the scene, and how to build its kd-tree.
+struct SceneSetup {
+  Scene scene;
+  KdTreeParams kdtree;
+};
+
 // Loads the scene a YAML file describes; every error names the file, line and key.
-Scene load_scene_file(const std::string& path, const SceneFileOptions& options = {});
+SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& options = {});
 
 }  // namespace rtsim

@@ -9,7 +9,7 @@ int run_info(const InfoArgs& args) {
   const PreparedScene p = prepare_scene(args.scene, args.prepare);
   if (args.json) {
     const nlohmann::json j = {{"scene", scene_json(p)},
-                              {"kdtree", kdtree_json(p.tree.stats)},
+                              {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
                               {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
     fmt::print("{}\n", j.dump(2));
     return 0;

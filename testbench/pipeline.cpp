@@ -19,12 +19,14 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
   PreparedScene p;
   p.file = scene_file;
   auto t0 = std::chrono::steady_clock::now();
-  p.scene = load_scene_file(scene_file, SceneFileOptions{options.scene_root});
+  SceneSetup setup = load_scene_file(scene_file, SceneFileOptions{options.scene_root});
+  p.scene = std::move(setup.scene);
+  p.kdtree_params = setup.kdtree;
   if (options.width > 0) p.scene.width = options.width;
   if (options.height > 0) p.scene.height = options.height;
   p.load_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
-  p.tree = build_kdtree(p.scene.triangles, options.kdtree);
+  p.tree = build_kdtree(p.scene.triangles, p.kdtree_params);
   p.image = std::make_unique<MemoryImage>(p.scene, p.tree);
   p.build_seconds = seconds_since(t0);
   return p;
@@ -48,8 +50,14 @@ nlohmann::json scene_json(const PreparedScene& p) {
           {"image_bytes", p.image ? p.image->header().image_bytes : 0}};
 }
 
-nlohmann::json kdtree_json(const KdTreeStats& s) {
-  return {{"nodes", s.nodes},
+nlohmann::json kdtree_json(const KdTreeParams& p, const KdTreeStats& s) {
+  return {{"params",
+           {{"traversal_cost", p.traversal_cost},
+            {"intersection_cost", p.intersection_cost},
+            {"empty_bonus", p.empty_bonus},
+            {"max_depth", p.max_depth},
+            {"max_prims_per_leaf", p.max_prims_per_leaf}}},
+          {"nodes", s.nodes},
           {"inner_nodes", s.inner_nodes},
           {"leaves", s.leaves},
           {"empty_leaves", s.empty_leaves},

@@ -15,12 +15,12 @@ namespace rtsim {
 struct PrepareOptions {
   std::string scene_root;  // empty = default
   int width = 0, height = 0;  // 0 = from the scene file
-  KdTreeParams kdtree;
 };
 
 struct PreparedScene {
   std::string file;
   Scene scene;
+  KdTreeParams kdtree_params;
   KdTree tree;
   std::unique_ptr<MemoryImage> image;
   double load_seconds = 0, build_seconds = 0;
@@ -30,6 +30,6 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
 
 // The scene and kd-tree statistics, as written into every report.
 nlohmann::json scene_json(const PreparedScene& p);
-nlohmann::json kdtree_json(const KdTreeStats& s);
+nlohmann::json kdtree_json(const KdTreeParams& p, const KdTreeStats& s);
 
 }  // namespace rtsim

@@ -36,7 +36,7 @@ int run_render(const RenderArgs& args) {
   nlohmann::json j = {
       {"command", "render"},
       {"scene", scene_json(p)},
-      {"kdtree", kdtree_json(p.tree.stats)},
+      {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
       {"reflection_depth", args.reflection_depth},
       {"rays",
        {{"primary", s.primary_rays},

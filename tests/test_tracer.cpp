@@ -49,8 +49,9 @@ Vec3 random_unit(std::mt19937& rng) {
 }
 
 // Half the rays are camera rays through random pixels, half start anywhere in the scene box.
-void check_against_brute_force(const Scene& scene, int rays, uint32_t seed) {
-  const KdTree tree = build_kdtree(scene.triangles);
+void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed) {
+  const Scene& scene = setup.scene;
+  const KdTree tree = build_kdtree(scene.triangles, setup.kdtree);
   const MemoryImage image(scene, tree);
   const ReferenceTracer tracer(image);
   const PinholeCamera cam(scene.camera, scene.width, scene.height);
@@ -95,7 +96,7 @@ void check_against_brute_force(const Scene& scene, int rays, uint32_t seed) {
   EXPECT_GT(hits, rays / 10) << "too few rays hit anything for the test to mean much";
 }
 
-Scene load_setup(const std::string& name) {
+SceneSetup load_setup(const std::string& name) {
   return load_scene_file((test::source_dir() / "configs/scenes" / (name + ".yaml")).string(),
                          SceneFileOptions{test::shared_scenes().string()});
 }
@@ -118,7 +119,7 @@ TEST(ReferenceTracer, MatchesBruteForceOnRobots) {
 }
 
 TEST(ReferenceTracer, FrameIsIndependentOfThreadCount) {
-  Scene scene = load_setup("city");
+  const Scene scene = load_setup("city").scene;
   const KdTree tree = build_kdtree(scene.triangles);
   const MemoryImage image(scene, tree);
   const ReferenceTracer tracer(image);
@@ -148,7 +149,7 @@ TEST(ReferenceTracer, FrameIsIndependentOfThreadCount) {
 }
 
 TEST(ReferenceTracer, LvbCullingSkipsOnlyRaysWithBitZero) {
-  Scene scene = load_setup("city");
+  const Scene scene = load_setup("city").scene;
   const KdTree tree = build_kdtree(scene.triangles);
   MemoryImage image(scene, tree);
   // Clear light 0's bit in every leaf: every shadow ray to light 0 must be culled, none other.
