@@ -1,6 +1,7 @@
 // The rtsim subcommands. Each returns the process exit code; bad input throws InputError.
 #pragma once
 
+#include "kernels/lvb.h"
 #include "testbench/pipeline.h"
 
 #include <string>
@@ -22,5 +23,15 @@ struct InfoArgs {
   bool json = false;
 };
 int run_info(const InfoArgs& args);
+
+struct LvbArgs {
+  std::string scene;
+  std::string out;
+  PrepareOptions prepare;
+  LvbParams lvb;
+  bool verify = false;
+  int threads = 0;
+};
+int run_lvb(const LvbArgs& args);
 
 }  // namespace rtsim

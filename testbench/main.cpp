@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
+#include <map>
 
 namespace {
 
@@ -38,6 +39,27 @@ int main(int argc, char** argv) {
   info_cmd->add_flag("--json", info.json, "Print JSON");
   add_prepare_options(info_cmd, info.prepare);
 
+  rtsim::LvbArgs lvb;
+  CLI::App* lvb_cmd = app.add_subcommand("lvb", "Compute the LVB words and measure culling (Tables 4 and 5)");
+  lvb_cmd->add_option("scene", lvb.scene, "Scene description (YAML)")->required();
+  lvb_cmd->add_option("--out", lvb.out, "Output directory")->required();
+  const std::map<std::string, rtsim::LvbMethod> methods{{"paper", rtsim::LvbMethod::kPaper},
+                                                        {"hierarchical", rtsim::LvbMethod::kHierarchical}};
+  const std::map<std::string, rtsim::LvbBounds> bounds{{"cell", rtsim::LvbBounds::kCell},
+                                                       {"geometry", rtsim::LvbBounds::kGeometry}};
+  const std::map<std::string, rtsim::LvbSelfOcclusion> self{{"test", rtsim::LvbSelfOcclusion::kTest},
+                                                            {"ignore", rtsim::LvbSelfOcclusion::kIgnore}};
+  lvb_cmd->add_option("--method", lvb.lvb.method, "paper (all pairs) or hierarchical (kd-tree walk)")
+      ->transform(CLI::CheckedTransformer(methods));
+  lvb_cmd->add_option("--bounds", lvb.lvb.bounds, "cell (the paper) or geometry (clipped to the cell)")
+      ->transform(CLI::CheckedTransformer(bounds));
+  lvb_cmd->add_option("--self-occlusion", lvb.lvb.self_occlusion, "test (exact, never wrong) or ignore (the paper)")
+      ->transform(CLI::CheckedTransformer(self));
+  lvb_cmd->add_flag("--verify", lvb.verify, "Also trace culled rays and count those that were occluded");
+  lvb_cmd->add_option("--threads", lvb.threads, "Host threads for tracing (0 = all cores)")->check(CLI::Range(0, 1024));
+  lvb_cmd->add_option("--lvb-threads", lvb.lvb.threads, "Host threads for preprocessing")->check(CLI::Range(1, 1024));
+  add_prepare_options(lvb_cmd, lvb.prepare);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -47,6 +69,7 @@ int main(int argc, char** argv) {
   try {
     if (*render_cmd) return rtsim::run_render(render);
     if (*info_cmd) return rtsim::run_info(info);
+    if (*lvb_cmd) return rtsim::run_lvb(lvb);
   } catch (const rtsim::InputError& e) {
     fmt::print(stderr, "rtsim: error: {}\n", e.what());
     return 2;

@@ -1,0 +1,327 @@
+#include "kernels/lvb.h"
+
+#include "kernels/clip.h"
+#include "kernels/light_region.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+namespace rtsim {
+
+const char* to_string(LvbMethod m) { return m == LvbMethod::kPaper ? "paper" : "hierarchical"; }
+const char* to_string(LvbBounds b) { return b == LvbBounds::kCell ? "cell" : "geometry"; }
+const char* to_string(LvbSelfOcclusion s) { return s == LvbSelfOcclusion::kIgnore ? "ignore" : "test"; }
+
+namespace {
+
+double max_abs_coordinate(const AABB& b) {
+  const Vec3 m = glm::max(glm::abs(b.lo), glm::abs(b.hi));
+  return std::max({double(m.x), double(m.y), double(m.z)});
+}
+
+// Grows a float box by g, rounding outward, so the grown box contains the exact one.
+AABB grown_outward(const AABB& b, double g) {
+  AABB r;
+  for (int a = 0; a < 3; ++a) {
+    r.lo[a] = std::nextafter(float(double(b.lo[a]) - g), -INFINITY);
+    r.hi[a] = std::nextafter(float(double(b.hi[a]) + g), INFINITY);
+  }
+  return r;
+}
+
+DBox empty_dbox() { return DBox(DVec3(INFINITY), DVec3(-INFINITY)); }
+void extend(DBox& b, const DBox& o) {
+  b.lo = glm::min(b.lo, o.lo);
+  b.hi = glm::max(b.hi, o.hi);
+}
+
+struct TriangleInfo {
+  DVec3 v[3];
+  DVec3 n;     // unit normal
+  double c;    // n . v0
+};
+
+struct Counters {
+  uint64_t region_tests = 0, pair_tests = 0;
+};
+
+// Which boxes may hold an occluder: the paper's frusta (open) or the exact hull (closed).
+struct Region {
+  bool exact = false;
+  LightFrusta frusta;
+  DBox enclosing;
+  HullTest hull;
+
+  bool may_hold(const DBox& b, Counters& c) const {
+    ++c.region_tests;
+    if (exact) return hull.intersects(b);
+    if (!boxes_overlap_open(enclosing, b)) return false;
+    for (int i = 0; i < frusta.count; ++i)
+      if (frustum_may_intersect_open(frusta.frusta[i], b)) return true;
+    return false;
+  }
+};
+
+class Preprocessor {
+ public:
+  Preprocessor(const Scene& scene, const KdTree& tree, const LvbParams& p)
+      : scene_(scene), tree_(tree), p_(p), exact_(p.self_occlusion == LvbSelfOcclusion::kTest) {
+    const double scale = max_abs_coordinate(tree.bounds) + tree.bounds.diagonal();
+    tolerance_ = 1e-9 * scale;
+    // A hit point lies on its triangle's plane up to the rounding of o + t d (a few ulps of the
+    // largest coordinate); the half-space filter below is only sound when the offset dwarfs that.
+    const double point_error = 8.0 * std::ldexp(max_abs_coordinate(tree.bounds), -23);
+    halfspace_ok_ = p.shadow_offset > 4 * point_error;
+    point_error_ = point_error;
+
+    tris_.resize(scene.triangles.size());
+    for (size_t i = 0; i < scene.triangles.size(); ++i) {
+      const Triangle& t = scene.triangles[i];
+      TriangleInfo& ti = tris_[i];
+      ti.v[0] = DVec3(t.v0);
+      ti.v[1] = DVec3(t.v1);
+      ti.v[2] = DVec3(t.v2);
+      const DVec3 n = glm::cross(ti.v[1] - ti.v[0], ti.v[2] - ti.v[0]);
+      const double len = glm::length(n);
+      ti.n = len > 0 ? n / len : DVec3(0.0);
+      ti.c = glm::dot(ti.n, ti.v[0]);
+    }
+    const size_t leaves = tree.leaves.size();
+    cell_.resize(leaves);
+    geom_.assign(leaves, empty_dbox());
+    in_cell_.resize(tree.prims.size());
+    origin_.resize(exact_ ? tree.prims.size() : 0);
+    origin_region_.assign(exact_ ? leaves : 0, empty_dbox());
+    // Cell-mode regions grow by the margin plus float rounding of the grown cell used for clipping.
+    cell_growth_ = p.origin_margin + 4 * std::ldexp(max_abs_coordinate(tree.bounds), -23) + 2 * tolerance_;
+    const double slack = std::max(0.0, p.origin_margin - p.shadow_offset);
+    for (size_t l = 0; l < leaves; ++l) {
+      const KdLeaf& leaf = tree.leaves[l];
+      cell_[l] = DBox(leaf.cell);
+      const AABB hit_region = grown_outward(leaf.cell, slack);
+      for (uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) {
+        const Triangle& t = scene.triangles[tree.prims[k]];
+        const AABB c = clip_triangle_bounds(t, leaf.cell);
+        in_cell_[k] = c.empty() ? empty_dbox() : DBox(c);
+        extend(geom_[l], in_cell_[k]);
+        if (exact_) {
+          // Shadow rays from hits on this triangle credited to this leaf start in here.
+          const AABB h = clip_triangle_bounds(t, hit_region);
+          origin_[k] = h.empty() ? empty_dbox() : DBox(h).grown(p.shadow_offset + tolerance_);
+          extend(origin_region_[l], origin_[k]);
+        }
+      }
+    }
+  }
+
+  uint32_t word(uint32_t leaf, Counters& c) const {
+    uint32_t w = 0;
+    for (size_t i = 0; i < scene_.lights.size(); ++i)
+      if (bit(leaf, DVec3(scene_.lights[i].position), c)) w |= 1u << i;
+    return w;
+  }
+
+  const DBox& box(uint32_t leaf) const { return p_.bounds == LvbBounds::kCell ? cell_[leaf] : geom_[leaf]; }
+
+ private:
+  // What the exact mode knows about one of b's own triangles, for one light.
+  struct Origin {
+    uint32_t tri;
+    bool use_halfspace;
+    double side, need;  // a blocker must reach `need` into A's half-space on `side`
+    const DBox* origin_box;
+    mutable HullTest hull;  // the hull of A's shadow-ray origins and the light, built on first use
+    mutable bool hull_ready = false;
+  };
+
+  // One (leaf, light) decision.
+  struct Query {
+    uint32_t b;
+    DVec3 light;
+    Region region;
+    std::vector<Origin> origins;  // built on the first candidate (exact mode)
+    bool origins_ready = false;
+  };
+
+  bool bit(uint32_t b, const DVec3& light, Counters& c) const {
+    Query q;
+    q.b = b;
+    q.light = light;
+    Region& r = q.region;
+    r.exact = exact_;
+    if (exact_) {
+      // Every shadow ray credited to b starts in this box (origins of all of b's triangles).
+      r.hull = HullTest(p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b], light,
+                        tolerance_);
+    } else {
+      r.frusta = build_light_frusta(box(b), light);
+      if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
+      r.enclosing = enclosing_box(box(b), light);
+    }
+    if (p_.method == LvbMethod::kPaper) {
+      for (uint32_t l = 0; l < tree_.leaves.size(); ++l)
+        if (candidate_blocks(q, l, c)) return true;
+      return false;
+    }
+    return walk(q, c);
+  }
+
+  // Is leaf l a candidate occluder of leaf b, and (exact mode) does one of its triangles confirm?
+  bool candidate_blocks(Query& q, uint32_t l, Counters& c) const {
+    if (tree_.leaves[l].count == 0 || (!exact_ && l == q.b)) return false;
+    if (!q.region.may_hold(box(l), c)) return false;
+    return !exact_ || pair_blocks(q, l, c);
+  }
+
+  // The paper's future work: visit only the kd-tree cells that reach the region.
+  bool walk(Query& q, Counters& c) const {
+    struct Entry {
+      uint32_t node;
+      DBox cell;
+    };
+    Entry stack[128];
+    int sp = 0;
+    stack[sp++] = {0, DBox(tree_.bounds)};
+    while (sp > 0) {
+      const Entry e = stack[--sp];
+      const KdNode& n = tree_.nodes[e.node];
+      if (n.is_leaf()) {
+        if (candidate_blocks(q, n.leaf_index(), c)) return true;
+        continue;
+      }
+      if (!q.region.may_hold(e.cell, c)) continue;
+      const int a = n.axis();
+      DBox below = e.cell, above = e.cell;
+      below.hi[a] = above.lo[a] = n.split();
+      // The side towards the light first: occluders usually lie between the leaf and the light.
+      if (q.light[a] >= n.split()) {
+        stack[sp++] = {e.node + 1, below};
+        stack[sp++] = {n.above_child(), above};
+      } else {
+        stack[sp++] = {n.above_child(), above};
+        stack[sp++] = {e.node + 1, below};
+      }
+    }
+    return false;
+  }
+
+  void prepare_origins(Query& q) const {
+    const KdLeaf& lb = tree_.leaves[q.b];
+    for (uint32_t ka = lb.first; ka < lb.first + lb.count; ++ka) {
+      if (origin_[ka].lo.x > origin_[ka].hi.x) continue;  // no hit on A can be credited to b
+      const TriangleInfo& ta = tris_[tree_.prims[ka]];
+      // The shadow ray starts `offset` off A's plane on the light's side and ends at the light, so
+      // every point of it is at least min(offset, light distance) into that side: a blocker
+      // must reach that far.
+      const double dl = glm::dot(ta.n, q.light) - ta.c;
+      Origin o;
+      o.tri = tree_.prims[ka];
+      o.use_halfspace = halfspace_ok_ && std::abs(dl) > 4 * point_error_;
+      o.side = dl > 0 ? 1.0 : -1.0;
+      o.need = 0.5 * std::min(p_.shadow_offset - 2 * point_error_, std::abs(dl) - 2 * point_error_);
+      o.origin_box = &origin_[ka];
+      q.origins.push_back(o);
+    }
+    q.origins_ready = true;
+  }
+
+  // Exact mode: can a triangle T of leaf l block a shadow ray from a hit on a triangle A of leaf b?
+  bool pair_blocks(Query& q, uint32_t l, Counters& c) const {
+    if (!q.origins_ready) prepare_origins(q);
+    const KdLeaf& ll = tree_.leaves[l];
+    for (uint32_t kt = ll.first; kt < ll.first + ll.count; ++kt) {
+      // A triangle outside the whole region can block nothing.
+      if (ll.count > 1 && !q.region.may_hold(in_cell_[kt], c)) continue;
+      const uint32_t t = tree_.prims[kt];
+      const TriangleInfo& tt = tris_[t];
+      for (const Origin& o : q.origins) {
+        if (t == o.tri) continue;
+        ++c.pair_tests;
+        if (o.use_halfspace) {
+          const TriangleInfo& ta = tris_[o.tri];
+          double reach = -INFINITY;
+          for (const DVec3& v : tt.v) reach = std::max(reach, o.side * (glm::dot(ta.n, v) - ta.c));
+          if (reach <= o.need) continue;
+        }
+        if (!o.hull_ready) {
+          o.hull = HullTest(*o.origin_box, q.light, tolerance_);
+          o.hull_ready = true;
+        }
+        if (o.hull.intersects(in_cell_[kt])) return true;
+      }
+    }
+    return false;
+  }
+
+  const Scene& scene_;
+  const KdTree& tree_;
+  LvbParams p_;
+  bool exact_;
+  double tolerance_ = 0, point_error_ = 0, cell_growth_ = 0;
+  bool halfspace_ok_ = false;
+  std::vector<TriangleInfo> tris_;
+  std::vector<DBox> cell_, geom_;
+  std::vector<DBox> in_cell_;  // per reference: the triangle clipped to its leaf's cell
+  std::vector<DBox> origin_;   // per reference: where its shadow rays may start (exact mode)
+  std::vector<DBox> origin_region_;  // per leaf: union of its references' origin boxes
+};
+
+}  // namespace
+
+double lvb_shadow_offset(const KdTree& tree, float relative_offset) {
+  // Exactly as the tracer computes it (float), so both agree on the offset.
+  return double(relative_offset * tree.bounds.diagonal());
+}
+
+double lvb_origin_margin(const Scene& scene, const KdTree& tree, float relative_offset) {
+  // A leaf accepts hits up to 1e-5 t + 1e-6 diagonal beyond its cell (reference_tracer.cpp);
+  // t is bounded by the camera's distance to the far corner of the scene, or the diagonal for
+  // rays that start inside. Twice that, plus the offset, covers rounding.
+  const double diag = tree.bounds.diagonal();
+  double t_max = diag;
+  const DBox root(tree.bounds);
+  for (int i = 0; i < 8; ++i) t_max = std::max(t_max, glm::length(root.corner(i) - DVec3(scene.camera.eye)));
+  return lvb_shadow_offset(tree, relative_offset) + 2.0 * (1e-5 * t_max + 1e-6 * diag);
+}
+
+LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params) {
+  const auto t0 = std::chrono::steady_clock::now();
+  LvbResult out;
+  const uint32_t all = scene.lights.size() >= 32 ? ~0u : (1u << scene.lights.size()) - 1u;
+  out.words.assign(tree.leaves.size(), all);
+  const Preprocessor pre(scene, tree, params);
+  const int threads = std::max(1, params.threads);
+  std::vector<Counters> counters(threads);
+  auto body = [&](int w) {
+    // Interleaved blocks of leaves: every leaf's word is computed independently of the others.
+    constexpr uint32_t kBlock = 64;
+    for (uint32_t start = w * kBlock; start < tree.leaves.size(); start += threads * kBlock)
+      for (uint32_t l = start; l < std::min<uint32_t>(start + kBlock, tree.leaves.size()); ++l)
+        if (tree.leaves[l].count > 0) out.words[l] = pre.word(l, counters[w]);
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < threads; ++w) pool.emplace_back(body, w);
+  body(0);
+  for (auto& t : pool) t.join();
+
+  out.stats.per_light.assign(scene.lights.size(), {});
+  for (size_t l = 0; l < tree.leaves.size(); ++l) {
+    if (tree.leaves[l].count == 0) continue;
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+      ++out.stats.per_light[i].nonempty_leaves;
+      if (!((out.words[l] >> i) & 1u)) ++out.stats.per_light[i].culled_leaves;
+    }
+  }
+  for (const Counters& c : counters) {
+    out.stats.region_tests += c.region_tests;
+    out.stats.pair_tests += c.pair_tests;
+  }
+  out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace rtsim
