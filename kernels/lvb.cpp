@@ -105,15 +105,19 @@ class Preprocessor {
       const AABB hit_region = grown_outward(leaf.cell, slack);
       for (uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) {
         const Triangle& t = scene.triangles[tree.prims[k]];
-        const AABB c = clip_triangle_bounds(t, leaf.cell);
-        in_cell_[k] = c.empty() ? empty_dbox() : DBox(c);
-        extend(geom_[l], in_cell_[k]);
         if (exact_) {
-          // Shadow rays from hits on this triangle credited to this leaf start in here.
+          // Shadow rays from hits on this triangle credited to this leaf start in here; one clip
+          // serves both boxes (its part in the cell is contained in the clip to the grown cell).
           const AABB h = clip_triangle_bounds(t, hit_region);
           origin_[k] = h.empty() ? empty_dbox() : DBox(h).grown(p.shadow_offset + tolerance_);
           extend(origin_region_[l], origin_[k]);
+          const AABB c = h.intersect(leaf.cell);
+          in_cell_[k] = h.empty() || c.empty() ? empty_dbox() : DBox(c);
+        } else {
+          const AABB c = clip_triangle_bounds(t, leaf.cell);
+          in_cell_[k] = c.empty() ? empty_dbox() : DBox(c);
         }
+        extend(geom_[l], in_cell_[k]);
       }
     }
   }
@@ -145,6 +149,7 @@ class Preprocessor {
     Region region;
     std::vector<Origin> origins;  // built on the first candidate (exact mode)
     bool origins_ready = false;
+    bool own_done = false;  // the leaf's own triangles were tested (exact mode)
   };
 
   bool bit(uint32_t b, const DVec3& light, Counters& c) const {
@@ -162,6 +167,8 @@ class Preprocessor {
       if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
       r.enclosing = enclosing_box(box(b), light);
     }
+    // The leaf's own triangles are the likeliest blockers and need no search (exact mode).
+    if (exact_ && candidate_blocks(q, b, c)) return true;
     if (p_.method == LvbMethod::kPaper) {
       for (uint32_t l = 0; l < tree_.leaves.size(); ++l)
         if (candidate_blocks(q, l, c)) return true;
@@ -172,7 +179,8 @@ class Preprocessor {
 
   // Is leaf l a candidate occluder of leaf b, and (exact mode) does one of its triangles confirm?
   bool candidate_blocks(Query& q, uint32_t l, Counters& c) const {
-    if (tree_.leaves[l].count == 0 || (!exact_ && l == q.b)) return false;
+    if (tree_.leaves[l].count == 0 || (l == q.b && (!exact_ || q.own_done))) return false;
+    if (l == q.b) q.own_done = true;
     if (!q.region.may_hold(box(l), c)) return false;
     return !exact_ || pair_blocks(q, l, c);
   }
