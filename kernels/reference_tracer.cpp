@@ -141,6 +141,17 @@ bool ReferenceTracer::occluded(const Ray& ray, TraversalCounters* counters) cons
   return traverse<true>(ray, hit, counters ? *counters : local);
 }
 
+bool ReferenceTracer::occluded_by_leaf(const Ray& ray, uint32_t leaf_index) const {
+  const image::LeafRecord leaf = image_.leaf(leaf_index);
+  const RayShear shear(ray.d);
+  for (uint32_t k = 0; k < leaf.prim_count; ++k) {
+    const image::TriangleRecord t = image_.triangle(image_.prim(leaf.prim_offset + k));
+    float t_hit;
+    if (intersect_triangle(ray, shear, t.v0, t.v1, t.v2, t_hit)) return true;
+  }
+  return false;
+}
+
 namespace {
 
 const Vec3 kBackground(0.08f, 0.09f, 0.12f);
@@ -178,7 +189,10 @@ struct Worker {
       if (opt.cull_with_lvb && !((lvb >> i) & 1u)) {
         ++lc.culled;
         if (rec) rec->culled |= uint16_t(1u << i);
-        if (opt.verify_culls && tracer.occluded(shadow)) ++lc.wrong_culls;
+        if (opt.verify_culls && tracer.occluded(shadow)) {
+          ++lc.wrong_culls;
+          if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
+        }
       } else {
         ++lc.traced;
         ++stats.shadow_rays_traced;
@@ -283,6 +297,7 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
       d.occluded += l.occluded;
       d.culled += l.culled;
       d.wrong_culls += l.wrong_culls;
+      d.wrong_culls_own_leaf += l.wrong_culls_own_leaf;
     }
   }
   s.threads = threads;

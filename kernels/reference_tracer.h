@@ -52,6 +52,7 @@ struct LightCounters {
   uint64_t occluded = 0;
   uint64_t culled = 0;
   uint64_t wrong_culls = 0;  // culled but in fact occluded (verify_culls only)
+  uint64_t wrong_culls_own_leaf = 0;  // ... of which a triangle of the hit's own leaf blocks
 };
 
 struct TraceStats {
@@ -77,6 +78,8 @@ class ReferenceTracer {
 
   Hit closest_hit(const Ray& ray, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, TraversalCounters* counters = nullptr) const;
+  // Does one of the leaf's own triangles block the ray? (Diagnoses wrong culls.)
+  bool occluded_by_leaf(const Ray& ray, uint32_t leaf) const;
 
   TraceResult trace_frame(const Camera& camera, const TracerOptions& options) const;
 

@@ -53,13 +53,13 @@ int run_lvb(const LvbArgs& args) {
                rate(ls.culled_leaves, ls.nonempty_leaves));
   }
   fmt::print("\nTable 5: shadow rays culled per light ({}x{})\n| light | culled | shadow rays | rate |{}\n|---|---|---|---|{}\n",
-             r.width, r.height, args.verify ? " wrong culls |" : "", args.verify ? "---|" : "");
+             r.width, r.height, args.verify ? " wrong culls | of which own leaf |" : "", args.verify ? "---|---|" : "");
   for (size_t i = 0; i < p.scene.lights.size(); ++i) {
     const LightCounters& lc = r.stats.per_light[i];
     const LvbLightStats& ls = lvb.stats.per_light[i];
     if (args.verify)
-      fmt::print("| {} | {} | {} | {:.2f}% | {} |\n", i + 1, lc.culled, lc.shadow_rays, rate(lc.culled, lc.shadow_rays),
-                 lc.wrong_culls);
+      fmt::print("| {} | {} | {} | {:.2f}% | {} | {} |\n", i + 1, lc.culled, lc.shadow_rays,
+                 rate(lc.culled, lc.shadow_rays), lc.wrong_culls, lc.wrong_culls_own_leaf);
     else
       fmt::print("| {} | {} | {} | {:.2f}% |\n", i + 1, lc.culled, lc.shadow_rays, rate(lc.culled, lc.shadow_rays));
     nlohmann::json l = {{"culled_leaves", ls.culled_leaves},
@@ -67,7 +67,10 @@ int run_lvb(const LvbArgs& args) {
                         {"shadow_rays", lc.shadow_rays},
                         {"culled_rays", lc.culled},
                         {"occluded", lc.occluded}};
-    if (args.verify) l["wrong_culls"] = lc.wrong_culls;
+    if (args.verify) {
+      l["wrong_culls"] = lc.wrong_culls;
+      l["wrong_culls_own_leaf"] = lc.wrong_culls_own_leaf;
+    }
     per_light.push_back(l);
   }
 

@@ -8,7 +8,6 @@
 #include <cstdio>
 #include <exception>
 #include <filesystem>
-#include <map>
 
 namespace {
 
@@ -43,18 +42,13 @@ int main(int argc, char** argv) {
   CLI::App* lvb_cmd = app.add_subcommand("lvb", "Compute the LVB words and measure culling (Tables 4 and 5)");
   lvb_cmd->add_option("scene", lvb.scene, "Scene description (YAML)")->required();
   lvb_cmd->add_option("--out", lvb.out, "Output directory")->required();
-  const std::map<std::string, rtsim::LvbMethod> methods{{"paper", rtsim::LvbMethod::kPaper},
-                                                        {"hierarchical", rtsim::LvbMethod::kHierarchical}};
-  const std::map<std::string, rtsim::LvbBounds> bounds{{"cell", rtsim::LvbBounds::kCell},
-                                                       {"geometry", rtsim::LvbBounds::kGeometry}};
-  const std::map<std::string, rtsim::LvbSelfOcclusion> self{{"test", rtsim::LvbSelfOcclusion::kTest},
-                                                            {"ignore", rtsim::LvbSelfOcclusion::kIgnore}};
-  lvb_cmd->add_option("--method", lvb.lvb.method, "paper (all pairs) or hierarchical (kd-tree walk)")
-      ->transform(CLI::CheckedTransformer(methods));
-  lvb_cmd->add_option("--bounds", lvb.lvb.bounds, "cell (the paper) or geometry (clipped to the cell)")
-      ->transform(CLI::CheckedTransformer(bounds));
-  lvb_cmd->add_option("--self-occlusion", lvb.lvb.self_occlusion, "test (exact, never wrong) or ignore (the paper)")
-      ->transform(CLI::CheckedTransformer(self));
+  std::string method = "hierarchical", bounds = "cell", self_occlusion = "test";
+  lvb_cmd->add_option("--method", method, "paper (all pairs) or hierarchical (kd-tree walk)")
+      ->check(CLI::IsMember({"paper", "hierarchical"}));
+  lvb_cmd->add_option("--bounds", bounds, "cell (the paper) or geometry (clipped to the cell)")
+      ->check(CLI::IsMember({"cell", "geometry"}));
+  lvb_cmd->add_option("--self-occlusion", self_occlusion, "test (exact, never wrong) or ignore (the paper)")
+      ->check(CLI::IsMember({"test", "ignore"}));
   lvb_cmd->add_flag("--verify", lvb.verify, "Also trace culled rays and count those that were occluded");
   lvb_cmd->add_option("--threads", lvb.threads, "Host threads for tracing (0 = all cores)")->check(CLI::Range(0, 1024));
   lvb_cmd->add_option("--lvb-threads", lvb.lvb.threads, "Host threads for preprocessing")->check(CLI::Range(1, 1024));
@@ -63,9 +57,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    const int code = app.exit(e);
-    return code == 0 ? 0 : 2;
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help
+    fmt::print(stderr, "rtsim: error: {} (see rtsim --help)\n", e.what());
+    return 2;
   }
+  lvb.lvb.method = method == "paper" ? rtsim::LvbMethod::kPaper : rtsim::LvbMethod::kHierarchical;
+  lvb.lvb.bounds = bounds == "geometry" ? rtsim::LvbBounds::kGeometry : rtsim::LvbBounds::kCell;
+  lvb.lvb.self_occlusion = self_occlusion == "ignore" ? rtsim::LvbSelfOcclusion::kIgnore : rtsim::LvbSelfOcclusion::kTest;
   try {
     if (*render_cmd) return rtsim::run_render(render);
     if (*info_cmd) return rtsim::run_info(info);

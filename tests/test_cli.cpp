@@ -26,6 +26,8 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
+std::string fmt_shape(int h, int w) { return "'shape': (" + std::to_string(h) + ", " + std::to_string(w) + ")"; }
+
 RunResult run(const std::string& args) {
   const fs::path dir = test::temp_dir("cli_run");
   const std::string cmd = std::string(RTSIM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
@@ -83,6 +85,51 @@ TEST(Cli, RenderWritesImageMaskAndStatistics) {
   EXPECT_GT(hits, 0u);
   for (size_t l = 0; l < lights; ++l) EXPECT_EQ(occluded[l], j["per_light"][l]["occluded"].get<uint64_t>());
   fs::remove_all(out);
+}
+
+// Reads a (H, W) uint16 .npy written by rtsim.
+std::vector<uint16_t> read_npy_u16(const fs::path& p, int h, int w) {
+  const std::string npy = slurp(p);
+  const size_t header_len = uint8_t(npy[8]) | (uint8_t(npy[9]) << 8);
+  EXPECT_NE(npy.find(fmt_shape(h, w)), std::string::npos);
+  std::vector<uint16_t> v(size_t(h) * w);
+  for (size_t i = 0; i < v.size(); ++i)
+    v[i] = uint8_t(npy[10 + header_len + 2 * i]) | (uint8_t(npy[11 + header_len + 2 * i]) << 8);
+  return v;
+}
+
+TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
+  const fs::path out = test::temp_dir("cli_lvb");
+  const RunResult r = run("lvb " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --out " +
+                          out.string() + " --width 64 --height 36 --verify --bounds geometry");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Table 4"), std::string::npos);
+  EXPECT_NE(r.out.find("Table 5"), std::string::npos);
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "lvb.json"));
+  EXPECT_EQ(j["method"], "hierarchical");
+  EXPECT_EQ(j["bounds"], "geometry");
+  EXPECT_EQ(j["self_occlusion"], "test");
+  EXPECT_GE(j["preprocess_seconds"].get<double>(), 0.0);
+  const std::vector<uint16_t> culled = read_npy_u16(out / "culled.npy", 36, 64);
+  const std::vector<uint16_t> mask = read_npy_u16(out / "mask.npy", 36, 64);
+  uint64_t culled_rays = 0;
+  for (size_t l = 0; l < j["per_light"].size(); ++l) {
+    const nlohmann::json& pl = j["per_light"][l];
+    for (const char* key : {"culled_leaves", "nonempty_leaves", "shadow_rays", "culled_rays", "wrong_culls"})
+      EXPECT_TRUE(pl.contains(key)) << key;
+    EXPECT_EQ(pl["wrong_culls"].get<uint64_t>(), 0u) << "the exact mode is never wrong";
+    uint64_t from_mask = 0;
+    for (size_t i = 0; i < culled.size(); ++i) {
+      from_mask += (culled[i] >> (1 + l)) & 1u;
+      if ((culled[i] >> (1 + l)) & 1u) EXPECT_FALSE((mask[i] >> (1 + l)) & 1u) << "a culled ray is lit";
+      if (culled[i]) EXPECT_TRUE(mask[i] & 1u) << "only hits cast shadow rays";
+    }
+    EXPECT_EQ(from_mask, pl["culled_rays"].get<uint64_t>());
+    culled_rays += from_mask;
+  }
+  EXPECT_GT(culled_rays, 0u);
+  fs::remove_all(out);
+  expect_input_error("lvb x.yaml --out d --method fastest", {"--method"});
 }
 
 TEST(Cli, InfoPrintsSceneAndTreeAsJson) {
