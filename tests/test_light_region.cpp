@@ -70,10 +70,14 @@ TEST(LightRegion, EachFrustumPlaneHoldsTheLightAndAFaceEdgeWithTheFaceInside) {
             int box_outside = 0;
             for (int k = 0; k < 8; ++k) {
               const DVec3 v = kBox.corner(k);
-              if (v[a] == f.face_center[a]) EXPECT_LE(p.eval(v) / scale, 1e-12);
+              if (v[a] == f.face_center[a]) {
+                EXPECT_LE(p.eval(v) / scale, 1e-12);
+              }
               box_outside += p.eval(v) / scale > 1e-12;
             }
-            if (lf.count == 1) EXPECT_EQ(box_outside, 0) << "one frustum: every plane is a silhouette plane";
+            if (lf.count == 1) {
+              EXPECT_EQ(box_outside, 0) << "one frustum: every plane is a silhouette plane";
+            }
           }
         }
       }
@@ -139,7 +143,9 @@ TEST(LightRegion, HullTestAgreesWithSampledPoints) {
     const DVec3 w = light + (light - p) * (0.2 + v(rng));
     const DBox e = enclosing_box(kBox, light);
     const bool outside_enclosing = w.x < e.lo.x || w.x > e.hi.x || w.y < e.lo.y || w.y > e.hi.y || w.z < e.lo.z || w.z > e.hi.z;
-    if (outside_enclosing) EXPECT_FALSE(hull_intersects_box(kBox, light, DBox(w, w), 1e-12));
+    if (outside_enclosing) {
+      EXPECT_FALSE(hull_intersects_box(kBox, light, DBox(w, w), 1e-12));
+    }
   }
 }
 
