@@ -1,0 +1,40 @@
+// The timing protocol between the units, the caches and the DRAM model.
+//
+// Time is in picoseconds (Tick) so the accelerator clock (1 GHz by default) and the DRAM's own
+// command clock (800 MHz for GDDR3) share one time base; SystemC's resolution is set to 1 ps.
+//
+// Only misses that reach DRAM are asynchronous: every other access knows its completion time when
+// it is made (a hit, a merge into a fill whose time is known, an L2 hit), so it costs no SystemC
+// event. A DRAM read completes whenever the FR-FCFS scheduler serves it; the requester is told
+// through FillListener::on_fill, called from the DRAM model's process at the completion time.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+namespace rtsim::model {
+
+using Tick = uint64_t;  // picoseconds
+inline constexpr Tick kUnknown = std::numeric_limits<Tick>::max();
+
+// Who gets told when a line that was not yet known arrives. `cookie` is the requester's own
+// token (a ray id for a unit, a line address for a cache).
+class FillListener {
+ public:
+  virtual ~FillListener() = default;
+  virtual void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) = 0;
+};
+
+// A level of the memory hierarchy below a cache (an L2, or the DRAM).
+class LineSource {
+ public:
+  virtual ~LineSource() = default;
+  // Asks for the line at `line_addr` at time `now`. Returns the time the line is delivered to
+  // the requester when that is known now; otherwise kUnknown, and `listener->on_fill` is called
+  // at the delivery time with `cookie`.
+  virtual Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) = 0;
+  // The bytes of the line (the simulated memory's contents), valid once it is delivered.
+  virtual const uint8_t* line_data(uint64_t line_addr) const = 0;
+};
+
+}  // namespace rtsim::model
