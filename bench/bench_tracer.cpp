@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
     const Hit h = tracer.closest_hit(r);
     if (h.tri == kNoHit) continue;
     const Triangle& t = p.scene.triangles[h.tri];
-    Vec3 n = glm::normalize(t.normal());
+    Vec3 n = unit_normal(t.v0, t.v1, t.v2);
     if (glm::dot(n, r.d) > 0.f) n = -n;
     const Vec3 hp = r.o + h.t * r.d;
     for (const PointLight& l : p.scene.lights) {

@@ -20,9 +20,7 @@ void store_vec3(uint8_t* p, const Vec3& v) {
   store_f32(p + 4, v.y);
   store_f32(p + 8, v.z);
 }
-uint32_t align_up(uint64_t x) {
-  return static_cast<uint32_t>((x + kSectionAlign - 1) / kSectionAlign * kSectionAlign);
-}
+uint64_t align_up(uint64_t x) { return (x + kSectionAlign - 1) / kSectionAlign * kSectionAlign; }
 
 }  // namespace
 
@@ -49,10 +47,15 @@ using namespace image;
 MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   Header& h = header_;
   uint64_t cursor = kHeaderBytes;
+  // Addresses are 32-bit in every record; refuse what cannot be addressed, before any truncation.
   auto place = [&](Section& s, size_t count, uint32_t record_bytes) {
-    s.base = align_up(cursor);
+    const uint64_t base = align_up(cursor);
+    cursor = base + uint64_t(count) * record_bytes;
+    if (align_up(cursor) > std::numeric_limits<uint32_t>::max())
+      throw InputError(fmt::format("scene too large for the 32-bit memory image (more than {} bytes)",
+                                   std::numeric_limits<uint32_t>::max()));
+    s.base = static_cast<uint32_t>(base);
     s.count = static_cast<uint32_t>(count);
-    cursor = uint64_t(s.base) + uint64_t(count) * record_bytes;
   };
   place(h.nodes, tree.nodes.size(), kNodeBytes);
   place(h.leaves, tree.leaves.size(), kLeafBytes);
@@ -60,10 +63,7 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   place(h.triangles, scene.triangles.size(), kTriangleBytes);
   place(h.materials, scene.materials.size(), kMaterialBytes);
   place(h.lights, scene.lights.size(), kLightBytes);
-  // Addresses are 32-bit in every record; refuse what cannot be addressed.
-  if (cursor > std::numeric_limits<uint32_t>::max())
-    throw InputError(fmt::format("scene too large for the 32-bit memory image ({} bytes)", cursor));
-  h.image_bytes = align_up(cursor);
+  h.image_bytes = static_cast<uint32_t>(align_up(cursor));
   h.light_count = static_cast<uint32_t>(scene.lights.size());
   h.bounds = tree.bounds;
   bytes_.assign(h.image_bytes, 0);

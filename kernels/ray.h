@@ -35,6 +35,14 @@ struct RayShear {
   }
 };
 
+// Unit geometric normal, computed in double: a thin sliver whose float cross product vanishes
+// still gets a direction (the kd-tree keeps every triangle that is not degenerate in double).
+inline Vec3 unit_normal(const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+  const glm::dvec3 n = glm::cross(glm::dvec3(v1) - glm::dvec3(v0), glm::dvec3(v2) - glm::dvec3(v0));
+  const double len = glm::length(n);
+  return len > 0 ? Vec3(n / len) : Vec3(0.f);
+}
+
 // Watertight, two-sided ray-triangle test. On a hit in (tmin, tmax) writes t and returns true.
 inline bool intersect_triangle(const Ray& ray, const RayShear& s, const Vec3& p0, const Vec3& p1,
                                const Vec3& p2, float& t_out) {

@@ -11,36 +11,6 @@
 
 namespace rtsim {
 
-namespace {
-
-constexpr int kStackDepth = 64;
-// Relative slack on t when deciding which leaf holds a hit and when traversal may stop: a hit
-// on a cell face must be found by a leaf on either side despite rounding.
-constexpr float kRelEps = 1e-5f;
-
-struct StackEntry {
-  uint32_t node;
-  float tmin, tmax;
-};
-
-// Slab test against the root cell; NaN (0 * inf) comparisons fall through and keep the range.
-bool clip_to_box(const Ray& ray, const Vec3& inv, const AABB& box, float& t0, float& t1) {
-  t0 = ray.tmin;
-  t1 = ray.tmax;
-  for (int a = 0; a < 3; ++a) {
-    float tn = (box.lo[a] - ray.o[a]) * inv[a];
-    float tf = (box.hi[a] - ray.o[a]) * inv[a];
-    if (tn > tf) std::swap(tn, tf);
-    tf *= 1.f + 4e-7f;  // pbrt's 1 + 2 gamma(3): never lose a ray grazing the box
-    t0 = tn > t0 ? tn : t0;
-    t1 = tf < t1 ? tf : t1;
-    if (t0 > t1) return false;
-  }
-  return true;
-}
-
-}  // namespace
-
 ReferenceTracer::ReferenceTracer(const MemoryImage& image)
     : image_(image), mem_(image.bytes().data()), h_(image.header()) {
   abs_eps_ = 1e-6f * std::max(h_.bounds.diagonal(), 1e-20f);
@@ -49,83 +19,30 @@ ReferenceTracer::ReferenceTracer(const MemoryImage& image)
 
 template <bool kAnyHit>
 bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const {
-  Vec3 inv(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z);
-  float tmin, tmax;
-  if (!clip_to_box(ray, inv, h_.bounds, tmin, tmax)) return false;
-  const RayShear shear(ray.d);
-  StackEntry stack[kStackDepth];
-  int sp = 0;
-  uint32_t node_index = 0;
-  float best = ray.tmax;
-  bool found = false;
-  for (;;) {
-    const KdNode node = image::decode_node(mem_ + h_.nodes.base + node_index * image::kNodeBytes);
-    if (!node.is_leaf()) {
-      ++c.nodes;
-      const int axis = node.axis();
-      const float split = node.split();
-      const float t_plane = (split - ray.o[axis]) * inv[axis];
-      const bool below_first = ray.o[axis] < split || (ray.o[axis] == split && ray.d[axis] <= 0.f);
-      const uint32_t first = below_first ? node_index + 1 : node.above_child();
-      const uint32_t second = below_first ? node.above_child() : node_index + 1;
-      if (!(t_plane > 0.f) || t_plane > tmax) {
-        node_index = first;
-      } else if (t_plane < tmin) {
-        node_index = second;
-      } else {
-        if (sp == kStackDepth) throw std::logic_error("kd-tree deeper than the traversal stack");
-        stack[sp++] = {second, t_plane, tmax};
-        node_index = first;
-        tmax = t_plane;
-      }
-      continue;
+  TraversalState s;
+  if (!traversal_begin(s, ray, kAnyHit, h_.bounds, abs_eps_)) return false;
+  TraversalStep step = TraversalStep::kFetchNode;
+  while (step != TraversalStep::kDone) {
+    const KdNode node = image::decode_node(mem_ + h_.nodes.base + s.node * image::kNodeBytes);
+    if (!node.is_leaf()) ++c.nodes;
+    else ++c.leaves;
+    step = traversal_node(s, node);
+    if (step != TraversalStep::kLeaf) continue;
+    const image::LeafRecord leaf = image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
+    const Ray r = traversal_leaf_ray(s);
+    for (uint32_t k = 0; k < leaf.prim_count; ++k) {
+      const uint32_t tri = image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
+      const image::TriangleRecord t = image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
+      ++c.tri_tests;
+      float t_hit;
+      if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
+      traversal_hit(s, tri, t_hit);
+      if (kAnyHit) break;
     }
-    ++c.leaves;
-    const uint32_t count = node.prim_count();
-    if (count > 0) {
-      const image::LeafRecord leaf =
-          image::decode_leaf(mem_ + h_.leaves.base + node.leaf_index() * image::kLeafBytes);
-      // Only hits inside this cell (with slack) belong to this leaf; later cells find the rest.
-      Ray r = ray;
-      if (!kAnyHit) {
-        r.tmin = std::max(ray.tmin, tmin * (1.f - kRelEps) - abs_eps_);
-        r.tmax = std::min(best, tmax * (1.f + kRelEps) + abs_eps_);
-        // Equal t may still win on a lower triangle index: admit it, then break the tie below.
-        r.tmax = std::nextafter(r.tmax, INFINITY);
-      }
-      for (uint32_t k = 0; k < count; ++k) {
-        const uint32_t tri = image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
-        const image::TriangleRecord t = image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
-        ++c.tri_tests;
-        float t_hit;
-        if (!intersect_triangle(r, shear, t.v0, t.v1, t.v2, t_hit)) continue;
-        if (kAnyHit) {
-          hit.tri = tri;
-          hit.t = t_hit;
-          hit.leaf = node.leaf_index();
-          return true;
-        }
-        if (t_hit < best || (t_hit == best && tri < hit.tri)) {
-          best = t_hit;
-          hit.tri = tri;
-          hit.t = t_hit;
-          hit.leaf = node.leaf_index();
-          found = true;
-          r.tmax = std::nextafter(std::min(best, r.tmax), INFINITY);
-        }
-      }
-    }
-    // Pop the next cell front to back; stop once it starts beyond the best hit.
-    for (;;) {
-      if (sp == 0) return found;
-      const StackEntry& e = stack[--sp];
-      if (found && e.tmin * (1.f - kRelEps) - abs_eps_ > best) return found;
-      node_index = e.node;
-      tmin = e.tmin;
-      tmax = e.tmax;
-      break;
-    }
+    step = traversal_pop(s);
   }
+  hit = s.hit;
+  return s.found;
 }
 
 Hit ReferenceTracer::closest_hit(const Ray& ray, TraversalCounters* counters) const {
@@ -168,7 +85,7 @@ struct Worker {
   Vec3 shade(const Ray& ray, const Hit& hit, int depth, PixelRecord* rec) {
     const image::TriangleRecord tri = image.triangle(hit.tri);
     const image::MaterialRecord mat = image.material(tri.material);
-    Vec3 n = glm::normalize(glm::cross(tri.v1 - tri.v0, tri.v2 - tri.v0));
+    Vec3 n = unit_normal(tri.v0, tri.v1, tri.v2);
     if (glm::dot(n, ray.d) > 0.f) n = -n;  // two-sided: face the incoming ray
     const Vec3 p = ray.o + hit.t * ray.d;
     const uint32_t lvb = image.leaf(hit.leaf).lvb;

@@ -5,6 +5,7 @@
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
 #include "kernels/ray.h"
+#include "kernels/traversal.h"
 
 #include <array>
 #include <cstdint>
@@ -19,12 +20,6 @@ struct TracerOptions {
   bool cull_with_lvb = false;     // skip shadow rays whose leaf's LVB bit is 0
   bool verify_culls = false;      // trace culled shadow rays anyway and count the wrong ones
   float shadow_offset = 1e-5f;    // shadow/reflection origin offset, relative to the scene diagonal
-};
-
-struct Hit {
-  uint32_t tri = kNoHit;
-  float t = 0.f;
-  uint32_t leaf = kNoHit;  // the leaf whose cell holds the hit point (its LVB word applies)
 };
 
 // What one primary ray (one pixel) produced.

@@ -90,7 +90,7 @@ int check_never_wrong(const Scene& s, const KdTree& t, const LvbResult& r, std::
           const Vec3 p = tri.v0 + a * (tri.v1 - tri.v0) + b * (tri.v2 - tri.v0);
           if (!leaf.cell.contains(p)) continue;
           ++sample;
-          Vec3 n = glm::normalize(tri.normal());
+          Vec3 n = unit_normal(tri.v0, tri.v1, tri.v2);
           if (glm::dot(n, light - p) < 0.f) n = -n;
           Ray ray;
           ray.o = p + offset * n;

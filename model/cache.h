@@ -1,0 +1,154 @@
+// A non-blocking, set-associative, LRU, read-only cache that models timing and holds data.
+//
+// It is a plain object driven by function calls (no SystemC process): towards the requester it
+// is a LineSource, towards the level below a FillListener (for fills whose time was unknown when
+// they were asked for, i.e. DRAM misses). Data are read-only, so a line's bytes are copied from
+// the level below as soon as they are known to be exact (at request time when the delivery time
+// is known, at on_fill otherwise).
+//
+// Timing (hit_latency H is in cycles of the cache's clock; all times are Ticks):
+//  - hit: the line is present and was delivered by `now` -> now + H.
+//  - merge: the line is allocated and still in flight (delivery T > now). No new request goes
+//    below. The delivery is max(T, now + H): the data passes through as it arrives, but a merge
+//    is never faster than a hit would be. If T is not known yet the requester is queued on the
+//    line's MSHR, fetch_line returns kUnknown and it gets on_fill(line, cookie, max(T, now + H))
+//    when the fill arrives.
+//  - miss: the tag check takes H, so the level below is asked at now + H and its delivery time
+//    is this cache's delivery time (no extra cost on the way back). Hence an L1 miss that hits in
+//    an L2 is delivered at now + H_L1 + H_L2, and one that goes to memory at
+//    now + H_L1 + H_L2 + (memory's answer to a request made at now + H_L1 + H_L2).
+//    The line is allocated at request time in the LRU way among those not in flight; the MSHR
+//    stays busy until the delivery.
+//  - MSHR / structural stall: a miss needs a free MSHR (at most `mshrs` lines in flight) and a
+//    way of its set that is not in flight. If either is missing but the earliest one frees at a
+//    known time, the miss is issued at that time instead of `now` (the level below may thus be
+//    asked about a future time). If none frees at a known time, the request is queued and served
+//    (in arrival order, as an access made at the fill time) when an on_fill frees an MSHR; it
+//    then completes through listener->on_fill.
+//
+// Statistics: accesses = hits + misses + mshr_merges (+ requests still queued; a queued
+// request is classified when it is finally served). mshr_stall_events counts requests that
+// waited for an MSHR or a way; mshr_stall_cycles their total wait, each rounded up to whole
+// cycles. fills counts lines written into the data array, evictions valid lines replaced.
+//
+// Listener contract: on_fill may be called with a `when` later than the call's own time (a queued
+// request served at a fill may complete after it); `when` is the delivery time. Listener calls
+// are made only after the cache's state is consistent, so a listener may call back into it.
+#pragma once
+
+#include "model/memory_interface.h"
+#include "model/model_time.h"
+#include "model/stats_registry.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+struct CacheConfig {
+  uint32_t size_bytes = 8192;
+  uint32_t ways = 2;
+  uint32_t line_bytes = 64;  // power of two, >= 4
+  uint32_t hit_latency = 1;  // cycles of the cache's clock (0 allowed: an ideal cache)
+  uint32_t mshrs = 16;       // outstanding misses (distinct lines)
+
+  // Throws std::invalid_argument naming the offending field.
+  void validate() const;
+  uint32_t sets() const { return size_bytes / (ways * line_bytes); }
+};
+
+struct CacheStats {
+  uint64_t accesses = 0;
+  uint64_t hits = 0;
+  uint64_t misses = 0;
+  uint64_t mshr_merges = 0;
+  uint64_t mshr_stall_events = 0;
+  uint64_t mshr_stall_cycles = 0;
+  uint64_t fills = 0;
+  uint64_t evictions = 0;
+};
+
+class Cache : public LineSource, public FillListener {
+ public:
+  // `below` must outlive the cache; the cache registers itself as below's listener.
+  Cache(std::string name, const CacheConfig& cfg, const Clock& clock, LineSource* below);
+  Cache(const Cache&) = delete;  // the level below holds `this`
+  Cache& operator=(const Cache&) = delete;
+
+  // `line_addr` must be line-aligned (std::logic_error otherwise). `listener` may be null when
+  // the caller does not need a kUnknown completion.
+  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
+  // The cache's own copy when it holds the line's bytes; otherwise (evicted since its delivery,
+  // or not yet arrived) the level below's, which is identical because data are read-only.
+  const uint8_t* line_data(uint64_t line_addr) const override;
+  // A fill from below for a line this cache asked for with an unknown time.
+  void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
+
+  // Registers <prefix>.accesses, .hits, .misses, .mshr_merges, .mshr_stall_events,
+  // .mshr_stall_cycles, .fills, .evictions and the formula .hit_rate (hits / accesses).
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+  const CacheStats& stats() const { return stats_; }
+  const CacheConfig& config() const { return cfg_; }
+  const std::string& name() const { return name_; }
+  // Probes without side effects (tests, debugging).
+  bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
+  size_t queued_requests() const { return queued_.size(); }
+
+ private:
+  static constexpr uint64_t kInvalidTag = ~uint64_t(0);  // never line-aligned, never matches
+  static constexpr uint32_t kNoWay = ~uint32_t(0);
+
+  struct Waiter {
+    FillListener* listener;
+    uint64_t cookie;
+    Tick earliest;  // the requester's arrival + hit latency
+  };
+  struct Mshr {
+    Tick free_at = 0;  // busy while free_at > t; kUnknown until its fill arrives
+    std::vector<Waiter> waiters;  // keeps its capacity: no allocation once warmed up
+  };
+  struct Queued {  // a miss that found no MSHR / way with a known free time
+    uint64_t line;
+    FillListener* listener;
+    uint64_t cookie;
+    Tick arrival;
+  };
+  struct Delivery {
+    FillListener* listener;
+    uint64_t line;
+    uint64_t cookie;
+    Tick when;
+  };
+
+  uint32_t find_way(uint64_t line_addr) const;  // global way index or kNoWay
+  // The access proper, at time `now`. `arrival` is when the request first arrived (< now for a
+  // queued request served at a fill); `requeued` says its stall event was already counted.
+  Tick access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival, bool requeued);
+  Tick miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
+            bool requeued);
+  uint64_t ceil_cycles(Tick t) const { return (t + clock_.period() - 1) / clock_.period(); }
+
+  std::string name_;
+  CacheConfig cfg_;
+  Clock clock_;
+  LineSource* below_;
+  Tick hit_ticks_;
+  uint32_t line_shift_;
+  uint64_t set_mask_;
+
+  // Flat per-way arrays, indexed set * ways + way.
+  std::vector<uint64_t> tags_;
+  std::vector<Tick> ready_;      // delivery time of the line's data; kUnknown while awaiting a fill
+  std::vector<uint64_t> lru_;    // last-use stamp; the smallest is the LRU
+  std::vector<uint32_t> mshr_of_;  // the MSHR serving the way while ready_ is kUnknown
+  std::vector<uint8_t> data_;
+  uint64_t stamp_ = 0;
+
+  std::vector<Mshr> mshrs_;
+  std::vector<Queued> queued_;
+  CacheStats stats_;
+};
+
+}  // namespace rtsim::model

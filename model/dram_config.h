@@ -1,0 +1,112 @@
+// DRAM configuration: geometry, timings (in DRAM command-clock cycles), controller queue, request
+// size and address mapping, plus the named presets. The timing engine (dram_controller.h) and the
+// SystemC wrapper (dram.h) take a validated DramConfig.
+//
+// Address mapping syntax (GPGPU-Sim's -gpgpu_mem_addr_mapping, a documented subset):
+//   [dramid@N;]<bits>
+// <bits> names every address bit from the most to the least significant:
+//   R row, B bank, C column (index of a burst within the row), S byte within a burst,
+//   D channel, 0 unused; '.', '|' and ' ' are separators and take no bit.
+// "dramid@N;" inserts log2(channels) channel bits at bit N and shifts every <bits> bit at or
+// above N up by as many (GPGPU-Sim's addrdec.cc does the same); D is then not allowed.
+// '0' may only pad the top (above every named bit): address bits above the highest named bit
+// extend the row number, so every address of any size maps to a distinct (channel, bank, row,
+// column, byte) and nothing aliases. Row, bank and column numbers are the named bits packed in
+// order, least significant first.
+//
+// Consequence for the GT200 string "dramid@8;...0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS", 8 channels:
+//   bits 0-4 byte in a 32-byte burst, 5-7 column (low 3), 8-10 channel, 11-13 column (high 3),
+//   14-16 bank, 17-30 row, 31+ more row. So 256 consecutive bytes stay in one channel, a row
+//   holds 64 bursts = 2 KB per channel, and 16 KB of addresses cover one row in every channel.
+#pragma once
+
+#include "model/memory_interface.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+// GPGPU-Sim's QuadroFX5800 (GT200) mapping string, verbatim.
+inline constexpr const char* kGt200AddressMapping =
+    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS";
+// A simple alternative, row:bank:channel:column:offset: each channel gets whole 2 KB rows in turn
+// (coarse interleaving, for studying channel imbalance).
+inline constexpr const char* kRowBankChannelColumnMapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.SSSSS";
+
+// Only open page: rows stay open until a request for another row of the bank forces a precharge.
+enum class RowPolicy { kOpenPage };
+
+struct DramConfig {
+  std::string preset;  // name of the preset this came from ("" = hand-made)
+
+  uint32_t channels = 8;  // independent controllers, each with its own command and data bus
+  uint32_t banks = 8;     // per channel
+  Tick tCK_ps = 1250;     // DRAM command-clock period
+
+  // Timings in command-clock cycles.
+  uint32_t tRCD = 12;  // ACT -> RD, same bank
+  uint32_t CL = 10;    // RD -> first data beat
+  uint32_t tRP = 10;   // PRE -> ACT, same bank
+  uint32_t tRAS = 25;  // ACT -> PRE, same bank
+  uint32_t tRC = 35;   // ACT -> ACT, same bank
+  uint32_t tCCD = 2;   // column command -> column command, same channel
+  uint32_t tRRD = 8;   // ACT -> ACT, different banks of the channel
+  // Write timings: kept for completeness, unused (the accelerator only reads scene data).
+  uint32_t WL = 7;
+  uint32_t tWR = 13;
+  uint32_t tWTR = 6;
+
+  uint32_t burst_length = 4;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
+  uint32_t bus_bytes = 8;     // data-bus width of one channel
+
+  uint32_t queue_size = 16;     // scheduler queue per channel; excess requests wait in a FIFO
+  uint32_t request_bytes = 32;  // one request = the line of the cache above = request_bytes/burst bursts
+  RowPolicy row_policy = RowPolicy::kOpenPage;
+  std::string address_mapping = kGt200AddressMapping;
+
+  uint32_t burst_bytes() const { return bus_bytes * burst_length; }
+  uint32_t burst_cycles() const { return burst_length / 2; }
+  uint32_t bursts_per_request() const { return request_bytes / burst_bytes(); }
+  // channels * bus_bytes * 2 (DDR) / tCK, in GB/s (bytes per ns).
+  double peak_bandwidth_gbps() const { return double(channels) * bus_bytes * 2 * 1000.0 / double(tCK_ps); }
+
+  // Throws std::invalid_argument naming the offending field.
+  void validate() const;
+};
+
+// The preset called `name`; unknown names throw std::invalid_argument listing the known ones.
+DramConfig dram_preset(const std::string& name);
+std::vector<std::string> dram_preset_names();
+
+// Where an address lands.
+struct DramAddress {
+  uint32_t channel = 0;
+  uint32_t bank = 0;
+  uint64_t row = 0;
+  uint64_t column = 0;  // burst index within the row
+  uint32_t byte = 0;    // byte within the burst
+};
+
+// A parsed address-mapping string (syntax above).
+class AddressMapping {
+ public:
+  enum Field { kRow, kBank, kColumn, kChannel, kByte, kFields };
+
+  // Throws std::invalid_argument("address_mapping: ...") for a malformed string.
+  AddressMapping(const std::string& spec, uint32_t channels);
+
+  DramAddress decode(uint64_t addr) const;
+  uint32_t bits(Field f) const { return uint32_t(positions_[f].size()); }
+  // The field that address bit `bit` belongs to (bits at or above top_bit() are row bits).
+  Field field_of(uint32_t bit) const;
+  uint32_t top_bit() const { return top_; }
+
+ private:
+  std::array<std::vector<uint8_t>, kFields> positions_;  // address bits of each field, LSB first
+  uint32_t top_ = 0;                                     // first bit above every named bit
+};
+
+}  // namespace rtsim::model
