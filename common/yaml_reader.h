@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <memory>
 #include <set>
 #include <string>
@@ -23,6 +24,7 @@ class YamlMap {
   static YamlMap load_file(const std::string& path);
   YamlMap(const YAML::Node& node, std::string file, std::string path);
 
+  // A key given without a value ("key: ~") counts as absent.
   bool has(const std::string& key) const {
     const YAML::Node n = node_[key];
     return n.IsDefined() && !n.IsNull();
@@ -33,7 +35,15 @@ class YamlMap {
 
   template <class T>
   T get(const std::string& key, const T& fallback) {
-    return has(key) ? require<T>(key) : (mark(key), fallback);
+    if (!has(key)) {
+      mark(key);
+      return fallback;
+    }
+    T v = require<T>(key);
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(v)) fail(key, "expected a finite number");
+    }
+    return v;
   }
   template <class T>
   T require(const std::string& key) {
@@ -48,7 +58,7 @@ class YamlMap {
   template <class T>
   T get_in_range(const std::string& key, const T& fallback, const T& lo, const T& hi) {
     T v = get<T>(key, fallback);
-    if (v < lo || v > hi) fail(key, fmt::format("expected a value in [{}, {}], got {}", lo, hi, v));
+    if (!(v >= lo && v <= hi)) fail(key, fmt::format("expected a value in [{}, {}], got {}", lo, hi, v));  // NaN too
     return v;
   }
   Vec3 require_vec3(const std::string& key);
@@ -57,6 +67,7 @@ class YamlMap {
   YamlMap map(const std::string& key);                 // a required nested map
   std::vector<YamlMap> list_of_maps(const std::string& key);
   YAML::Node raw(const std::string& key) { return child(key); }
+  YAML::Node raw_sequence(const std::string& key);  // a required list
 
   // Throws for every key of this map that was never read.
   void finish() const;

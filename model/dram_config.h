@@ -39,33 +39,36 @@ inline constexpr const char* kRowBankChannelColumnMapping = "RRRRRRRRRRRRRR.BBB.
 // Only open page: rows stay open until a request for another row of the bank forces a precharge.
 enum class RowPolicy { kOpenPage };
 
+// A default-constructed DramConfig is empty (and fails validate()): start from dram_preset(),
+// which is the one place the numbers and their sources are written down.
 struct DramConfig {
   std::string preset;  // name of the preset this came from ("" = hand-made)
 
-  uint32_t channels = 8;  // independent controllers, each with its own command and data bus
-  uint32_t banks = 8;     // per channel
-  Tick tCK_ps = 1250;     // DRAM command-clock period
+  uint32_t channels = 0;  // independent controllers, each with its own command and data bus
+  uint32_t banks = 0;     // per channel
+  Tick tCK_ps = 0;        // DRAM command-clock period
 
   // Timings in command-clock cycles.
-  uint32_t tRCD = 12;  // ACT -> RD, same bank
-  uint32_t CL = 10;    // RD -> first data beat
-  uint32_t tRP = 10;   // PRE -> ACT, same bank
-  uint32_t tRAS = 25;  // ACT -> PRE, same bank
-  uint32_t tRC = 35;   // ACT -> ACT, same bank
-  uint32_t tCCD = 2;   // column command -> column command, same channel
-  uint32_t tRRD = 8;   // ACT -> ACT, different banks of the channel
-  // Write timings: kept for completeness, unused (the accelerator only reads scene data).
-  uint32_t WL = 7;
-  uint32_t tWR = 13;
-  uint32_t tWTR = 6;
+  uint32_t tRCD = 0;  // ACT -> RD, same bank
+  uint32_t CL = 0;    // RD -> first data beat
+  uint32_t tRP = 0;   // PRE -> ACT, same bank
+  uint32_t tRAS = 0;  // ACT -> PRE, same bank
+  uint32_t tRC = 0;   // ACT -> ACT, same bank
+  uint32_t tCCD = 0;  // column command -> column command, same channel
+  uint32_t tRRD = 0;  // ACT -> ACT, different banks of the channel
+  // Write timings: kept for completeness and validated, but unused: the accelerator never writes
+  // (scene data are read-only), so the engine issues only ACT, PRE and RD.
+  uint32_t WL = 0;
+  uint32_t tWR = 0;
+  uint32_t tWTR = 0;
 
-  uint32_t burst_length = 4;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
-  uint32_t bus_bytes = 8;     // data-bus width of one channel
+  uint32_t burst_length = 0;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
+  uint32_t bus_bytes = 0;     // data-bus width of one channel
 
-  uint32_t queue_size = 16;     // scheduler queue per channel; excess requests wait in a FIFO
-  uint32_t request_bytes = 32;  // one request = the line of the cache above = request_bytes/burst bursts
+  uint32_t queue_size = 0;     // scheduler queue per channel; excess requests wait in a FIFO
+  uint32_t request_bytes = 0;  // the cache line above; one request = request_bytes / burst_bytes bursts
   RowPolicy row_policy = RowPolicy::kOpenPage;
-  std::string address_mapping = kGt200AddressMapping;
+  std::string address_mapping;
 
   uint32_t burst_bytes() const { return bus_bytes * burst_length; }
   uint32_t burst_cycles() const { return burst_length / 2; }

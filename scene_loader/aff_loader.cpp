@@ -451,9 +451,9 @@ class AffLoader {
     tk.expect("resolution", "in 'v' block");
     long w = tk.integer("v resolution width");
     long h = tk.integer("v resolution height");
-    if (w <= 0 || h <= 0)
+    if (w <= 0 || h <= 0 || w > 16384 || h > 16384)
       tk.error("found resolution " + std::to_string(w) + " x " + std::to_string(h) +
-               ", expected a positive width and height");
+               ", expected a width and height in [1, 16384]");
     if (glm::length(at - from) == 0.0)
       tk.error("found 'at' equal to 'from' in 'v', expected distinct points");
     c.eye = Vec3(from);

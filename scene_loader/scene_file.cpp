@@ -8,6 +8,7 @@
 #include "scene_loader/procedural.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -60,8 +61,9 @@ void load_geometry_file(YamlMap& g, const fs::path& root, double time, Scene& sc
 
 void load_triangles(YamlMap& g, Scene& scene) {
   YamlMap t = g.map("triangles");
-  const YAML::Node verts = t.raw("vertices");
-  const YAML::Node idx = t.raw("indices");
+  const YAML::Node verts = t.raw_sequence("vertices");
+  const YAML::Node idx = t.raw_sequence("indices");
+  if (verts.size() == 0) t.fail("vertices", "expected at least 3 vertices");
   std::vector<Vec3> v;
   for (size_t i = 0; i < verts.size(); ++i) {
     const YAML::Node n = verts[i];
@@ -71,6 +73,8 @@ void load_triangles(YamlMap& g, Scene& scene) {
     } catch (const YAML::Exception&) {
       t.fail("vertices", fmt::format("entry {}: expected 3 numbers", i), n);
     }
+    if (!std::isfinite(v.back().x) || !std::isfinite(v.back().y) || !std::isfinite(v.back().z))
+      t.fail("vertices", fmt::format("entry {}: expected 3 finite numbers", i), n);
   }
   const uint32_t mat = scene.add_material(t.has("material") ? read_material(t.map("material")) : Material{});
   for (size_t i = 0; i < idx.size(); ++i) {
@@ -97,12 +101,25 @@ void load_procedural(YamlMap& g, Scene& scene) {
   const std::string kind = p.get<std::string>("kind", "city");
   if (kind != "city") p.fail("kind", "expected 'city'");
   CityParams c;
-  c.blocks = p.get<int>("blocks", c.blocks);
-  c.seed = p.get<uint32_t>("seed", c.seed);
-  c.sphere_segments = p.get<int>("sphere_segments", c.sphere_segments);
-  c.lights = p.get<int>("lights", c.lights);
+  c.blocks = p.get_in_range("blocks", c.blocks, 1, 64);
+  c.seed = uint32_t(p.get_in_range<int64_t>("seed", c.seed, 0, 0xffffffffll));
+  c.sphere_segments = p.get_in_range("sphere_segments", c.sphere_segments, 4, 256);
+  c.lights = p.get_in_range("lights", c.lights, 1, kMaxLights);
   p.finish();
   make_city(c, scene);
+}
+
+// Whatever its source (this file or a geometry file), the camera must make an image.
+void check_camera(YamlMap& top, const Camera& cam) {
+  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  if (!finite(cam.eye) || !finite(cam.dir) || !finite(cam.up) || glm::length(cam.dir) == 0.f)
+    top.fail("camera", "the camera's eye, direction and up must be finite, with a non-zero direction");
+  const Vec3 d = glm::normalize(cam.dir);
+  const float up_len = glm::length(cam.up);
+  if (!(up_len > 0.f) || glm::length(glm::cross(d, cam.up / up_len)) < 1e-6f)
+    top.fail("camera", "the camera's up vector is zero or parallel to the view direction");
+  if (!(cam.vfov_deg >= 1e-3f && cam.vfov_deg <= 179.f))
+    top.fail("camera", fmt::format("vertical field of view {} degrees; expected [0.001, 179]", cam.vfov_deg));
 }
 
 Camera read_camera(YamlMap c) {
@@ -113,7 +130,6 @@ Camera read_camera(YamlMap c) {
   if (glm::length(dir) == 0.f) c.fail(c.has("dir") ? "dir" : "at", "view direction has zero length");
   cam.dir = glm::normalize(dir);
   cam.up = c.get_vec3("up", Vec3(0, 1, 0));
-  if (glm::length(glm::cross(cam.dir, cam.up)) < 1e-6f) c.fail("up", "expected a vector not parallel to the view direction");
   cam.vfov_deg = c.get_in_range("vfov_deg", 45.f, 1e-3f, 179.f);
   c.finish();
   return cam;
@@ -162,6 +178,7 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
     top.get<int>("camera", 0);  // an explicit 'camera: ~' means "from the file"
   }
   if (!scene.has_camera) top.fail("camera", "no camera: the geometry files define none, so give one here");
+  check_camera(top, scene.camera);
 
   if (top.has("lights")) {
     YamlMap l = top.map("lights");
@@ -192,10 +209,13 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
     scene.width = w;
     scene.height = h;
   }
-  if (scene.width <= 0 || scene.height <= 0) {
+  if (scene.width == 0 && scene.height == 0) {
     scene.width = 640;
     scene.height = 360;
   }
+  if (scene.width < 1 || scene.height < 1 || scene.width > 16384 || scene.height > 16384)
+    top.fail("resolution", fmt::format("the geometry files give {}x{}; expected each side in [1, 16384] "
+                                       "(set 'resolution' here to override)", scene.width, scene.height));
   if (scene.triangles.empty()) top.fail("geometry", "the scene has no triangles");
   if (top.has("kdtree")) setup.kdtree = read_kdtree(top.map("kdtree"));
   top.finish();

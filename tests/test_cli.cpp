@@ -156,6 +156,27 @@ TEST(Cli, UnknownYamlKeyIsNamed) {
   fs::remove_all(dir);
 }
 
+TEST(Cli, ValuesThatWouldMakeNoImageAreRejected) {
+  const fs::path dir = test::temp_dir("cli_values");
+  const std::string geo = "geometry:\n  - procedural: {kind: city, blocks: 2}\n";
+  write(dir / "nan.yaml", geo + "camera: {eye: [0, 0, 5], dir: [0, 0, -1], vfov_deg: .nan}\n");
+  expect_input_error("info " + (dir / "nan.yaml").string(), {"nan.yaml:3", "camera.vfov_deg", "finite"});
+  write(dir / "twice.yaml", geo + "resolution: [8, 8]\nresolution: [16, 8]\n");
+  expect_input_error("info " + (dir / "twice.yaml").string(), {"twice.yaml:4", "resolution", "twice"});
+  write(dir / "null.yaml", geo + "resolution: ~\n");
+  expect_input_error("info " + (dir / "null.yaml").string(), {"null.yaml:3", "resolution", "no value"});
+  write(dir / "range.yaml", "geometry:\n  - procedural: {kind: city, blocks: -3}\n");
+  expect_input_error("info " + (dir / "range.yaml").string(), {"range.yaml:2", "procedural.blocks", "[1, 64]"});
+  write(dir / "verts.yaml", "geometry:\n  - triangles: {vertices: {a: 1}, indices: [[0, 1, 2]]}\n");
+  expect_input_error("info " + (dir / "verts.yaml").string(), {"verts.yaml:2", "vertices", "expected a list"});
+  // The camera of a geometry file is checked like one given here.
+  write(dir / "flat.nff", "v\nfrom 0 0 5\nat 0 0 0\nup 0 0 1\nangle 40\nhither 1\nresolution 8 8\nl 0 5 0\np 3\n0 0 0\n1 0 0\n0 1 0\n");
+  write(dir / "nff.yaml", "geometry:\n  - file: flat.nff\n");
+  expect_input_error("info " + (dir / "nff.yaml").string() + " --scene-root " + dir.string(), {"nff.yaml", "up", "parallel"});
+  expect_input_error("info " + dir.string(), {"not a regular file"});
+  fs::remove_all(dir);
+}
+
 TEST(Cli, MissingGeometryFileIsNamed) {
   const fs::path dir = test::temp_dir("cli_geom");
   write(dir / "s.yaml", "geometry:\n  - file: nowhere/model.ply\n");

@@ -1,0 +1,220 @@
+#include "model/dram_controller.h"
+
+#include <algorithm>
+
+namespace rtsim::model {
+
+namespace {
+
+const DramConfig& validated(const DramConfig& c) {
+  c.validate();
+  return c;
+}
+
+}  // namespace
+
+double DramStats::row_hit_rate() const {
+  const uint64_t n = row_hits + row_misses + row_conflicts;
+  return n ? double(row_hits) / double(n) : 0.0;
+}
+
+double DramStats::bandwidth_gbps() const {
+  if (last_completion_ps <= first_arrival_ps) return 0.0;
+  return double(bytes) * 1000.0 / double(last_completion_ps - first_arrival_ps);  // bytes/ps -> GB/s
+}
+
+double DramStats::avg_latency_ns() const { return reads ? double(latency_sum_ps) / double(reads) / 1000.0 : 0.0; }
+
+DramController::DramController(const DramConfig& config)
+    : config_(validated(config)), mapping_(config_.address_mapping, config_.channels) {
+  using C = Command;
+  const uint32_t burst = config_.burst_cycles();
+  const TimingRule rules[] = {
+      {C::kActivate, C::kRead, Scope::kBank, config_.tRCD},
+      {C::kActivate, C::kPrecharge, Scope::kBank, config_.tRAS},
+      {C::kActivate, C::kActivate, Scope::kBank, config_.tRC},
+      {C::kActivate, C::kActivate, Scope::kChannel, config_.tRRD},
+      {C::kPrecharge, C::kActivate, Scope::kBank, config_.tRP},
+      {C::kRead, C::kRead, Scope::kChannel, config_.tCCD},
+      {C::kRead, C::kRead, Scope::kChannel, burst},      // the data bus holds one burst at a time
+      {C::kRead, C::kPrecharge, Scope::kBank, burst},    // READ to PRECHARGE
+  };
+  for (const TimingRule& r : rules) rules_by_prev_[size_t(r.prev)].push_back(r);
+
+  channels_.resize(config_.channels);
+  for (Channel& ch : channels_) {
+    ch.banks.resize(config_.banks);
+    ch.queue.reserve(config_.queue_size);
+  }
+  hit_pending_.resize(config_.banks);
+  stats_.channel_reads.assign(config_.channels, 0);
+}
+
+void DramController::enqueue(uint64_t addr, Tick now, uint64_t id) {
+  const Tick arrival = std::max(now, now_);
+  const DramAddress a = mapping_.decode(addr & ~uint64_t(config_.request_bytes - 1));
+  const Request r{id, next_seq_++, arrival, (arrival + config_.tCK_ps - 1) / config_.tCK_ps, a.bank, a.row,
+                  a.column, 0, false};
+  stats_.first_arrival_ps = stats_.requests == 0 ? arrival : std::min(stats_.first_arrival_ps, arrival);
+  ++stats_.requests;
+  Channel& ch = channels_[a.channel];
+  if (ch.queue.size() < config_.queue_size) {
+    ch.queue.push_back(r);
+  } else {
+    ch.overflow.push_back(r);
+    ++stats_.queue_full_events;
+  }
+  ch.next_cycle = choose(ch).cycle;
+}
+
+DramController::Choice DramController::choose(Channel& ch) {
+  std::fill(hit_pending_.begin(), hit_pending_.end(), uint8_t(0));
+  size_t owner = ch.queue.size();  // the request between its first and last burst, if any
+  for (size_t i = 0; i < ch.queue.size(); ++i) {
+    const Request& r = ch.queue[i];
+    const Bank& b = ch.banks[r.bank];
+    if (b.open && b.row == r.row) hit_pending_[r.bank] = 1;
+    if (r.bursts_issued > 0) owner = i;
+  }
+
+  Choice best;
+  for (size_t i = 0; i < ch.queue.size(); ++i) {
+    const Request& r = ch.queue[i];
+    const Bank& b = ch.banks[r.bank];
+    Command cmd;
+    if (b.open && b.row == r.row) {
+      if (owner != ch.queue.size() && owner != i) continue;  // the column commands are taken
+      cmd = Command::kRead;
+    } else if (b.open) {
+      if (hit_pending_[r.bank]) continue;  // keep the row open while it still has hits
+      cmd = Command::kPrecharge;
+    } else {
+      cmd = Command::kActivate;
+    }
+    const size_t k = size_t(cmd);
+    const uint64_t cycle = std::max({b.earliest[k], ch.earliest[k], r.arrival_cycle, ch.free_from});
+    bool better = cycle < best.cycle;
+    if (cycle == best.cycle) {
+      const bool read = cmd == Command::kRead, best_read = best.command == Command::kRead;
+      const Request& o = ch.queue[best.index];
+      better = read != best_read ? read : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
+    }
+    if (better) best = Choice{i, cmd, cycle};
+  }
+  return best;
+}
+
+void DramController::issue(uint32_t channel_index, const Choice& c) {
+  Channel& ch = channels_[channel_index];
+  Request& r = ch.queue[c.index];
+  Bank& b = ch.banks[r.bank];
+  const Tick tck = config_.tCK_ps;
+
+  if (!r.classified) {
+    r.classified = true;
+    if (c.command == Command::kRead) ++stats_.row_hits;
+    else if (c.command == Command::kActivate) ++stats_.row_misses;
+    else ++stats_.row_conflicts;
+  }
+  for (const TimingRule& rule : rules_by_prev_[size_t(c.command)]) {
+    Stamps& s = rule.scope == Scope::kBank ? b.earliest : ch.earliest;
+    uint64_t& e = s[size_t(rule.next)];
+    e = std::max(e, c.cycle + rule.cycles);
+  }
+  ch.free_from = c.cycle + 1;
+  if (trace_)
+    trace_->push_back(CommandRecord{c.cycle * tck, channel_index, r.bank, c.command, r.row,
+                                    c.command == Command::kRead ? r.column + r.bursts_issued : 0, r.id});
+
+  switch (c.command) {
+    case Command::kActivate:
+      b.open = true;
+      b.row = r.row;
+      ++stats_.activates;
+      break;
+    case Command::kPrecharge:
+      b.open = false;
+      ++stats_.precharges;
+      break;
+    case Command::kRead:
+      ++r.bursts_issued;
+      ++stats_.bursts;
+      stats_.data_bus_busy_ps += config_.burst_cycles() * tck;
+      if (r.bursts_issued == config_.bursts_per_request()) {
+        const Tick ready = (c.cycle + config_.CL + config_.burst_cycles()) * tck;
+        completions_.push(Pending{ready, r.seq, r.id, channel_index, r.arrival});
+        ch.queue.erase(ch.queue.begin() + std::ptrdiff_t(c.index));
+        if (!ch.overflow.empty()) {
+          ch.queue.push_back(ch.overflow.front());
+          ch.overflow.pop_front();
+        }
+      }
+      break;
+  }
+}
+
+void DramController::advance(Tick now, std::vector<Completion>& done) {
+  now_ = std::max(now_, now);
+  const uint64_t last = now / config_.tCK_ps;  // the last command cycle at or before now
+  for (uint32_t i = 0; i < channels_.size(); ++i) {
+    Channel& ch = channels_[i];
+    for (;;) {
+      const Choice c = choose(ch);
+      if (c.cycle == kNever || c.cycle > last) {
+        ch.next_cycle = c.cycle;
+        break;
+      }
+      issue(i, c);
+    }
+  }
+  while (!completions_.empty() && completions_.top().time <= now) {
+    const Pending p = completions_.top();
+    completions_.pop();
+    done.push_back(Completion{p.id, p.time});
+    ++stats_.reads;
+    ++stats_.channel_reads[p.channel];
+    stats_.bytes += config_.request_bytes;
+    stats_.latency_sum_ps += p.time - p.arrival;
+    stats_.last_completion_ps = std::max(stats_.last_completion_ps, p.time);
+  }
+}
+
+Tick DramController::next_event_time() const {
+  Tick t = completions_.empty() ? kUnknown : completions_.top().time;
+  for (const Channel& ch : channels_)
+    if (ch.next_cycle != kNever) t = std::min(t, ch.next_cycle * config_.tCK_ps);
+  return t;
+}
+
+void DramController::register_stats(StatsRegistry& reg, const std::string& prefix) const {
+  const std::string p = prefix.empty() ? "" : prefix + ".";
+  const DramStats& s = stats_;
+  reg.counter(p + "requests", &s.requests, "read requests accepted");
+  reg.counter(p + "reads", &s.reads, "read requests completed");
+  reg.counter(p + "bursts", &s.bursts, "RD commands (one burst each)");
+  reg.counter(p + "activates", &s.activates, "ACT commands");
+  reg.counter(p + "precharges", &s.precharges, "PRE commands");
+  reg.counter(p + "row_hits", &s.row_hits, "requests whose row was open");
+  reg.counter(p + "row_misses", &s.row_misses, "requests that found their bank closed");
+  reg.counter(p + "row_conflicts", &s.row_conflicts, "requests that found another row open");
+  reg.counter(p + "bytes", &s.bytes, "bytes read (completed requests)");
+  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "data-bus busy time summed over channels (ps)");
+  reg.counter(p + "queue_full_events", &s.queue_full_events, "requests that waited in the overflow FIFO");
+  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "sum of arrival-to-data latencies (ps)");
+  for (size_t i = 0; i < s.channel_reads.size(); ++i)
+    reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "read requests completed by channel");
+  reg.formula(p + "row_hit_rate", [&s] { return s.row_hit_rate(); }, "row_hits / (hits + misses + conflicts)");
+  reg.formula(p + "bandwidth_gbps", [&s] { return s.bandwidth_gbps(); },
+              "bytes / (last completion - first arrival), GB/s");
+  reg.formula(p + "avg_latency_ns", [&s] { return s.avg_latency_ns(); }, "latency_sum / reads (ns)");
+  const double channels = double(config_.channels);
+  reg.formula(
+      p + "bus_utilization",
+      [&s, channels] {
+        const uint64_t span = s.last_completion_ps > s.first_arrival_ps ? s.last_completion_ps - s.first_arrival_ps : 0;
+        return span ? double(s.data_bus_busy_ps) / (channels * double(span)) : 0.0;
+      },
+      "data_bus_busy / (channels * (last completion - first arrival))");
+}
+
+}  // namespace rtsim::model

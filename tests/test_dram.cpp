@@ -1,0 +1,445 @@
+// The DRAM timing engine and its configuration, without the SystemC kernel.
+#include "model/dram_config.h"
+#include "model/dram_controller.h"
+#include "model/stats_registry.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+namespace {
+
+using Cmd = DramController::Command;
+
+// Addresses under the GT200 mapping (bits: 0-4 byte, 5-7 column, 8-10 channel, 11-13 column,
+// 14-16 bank, 17+ row).
+constexpr uint64_t kCol1 = 1u << 5;
+constexpr uint64_t kChan1 = 1u << 8;
+constexpr uint64_t kBank1 = 1u << 14;
+constexpr uint64_t kRow1 = 1u << 17;
+
+constexpr Tick kNs = 1000;
+constexpr Tick kTck = 1250;
+
+DramConfig gt200() { return dram_preset("gddr3-gt200"); }
+
+// Runs the engine until it is idle; returns every completion.
+std::vector<DramController::Completion> drain(DramController& e) {
+  std::vector<DramController::Completion> done;
+  for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
+  return done;
+}
+
+Tick ready_of(const std::vector<DramController::Completion>& done, uint64_t id) {
+  for (const auto& c : done)
+    if (c.id == id) return c.data_ready;
+  ADD_FAILURE() << "no completion for id " << id;
+  return kUnknown;
+}
+
+std::vector<Tick> times_of(const std::vector<DramController::CommandRecord>& trace, Cmd cmd) {
+  std::vector<Tick> out;
+  for (const auto& r : trace)
+    if (r.command == cmd) out.push_back(r.time);
+  return out;
+}
+
+void expect_invalid(const DramConfig& c, const std::string& field) {
+  try {
+    c.validate();
+    ADD_FAILURE() << "validate() accepted a config with a bad " << field;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(DramConfig, PresetIsGpgpuSimGt200) {
+  const DramConfig c = gt200();
+  EXPECT_EQ(c.preset, "gddr3-gt200");
+  EXPECT_EQ(c.channels, 8u);
+  EXPECT_EQ(c.banks, 8u);
+  EXPECT_EQ(c.tCK_ps, 1250u);
+  // -gpgpu_dram_timing_opt 8:2:8:12:25:10:35:10:7:6
+  EXPECT_EQ(c.tCCD, 2u);
+  EXPECT_EQ(c.tRRD, 8u);
+  EXPECT_EQ(c.tRCD, 12u);
+  EXPECT_EQ(c.tRAS, 25u);
+  EXPECT_EQ(c.tRP, 10u);
+  EXPECT_EQ(c.tRC, 35u);
+  EXPECT_EQ(c.CL, 10u);
+  EXPECT_EQ(c.WL, 7u);
+  EXPECT_EQ(c.tWTR, 6u);
+  EXPECT_EQ(c.tWR, 13u);
+  EXPECT_EQ(c.burst_bytes(), 32u);
+  EXPECT_EQ(c.burst_cycles(), 2u);
+  EXPECT_EQ(c.queue_size, 16u);
+  EXPECT_DOUBLE_EQ(c.peak_bandwidth_gbps(), 102.4);
+  EXPECT_NO_THROW(c.validate());
+}
+
+TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
+  EXPECT_EQ(dram_preset_names(), std::vector<std::string>{"gddr3-gt200"});
+  try {
+    dram_preset("ddr9");
+    FAIL() << "unknown preset accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("ddr9"), std::string::npos) << m;
+    EXPECT_NE(m.find("gddr3-gt200"), std::string::npos) << m;
+  }
+}
+
+TEST(DramConfig, ValidationNamesTheField) {
+  expect_invalid(DramConfig{}, "channels");
+  DramConfig c = gt200();
+  c.channels = 0;
+  expect_invalid(c, "channels");
+  c = gt200();
+  c.banks = 6;
+  expect_invalid(c, "banks");
+  c = gt200();
+  c.tCK_ps = 0;
+  expect_invalid(c, "tCK_ps");
+  c = gt200();
+  c.tRCD = 0;
+  expect_invalid(c, "tRCD");
+  c = gt200();
+  c.tRC = 20;  // < tRAS
+  expect_invalid(c, "tRC");
+  c = gt200();
+  c.burst_length = 3;
+  expect_invalid(c, "burst_length");
+  c = gt200();
+  c.queue_size = 0;
+  expect_invalid(c, "queue_size");
+  c = gt200();
+  c.request_bytes = 48;
+  expect_invalid(c, "request_bytes");
+  c = gt200();
+  c.request_bytes = 16;  // less than a burst
+  expect_invalid(c, "request_bytes");
+  c = gt200();
+  c.address_mapping = "RRRRXBBB";
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "RRRR0BBBCCCCCCSSSSS";  // interior unused bit would alias addresses
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "dramid@8;RRRRRRRRRRRRRR.BBBCCC.CCCSSSS";  // 16-byte bursts, but BL*bus = 32
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "dramid@8;RRRRRRRRRRRRRR.BBCCC.CCCSSSSS";  // 4 banks named, 8 configured
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.D.SSSSS";  // 16 channels named, 8 configured
+  expect_invalid(c, "address_mapping");
+  // row:bank:column:channel:offset interleaves channels every 32 bytes: fine for 32-byte
+  // requests, but a 64-byte request would span two channels.
+  c = gt200();
+  c.address_mapping = "RRRRRRRRRRRRRR.BBB.CCCCCC.DDD.SSSSS";
+  EXPECT_NO_THROW(c.validate());
+  c.request_bytes = 64;
+  expect_invalid(c, "request_bytes");
+}
+
+TEST(DramAddressMapping, Gt200ChannelBitsAreInsertedAtBit8) {
+  const DramConfig c = gt200();
+  const AddressMapping m(c.address_mapping, c.channels);
+  EXPECT_EQ(m.bits(AddressMapping::kByte), 5u);
+  EXPECT_EQ(m.bits(AddressMapping::kColumn), 6u);
+  EXPECT_EQ(m.bits(AddressMapping::kChannel), 3u);
+  EXPECT_EQ(m.bits(AddressMapping::kBank), 3u);
+  EXPECT_EQ(m.bits(AddressMapping::kRow), 14u);
+  EXPECT_EQ(m.top_bit(), 31u);
+  for (uint32_t ch = 0; ch < 8; ++ch) {
+    const DramAddress a = m.decode(ch * kChan1 + 3 * kCol1 + 7);
+    EXPECT_EQ(a.channel, ch);
+    EXPECT_EQ(a.bank, 0u);
+    EXPECT_EQ(a.row, 0u);
+    EXPECT_EQ(a.column, 3u);
+    EXPECT_EQ(a.byte, 7u);
+  }
+  EXPECT_EQ(m.decode(2048).channel, 0u);  // after 8 x 256 bytes, back to channel 0 ...
+  EXPECT_EQ(m.decode(2048).column, 8u);   // ... in the next column group of the same row
+  EXPECT_EQ(m.decode(kBank1 * 5).bank, 5u);
+  EXPECT_EQ(m.decode(kRow1 * 9).row, 9u);
+  EXPECT_EQ(m.decode(uint64_t(1) << 31).row, uint64_t(1) << 14);  // bits above the string extend the row
+  const DramAddress a = m.decode(0x12345678);
+  EXPECT_EQ(a.byte, 0x18u);
+  EXPECT_EQ(a.column, ((0x12345678u >> 5) & 7u) | (((0x12345678u >> 11) & 7u) << 3));
+  EXPECT_EQ(a.channel, (0x12345678u >> 8) & 7u);
+  EXPECT_EQ(a.bank, (0x12345678u >> 14) & 7u);
+  EXPECT_EQ(a.row, 0x12345678u >> 17);
+}
+
+TEST(DramAddressMapping, AlternativeRowBankChannelColumn) {
+  const AddressMapping m(kRowBankChannelColumnMapping, 8);
+  EXPECT_EQ(m.decode(256).channel, 0u);
+  EXPECT_EQ(m.decode(256).column, 8u);
+  EXPECT_EQ(m.decode(2048).channel, 1u);
+  EXPECT_EQ(m.decode(2048).column, 0u);
+  EXPECT_EQ(m.decode(7 * 2048).channel, 7u);
+  EXPECT_EQ(m.decode(8 * 2048).bank, 1u);
+  EXPECT_EQ(m.decode(64 * 2048).row, 1u);
+}
+
+TEST(DramController, DifferentChannelBitsGoToDifferentChannels) {
+  DramController e(gt200());
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  for (uint64_t ch = 0; ch < 8; ++ch) e.enqueue(ch * kChan1, 0, ch);
+  const auto done = drain(e);
+  ASSERT_EQ(done.size(), 8u);
+  // Independent channels: all eight are closed-bank reads served in parallel.
+  for (const auto& c : done) EXPECT_EQ(c.data_ready, 30 * kNs);
+  for (uint32_t ch = 0; ch < 8; ++ch) EXPECT_EQ(e.stats().channel_reads[ch], 1u);
+  for (const auto& r : trace) EXPECT_EQ(r.channel, r.id);
+}
+
+TEST(DramController, IdleLatenciesAreTheClosedFormSums) {
+  DramController e(gt200());
+  std::vector<DramController::Completion> done;
+  // Closed bank: tRCD + CL + BL/2 = 24 cycles = 30 ns.
+  e.enqueue(0, 0, 1);
+  e.advance(100 * kNs, done);
+  // Row hit (row 0 is open): CL + BL/2 = 12 cycles = 15 ns.
+  e.enqueue(kCol1, 100 * kNs, 2);
+  e.advance(200 * kNs, done);
+  // Row conflict: tRP + tRCD + CL + BL/2 = 34 cycles = 42.5 ns.
+  e.enqueue(kRow1, 200 * kNs, 3);
+  e.advance(300 * kNs, done);
+  ASSERT_EQ(done.size(), 3u);
+  EXPECT_EQ(ready_of(done, 1), 30 * kNs);
+  EXPECT_EQ(ready_of(done, 2), 100 * kNs + 15 * kNs);
+  EXPECT_EQ(ready_of(done, 3), 200 * kNs + 42500);
+  EXPECT_EQ(e.stats().row_misses, 1u);
+  EXPECT_EQ(e.stats().row_hits, 1u);
+  EXPECT_EQ(e.stats().row_conflicts, 1u);
+  EXPECT_EQ(e.stats().latency_sum_ps, 30 * kNs + 15 * kNs + 42500);
+  EXPECT_EQ(e.next_event_time(), kUnknown);
+}
+
+TEST(DramController, RequestArrivingBetweenEdgesWaitsForTheNextEdge) {
+  DramController e(gt200());
+  e.enqueue(0, 1, 1);  // 1 ps after edge 0: the ACT goes at edge 1 (1250 ps)
+  const auto done = drain(e);
+  EXPECT_EQ(ready_of(done, 1), kTck + 30 * kNs);
+}
+
+TEST(DramController, ActivatesToDifferentBanksAreTrrdApart) {
+  DramController e(gt200());
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(0, 0, 1);
+  e.enqueue(kBank1, 0, 2);
+  const auto done = drain(e);
+  EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 8 * kTck}));     // tRRD
+  EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{12 * kTck, 20 * kTck}));  // tRCD each
+  EXPECT_EQ(ready_of(done, 1), 24 * kTck);
+  EXPECT_EQ(ready_of(done, 2), 32 * kTck);
+}
+
+TEST(DramController, SameBankConflictHonoursTrasAndTrc) {
+  DramConfig c = gt200();
+  {
+    DramController e(c);
+    std::vector<DramController::CommandRecord> trace;
+    e.set_command_trace(&trace);
+    e.enqueue(0, 0, 1);
+    e.enqueue(kRow1, 0, 2);
+    const auto done = drain(e);
+    EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 35 * kTck}));  // tRAS + tRP = tRC
+    EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{25 * kTck}));     // tRAS
+    EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{12 * kTck, 47 * kTck}));
+    EXPECT_EQ(ready_of(done, 2), 59 * kTck);
+  }
+  c.tRC = 40;  // now tRC, not tRAS + tRP, bounds the second ACT
+  {
+    DramController e(c);
+    std::vector<DramController::CommandRecord> trace;
+    e.set_command_trace(&trace);
+    e.enqueue(0, 0, 1);
+    e.enqueue(kRow1, 0, 2);
+    drain(e);
+    EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 40 * kTck}));
+  }
+}
+
+// Opens row 0 of bank 0 (channel 0), then reads four more bursts of it at 100 ns; returns the RD
+// times of the four.
+std::vector<Tick> four_hits(const DramConfig& c) {
+  DramController e(c);
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 0);
+  e.advance(100 * kNs, done);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  for (uint64_t i = 1; i <= 4; ++i) e.enqueue(i * kCol1, 100 * kNs, i);
+  drain(e);
+  for (const auto& r : trace) EXPECT_EQ(r.command, Cmd::kRead);
+  return times_of(trace, Cmd::kRead);
+}
+
+TEST(DramController, ReadsAreSpacedByTccdAndTheDataBus) {
+  const Tick t0 = 100 * kNs;  // cycle 80
+  DramConfig c = gt200();
+  EXPECT_EQ(four_hits(c), (std::vector<Tick>{t0, t0 + 2 * kTck, t0 + 4 * kTck, t0 + 6 * kTck}));
+  c.tCCD = 4;  // tCCD dominates
+  EXPECT_EQ(four_hits(c), (std::vector<Tick>{t0, t0 + 4 * kTck, t0 + 8 * kTck, t0 + 12 * kTck}));
+  c.tCCD = 1;  // the data bus (BL/2 = 2 cycles per burst) dominates
+  EXPECT_EQ(four_hits(c), (std::vector<Tick>{t0, t0 + 2 * kTck, t0 + 4 * kTck, t0 + 6 * kTck}));
+}
+
+TEST(DramController, MultiBurstRequestReadsConsecutiveColumns) {
+  DramConfig c = gt200();
+  c.request_bytes = 128;  // 4 bursts
+  DramController e(c);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(0x80 + 5, 0, 1);  // any byte of the block: the block at 0x80 = columns 4..7
+  e.enqueue(kBank1, 0, 2);    // another bank: its bursts may not interleave with request 1's
+  const auto done = drain(e);
+  std::vector<uint64_t> cols, ids;
+  for (const auto& r : trace)
+    if (r.command == Cmd::kRead) {
+      cols.push_back(r.column);
+      ids.push_back(r.id);
+    }
+  EXPECT_EQ(cols, (std::vector<uint64_t>{4, 5, 6, 7, 0, 1, 2, 3}));
+  EXPECT_EQ(ids, (std::vector<uint64_t>{1, 1, 1, 1, 2, 2, 2, 2}));
+  EXPECT_EQ(times_of(trace, Cmd::kRead).front(), 12 * kTck);
+  // Last burst of request 1 at 12 + 3 * 2 = 18, data 18 + 12 = 30 cycles.
+  EXPECT_EQ(ready_of(done, 1), 30 * kTck);
+  EXPECT_EQ(ready_of(done, 2), 38 * kTck);
+  EXPECT_EQ(e.stats().bursts, 8u);
+  EXPECT_EQ(e.stats().bytes, 256u);
+  EXPECT_EQ(e.stats().data_bus_busy_ps, 8 * 2 * kTck);
+}
+
+TEST(DramController, FrFcfsServesALaterRowHitBeforeAnEarlierConflict) {
+  DramController e(gt200());
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 0);  // opens row 0 of bank 0
+  e.advance(100 * kNs, done);
+  done.clear();
+  e.enqueue(kRow1, 100 * kNs, 1);  // older: row 1 of bank 0, a conflict
+  e.enqueue(kCol1, 100 * kNs, 2);  // younger: row 0, a hit
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  drain(e);
+  // The hit reads at cycle 80 (100 ns) and is ready 15 ns later; the conflict's PRE waits for it
+  // (RD -> PRE = BL/2): PRE 82, ACT 92, RD 104, data 116 cycles.
+  ASSERT_GE(trace.size(), 4u);
+  EXPECT_EQ(trace[0].command, Cmd::kRead);
+  EXPECT_EQ(trace[0].id, 2u);
+  EXPECT_EQ(trace[0].time, 80 * kTck);
+  EXPECT_EQ(trace[1].command, Cmd::kPrecharge);
+  EXPECT_EQ(trace[1].time, 82 * kTck);
+  EXPECT_EQ(trace[2].command, Cmd::kActivate);
+  EXPECT_EQ(trace[2].time, 92 * kTck);
+  EXPECT_EQ(trace[3].command, Cmd::kRead);
+  EXPECT_EQ(trace[3].id, 1u);
+  EXPECT_EQ(trace[3].time, 104 * kTck);
+  EXPECT_EQ(e.stats().row_hits, 1u);
+  EXPECT_EQ(e.stats().row_conflicts, 1u);
+}
+
+TEST(DramController, CompletionOrderFollowsFrFcfs) {
+  DramController e(gt200());
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 0);
+  e.advance(100 * kNs, done);
+  done.clear();
+  e.enqueue(kRow1, 100 * kNs, 1);
+  e.enqueue(kCol1, 100 * kNs, 2);
+  for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
+  ASSERT_EQ(done.size(), 2u);
+  EXPECT_EQ(done[0].id, 2u);
+  EXPECT_EQ(done[0].data_ready, 115 * kNs);
+  EXPECT_EQ(done[1].id, 1u);
+  EXPECT_EQ(done[1].data_ready, 116 * kTck);
+}
+
+TEST(DramController, OverflowFifoAcceptsEverythingAndCounts) {
+  DramConfig c = gt200();
+  c.queue_size = 2;
+  DramController e(c);
+  for (uint64_t i = 0; i < 5; ++i) e.enqueue(i * kCol1, 0, i);  // all channel 0, one row
+  EXPECT_EQ(e.stats().queue_full_events, 3u);
+  const auto done = drain(e);
+  ASSERT_EQ(done.size(), 5u);
+  for (uint64_t i = 0; i < 5; ++i) EXPECT_EQ(done[i].id, i);
+  // ACT at 0, RDs at 12, 14, ... : the refilled queue keeps the reads back to back.
+  EXPECT_EQ(done[4].data_ready, (12 + 4 * 2 + 12) * kTck);
+}
+
+TEST(DramController, LateEnqueueIsTakenAsArrivingAtTheEngineTime) {
+  DramController e(gt200());
+  std::vector<DramController::Completion> done;
+  e.advance(100 * kNs, done);
+  e.enqueue(0, 0, 1);  // stamped 0, but the engine is at 100 ns already
+  EXPECT_EQ(e.next_event_time(), 100 * kNs);
+  drain(e);
+  EXPECT_EQ(e.stats().latency_sum_ps, 30 * kNs);
+  EXPECT_EQ(e.stats().last_completion_ps, 130 * kNs);
+}
+
+// Sequential reads over many rows with every request queued at once: the scheduler always has a
+// full queue, activates the next row while the current one streams, and keeps every channel's
+// data bus busy, so the bandwidth reaches channels * bus_bytes * 2 / tCK = 102.4 GB/s.
+void stream(uint32_t request_bytes) {
+  DramConfig c = gt200();
+  c.request_bytes = request_bytes;
+  DramController e(c);
+  const uint64_t bytes = 4u << 20;  // 4 MB = 32 rows per bank per channel
+  for (uint64_t a = 0, id = 0; a < bytes; a += request_bytes) e.enqueue(a, 0, id++);
+  const auto done = drain(e);
+  ASSERT_EQ(done.size(), bytes / request_bytes);
+  const DramStats& s = e.stats();
+  EXPECT_EQ(s.bytes, bytes);
+  EXPECT_GT(s.queue_full_events, 0u);
+  EXPECT_GE(s.bandwidth_gbps(), 0.95 * c.peak_bandwidth_gbps()) << "request_bytes " << request_bytes;
+  EXPECT_LE(s.bandwidth_gbps(), c.peak_bandwidth_gbps() * (1 + 1e-9));
+  EXPECT_GT(s.row_hit_rate(), 0.9);
+  EXPECT_EQ(s.row_misses + s.row_conflicts, bytes / 2048);  // one activate per 2 KB row
+  for (uint32_t ch = 0; ch < c.channels; ++ch) EXPECT_EQ(s.channel_reads[ch], bytes / request_bytes / c.channels);
+}
+
+TEST(DramController, SequentialStreamingReachesPeakBandwidth) {
+  stream(32);
+  stream(64);
+  stream(128);
+}
+
+TEST(DramController, RegistersStatisticsByDottedName) {
+  DramController e(gt200());
+  StatsRegistry reg;
+  e.register_stats(reg, "dram");
+  e.enqueue(0, 0, 0);
+  e.enqueue(kChan1, 0, 1);
+  drain(e);
+  EXPECT_DOUBLE_EQ(reg.value("dram.reads"), 2.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.bytes"), 64.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.row_misses"), 2.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.ch0.reads"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.ch1.reads"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.avg_latency_ns"), 30.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.bandwidth_gbps"), 64.0 / 30.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.row_hit_rate"), 0.0);
+  EXPECT_TRUE(reg.has("dram.data_bus_busy_ps"));
+  EXPECT_TRUE(reg.has("dram.queue_full_events"));
+  EXPECT_TRUE(reg.has("dram.latency_sum_ps"));
+  EXPECT_TRUE(reg.has("dram.bus_utilization"));
+}
+
+TEST(DramController, RejectsAnInvalidConfig) {
+  DramConfig c = gt200();
+  c.banks = 3;
+  EXPECT_THROW(DramController{c}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rtsim::model
