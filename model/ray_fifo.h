@@ -1,0 +1,78 @@
+// A bounded FIFO of ray ids between two units. A push wakes the consumer at the entry's ready
+// time; a pop that frees a slot in a full FIFO wakes the producer (back-pressure). Occupancy is
+// integrated over time for the mean, and its maximum kept.
+#pragma once
+
+#include "model/unit.h"
+
+#include <deque>
+#include <string>
+
+namespace rtsim::model {
+
+struct FifoStats {
+  uint64_t pushes = 0;
+  uint64_t max_occupancy = 0;
+  uint64_t full_events = 0;       // pushes refused because the FIFO was full
+  uint64_t occupancy_ps = 0;      // integral of occupancy over time (entries x ps)
+};
+
+class RayFifo {
+ public:
+  RayFifo(std::string name, uint32_t depth) : name_(std::move(name)), depth_(depth) {}
+
+  void connect(Unit* producer, Unit* consumer) {
+    producer_ = producer;
+    consumer_ = consumer;
+  }
+  const std::string& name() const { return name_; }
+  bool full() const { return entries_.size() >= depth_; }
+  bool empty() const { return entries_.empty(); }
+  size_t size() const { return entries_.size(); }
+
+  // False (and counted) when full: the producer keeps the ray and retries when woken.
+  bool push(uint32_t ray, Tick ready, Tick now) {
+    if (full()) {
+      ++stats_.full_events;
+      return false;
+    }
+    integrate(now);
+    entries_.push_back({ray, ready});
+    ++stats_.pushes;
+    if (entries_.size() > stats_.max_occupancy) stats_.max_occupancy = entries_.size();
+    if (consumer_) consumer_->wake(ready);
+    return true;
+  }
+  // The time the head entry becomes visible; kUnknown when empty.
+  Tick head_ready() const { return entries_.empty() ? kUnknown : entries_.front().ready; }
+  uint32_t pop(Tick now) {
+    integrate(now);
+    const bool was_full = full();
+    const uint32_t ray = entries_.front().ray;
+    entries_.pop_front();
+    if (was_full && producer_) producer_->wake(now);
+    return ray;
+  }
+  void finish_accounting(Tick end) { integrate(end); }
+  const FifoStats& stats() const { return stats_; }
+  uint32_t depth() const { return depth_; }
+
+ private:
+  void integrate(Tick now) {
+    if (now > last_change_) stats_.occupancy_ps += entries_.size() * (now - last_change_);
+    last_change_ = now;
+  }
+  struct Entry {
+    uint32_t ray;
+    Tick ready;
+  };
+  std::string name_;
+  uint32_t depth_;
+  std::deque<Entry> entries_;
+  Unit* producer_ = nullptr;
+  Unit* consumer_ = nullptr;
+  Tick last_change_ = 0;
+  FifoStats stats_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,58 @@
+#include "model/unit.h"
+
+#include <algorithm>
+
+namespace rtsim::model {
+
+Unit::Unit(sc_core::sc_module_name name, const Clock& clock) : sc_core::sc_module(name), clock_(clock) {
+  SC_METHOD(activate);
+  sensitive << wake_event_;
+  dont_initialize();
+}
+
+void Unit::wake(Tick at) {
+  const Tick now = now_ps();
+  // Never twice in one cycle: the earliest next activation is the cycle after the last one.
+  at = clock_.edge_at_or_after(std::max({at, now, accounted_to_}));
+  if (armed_at_ != kUnknown && armed_at_ <= at && armed_at_ >= now) return;
+  armed_at_ = at;
+  wake_event_.notify(sc_core::sc_time(double(at - now), sc_core::SC_PS));
+}
+
+void Unit::activate() {
+  const Tick now = now_ps();
+  armed_at_ = kUnknown;
+  // The gap since the last activation: stalled if the unit held work, idle otherwise.
+  if (now > accounted_to_) {
+    const uint64_t gap = clock_.to_cycles(now - accounted_to_);
+    (held_work_ ? stats_.stalled_cycles : stats_.idle_cycles) += gap;
+  }
+  const bool issued = cycle(now);
+  if (issued) {
+    ++stats_.busy_cycles;
+    ++stats_.operations;
+  } else {
+    (holds_work() ? stats_.stalled_cycles : stats_.idle_cycles) += 1;
+  }
+  accounted_to_ = now + clock_.period();
+  held_work_ = holds_work();
+  const Tick next = next_ready(now + clock_.period());
+  if (next != kUnknown) wake(next);
+}
+
+void Unit::finish_accounting(Tick end) {
+  if (end > accounted_to_) {
+    const uint64_t gap = clock_.to_cycles(end - accounted_to_);
+    (held_work_ ? stats_.stalled_cycles : stats_.idle_cycles) += gap;
+    accounted_to_ = end;
+  }
+}
+
+void Unit::register_unit_stats(StatsRegistry& r, const std::string& prefix) const {
+  r.counter(prefix + ".busy_cycles", &stats_.busy_cycles, "cycles in which an operation issued");
+  r.counter(prefix + ".stalled_cycles", &stats_.stalled_cycles, "cycles holding work that could not issue");
+  r.counter(prefix + ".idle_cycles", &stats_.idle_cycles, "cycles without work");
+  r.counter(prefix + ".operations", &stats_.operations, "operations issued");
+}
+
+}  // namespace rtsim::model
