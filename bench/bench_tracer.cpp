@@ -50,14 +50,9 @@ int main(int argc, char** argv) {
     const Hit h = tracer.closest_hit(r);
     if (h.tri == kNoHit) continue;
     const Triangle& t = p.scene.triangles[h.tri];
-    Vec3 n = unit_normal(t.v0, t.v1, t.v2);
-    if (glm::dot(n, r.d) > 0.f) n = -n;
-    const Vec3 hp = r.o + h.t * r.d;
+    const SurfacePoint sp = surface_point(r, h.t, t.v0, t.v1, t.v2);
     for (const PointLight& l : p.scene.lights) {
-      Ray s;
-      s.o = hp + offset * (glm::dot(n, l.position - hp) >= 0.f ? n : -n);
-      s.d = l.position - s.o;
-      s.tmax = 1.f;
+      const Ray s = shadow_ray(sp, l.position, offset);
       shadow.push_back(s);
     }
   }

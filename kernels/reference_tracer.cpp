@@ -71,8 +71,6 @@ bool ReferenceTracer::occluded_by_leaf(const Ray& ray, uint32_t leaf_index) cons
 
 namespace {
 
-const Vec3 kBackground(0.08f, 0.09f, 0.12f);
-constexpr float kAmbient = 0.1f;
 
 struct Worker {
   const ReferenceTracer& tracer;
@@ -85,21 +83,15 @@ struct Worker {
   Vec3 shade(const Ray& ray, const Hit& hit, int depth, PixelRecord* rec) {
     const image::TriangleRecord tri = image.triangle(hit.tri);
     const image::MaterialRecord mat = image.material(tri.material);
-    Vec3 n = unit_normal(tri.v0, tri.v1, tri.v2);
-    if (glm::dot(n, ray.d) > 0.f) n = -n;  // two-sided: face the incoming ray
-    const Vec3 p = ray.o + hit.t * ray.d;
+    const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
+    const Vec3& n = sp.n;
+    const Vec3& p = sp.p;
     const uint32_t lvb = image.leaf(hit.leaf).lvb;
     if (rec) rec->lvb = lvb;
     Vec3 color = kAmbient * mat.diffuse;
     for (uint32_t i = 0; i < image.header().light_count; ++i) {
       const image::LightRecord light = image.light(i);
-      const Vec3 to_light = light.position - p;
-      const Vec3 side = glm::dot(n, to_light) >= 0.f ? n : -n;
-      Ray shadow;
-      shadow.o = p + offset * side;
-      shadow.d = light.position - shadow.o;
-      shadow.tmin = 0.f;
-      shadow.tmax = 1.f;
+      const Ray shadow = shadow_ray(sp, light.position, offset);
       LightCounters& lc = stats.per_light[i];
       ++lc.shadow_rays;
       bool blocked = false;
@@ -120,8 +112,7 @@ struct Worker {
         if (rec) rec->occluded |= uint16_t(1u << i);
         continue;
       }
-      const float cos_theta = glm::dot(n, glm::normalize(to_light));
-      if (cos_theta > 0.f) color += cos_theta * mat.diffuse * light.color;
+      color += light_contribution(sp, mat.diffuse, light.position, light.color);
     }
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
       Ray refl;
@@ -152,11 +143,7 @@ struct Worker {
           ++stats.primary_hits;
           c = shade(ray, rec.hit, 0, &rec);
         }
-        for (int k = 0; k < 3; ++k) {
-          // Display gamma 2.2 on a clamped linear value.
-          const float v = std::pow(std::clamp(c[k], 0.f, 1.f), 1.f / 2.2f);
-          out.rgb[3 * idx + k] = static_cast<uint8_t>(std::lround(v * 255.f));
-        }
+        for (int k = 0; k < 3; ++k) out.rgb[3 * idx + k] = to_display(c[k]);
       }
     }
   }

@@ -5,6 +5,7 @@
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
 #include "kernels/ray.h"
+#include "kernels/shading.h"
 #include "kernels/traversal.h"
 
 #include <array>
