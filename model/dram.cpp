@@ -26,6 +26,9 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::ve
 Tick Dram::fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) {
   const Tick sim_now = sim_now_ps();
   if (now < sim_now) now = sim_now;
+  if (line_addr % engine_.config().request_bytes != 0)
+    throw std::logic_error("DRAM fetch_line: address " + std::to_string(line_addr) + " is not aligned to request_bytes (" +
+                           std::to_string(engine_.config().request_bytes) + ")");
   if (memory_) line_data(line_addr);  // a request outside the image is a caller's bug: fail here
   const uint64_t id = next_id_++;
   requesters_.emplace(id, Requester{line_addr, listener, cookie});

@@ -37,7 +37,9 @@ class Dram : public sc_core::sc_module, public LineSource {
        const Clock& accel_clock);
 
   // Returns kUnknown; `listener->on_fill(line_addr, cookie, t)` follows at delivery time t
-  // (`listener` may be null). `now` earlier than the simulation time is taken as now.
+  // (`listener` may be null). `now` earlier than the simulation time is taken as now; a later
+  // `now` (a requester's own latency already added) is honoured. `line_addr` must be
+  // request_bytes-aligned (std::logic_error) and inside the image (std::out_of_range).
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
   // Pointer into the memory image; std::out_of_range if the line is not wholly inside it.
   const uint8_t* line_data(uint64_t line_addr) const override;

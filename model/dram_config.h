@@ -56,7 +56,7 @@ struct DramConfig {
   uint32_t tRC = 0;   // ACT -> ACT, same bank
   uint32_t tCCD = 0;  // column command -> column command, same channel
   uint32_t tRRD = 0;  // ACT -> ACT, different banks of the channel
-  // Write timings: kept for completeness and validated, but unused: the accelerator never writes
+  // Write timings: kept for completeness, not checked and unused: the accelerator never writes
   // (scene data are read-only), so the engine issues only ACT, PRE and RD.
   uint32_t WL = 0;
   uint32_t tWR = 0;

@@ -60,11 +60,11 @@ void DramController::enqueue(uint64_t addr, Tick now, uint64_t id) {
   Channel& ch = channels_[a.channel];
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
+    ch.next_cycle = choose(ch).cycle;
   } else {
-    ch.overflow.push_back(r);
+    ch.overflow.push_back(r);  // invisible to the scheduler until it enters the queue
     ++stats_.queue_full_events;
   }
-  ch.next_cycle = choose(ch).cycle;
 }
 
 DramController::Choice DramController::choose(Channel& ch) {

@@ -46,6 +46,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <queue>
 #include <string>
 #include <vector>

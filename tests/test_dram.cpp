@@ -319,6 +319,28 @@ TEST(DramController, MultiBurstRequestReadsConsecutiveColumns) {
   EXPECT_EQ(e.stats().data_bus_busy_ps, 8 * 2 * kTck);
 }
 
+TEST(DramController, AStartedRequestKeepsTheColumnCommandsUntilItsLastBurst) {
+  DramConfig c = gt200();
+  c.address_mapping = kRowBankChannelColumnMapping;  // columns in bits 5-10: 512-byte requests fit
+  c.request_bytes = 512;                             // 16 bursts, 32 cycles of data bus
+  DramController e(c);
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 0);  // opens row 0 of bank 0
+  e.advance(100 * kNs, done);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(kBank1, 100 * kNs, 1);  // older, bank 1 closed: ACT at 81, RD legal from 93
+  e.enqueue(512, 100 * kNs, 2);     // younger hit: starts at 80 and streams until 110
+  drain(e);
+  std::vector<uint64_t> ids;
+  for (const auto& r : trace)
+    if (r.command == Cmd::kRead) ids.push_back(r.id);
+  std::vector<uint64_t> expect(16, 2);
+  expect.resize(32, 1);
+  EXPECT_EQ(ids, expect);  // request 1 is older but does not cut into request 2's bursts
+  EXPECT_EQ(times_of(trace, Cmd::kRead)[16], 112 * kTck);
+}
+
 TEST(DramController, FrFcfsServesALaterRowHitBeforeAnEarlierConflict) {
   DramController e(gt200());
   std::vector<DramController::Completion> done;
@@ -344,6 +366,42 @@ TEST(DramController, FrFcfsServesALaterRowHitBeforeAnEarlierConflict) {
   EXPECT_EQ(trace[3].id, 1u);
   EXPECT_EQ(trace[3].time, 104 * kTck);
   EXPECT_EQ(e.stats().row_hits, 1u);
+  EXPECT_EQ(e.stats().row_conflicts, 1u);
+}
+
+TEST(DramController, FrFcfsPrefersAReadyColumnCommandToAnOlderRowCommand) {
+  DramController e(gt200());
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 0);  // opens row 0 of bank 0
+  e.advance(100 * kNs, done);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(kBank1, 100 * kNs, 1);  // older: bank 1 is closed, needs an ACT
+  e.enqueue(kCol1, 100 * kNs, 2);   // younger: a hit in bank 0
+  drain(e);
+  ASSERT_GE(trace.size(), 2u);
+  // Both are legal at cycle 80; one command per cycle: the RD goes first.
+  EXPECT_EQ(trace[0].command, Cmd::kRead);
+  EXPECT_EQ(trace[0].time, 80 * kTck);
+  EXPECT_EQ(trace[1].command, Cmd::kActivate);
+  EXPECT_EQ(trace[1].time, 81 * kTck);
+}
+
+TEST(DramController, OpenRowIsNotClosedWhileItHasQueuedHits) {
+  DramConfig c = gt200();
+  c.tCCD = 4;  // the second hit's RD becomes legal (84) after the conflict's PRE would be (82)
+  DramController e(c);
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 0);
+  e.advance(100 * kNs, done);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(kCol1, 100 * kNs, 1);      // hit
+  e.enqueue(kRow1, 100 * kNs, 2);      // conflict, older than the second hit
+  e.enqueue(2 * kCol1, 100 * kNs, 3);  // hit
+  drain(e);
+  EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{86 * kTck}));  // after RD 84 + BL/2
+  EXPECT_EQ(e.stats().row_hits, 2u);
   EXPECT_EQ(e.stats().row_conflicts, 1u);
 }
 

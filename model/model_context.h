@@ -1,0 +1,19 @@
+// What every unit of one accelerator instance shares: the ray pool, the memory image's layout,
+// the clock and the numeric constants of the traversal (the reference tracer's).
+#pragma once
+
+#include "kernels/memory_image.h"
+#include "model/model_time.h"
+#include "model/ray_state.h"
+
+namespace rtsim::model {
+
+struct ModelContext {
+  RayPool* pool = nullptr;
+  image::Header header;
+  Clock clock;
+  float abs_eps = 0.f;        // the traversal's absolute slack (1e-6 of the scene diagonal)
+  float shadow_offset = 0.f;  // shadow-ray origin offset (1e-5 of the scene diagonal)
+};
+
+}  // namespace rtsim::model
