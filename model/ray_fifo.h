@@ -7,6 +7,7 @@
 
 #include <deque>
 #include <string>
+#include <vector>
 
 namespace rtsim::model {
 
@@ -22,8 +23,8 @@ class RayFifo {
   RayFifo(std::string name, uint32_t depth) : name_(std::move(name)), depth_(depth) {}
 
   void connect(Unit* producer, Unit* consumer) {
-    producer_ = producer;
-    consumer_ = consumer;
+    if (producer) producers_.push_back(producer);
+    if (consumer) consumer_ = consumer;
   }
   const std::string& name() const { return name_; }
   bool full() const { return entries_.size() >= depth_; }
@@ -50,7 +51,8 @@ class RayFifo {
     const bool was_full = full();
     const uint32_t ray = entries_.front().ray;
     entries_.pop_front();
-    if (was_full && producer_) producer_->wake(now);
+    if (was_full)
+      for (Unit* p : producers_) p->wake(now);
     return ray;
   }
   void finish_accounting(Tick end) { integrate(end); }
@@ -69,7 +71,7 @@ class RayFifo {
   std::string name_;
   uint32_t depth_;
   std::deque<Entry> entries_;
-  Unit* producer_ = nullptr;
+  std::vector<Unit*> producers_;  // woken when a full FIFO frees a slot
   Unit* consumer_ = nullptr;
   Tick last_change_ = 0;
   FifoStats stats_;

@@ -1,0 +1,236 @@
+#include "model/accelerator.h"
+
+#include "kernels/shading.h"
+#include "model/dram.h"
+#include "model/ist_unit.h"
+#include "model/list_unit.h"
+#include "model/lvb_updater.h"
+#include "model/shading_unit.h"
+#include "model/shadow_culling_unit.h"
+#include "model/trv_unit.h"
+
+#include <memory>
+#include <stdexcept>
+
+namespace rtsim::model {
+
+namespace {
+
+void validate_type(const UnitTypeConfig& u, const std::string& name, bool has_l2) {
+  auto bad = [&](const std::string& field, const std::string& what) {
+    throw std::invalid_argument(name + "." + field + ": " + what);
+  };
+  if (u.count < 1 || u.count > 1024) bad("count", "expected 1..1024");
+  if (u.latency < 1 || u.latency > 10000) bad("latency", "expected 1..10000 cycles");
+  if (u.capacity < 1 || u.capacity > 65536) bad("capacity", "expected 1..65536 rays");
+  if (u.fifo_depth < 1 || u.fifo_depth > 65536) bad("fifo_depth", "expected 1..65536");
+  try {
+    u.l1.validate();
+  } catch (const std::invalid_argument& e) {
+    bad("l1", e.what());
+  }
+  if (has_l2) {
+    try {
+      u.l2.validate();
+    } catch (const std::invalid_argument& e) {
+      bad("l2", e.what());
+    }
+  }
+}
+
+}  // namespace
+
+void AcceleratorConfig::validate() const {
+  if (!(clock_ghz > 0.01 && clock_ghz <= 100)) throw std::invalid_argument("clock_ghz: expected (0.01, 100]");
+  validate_type(trv, "trv", true);
+  validate_type(list, "list", true);
+  validate_type(ist, "ist", true);
+  validate_type(shading, "shading", false);
+  if (list.l2.line_bytes != trv.l2.line_bytes || ist.l2.line_bytes != trv.l2.line_bytes)
+    throw std::invalid_argument("l2.line_bytes: the three L2s share one memory; expected equal line sizes");
+  for (const UnitTypeConfig* u : {&trv, &list, &ist})
+    if (u->l1.line_bytes > u->l2.line_bytes) throw std::invalid_argument("l1.line_bytes: expected <= the L2's");
+  if (shading.l1.line_bytes > ist.l2.line_bytes) throw std::invalid_argument("shading.l1.line_bytes: expected <= the IST L2's");
+  if (ray_pool < 1 || ray_pool > (1u << 24)) throw std::invalid_argument("ray_pool: expected 1..16777216");
+  if (tile < 1 || tile > 4096) throw std::invalid_argument("tile: expected 1..4096");
+  DramConfig d = dram;
+  d.request_bytes = trv.l2.line_bytes;
+  d.validate();
+}
+
+AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage& image, const Camera& camera,
+                                 int width, int height) {
+  cfg.validate();
+  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+  const image::Header& h = image.header();
+  RayPool pool(cfg.ray_pool);
+  ModelContext ctx;
+  ctx.pool = &pool;
+  ctx.header = h;
+  ctx.clock = Clock(cfg.clock_ghz);
+  // The reference tracer's constants (reference_tracer.cpp), computed the same way.
+  ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
+  ctx.shadow_offset = 1e-5f * h.bounds.diagonal();
+
+  DramConfig dram_cfg = cfg.dram;
+  dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
+  Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock);
+  Cache trv_l2("trv.l2", cfg.trv.l2, ctx.clock, &dram);
+  Cache list_l2("list.l2", cfg.list.l2, ctx.clock, &dram);
+  Cache ist_l2("ist.l2", cfg.ist.l2, ctx.clock, &dram);
+  Cache shading_l1("shading.l1", cfg.shading.l1, ctx.clock, &ist_l2);
+
+  FrameBuffer frame;
+  frame.width = width;
+  frame.height = height;
+  frame.pixels.assign(size_t(width) * height, PixelState{});
+  LvbUpdater lvb;
+
+  auto make_fifos = [](const std::string& prefix, uint32_t n, uint32_t depth) {
+    std::vector<std::unique_ptr<RayFifo>> v;
+    for (uint32_t i = 0; i < n; ++i) v.push_back(std::make_unique<RayFifo>(prefix + std::to_string(i) + ".in", depth));
+    return v;
+  };
+  auto make_l1s = [&](const std::string& prefix, const UnitTypeConfig& u, Cache* l2) {
+    std::vector<std::unique_ptr<Cache>> v;
+    for (uint32_t i = 0; i < u.count; ++i)
+      v.push_back(std::make_unique<Cache>(prefix + std::to_string(i) + ".l1", u.l1, ctx.clock, l2));
+    return v;
+  };
+  auto trv_in = make_fifos("trv", cfg.trv.count, cfg.trv.fifo_depth);
+  auto list_in = make_fifos("list", cfg.list.count, cfg.list.fifo_depth);
+  auto ist_in = make_fifos("ist", cfg.ist.count, cfg.ist.fifo_depth);
+  RayFifo done("shading.in", cfg.shading.fifo_depth);
+  auto trv_l1 = make_l1s("trv", cfg.trv, &trv_l2);
+  auto list_l1 = make_l1s("list", cfg.list, &list_l2);
+  auto ist_l1 = make_l1s("ist", cfg.ist, &ist_l2);
+
+  std::vector<TrvUnit*> trv;
+  std::vector<std::unique_ptr<TrvUnit>> trv_owned;
+  std::vector<std::unique_ptr<ListUnit>> list;
+  std::vector<std::unique_ptr<IstUnit>> ist;
+  for (uint32_t k = 0; k < cfg.ist.count; ++k) {
+    ist.push_back(std::make_unique<IstUnit>(("ist" + std::to_string(k)).c_str(), ctx, cfg.ist.latency,
+                                            cfg.ist.capacity, ist_l1[k].get(), ist_in[k].get(), &trv, &done, &lvb));
+    done.connect(ist.back().get(), nullptr);
+  }
+  for (uint32_t j = 0; j < cfg.list.count; ++j) {
+    RayFifo* to_ist = ist_in[j * cfg.ist.count / cfg.list.count].get();
+    list.push_back(std::make_unique<ListUnit>(("list" + std::to_string(j)).c_str(), ctx, cfg.list.latency,
+                                              cfg.list.capacity, list_l1[j].get(), list_in[j].get(), to_ist));
+    to_ist->connect(list.back().get(), ist[j * cfg.ist.count / cfg.list.count].get());
+  }
+  for (uint32_t i = 0; i < cfg.trv.count; ++i) {
+    const uint32_t j = i * cfg.list.count / cfg.trv.count;
+    trv_owned.push_back(std::make_unique<TrvUnit>(("trv" + std::to_string(i)).c_str(), ctx, cfg.trv.latency,
+                                                  cfg.trv.capacity, trv_l1[i].get(), trv_in[i].get(),
+                                                  list_in[j].get(), &done));
+    trv_owned.back()->set_index(uint16_t(i));
+    trv.push_back(trv_owned.back().get());
+    list_in[j]->connect(trv.back(), list[j].get());
+    trv_in[i]->connect(nullptr, trv.back());
+    done.connect(trv.back(), nullptr);
+  }
+  ShadingUnit shading("shading", ctx, cfg.shading.latency, cfg.shading.capacity, &shading_l1, &done, &trv, &frame);
+  done.connect(nullptr, &shading);
+  std::vector<RayFifo*> trv_inputs;
+  for (auto& f : trv_in) trv_inputs.push_back(f.get());
+  RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs);
+  ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &shading_l1, &frame, trv_inputs);
+  for (auto& f : trv_in) {
+    f->connect(&generator, nullptr);
+    f->connect(&culling, nullptr);
+  }
+
+  // Phase control: the shadow phase starts when the last primary ray retires.
+  Tick primary_end = 0, end = 0;
+  uint64_t primaries_retired = 0, shadows_retired = 0;
+  shading.on_retire = [&](RayType type, Tick when) {
+    const Tick now = Tick(sc_core::sc_time_stamp().value());
+    end = std::max(end, when);
+    if (type == RayType::kPrimary) {
+      ++primaries_retired;
+      if (!generator.finished()) generator.wake(now);
+      if (generator.finished() && primaries_retired == generator.issued()) {
+        primary_end = end;
+        culling.start(std::max(now, primary_end));
+      }
+    } else {
+      ++shadows_retired;
+      culling.wake(now);
+    }
+  };
+  generator.wake(0);
+  sc_core::sc_start();
+  if (!culling.finished() || shadows_retired != culling.generated())
+    throw std::logic_error("simulation ended with rays in flight");
+  end = std::max(end, Tick(sc_core::sc_time_stamp().value()));
+
+  // Statistics, by name.
+  StatsRegistry reg;
+  for (Unit* u : std::vector<Unit*>{&generator, &shading, &culling}) u->finish_accounting(end);
+  for (auto* t : trv) t->finish_accounting(end);
+  for (auto& u : list) u->finish_accounting(end);
+  for (auto& u : ist) u->finish_accounting(end);
+  std::vector<RayFifo*> fifos{&done};
+  for (auto* v : {&trv_in, &list_in, &ist_in})
+    for (auto& f : *v) fifos.push_back(f.get());
+  for (RayFifo* f : fifos) f->finish_accounting(end);
+  for (uint32_t i = 0; i < trv.size(); ++i) trv[i]->register_stats(reg, "trv.unit" + std::to_string(i));
+  for (uint32_t i = 0; i < list.size(); ++i) list[i]->register_stats(reg, "list.unit" + std::to_string(i));
+  for (uint32_t i = 0; i < ist.size(); ++i) ist[i]->register_stats(reg, "ist.unit" + std::to_string(i));
+  for (uint32_t i = 0; i < trv_l1.size(); ++i) trv_l1[i]->register_stats(reg, "trv.l1.unit" + std::to_string(i));
+  for (uint32_t i = 0; i < list_l1.size(); ++i) list_l1[i]->register_stats(reg, "list.l1.unit" + std::to_string(i));
+  for (uint32_t i = 0; i < ist_l1.size(); ++i) ist_l1[i]->register_stats(reg, "ist.l1.unit" + std::to_string(i));
+  trv_l2.register_stats(reg, "trv.l2");
+  list_l2.register_stats(reg, "list.l2");
+  ist_l2.register_stats(reg, "ist.l2");
+  shading_l1.register_stats(reg, "shading.l1");
+  shading.register_stats(reg, "shading.unit");
+  generator.register_unit_stats(reg, "raygen");
+  culling.register_stats(reg, "culling");
+  lvb.register_stats(reg, "lvb_updater");
+  dram.register_stats(reg, "dram");
+  for (RayFifo* f : fifos) {
+    const FifoStats& s = f->stats();
+    reg.counter("fifo." + f->name() + ".pushes", &s.pushes, "rays pushed");
+    reg.counter("fifo." + f->name() + ".max_occupancy", &s.max_occupancy, "largest occupancy");
+    reg.counter("fifo." + f->name() + ".full_events", &s.full_events, "pushes refused while full");
+    reg.formula("fifo." + f->name() + ".mean_occupancy",
+                [&s, end] { return end ? double(s.occupancy_ps) / double(end) : 0.0; }, "time-weighted mean occupancy");
+  }
+
+  AcceleratorResult out;
+  out.clock_ghz = cfg.clock_ghz;
+  out.cycles_total = ctx.clock.to_cycles(ctx.clock.edge_at_or_after(end));
+  out.cycles_primary = ctx.clock.to_cycles(ctx.clock.edge_at_or_after(primary_end));
+  out.cycles_shadow = out.cycles_total - out.cycles_primary;
+  out.primary_rays = shading.stats().primary_rays;
+  out.primary_hits = shading.stats().primary_hits;
+  out.shadow_rays = shading.stats().shadow_rays;
+  for (const LightStats& l : culling.per_light()) {
+    out.shadow_generated.push_back(l.generated);
+    out.shadow_culled.push_back(l.culled);
+  }
+  out.stats = reg.values();
+
+  // The pixels, composed exactly as the reference tracer composes them.
+  out.rgb.assign(size_t(width) * height * 3, 0);
+  for (size_t i = 0; i < frame.pixels.size(); ++i) {
+    const PixelState& px = frame.pixels[i];
+    Vec3 c = kBackground;
+    if (px.hit.tri != kNoHit) {
+      c = kAmbient * px.diffuse;
+      for (uint32_t l = 0; l < h.light_count; ++l) {
+        if ((px.occluded >> l) & 1u) continue;
+        const image::LightRecord light = image.light(l);
+        c += light_contribution(px.surface, px.diffuse, light.position, light.color);
+      }
+    }
+    for (int k = 0; k < 3; ++k) out.rgb[3 * i + k] = to_display(c[k]);
+  }
+  out.frame = std::move(frame);
+  return out;
+}
+
+}  // namespace rtsim::model

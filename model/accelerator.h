@@ -1,0 +1,63 @@
+// The accelerator: ray generator -> TRV -> LIST -> IST -> shading -> shadow culling -> TRV, with
+// an L1 per unit, an L2 per unit type, one GDDR3 memory, all built from one plain config struct.
+// It runs a frame in two phases (all primary rays, then all shadow rays) and reports per-pixel
+// results and named statistics.
+#pragma once
+
+#include "kernels/memory_image.h"
+#include "model/cache.h"
+#include "model/dram_config.h"
+#include "model/frame_buffer.h"
+#include "model/ray_generator.h"
+#include "model/stats_registry.h"
+#include "scene_loader/scene.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+struct UnitTypeConfig {
+  uint32_t count = 1;
+  uint32_t latency = 1;       // pipeline latency in cycles (one operation issues per cycle)
+  uint32_t capacity = 16;     // rays held (TRV: rays owned, the ray accumulation buffer)
+  uint32_t fifo_depth = 16;   // input FIFO
+  CacheConfig l1, l2;
+};
+
+struct AcceleratorConfig {
+  double clock_ghz = 1.0;
+  // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36).
+  UnitTypeConfig trv{24, 8, 16, 16, {8192, 2, 64, 1, 16}, {131072, 2, 64, 4, 64}};
+  UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16}, {32768, 2, 64, 4, 64}};
+  UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16}, {131072, 2, 64, 4, 64}};
+  UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16}, {}};  // its L1 sits on the IST L2
+  DramConfig dram = dram_preset("gddr3-gt200");
+  uint32_t ray_pool = 2048;   // rays in flight, all units together
+  bool lvb_culling = true;
+  RayOrder order = RayOrder::kTiles;
+  int tile = 8;
+
+  // Throws std::invalid_argument naming the field.
+  void validate() const;
+};
+
+struct AcceleratorResult {
+  FrameBuffer frame;
+  std::vector<uint8_t> rgb;
+  uint64_t cycles_total = 0, cycles_primary = 0, cycles_shadow = 0;
+  double clock_ghz = 1.0;
+  std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
+  uint64_t primary_rays = 0, primary_hits = 0, shadow_rays = 0;
+  nlohmann::json stats;  // every named statistic
+};
+
+// Simulates one frame of `camera` over `image` at width x height. SystemC elaborates once per
+// process: call this once.
+AcceleratorResult simulate_frame(const AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
+                                 int width, int height);
+
+}  // namespace rtsim::model

@@ -1,0 +1,34 @@
+// LIST: fetches a leaf's record (primitive-list offset and count, and its LVB word) and then the
+// primitive list itself, one line per operation (2-cycle pipeline), and passes the ray with its
+// triangle ids to IST.
+#pragma once
+
+#include "model/cache.h"
+#include "model/ray_unit.h"
+
+namespace rtsim::model {
+
+struct ListStats {
+  uint64_t leaves = 0;
+  uint64_t list_lines = 0;
+  uint64_t prims = 0;
+};
+
+class ListUnit : public RayUnit {
+ public:
+  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity, Cache* l1,
+           RayFifo* in, RayFifo* to_ist);
+  const ListStats& stats() const { return stats_; }
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+ protected:
+  void process(uint32_t ray, Tick now) override;
+
+ private:
+  uint32_t latency_;
+  Cache* l1_;
+  RayFifo* to_ist_;
+  ListStats stats_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,25 @@
+// LVB updater (the paper's Fig. 5): whenever a ray's closest hit is updated after an intersection
+// test, the ray takes the LVB word of the leaf that holds the new hit. Two registers and a mux in
+// hardware; here a counter of updates.
+#pragma once
+
+#include "model/ray_state.h"
+#include "model/stats_registry.h"
+
+namespace rtsim::model {
+
+class LvbUpdater {
+ public:
+  void on_closest_hit(RayState& r) {
+    r.lvb = r.leaf_lvb;
+    ++updates_;
+  }
+  void register_stats(StatsRegistry& reg, const std::string& prefix) const {
+    reg.counter(prefix + ".updates", &updates_, "closest-hit updates that took a leaf's LVB word");
+  }
+
+ private:
+  uint64_t updates_ = 0;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,54 @@
+#include "model/ray_generator.h"
+
+namespace rtsim::model {
+
+RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width,
+                           int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs)
+    : Unit(name, ctx.clock), ctx_(ctx), camera_(camera, width, height), width_(width), height_(height),
+      order_(order), tile_(tile), inputs_(std::move(trv_inputs)), total_(uint64_t(width) * height) {
+  if (order_ == RayOrder::kTiles) {
+    // Square tiles row by row, pixels row by row inside a tile; partial tiles at the edges.
+    tiled_.reserve(total_);
+    for (int ty = 0; ty < height; ty += tile)
+      for (int tx = 0; tx < width; tx += tile)
+        for (int y = ty; y < std::min(ty + tile, height); ++y)
+          for (int x = tx; x < std::min(tx + tile, width); ++x) tiled_.push_back(uint32_t(y * width + x));
+  }
+}
+
+// The k-th pixel in issue order.
+uint32_t RayGenerator::pixel_of(uint64_t k) const { return order_ == RayOrder::kScanline ? uint32_t(k) : tiled_[k]; }
+
+RayFifo* RayGenerator::free_input() {
+  for (size_t i = 0; i < inputs_.size(); ++i) {
+    RayFifo* f = inputs_[(rr_ + i) % inputs_.size()];
+    if (!f->full()) {
+      rr_ = (rr_ + i + 1) % inputs_.size();
+      return f;
+    }
+  }
+  return nullptr;
+}
+
+bool RayGenerator::cycle(Tick now) {
+  if (finished() || ctx_.pool->full()) return false;
+  RayFifo* f = free_input();
+  if (!f) return false;
+  const uint32_t pixel = pixel_of(next_++);
+  const uint32_t id = ctx_.pool->allocate();
+  RayState& r = (*ctx_.pool)[id];
+  r.type = RayType::kPrimary;
+  r.pixel = pixel;
+  r.trav.ray = camera_.ray(int(pixel % width_), int(pixel / width_));
+  f->push(id, now + clock().period(), now);
+  return true;
+}
+
+Tick RayGenerator::next_ready(Tick from) const {
+  if (finished() || ctx_.pool->full()) return kUnknown;  // woken when a ray retires
+  for (const RayFifo* f : inputs_)
+    if (!f->full()) return from;
+  return kUnknown;  // woken when a TRV input frees a slot
+}
+
+}  // namespace rtsim::model

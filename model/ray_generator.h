@@ -1,0 +1,43 @@
+// Ray generator: one primary ray per cycle, through pixel centres in scanline or square-tile
+// order, dealt round-robin to the TRV units' input FIFOs, as long as the ray pool has a free slot.
+#pragma once
+
+#include "kernels/camera.h"
+#include "model/model_context.h"
+#include "model/ray_fifo.h"
+#include "model/unit.h"
+
+#include <vector>
+
+namespace rtsim::model {
+
+enum class RayOrder { kScanline, kTiles };
+
+class RayGenerator : public Unit {
+ public:
+  RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width, int height,
+               RayOrder order, int tile, std::vector<RayFifo*> trv_inputs);
+  bool finished() const { return next_ == total_; }
+  uint64_t issued() const { return next_; }
+
+ protected:
+  bool cycle(Tick now) override;
+  Tick next_ready(Tick from) const override;
+  bool holds_work() const override { return !finished(); }
+
+ private:
+  uint32_t pixel_of(uint64_t k) const;
+  RayFifo* free_input();
+
+  const ModelContext& ctx_;
+  PinholeCamera camera_;
+  int width_, height_;
+  RayOrder order_;
+  int tile_;
+  std::vector<RayFifo*> inputs_;
+  size_t rr_ = 0;
+  uint64_t next_ = 0, total_ = 0;
+  std::vector<uint32_t> tiled_;  // issue order for RayOrder::kTiles
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,101 @@
+// The shape shared by the units that work on rays (TRV, LIST, IST, shading): rays enter from an
+// input FIFO, wait in a ready queue ordered by issue time, park while a line comes from DRAM
+// (on_fill puts them back: the T&I engine's ray accumulation buffer), and leave through an
+// output FIFO; a full output blocks the unit until the consumer frees a slot.
+#pragma once
+
+#include "model/model_context.h"
+#include "model/ray_fifo.h"
+#include "model/ready_queue.h"
+#include "model/unit.h"
+
+namespace rtsim::model {
+
+class RayUnit : public Unit, public FillListener {
+ public:
+  // A line a parked ray waited for arrived; the ray may issue again at `when`.
+  void on_fill(uint64_t, uint64_t ray, Tick when) override {
+    RayState& r = (*ctx_.pool)[uint32_t(ray)];
+    if (r.waiting_lines > 0 && --r.waiting_lines > 0) return;
+    ready_.push(when, uint32_t(ray));
+    wake(when);
+  }
+  RayFifo* input() const { return in_; }
+  uint32_t held() const { return held_; }
+
+ protected:
+  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, RayFifo* in, uint32_t capacity)
+      : Unit(name, ctx.clock), ctx_(ctx), in_(in), capacity_(capacity) {}
+
+  // Works on one ready ray at `now`.
+  virtual void process(uint32_t ray, Tick now) = 0;
+  // Whether a new ray may enter from the input FIFO (default: room inside the unit).
+  virtual bool can_admit() const { return held_ < capacity_; }
+  virtual void admitted(uint32_t) {}
+
+  bool cycle(Tick now) override {
+    if (blocked_.fifo) {
+      if (!blocked_.fifo->push(blocked_.ray, std::max(blocked_.when, now), now)) return false;
+      blocked_.fifo = nullptr;
+      --held_;
+    }
+    while (!in_->empty() && in_->head_ready() <= now && can_admit()) {
+      const Tick t = in_->head_ready();
+      const uint32_t ray = in_->pop(now);
+      ready_.push(t, ray);
+      ++held_;
+      admitted(ray);
+    }
+    if (ready_.next_time() > now) return false;
+    process(ready_.pop(), now);
+    return true;
+  }
+  Tick next_ready(Tick from) const override {
+    if (blocked_.fifo) return kUnknown;  // the consumer wakes us when it frees a slot
+    Tick t = ready_.next_time();
+    if (!in_->empty() && can_admit()) t = std::min(t, in_->head_ready());
+    return t == kUnknown ? kUnknown : std::max(t, from);
+  }
+  bool holds_work() const override { return held_ > 0 || !in_->empty(); }
+
+  // The ray stays in this unit and may issue again at `when`.
+  void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
+  // The ray waits for `lines` fills (told through on_fill).
+  void park(uint32_t ray, uint32_t lines) { (*ctx_.pool)[ray].waiting_lines = lines; }
+  // The ray leaves this unit through `out`, visible from `when`.
+  void emit(RayFifo* out, uint32_t ray, Tick when, Tick now) {
+    if (out->push(ray, when, now)) {
+      --held_;
+      return;
+    }
+    blocked_ = {out, ray, when};
+  }
+  // The ray leaves this unit by another way (handed back to its owner, or retired).
+  void release() { --held_; }
+  // A ray comes back into this unit by another way than the input FIFO.
+  void take_back(uint32_t ray, Tick when) {
+    ++held_;
+    keep(ray, when);
+    wake(when);
+  }
+
+  const ModelContext& ctx_;
+  RayFifo* in_;
+
+ private:
+  struct Blocked {
+    RayFifo* fifo = nullptr;
+    uint32_t ray = 0;
+    Tick when = 0;
+  };
+  uint32_t capacity_;
+
+ protected:
+  uint32_t held_ = 0;
+
+ private:
+  Blocked blocked_;
+  ReadyQueue ready_;
+};
+
+}  // namespace rtsim::model

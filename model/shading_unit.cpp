@@ -1,0 +1,65 @@
+#include "model/shading_unit.h"
+
+#include "model/record_fetch.h"
+#include "model/trv_unit.h"
+
+namespace rtsim::model {
+
+ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
+                         Cache* l1, RayFifo* in, const std::vector<TrvUnit*>* trv, FrameBuffer* frame)
+    : RayUnit(name, ctx, in, capacity), latency_(latency), l1_(l1), trv_(trv), frame_(frame) {}
+
+void ShadingUnit::process(uint32_t id, Tick now) {
+  RayState& r = (*ctx_.pool)[id];
+  PixelState& px = frame_->pixels[r.pixel];
+  if (r.type == RayType::kShadow) {
+    ++stats_.shadow_rays;
+    if (r.trav.found) {
+      px.occluded |= uint16_t(1u << r.light);
+      ++stats_.shadow_occluded;
+    }
+    return retire(id, RayType::kShadow, now);
+  }
+  if (!r.trav.found) {
+    ++stats_.primary_rays;
+    return retire(id, RayType::kPrimary, now);
+  }
+  // The triangle, then its material; a ray parked on either issues again once it arrived.
+  const image::Header& h = ctx_.header;
+  const uint64_t tri_addr = h.triangles.base + uint64_t(r.trav.hit.tri) * image::kTriangleBytes;
+  const RecordFetch ft = fetch_record(*l1_, tri_addr, image::kTriangleBytes, now, this, id);
+  if (ft.ready == kUnknown) return park(id, ft.pending);
+  uint8_t tri_bytes[image::kTriangleBytes];
+  read_record(*l1_, tri_addr, image::kTriangleBytes, tri_bytes);
+  const image::TriangleRecord tri = image::decode_triangle(tri_bytes);
+  const uint64_t mat_addr = h.materials.base + uint64_t(tri.material) * image::kMaterialBytes;
+  const RecordFetch fm = fetch_record(*l1_, mat_addr, image::kMaterialBytes, now, this, id);
+  if (fm.ready == kUnknown) return park(id, fm.pending);
+  uint8_t mat_bytes[image::kMaterialBytes];
+  read_record(*l1_, mat_addr, image::kMaterialBytes, mat_bytes);
+  ++stats_.primary_rays;
+  ++stats_.primary_hits;
+  px.hit = r.trav.hit;
+  px.lvb = r.lvb;
+  px.surface = surface_point(r.trav.ray, r.trav.hit.t, tri.v0, tri.v1, tri.v2);
+  px.diffuse = image::decode_material(mat_bytes).diffuse;
+  retire(id, RayType::kPrimary, std::max({now, ft.ready, fm.ready}) + ctx_.clock.cycles(latency_));
+}
+
+void ShadingUnit::retire(uint32_t id, RayType type, Tick when) {
+  RayState& r = (*ctx_.pool)[id];
+  (*trv_)[r.trv_unit]->retire(id);
+  release();
+  ctx_.pool->release(id);
+  if (on_retire) on_retire(type, when);
+}
+
+void ShadingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
+  register_unit_stats(r, prefix);
+  r.counter(prefix + ".primary_rays", &stats_.primary_rays, "primary rays shaded");
+  r.counter(prefix + ".primary_hits", &stats_.primary_hits, "primary rays that hit");
+  r.counter(prefix + ".shadow_rays", &stats_.shadow_rays, "shadow rays finished");
+  r.counter(prefix + ".shadow_occluded", &stats_.shadow_occluded, "shadow rays that were blocked");
+}
+
+}  // namespace rtsim::model

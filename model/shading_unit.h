@@ -1,0 +1,45 @@
+// Shading: takes every ray whose traversal is over. For a primary ray it fetches the hit
+// triangle and its material through its L1, computes the surface point and keeps it with the
+// hit leaf's LVB word for the shadow phase; for a shadow ray it records whether the light was
+// blocked. Either way the ray retires and its TRV slot frees.
+#pragma once
+
+#include "model/cache.h"
+#include "model/frame_buffer.h"
+#include "model/ray_unit.h"
+
+#include <functional>
+#include <vector>
+
+namespace rtsim::model {
+
+class TrvUnit;
+
+struct ShadingStats {
+  uint64_t primary_rays = 0, primary_hits = 0;
+  uint64_t shadow_rays = 0, shadow_occluded = 0;
+};
+
+class ShadingUnit : public RayUnit {
+ public:
+  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity, Cache* l1,
+              RayFifo* in, const std::vector<TrvUnit*>* trv, FrameBuffer* frame);
+  // Called after every retirement (the accelerator's phase control listens).
+  std::function<void(RayType, Tick)> on_retire;
+  const ShadingStats& stats() const { return stats_; }
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+ protected:
+  void process(uint32_t ray, Tick now) override;
+
+ private:
+  void retire(uint32_t id, RayType type, Tick now);
+
+  uint32_t latency_;
+  Cache* l1_;
+  const std::vector<TrvUnit*>* trv_;
+  FrameBuffer* frame_;
+  ShadingStats stats_;
+};
+
+}  // namespace rtsim::model

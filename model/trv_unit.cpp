@@ -1,0 +1,65 @@
+#include "model/trv_unit.h"
+
+#include "model/record_fetch.h"
+
+namespace rtsim::model {
+
+TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
+                 Cache* l1, RayFifo* in, RayFifo* to_list, RayFifo* done)
+    : RayUnit(name, ctx, in, capacity), latency_(latency), capacity_(capacity), l1_(l1), to_list_(to_list),
+      done_(done) {}
+
+void TrvUnit::admitted(uint32_t ray) {
+  ++owned_;
+  (*ctx_.pool)[ray].trv_unit = index_;
+}
+
+void TrvUnit::process(uint32_t id, Tick now) {
+  RayState& r = (*ctx_.pool)[id];
+  if (!r.started) {
+    r.started = true;
+    ++stats_.rays_started;
+    const bool any_hit = r.type == RayType::kShadow;
+    if (!traversal_begin(r.trav, r.trav.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps)) {
+      ++stats_.rays_done;
+      emit(done_, id, now + ctx_.clock.cycles(latency_), now);  // misses the scene
+      return;
+    }
+  }
+  const uint64_t addr = ctx_.header.nodes.base + uint64_t(r.trav.node) * image::kNodeBytes;
+  const RecordFetch f = fetch_record(*l1_, addr, image::kNodeBytes, now, this, id);
+  ++stats_.node_fetches;
+  if (f.ready == kUnknown) {
+    park(id, f.pending);
+    return;
+  }
+  uint8_t bytes[image::kNodeBytes];
+  read_record(*l1_, addr, image::kNodeBytes, bytes);
+  const TraversalStep step = traversal_node(r.trav, image::decode_node(bytes));
+  const Tick done_at = std::max(f.ready, now) + ctx_.clock.cycles(latency_);
+  switch (step) {
+    case TraversalStep::kFetchNode:
+      keep(id, done_at);
+      break;
+    case TraversalStep::kLeaf:
+      r.prims_fetched = 0;
+      r.prim_count = 0;
+      r.tests_issued = 0;
+      r.leaf_done_at = 0;
+      r.tris.clear();
+      emit(to_list_, id, done_at, now);
+      break;
+    case TraversalStep::kDone:
+      ++stats_.rays_done;
+      emit(done_, id, done_at, now);
+      break;
+  }
+}
+
+void TrvUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
+  register_unit_stats(r, prefix);
+  r.counter(prefix + ".node_fetches", &stats_.node_fetches, "kd-tree nodes fetched");
+  r.counter(prefix + ".rays_started", &stats_.rays_started, "rays that began traversal here");
+}
+
+}  // namespace rtsim::model
