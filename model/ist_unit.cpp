@@ -14,7 +14,7 @@ void IstUnit::process(uint32_t id, Tick now) {
   if (r.tests_issued == 0) r.leaf_ray = traversal_leaf_ray(r.trav);
   const uint32_t tri = r.tris[r.tests_issued];
   const uint64_t addr = ctx_.header.triangles.base + uint64_t(tri) * image::kTriangleBytes;
-  const RecordFetch f = fetch_record(*l1_, addr, image::kTriangleBytes, now, this, id);
+  const RecordFetch f = fetch(*l1_, id, addr, image::kTriangleBytes, now);
   if (f.ready == kUnknown) return park(id, f.pending);
   uint8_t bytes[image::kTriangleBytes];
   read_record(*l1_, addr, image::kTriangleBytes, bytes);

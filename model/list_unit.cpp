@@ -13,7 +13,7 @@ void ListUnit::process(uint32_t id, Tick now) {
   const image::Header& h = ctx_.header;
   if (r.prim_count == 0) {  // first the leaf record
     const uint64_t addr = h.leaves.base + uint64_t(r.trav.leaf) * image::kLeafBytes;
-    const RecordFetch f = fetch_record(*l1_, addr, image::kLeafBytes, now, this, id);
+    const RecordFetch f = fetch(*l1_, id, addr, image::kLeafBytes, now);
     if (f.ready == kUnknown) return park(id, f.pending);
     uint8_t bytes[image::kLeafBytes];
     read_record(*l1_, addr, image::kLeafBytes, bytes);
@@ -32,8 +32,9 @@ void ListUnit::process(uint32_t id, Tick now) {
   const uint64_t line = addr & ~(line_bytes - 1);
   const uint32_t in_line = uint32_t(std::min<uint64_t>((line + line_bytes - addr) / image::kPrimBytes,
                                                         r.prim_count - r.prims_fetched));
-  const Tick t = l1_->fetch_line(line, now, this, id);
-  if (t == kUnknown) return park(id, 1);
+  const RecordFetch f = fetch(*l1_, id, line, uint32_t(line_bytes), now);
+  if (f.ready == kUnknown) return park(id, f.pending);
+  const Tick t = f.ready;
   ++stats_.list_lines;
   const uint8_t* data = l1_->line_data(line) + (addr - line);
   for (uint32_t k = 0; k < in_line; ++k) r.tris.push_back(image::load_u32(data + k * image::kPrimBytes));

@@ -3,6 +3,7 @@
 // FIFOs carry ray ids; the pool owns the state.
 #pragma once
 
+#include "kernels/shading.h"
 #include "kernels/traversal.h"
 
 #include <cstdint>
@@ -11,6 +12,7 @@
 namespace rtsim::model {
 
 enum class RayType : uint8_t { kPrimary, kShadow };
+
 
 struct RayState {
   TraversalState trav;
@@ -31,6 +33,13 @@ struct RayState {
   Ray leaf_ray;
   uint64_t leaf_done_at = 0;  // completion time of the latest test issued (ps)
   uint32_t waiting_lines = 0; // lines of a straddling record still in flight
+  // The record a parked ray waited for has arrived: the next operation reads it without fetching
+  // again (the ray accumulation buffer holds the returned data; re-fetching could miss forever
+  // when the line is evicted before the ray issues again).
+  bool fill_ready = false;
+  uint8_t stage = 0;          // shading: 0 = triangle, 1 = material
+  uint32_t material = 0;      // shading: the hit triangle's material
+  SurfacePoint surface;       // shading: the hit's surface point, from the triangle
 };
 
 class RayPool {
@@ -49,6 +58,8 @@ class RayPool {
     r.tris.clear();
     r.lvb = r.leaf_lvb = 0;
     r.waiting_lines = 0;
+    r.fill_ready = false;
+    r.stage = 0;
     return id;
   }
   void release(uint32_t id) { free_.push_back(id); }

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "model/model_context.h"
+#include "model/record_fetch.h"
 #include "model/ray_fifo.h"
 #include "model/ready_queue.h"
 #include "model/unit.h"
@@ -17,6 +18,7 @@ class RayUnit : public Unit, public FillListener {
   void on_fill(uint64_t, uint64_t ray, Tick when) override {
     RayState& r = (*ctx_.pool)[uint32_t(ray)];
     if (r.waiting_lines > 0 && --r.waiting_lines > 0) return;
+    r.fill_ready = true;
     ready_.push(when, uint32_t(ray));
     wake(when);
   }
@@ -62,6 +64,15 @@ class RayUnit : public Unit, public FillListener {
   void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
   // The ray waits for `lines` fills (told through on_fill).
   void park(uint32_t ray, uint32_t lines) { (*ctx_.pool)[ray].waiting_lines = lines; }
+  // Fetches a record for `ray`, unless a fill the ray waited for already brought it.
+  RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
+    RayState& r = (*ctx_.pool)[ray];
+    if (r.fill_ready) {
+      r.fill_ready = false;
+      return {now, 0};
+    }
+    return fetch_record(cache, addr, bytes, now, this, ray);
+  }
   // The ray leaves this unit through `out`, visible from `when`.
   void emit(RayFifo* out, uint32_t ray, Tick when, Tick now) {
     if (out->push(ray, when, now)) {

@@ -24,26 +24,32 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     ++stats_.primary_rays;
     return retire(id, RayType::kPrimary, now);
   }
-  // The triangle, then its material; a ray parked on either issues again once it arrived.
+  // The triangle, then its material; a parked ray resumes at the stage it waited in.
   const image::Header& h = ctx_.header;
-  const uint64_t tri_addr = h.triangles.base + uint64_t(r.trav.hit.tri) * image::kTriangleBytes;
-  const RecordFetch ft = fetch_record(*l1_, tri_addr, image::kTriangleBytes, now, this, id);
-  if (ft.ready == kUnknown) return park(id, ft.pending);
-  uint8_t tri_bytes[image::kTriangleBytes];
-  read_record(*l1_, tri_addr, image::kTriangleBytes, tri_bytes);
-  const image::TriangleRecord tri = image::decode_triangle(tri_bytes);
-  const uint64_t mat_addr = h.materials.base + uint64_t(tri.material) * image::kMaterialBytes;
-  const RecordFetch fm = fetch_record(*l1_, mat_addr, image::kMaterialBytes, now, this, id);
-  if (fm.ready == kUnknown) return park(id, fm.pending);
-  uint8_t mat_bytes[image::kMaterialBytes];
-  read_record(*l1_, mat_addr, image::kMaterialBytes, mat_bytes);
+  if (r.stage == 0) {
+    const uint64_t addr = h.triangles.base + uint64_t(r.trav.hit.tri) * image::kTriangleBytes;
+    const RecordFetch f = fetch(*l1_, id, addr, image::kTriangleBytes, now);
+    if (f.ready == kUnknown) return park(id, f.pending);
+    uint8_t bytes[image::kTriangleBytes];
+    read_record(*l1_, addr, image::kTriangleBytes, bytes);
+    const image::TriangleRecord tri = image::decode_triangle(bytes);
+    r.surface = surface_point(r.trav.ray, r.trav.hit.t, tri.v0, tri.v1, tri.v2);
+    r.material = tri.material;
+    r.stage = 1;
+    return keep(id, std::max(f.ready, now + ctx_.clock.period()));
+  }
+  const uint64_t addr = h.materials.base + uint64_t(r.material) * image::kMaterialBytes;
+  const RecordFetch f = fetch(*l1_, id, addr, image::kMaterialBytes, now);
+  if (f.ready == kUnknown) return park(id, f.pending);
+  uint8_t bytes[image::kMaterialBytes];
+  read_record(*l1_, addr, image::kMaterialBytes, bytes);
   ++stats_.primary_rays;
   ++stats_.primary_hits;
   px.hit = r.trav.hit;
   px.lvb = r.lvb;
-  px.surface = surface_point(r.trav.ray, r.trav.hit.t, tri.v0, tri.v1, tri.v2);
-  px.diffuse = image::decode_material(mat_bytes).diffuse;
-  retire(id, RayType::kPrimary, std::max({now, ft.ready, fm.ready}) + ctx_.clock.cycles(latency_));
+  px.surface = r.surface;
+  px.diffuse = image::decode_material(bytes).diffuse;
+  retire(id, RayType::kPrimary, std::max(f.ready, now) + ctx_.clock.cycles(latency_));
 }
 
 void ShadingUnit::retire(uint32_t id, RayType type, Tick when) {

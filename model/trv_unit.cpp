@@ -27,7 +27,7 @@ void TrvUnit::process(uint32_t id, Tick now) {
     }
   }
   const uint64_t addr = ctx_.header.nodes.base + uint64_t(r.trav.node) * image::kNodeBytes;
-  const RecordFetch f = fetch_record(*l1_, addr, image::kNodeBytes, now, this, id);
+  const RecordFetch f = fetch(*l1_, id, addr, image::kNodeBytes, now);
   ++stats_.node_fetches;
   if (f.ready == kUnknown) {
     park(id, f.pending);

@@ -34,4 +34,13 @@ struct LvbArgs {
 };
 int run_lvb(const LvbArgs& args);
 
+struct RunArgs {
+  std::string scene;
+  std::string hw;
+  std::string out;
+  PrepareOptions prepare;
+  bool lvb = true;
+};
+int run_model(const RunArgs& args);
+
 }  // namespace rtsim

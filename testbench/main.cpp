@@ -3,9 +3,11 @@
 #include "testbench/commands.h"
 
 #include <CLI/CLI.hpp>
+#include <systemc>
 #include <fmt/format.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <filesystem>
 
@@ -20,7 +22,7 @@ void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+extern "C" int sc_main(int argc, char** argv) {
   CLI::App app{"rtsim: a ray-tracing accelerator model with LVB shadow-ray culling"};
   app.require_subcommand(1);
 
@@ -54,6 +56,15 @@ int main(int argc, char** argv) {
   lvb_cmd->add_option("--lvb-threads", lvb.lvb.threads, "Host threads for preprocessing")->check(CLI::Range(1, 1024));
   add_prepare_options(lvb_cmd, lvb.prepare);
 
+  rtsim::RunArgs run;
+  std::string lvb_switch = "on";
+  CLI::App* run_cmd = app.add_subcommand("run", "Simulate a frame on the SystemC model of the accelerator");
+  run_cmd->add_option("scene", run.scene, "Scene description (YAML)")->required();
+  run_cmd->add_option("--hw", run.hw, "Hardware configuration (YAML)")->required();
+  run_cmd->add_option("--out", run.out, "Output directory")->required();
+  run_cmd->add_option("--lvb", lvb_switch, "LVB shadow-ray culling: on or off")->check(CLI::IsMember({"on", "off"}));
+  add_prepare_options(run_cmd, run.prepare);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -68,6 +79,10 @@ int main(int argc, char** argv) {
     if (*render_cmd) return rtsim::run_render(render);
     if (*info_cmd) return rtsim::run_info(info);
     if (*lvb_cmd) return rtsim::run_lvb(lvb);
+    if (*run_cmd) {
+      run.lvb = lvb_switch == "on";
+      return rtsim::run_model(run);
+    }
   } catch (const rtsim::InputError& e) {
     fmt::print(stderr, "rtsim: error: {}\n", e.what());
     return 2;
@@ -79,4 +94,11 @@ int main(int argc, char** argv) {
     return 1;
   }
   return 2;
+}
+
+// SystemC's library owns main(): silence its banner (stdout carries our JSON), then let it set
+// up the kernel and call sc_main.
+int main(int argc, char** argv) {
+  setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "DISABLE", 1);
+  return sc_core::sc_elab_and_sim(argc, argv);
 }

@@ -1,0 +1,105 @@
+#include "testbench/hw_config.h"
+
+#include "common/yaml_reader.h"
+
+#include <stdexcept>
+
+namespace rtsim {
+
+namespace {
+
+// Integers are read as int64 so that a negative value is reported as out of range.
+uint32_t get_u32(YamlMap& m, const std::string& key, uint32_t fallback, int64_t lo, int64_t hi) {
+  return uint32_t(m.get_in_range<int64_t>(key, fallback, lo, hi));
+}
+
+model::CacheConfig read_cache(YamlMap m, model::CacheConfig c) {
+  c.size_bytes = get_u32(m, "size_kb", c.size_bytes / 1024, 1, 1 << 20) * 1024;
+  c.ways = get_u32(m, "ways", c.ways, 1, 1024);
+  c.line_bytes = get_u32(m, "line_bytes", c.line_bytes, 4, 4096);
+  c.hit_latency = get_u32(m, "hit_latency", c.hit_latency, 0, 10000);
+  c.mshrs = get_u32(m, "mshrs", c.mshrs, 1, 65536);
+  m.finish();
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    m.fail("size_kb", e.what());
+  }
+  return c;
+}
+
+void read_unit(YamlMap m, model::UnitTypeConfig& u, bool has_l2) {
+  u.count = get_u32(m, "count", u.count, 1, 1024);
+  u.latency = get_u32(m, "latency", u.latency, 1, 10000);
+  u.capacity = get_u32(m, "capacity", u.capacity, 1, 65536);
+  u.fifo_depth = get_u32(m, "fifo_depth", u.fifo_depth, 1, 65536);
+  if (m.has("l1")) u.l1 = read_cache(m.map("l1"), u.l1);
+  if (has_l2 && m.has("l2")) u.l2 = read_cache(m.map("l2"), u.l2);
+  m.finish();
+}
+
+}  // namespace
+
+model::AcceleratorConfig load_hw_config(const std::string& path) {
+  YamlMap top = YamlMap::load_file(path);
+  model::AcceleratorConfig c;
+  c.clock_ghz = top.get_in_range("clock_ghz", c.clock_ghz, 0.01, 100.0);
+  c.ray_pool = get_u32(top, "ray_pool", c.ray_pool, 1, 1 << 24);
+  const std::string order = top.get<std::string>("order", "tiles");
+  if (order != "tiles" && order != "scanline") top.fail("order", "expected 'tiles' or 'scanline'");
+  c.order = order == "tiles" ? model::RayOrder::kTiles : model::RayOrder::kScanline;
+  c.tile = top.get_in_range("tile", c.tile, 1, 4096);
+  if (top.has("trv")) read_unit(top.map("trv"), c.trv, true);
+  if (top.has("list")) read_unit(top.map("list"), c.list, true);
+  if (top.has("ist")) read_unit(top.map("ist"), c.ist, true);
+  if (top.has("shading")) read_unit(top.map("shading"), c.shading, false);
+  if (top.has("dram")) {
+    YamlMap d = top.map("dram");
+    const std::string preset = d.get<std::string>("preset", "gddr3-gt200");
+    try {
+      c.dram = model::dram_preset(preset);
+    } catch (const std::invalid_argument& e) {
+      d.fail("preset", e.what());
+    }
+    c.dram.channels = get_u32(d, "channels", c.dram.channels, 1, 64);
+    c.dram.queue_size = get_u32(d, "queue_size", c.dram.queue_size, 1, 4096);
+    c.dram.address_mapping = d.get<std::string>("address_mapping", c.dram.address_mapping);
+    d.finish();
+  }
+  top.finish();
+  try {
+    c.validate();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(path + ": " + e.what());
+  }
+  return c;
+}
+
+nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
+  auto cache = [](const model::CacheConfig& k) {
+    return nlohmann::json{{"size_kb", k.size_bytes / 1024}, {"ways", k.ways}, {"line_bytes", k.line_bytes},
+                          {"hit_latency", k.hit_latency}, {"mshrs", k.mshrs}};
+  };
+  auto unit = [&](const model::UnitTypeConfig& u, bool l2) {
+    nlohmann::json j = {{"count", u.count}, {"latency", u.latency}, {"capacity", u.capacity},
+                        {"fifo_depth", u.fifo_depth}, {"l1", cache(u.l1)}};
+    if (l2) j["l2"] = cache(u.l2);
+    return j;
+  };
+  return {{"clock_ghz", c.clock_ghz},
+          {"ray_pool", c.ray_pool},
+          {"order", c.order == model::RayOrder::kTiles ? "tiles" : "scanline"},
+          {"tile", c.tile},
+          {"trv", unit(c.trv, true)},
+          {"list", unit(c.list, true)},
+          {"ist", unit(c.ist, true)},
+          {"shading", unit(c.shading, false)},
+          {"dram",
+           {{"preset", c.dram.preset},
+            {"channels", c.dram.channels},
+            {"queue_size", c.dram.queue_size},
+            {"address_mapping", c.dram.address_mapping}}},
+          {"lvb_culling", c.lvb_culling}};
+}
+
+}  // namespace rtsim
