@@ -40,6 +40,7 @@ struct RunArgs {
   std::string out;
   PrepareOptions prepare;
   bool lvb = true;
+  bool check = false;  // also run the reference tracer and compare every pixel
 };
 int run_model(const RunArgs& args);
 

@@ -1,6 +1,7 @@
 // rtsim run: one testbench run of the SystemC model over a scene -> report.json, config.json,
 // render.png, mask.npy.
 #include "kernels/lvb.h"
+#include "kernels/reference_tracer.h"
 #include "model/accelerator.h"
 #include "reports/output_files.h"
 #include "testbench/commands.h"
@@ -31,6 +32,34 @@ int run_model(const RunArgs& args) {
   const auto t_sim = std::chrono::steady_clock::now();
   const model::AcceleratorResult r = model::simulate_frame(hw, *p.image, p.scene.camera, p.scene.width, p.scene.height);
   const double sim_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sim).count();
+
+  // --check: the golden model over the same image; every pixel must match bit for bit.
+  nlohmann::json check = nullptr;
+  uint64_t mismatches = 0;
+  if (args.check) {
+    TracerOptions opt;
+    opt.width = p.scene.width;
+    opt.height = p.scene.height;
+    opt.cull_with_lvb = args.lvb;
+    const TraceResult ref = ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
+    for (size_t i = 0; i < ref.pixels.size(); ++i) {
+      const PixelRecord& a = ref.pixels[i];
+      const model::PixelState& b = r.frame.pixels[i];
+      const bool same = a.hit.tri == b.hit.tri &&
+                        (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
+                                                 a.occluded == b.occluded && a.culled == b.culled));
+      if (!same && ++mismatches <= 5)
+        fmt::print(stderr, "pixel {}: reference tri {} t {} occluded {:#x}; model tri {} t {} occluded {:#x}\n", i,
+                   a.hit.tri, a.hit.t, a.occluded, b.hit.tri, b.hit.t, b.occluded);
+    }
+    uint64_t culled_diff = 0;
+    for (size_t l = 0; l < r.shadow_culled.size(); ++l) culled_diff += r.shadow_culled[l] != ref.stats.per_light[l].culled;
+    check = {{"pixels", ref.pixels.size()},
+             {"mismatched_pixels", mismatches},
+             {"image_identical", ref.rgb == r.rgb},
+             {"culled_counts_identical", culled_diff == 0}};
+    if (ref.rgb != r.rgb || culled_diff) ++mismatches;
+  }
 
   std::vector<uint16_t> mask(r.frame.pixels.size());
   for (size_t i = 0; i < mask.size(); ++i) {
@@ -66,6 +95,7 @@ int run_model(const RunArgs& args) {
                     {"shadow", double(r.cycles_shadow) / (r.clock_ghz * 1e6)}}},
       {"rays", {{"primary", r.primary_rays}, {"primary_hits", r.primary_hits}, {"shadow", r.shadow_rays}}},
       {"per_light", per_light},
+      {"reference_check", check},
       {"stats", r.stats},
       {"host_seconds", {{"prepare", p.load_seconds + p.build_seconds}, {"lvb", lvb_seconds},
                         {"simulate", sim_seconds}, {"total", total}}},
@@ -84,7 +114,11 @@ int run_model(const RunArgs& args) {
              double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz, r.cycles_shadow, rays, generated,
              [&] { uint64_t c = 0; for (uint64_t x : r.shadow_culled) c += x; return c; }(), sim_seconds,
              sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out.string());
-  return 0;
+  if (args.check)
+    fmt::print("reference check: {} of {} pixels differ, image {}, culled counts {}\n", check["mismatched_pixels"].get<uint64_t>(),
+               check["pixels"].get<uint64_t>(), check["image_identical"].get<bool>() ? "identical" : "DIFFERENT",
+               check["culled_counts_identical"].get<bool>() ? "identical" : "DIFFERENT");
+  return mismatches ? 1 : 0;
 }
 
 }  // namespace rtsim
