@@ -39,22 +39,26 @@ RayFifo* ShadowCullingUnit::free_input() {
 
 bool ShadowCullingUnit::cycle(Tick now) {
   if (!started_ || finished() || waiting_) return false;
+  // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
+  // unit emits the next shadow ray that is not culled.
+  bool culled_any = false;
+  while (culling_ && !finished() && !((frame_->pixels[pixel_].lvb >> light_) & 1u)) {
+    ++lights_[light_].decisions;
+    ++lights_[light_].culled;
+    frame_->pixels[pixel_].culled |= uint16_t(1u << light_);
+    culled_any = true;
+    advance();
+  }
+  if (finished()) return culled_any;
   PixelState& px = frame_->pixels[pixel_];
   LightStats& ls = lights_[light_];
-  if (culling_ && !((px.lvb >> light_) & 1u)) {
-    ++ls.decisions;
-    ++ls.culled;
-    px.culled |= uint16_t(1u << light_);
-    advance();
-    return true;
-  }
-  if (ctx_.pool->full()) return false;  // woken when a ray retires
+  if (ctx_.pool->full()) return culled_any;  // woken when a ray retires
   RayFifo* f = free_input();
-  if (!f) return false;  // woken when a TRV input frees a slot
+  if (!f) return culled_any;  // woken when a TRV input frees a slot
   const uint64_t addr = ctx_.header.lights.base + uint64_t(light_) * image::kLightBytes;
   const RecordFetch fl = fetch_record(*l1_, addr, image::kLightBytes, now, this, 0);
   if (fl.ready == kUnknown) {
-    waiting_ = true;
+    waiting_ = true;  // keeps the pair: the light record is on its way
     return true;
   }
   uint8_t bytes[image::kLightBytes];
@@ -75,7 +79,6 @@ bool ShadowCullingUnit::cycle(Tick now) {
 
 Tick ShadowCullingUnit::next_ready(Tick from) const {
   if (!started_ || finished() || waiting_) return kUnknown;
-  if (culling_ && !((frame_->pixels[pixel_].lvb >> light_) & 1u)) return from;  // a cull needs nothing
   if (ctx_.pool->full()) return kUnknown;  // woken when a ray retires
   for (const RayFifo* f : inputs_)
     if (!f->full()) return from;

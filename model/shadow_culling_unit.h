@@ -1,6 +1,8 @@
 // Shadow culling unit (the paper's Fig. 5): in the shadow phase, for every hit pixel and every
 // light, it emits the shadow ray only when the hit leaf's LVB bit for that light is 1; a culled
-// ray counts as unoccluded. One decision per cycle; light records are read through its L1.
+// ray counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on the
+// hit's whole word, so culled lights are skipped within the cycle. Light records are read
+// through its L1.
 #pragma once
 
 #include "model/cache.h"

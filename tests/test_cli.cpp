@@ -132,6 +132,52 @@ TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
   expect_input_error("lvb x.yaml --out d --method fastest", {"--method"});
 }
 
+TEST(Cli, RunMatchesTheReferenceAndCullingSavesCycles) {
+  const fs::path on = test::temp_dir("cli_run_on"), off = test::temp_dir("cli_run_off");
+  const std::string base = "run " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
+                           (test::source_dir() / "configs/hw/tni-paper.yaml").string() + " --width 48 --height 27 --check";
+  const RunResult a = run(base + " --out " + on.string() + " --lvb on");
+  ASSERT_EQ(a.code, 0) << a.err;
+  const RunResult b = run(base + " --out " + off.string() + " --lvb off");
+  ASSERT_EQ(b.code, 0) << b.err;
+  const nlohmann::json ra = nlohmann::json::parse(slurp(on / "report.json"));
+  const nlohmann::json rb = nlohmann::json::parse(slurp(off / "report.json"));
+  for (const nlohmann::json* r : {&ra, &rb}) {
+    EXPECT_EQ((*r)["reference_check"]["mismatched_pixels"], 0);
+    EXPECT_TRUE((*r)["reference_check"]["image_identical"].get<bool>());
+    for (const char* key : {"cycles_total", "cycles_shadow", "clock_ghz", "rays", "per_light", "host_seconds"})
+      EXPECT_TRUE(r->contains(key)) << key;
+  }
+  EXPECT_EQ(slurp(on / "render.png"), slurp(off / "render.png")) << "culling never changes the image";
+  EXPECT_EQ(slurp(on / "mask.npy"), slurp(off / "mask.npy"));
+  uint64_t culled = 0;
+  for (const auto& l : ra["per_light"]) culled += l["culled"].get<uint64_t>();
+  for (const auto& l : rb["per_light"]) EXPECT_EQ(l["culled"].get<uint64_t>(), 0u);
+  ASSERT_GT(culled, 0u);
+  EXPECT_LT(ra["cycles_total"].get<uint64_t>(), rb["cycles_total"].get<uint64_t>()) << "fewer cycles with culling on";
+  EXPECT_TRUE(fs::exists(on / "config.json"));
+  fs::remove_all(on);
+  fs::remove_all(off);
+}
+
+TEST(Cli, BadHardwareConfigsAreNamed) {
+  const fs::path dir = test::temp_dir("cli_hw");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  auto check = [&](const std::string& name, const std::string& yaml, const std::vector<std::string>& fragments) {
+    write(dir / name, yaml);
+    expect_input_error("run " + scene + " --hw " + (dir / name).string() + " --out " + (dir / "o").string(), fragments);
+  };
+  check("unknown.yaml", "trv:\n  count: 4\n  cache: 3\n", {"unknown.yaml:3", "trv.cache", "unknown key"});
+  check("type.yaml", "clock_ghz: fast\n", {"type.yaml:1", "clock_ghz", "expected a number"});
+  check("negative.yaml", "trv:\n  l1: {size_kb: -8}\n", {"negative.yaml:2", "trv.l1.size_kb", "got -8"});
+  check("sets.yaml", "trv:\n  l1: {size_kb: 24, ways: 2}\n", {"sets.yaml:2", "trv.l1", "power of two"});
+  check("ways.yaml", "ist:\n  l1: {size_kb: 1, ways: 32, line_bytes: 64}\n", {"ways.yaml:2", "ist.l1"});
+  check("preset.yaml", "dram: {preset: ddr9}\n", {"preset.yaml:1", "dram.preset", "gddr3-gt200"});
+  expect_input_error("run " + scene + " --hw " + (dir / "missing.yaml").string() + " --out " + (dir / "o").string(),
+                     {"missing.yaml", "not found"});
+  fs::remove_all(dir);
+}
+
 TEST(Cli, InfoPrintsSceneAndTreeAsJson) {
   const RunResult r = run("info " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
