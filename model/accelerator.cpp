@@ -8,6 +8,7 @@
 #include "model/shading_unit.h"
 #include "model/shadow_culling_unit.h"
 #include "model/trv_unit.h"
+#include "model/watchdog.h"
 
 #include <memory>
 #include <stdexcept>
@@ -53,6 +54,7 @@ void AcceleratorConfig::validate() const {
   if (shading.l1.line_bytes > ist.l2.line_bytes) throw std::invalid_argument("shading.l1.line_bytes: expected <= the IST L2's");
   if (ray_pool < 1 || ray_pool > (1u << 24)) throw std::invalid_argument("ray_pool: expected 1..16777216");
   if (tile < 1 || tile > 4096) throw std::invalid_argument("tile: expected 1..4096");
+  if (watchdog_cycles < 1000) throw std::invalid_argument("watchdog_cycles: expected at least 1000");
   DramConfig d = dram;
   d.request_bytes = trv.l2.line_bytes;
   d.validate();
@@ -160,11 +162,39 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
       culling.wake(now);
     }
   };
+  // The watchdog: a run that stops moving names what is stuck.
+  std::vector<RayFifo*> fifos{&done};
+  for (auto* v : {&trv_in, &list_in, &ist_in})
+    for (auto& f : *v) fifos.push_back(f.get());
+  std::vector<std::pair<std::string, const RayUnit*>> ray_units;
+  for (auto* t : trv) ray_units.push_back({t->name(), t});
+  for (auto& u : list) ray_units.push_back({u->name(), u.get()});
+  for (auto& u : ist) ray_units.push_back({u->name(), u.get()});
+  ray_units.push_back({shading.name(), &shading});
+  Watchdog watchdog(
+      "watchdog", ctx.clock, cfg.watchdog_cycles,
+      [&] {
+        uint64_t n = primaries_retired + shadows_retired + generator.unit_stats().operations + culling.unit_stats().operations;
+        for (const auto& [name, u] : ray_units) n += u->unit_stats().operations;
+        return n;
+      },
+      [&] { return pool.in_flight() > 0 || !generator.finished() || !culling.finished(); },
+      [&] {
+        std::string s = std::to_string(pool.in_flight()) + " rays in flight; non-empty FIFOs:";
+        for (const RayFifo* f : fifos)
+          if (!f->empty()) s += " " + f->name() + " (" + std::to_string(f->size()) + ")";
+        s += "; units holding rays:";
+        for (const auto& [name, u] : ray_units)
+          if (u->held() > 0) s += " " + name + " (" + std::to_string(u->held()) + ")";
+        return s;
+      });
   generator.wake(0);
+  watchdog.start();
   sc_core::sc_start();
+  if (watchdog.fired()) throw std::runtime_error("the accelerator model stopped: " + watchdog.report());
   if (!culling.finished() || shadows_retired != culling.generated())
     throw std::logic_error("simulation ended with rays in flight");
-  end = std::max(end, Tick(sc_core::sc_time_stamp().value()));
+  // The frame ends with the last retirement (the watchdog's last look may come later).
 
   // Statistics, by name.
   StatsRegistry reg;
@@ -172,9 +202,6 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (auto* t : trv) t->finish_accounting(end);
   for (auto& u : list) u->finish_accounting(end);
   for (auto& u : ist) u->finish_accounting(end);
-  std::vector<RayFifo*> fifos{&done};
-  for (auto* v : {&trv_in, &list_in, &ist_in})
-    for (auto& f : *v) fifos.push_back(f.get());
   for (RayFifo* f : fifos) f->finish_accounting(end);
   for (uint32_t i = 0; i < trv.size(); ++i) trv[i]->register_stats(reg, "trv.unit" + std::to_string(i));
   for (uint32_t i = 0; i < list.size(); ++i) list[i]->register_stats(reg, "list.unit" + std::to_string(i));

@@ -40,6 +40,7 @@ struct AcceleratorConfig {
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;
   int tile = 8;
+  uint64_t watchdog_cycles = 100000;  // stop when nothing moved for this long
 
   // Throws std::invalid_argument naming the field.
   void validate() const;

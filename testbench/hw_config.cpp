@@ -49,6 +49,7 @@ model::AcceleratorConfig load_hw_config(const std::string& path) {
   if (order != "tiles" && order != "scanline") top.fail("order", "expected 'tiles' or 'scanline'");
   c.order = order == "tiles" ? model::RayOrder::kTiles : model::RayOrder::kScanline;
   c.tile = top.get_in_range("tile", c.tile, 1, 4096);
+  c.watchdog_cycles = uint64_t(top.get_in_range<int64_t>("watchdog_cycles", int64_t(c.watchdog_cycles), 1000, int64_t(1) << 40));
   if (top.has("trv")) read_unit(top.map("trv"), c.trv, true);
   if (top.has("list")) read_unit(top.map("list"), c.list, true);
   if (top.has("ist")) read_unit(top.map("ist"), c.ist, true);
@@ -90,6 +91,7 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
           {"ray_pool", c.ray_pool},
           {"order", c.order == model::RayOrder::kTiles ? "tiles" : "scanline"},
           {"tile", c.tile},
+          {"watchdog_cycles", c.watchdog_cycles},
           {"trv", unit(c.trv, true)},
           {"list", unit(c.list, true)},
           {"ist", unit(c.ist, true)},
