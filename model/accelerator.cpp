@@ -209,6 +209,42 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (uint32_t i = 0; i < trv_l1.size(); ++i) trv_l1[i]->register_stats(reg, "trv.l1.unit" + std::to_string(i));
   for (uint32_t i = 0; i < list_l1.size(); ++i) list_l1[i]->register_stats(reg, "list.l1.unit" + std::to_string(i));
   for (uint32_t i = 0; i < ist_l1.size(); ++i) ist_l1[i]->register_stats(reg, "ist.l1.unit" + std::to_string(i));
+  // Totals per unit type, beside the per-instance figures.
+  auto add_totals = [&reg](const std::string& type, const std::vector<const Cache*>& l1s, const std::vector<const Unit*>& units) {
+    auto sum_cache = [l1s](uint64_t CacheStats::*field) {
+      return [l1s, field] {
+        uint64_t n = 0;
+        for (const Cache* c : l1s) n += c->stats().*field;
+        return double(n);
+      };
+    };
+    for (auto [name, field] : {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
+                               std::pair{"misses", &CacheStats::misses}, std::pair{"mshr_merges", &CacheStats::mshr_merges}})
+      reg.formula(type + ".l1." + name, sum_cache(field), std::string("all ") + type + " L1s: " + name);
+    reg.formula(type + ".l1.hit_rate", [h = sum_cache(&CacheStats::hits), a = sum_cache(&CacheStats::accesses)] {
+      return a() > 0 ? h() / a() : 0.0;
+    }, "all " + type + " L1s: hits / accesses");
+    auto sum_unit = [units](uint64_t UnitStats::*field) {
+      return [units, field] {
+        uint64_t n = 0;
+        for (const Unit* u : units) n += u->unit_stats().*field;
+        return double(n);
+      };
+    };
+    for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
+                               std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
+                               std::pair{"idle_cycles", &UnitStats::idle_cycles},
+                               std::pair{"operations", &UnitStats::operations}})
+      reg.formula(type + ".total." + name, sum_unit(field), std::string("all ") + type + " units: " + name);
+  };
+  auto const_ptrs = [](auto& v) {
+    std::vector<const typename std::decay_t<decltype(*v[0])>*> out;
+    for (auto& p : v) out.push_back(&*p);
+    return out;
+  };
+  add_totals("trv", const_ptrs(trv_l1), {trv.begin(), trv.end()});
+  add_totals("list", const_ptrs(list_l1), [&] { std::vector<const Unit*> u; for (auto& x : list) u.push_back(x.get()); return u; }());
+  add_totals("ist", const_ptrs(ist_l1), [&] { std::vector<const Unit*> u; for (auto& x : ist) u.push_back(x.get()); return u; }());
   trv_l2.register_stats(reg, "trv.l2");
   list_l2.register_stats(reg, "list.l2");
   ist_l2.register_stats(reg, "ist.l2");
