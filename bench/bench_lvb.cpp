@@ -6,6 +6,8 @@
 #include "kernels/lvb.h"
 #include "testbench/pipeline.h"
 
+#include "bench/bench_util.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -14,22 +16,13 @@
 
 using namespace rtsim;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   std::vector<std::string> scenes;
   PrepareOptions prep;
   LvbParams base;
   int repeat = 3;
   for (int i = 1; i < argc; ++i) {
-    auto next = [&] { return i + 1 < argc ? argv[++i] : (fmt::print(stderr, "missing value\n"), std::exit(2), ""); };
+    auto next = [&] { return bench::option_value(argc, argv, i); };
     if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(next()));
     else if (!std::strcmp(argv[i], "--scene-root")) prep.scene_root = next();
     else if (!std::strcmp(argv[i], "--bounds")) base.bounds = std::strcmp(next(), "geometry") ? LvbBounds::kCell : LvbBounds::kGeometry;
@@ -62,7 +55,7 @@ int main(int argc, char** argv) {
     }
     fmt::print("| {} | {} | {} | {} | {} | {:.3f} | {:.3f} | {:.1f}x | {} |\n", p.scene.name, p.scene.lights.size(),
                p.tree.stats.leaves - p.tree.stats.empty_leaves, to_string(lp.bounds), to_string(lp.self_occlusion),
-               median(paper), median(hier), median(paper) / median(hier), paper_words == hier_words ? "yes" : "NO");
+               bench::median(paper), bench::median(hier), bench::median(paper) / bench::median(hier), paper_words == hier_words ? "yes" : "NO");
   }
   fmt::print("(medians of {} runs each, one thread)\n", repeat);
   return 0;

@@ -4,6 +4,8 @@
 #include "kernels/reference_tracer.h"
 #include "testbench/pipeline.h"
 
+#include "bench/bench_util.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -13,15 +15,6 @@
 
 using namespace rtsim;
 
-namespace {
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
   std::string scene_file = std::string(RTSIM_SOURCE_DIR) + "/configs/scenes/kitchen.yaml";
   PrepareOptions prep;
@@ -29,7 +22,7 @@ int main(int argc, char** argv) {
   prep.height = 270;
   int repeat = 5;
   for (int i = 1; i < argc; ++i) {
-    auto next = [&] { return i + 1 < argc ? argv[++i] : (fmt::print(stderr, "missing value\n"), std::exit(2), ""); };
+    auto next = [&] { return bench::option_value(argc, argv, i); };
     if (!std::strcmp(argv[i], "--width")) prep.width = std::atoi(next());
     else if (!std::strcmp(argv[i], "--height")) prep.height = std::atoi(next());
     else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(next()));
@@ -72,6 +65,6 @@ int main(int argc, char** argv) {
   fmt::print("{}: {} triangles, {}x{}, {} primary rays, {} shadow rays, one core\n", p.scene.name,
              p.scene.triangles.size(), p.scene.width, p.scene.height, primary.size(), shadow.size());
   fmt::print("median of {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s (checksum {})\n", repeat,
-             median(prim_rate) / 1e6, median(shadow_rate) / 1e6, sink);
+             bench::median(prim_rate) / 1e6, bench::median(shadow_rate) / 1e6, sink);
   return 0;
 }

@@ -77,4 +77,29 @@ class RayFifo {
   FifoStats stats_;
 };
 
+// Inputs served in turn: the next FIFO with room, starting after the last one used.
+class RoundRobin {
+ public:
+  explicit RoundRobin(std::vector<RayFifo*> fifos) : fifos_(std::move(fifos)) {}
+  RayFifo* next_free() {
+    for (size_t i = 0; i < fifos_.size(); ++i) {
+      RayFifo* f = fifos_[(next_ + i) % fifos_.size()];
+      if (!f->full()) {
+        next_ = (next_ + i + 1) % fifos_.size();
+        return f;
+      }
+    }
+    return nullptr;
+  }
+  bool any_free() const {
+    for (const RayFifo* f : fifos_)
+      if (!f->full()) return true;
+    return false;
+  }
+
+ private:
+  std::vector<RayFifo*> fifos_;
+  size_t next_ = 0;
+};
+
 }  // namespace rtsim::model

@@ -19,20 +19,9 @@ RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx
 // The k-th pixel in issue order.
 uint32_t RayGenerator::pixel_of(uint64_t k) const { return order_ == RayOrder::kScanline ? uint32_t(k) : tiled_[k]; }
 
-RayFifo* RayGenerator::free_input() {
-  for (size_t i = 0; i < inputs_.size(); ++i) {
-    RayFifo* f = inputs_[(rr_ + i) % inputs_.size()];
-    if (!f->full()) {
-      rr_ = (rr_ + i + 1) % inputs_.size();
-      return f;
-    }
-  }
-  return nullptr;
-}
-
 bool RayGenerator::cycle(Tick now) {
   if (finished() || ctx_.pool->full()) return false;
-  RayFifo* f = free_input();
+  RayFifo* f = inputs_.next_free();
   if (!f) return false;
   const uint32_t pixel = pixel_of(next_++);
   const uint32_t id = ctx_.pool->allocate();
@@ -46,9 +35,7 @@ bool RayGenerator::cycle(Tick now) {
 
 Tick RayGenerator::next_ready(Tick from) const {
   if (finished() || ctx_.pool->full()) return kUnknown;  // woken when a ray retires
-  for (const RayFifo* f : inputs_)
-    if (!f->full()) return from;
-  return kUnknown;  // woken when a TRV input frees a slot
+  return inputs_.any_free() ? from : kUnknown;  // woken when a TRV input frees a slot
 }
 
 }  // namespace rtsim::model

@@ -27,15 +27,13 @@ class RayGenerator : public Unit {
 
  private:
   uint32_t pixel_of(uint64_t k) const;
-  RayFifo* free_input();
 
   const ModelContext& ctx_;
   PinholeCamera camera_;
   int width_, height_;
   RayOrder order_;
   int tile_;
-  std::vector<RayFifo*> inputs_;
-  size_t rr_ = 0;
+  RoundRobin inputs_;  // the TRV units' input FIFOs
   uint64_t next_ = 0, total_ = 0;
   std::vector<uint32_t> tiled_;  // issue order for RayOrder::kTiles
 };

@@ -26,17 +26,6 @@ void ShadowCullingUnit::advance() {
   while (pixel_ < frame_->pixels.size() && frame_->pixels[pixel_].hit.tri == kNoHit);
 }
 
-RayFifo* ShadowCullingUnit::free_input() {
-  for (size_t i = 0; i < inputs_.size(); ++i) {
-    RayFifo* f = inputs_[(rr_ + i) % inputs_.size()];
-    if (!f->full()) {
-      rr_ = (rr_ + i + 1) % inputs_.size();
-      return f;
-    }
-  }
-  return nullptr;
-}
-
 bool ShadowCullingUnit::cycle(Tick now) {
   if (!started_ || finished() || waiting_) return false;
   // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
@@ -53,7 +42,7 @@ bool ShadowCullingUnit::cycle(Tick now) {
   PixelState& px = frame_->pixels[pixel_];
   LightStats& ls = lights_[light_];
   if (ctx_.pool->full()) return culled_any;  // woken when a ray retires
-  RayFifo* f = free_input();
+  RayFifo* f = inputs_.next_free();
   if (!f) return culled_any;  // woken when a TRV input frees a slot
   const uint64_t addr = ctx_.header.lights.base + uint64_t(light_) * image::kLightBytes;
   const RecordFetch fl = fetch_record(*l1_, addr, image::kLightBytes, now, this, 0);
@@ -80,9 +69,7 @@ bool ShadowCullingUnit::cycle(Tick now) {
 Tick ShadowCullingUnit::next_ready(Tick from) const {
   if (!started_ || finished() || waiting_) return kUnknown;
   if (ctx_.pool->full()) return kUnknown;  // woken when a ray retires
-  for (const RayFifo* f : inputs_)
-    if (!f->full()) return from;
-  return kUnknown;  // woken when a TRV input frees a slot
+  return inputs_.any_free() ? from : kUnknown;  // woken when a TRV input frees a slot
 }
 
 uint64_t ShadowCullingUnit::generated() const {

@@ -42,14 +42,12 @@ class ShadowCullingUnit : public Unit, public FillListener {
 
  private:
   void advance();
-  RayFifo* free_input();
 
   const ModelContext& ctx_;
   bool culling_;
   Cache* l1_;
   FrameBuffer* frame_;
-  std::vector<RayFifo*> inputs_;
-  size_t rr_ = 0;
+  RoundRobin inputs_;  // the TRV units' input FIFOs
   bool started_ = false, waiting_ = false;
   size_t pixel_ = 0;
   uint32_t light_ = 0;
