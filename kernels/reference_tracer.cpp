@@ -84,8 +84,6 @@ struct Worker {
     const image::TriangleRecord tri = image.triangle(hit.tri);
     const image::MaterialRecord mat = image.material(tri.material);
     const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
-    const Vec3& n = sp.n;
-    const Vec3& p = sp.p;
     const uint32_t lvb = image.leaf(hit.leaf).lvb;
     if (rec) rec->lvb = lvb;
     Vec3 color = kAmbient * mat.diffuse;
@@ -115,9 +113,7 @@ struct Worker {
       color += light_contribution(sp, mat.diffuse, light.position, light.color);
     }
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
-      Ray refl;
-      refl.o = p + offset * n;
-      refl.d = ray.d - 2.f * glm::dot(ray.d, n) * n;
+      const Ray refl = reflection_ray(sp, ray.d, offset);
       ++stats.reflection_rays;
       const Hit rh = tracer.closest_hit(refl, &stats.closest);
       Vec3 rc = kBackground;

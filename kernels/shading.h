@@ -36,6 +36,14 @@ inline Ray shadow_ray(const SurfacePoint& s, const Vec3& light, float offset) {
   return r;
 }
 
+// Mirror reflection of an incoming direction, starting `offset` off the surface on the incoming side.
+inline Ray reflection_ray(const SurfacePoint& s, const Vec3& incoming, float offset) {
+  Ray r;
+  r.o = s.p + offset * s.n;
+  r.d = incoming - 2.f * glm::dot(incoming, s.n) * s.n;
+  return r;
+}
+
 // Lambert term of one unoccluded light.
 inline Vec3 light_contribution(const SurfacePoint& s, const Vec3& diffuse, const Vec3& light, const Vec3& color) {
   const float cos_theta = glm::dot(s.n, glm::normalize(light - s.p));

@@ -55,6 +55,7 @@ void AcceleratorConfig::validate() const {
   if (ray_pool < 1 || ray_pool > (1u << 24)) throw std::invalid_argument("ray_pool: expected 1..16777216");
   if (tile < 1 || tile > 4096) throw std::invalid_argument("tile: expected 1..4096");
   if (watchdog_cycles < 1000) throw std::invalid_argument("watchdog_cycles: expected at least 1000");
+  if (reflection_depth < 0 || reflection_depth > 8) throw std::invalid_argument("reflection_depth: expected 0..8");
   DramConfig d = dram;
   d.request_bytes = trv.l2.line_bytes;
   d.validate();
@@ -85,7 +86,8 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   FrameBuffer frame;
   frame.width = width;
   frame.height = height;
-  frame.pixels.assign(size_t(width) * height, PixelState{});
+  frame.levels = cfg.reflection_depth + 1;
+  frame.pixels.assign(frame.pixel_count() * frame.levels, PixelState{});
   LvbUpdater lvb;
 
   auto make_fifos = [](const std::string& prefix, uint32_t n, uint32_t depth) {
@@ -270,6 +272,7 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
   out.primary_rays = shading.stats().primary_rays;
   out.primary_hits = shading.stats().primary_hits;
+  out.reflection_rays = shading.stats().reflection_rays;
   out.shadow_rays = shading.stats().shadow_rays;
   for (const LightStats& l : culling.per_light()) {
     out.shadow_generated.push_back(l.generated);
@@ -277,20 +280,27 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   }
   out.stats = reg.values();
 
-  // The pixels, composed exactly as the reference tracer composes them.
-  out.rgb.assign(size_t(width) * height * 3, 0);
-  for (size_t i = 0; i < frame.pixels.size(); ++i) {
-    const PixelState& px = frame.pixels[i];
-    Vec3 c = kBackground;
-    if (px.hit.tri != kNoHit) {
-      c = kAmbient * px.diffuse;
+  // The pixels, composed exactly as the reference tracer composes them: the local colour of each
+  // hit, blended with its reflection's from the deepest bounce up.
+  out.rgb.assign(frame.pixel_count() * 3, 0);
+  for (uint32_t i = 0; i < frame.pixel_count(); ++i) {
+    Vec3 reflected = kBackground;
+    for (int level = frame.levels - 1; level >= 0; --level) {
+      const PixelState& px = frame.at(i, level);
+      if (px.hit.tri == kNoHit) {
+        reflected = kBackground;
+        continue;
+      }
+      Vec3 c = kAmbient * px.diffuse;
       for (uint32_t l = 0; l < h.light_count; ++l) {
         if ((px.occluded >> l) & 1u) continue;
         const image::LightRecord light = image.light(l);
         c += light_contribution(px.surface, px.diffuse, light.position, light.color);
       }
+      if (px.reflectance > 0.f && level + 1 < frame.levels) c = (1.f - px.reflectance) * c + px.reflectance * reflected;
+      reflected = c;
     }
-    for (int k = 0; k < 3; ++k) out.rgb[3 * i + k] = to_display(c[k]);
+    for (int k = 0; k < 3; ++k) out.rgb[3 * size_t(i) + k] = to_display(reflected[k]);
   }
   out.frame = std::move(frame);
   return out;

@@ -41,6 +41,7 @@ struct AcceleratorConfig {
   RayOrder order = RayOrder::kTiles;
   int tile = 8;
   uint64_t watchdog_cycles = 100000;  // stop when nothing moved for this long
+  int reflection_depth = 0;           // mirror bounces for materials with reflectance > 0
 
   // Throws std::invalid_argument naming the field.
   void validate() const;
@@ -52,7 +53,7 @@ struct AcceleratorResult {
   uint64_t cycles_total = 0, cycles_primary = 0, cycles_shadow = 0;
   double clock_ghz = 1.0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
-  uint64_t primary_rays = 0, primary_hits = 0, shadow_rays = 0;
+  uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
   nlohmann::json stats;  // every named statistic
 };
 

@@ -15,13 +15,20 @@ struct PixelState {
   uint32_t lvb = 0;       // LVB word of the hit leaf (from the LVB updater)
   SurfacePoint surface;
   Vec3 diffuse{0.f};
+  float reflectance = 0.f;
   uint16_t occluded = 0;  // bit i: the shadow ray to light i was blocked
   uint16_t culled = 0;    // bit i: the shadow ray to light i was culled (not generated)
 };
 
+// One entry per pixel and bounce: entry level * width * height + pixel holds the hit of the
+// pixel's ray after `level` mirror reflections (level 0: the primary ray).
 struct FrameBuffer {
   int width = 0, height = 0;
+  int levels = 1;
   std::vector<PixelState> pixels;
+  size_t pixel_count() const { return size_t(width) * height; }
+  PixelState& at(uint32_t pixel, int level) { return pixels[size_t(level) * pixel_count() + pixel]; }
+  const PixelState& at(uint32_t pixel, int level) const { return pixels[size_t(level) * pixel_count() + pixel]; }
 };
 
 }  // namespace rtsim::model

@@ -26,7 +26,7 @@ void IstUnit::process(uint32_t id, Tick now) {
     const Hit before = r.trav.hit;
     traversal_hit(r.trav, tri, t_hit);
     const Hit& after = r.trav.hit;
-    if (r.type == RayType::kPrimary && (after.tri != before.tri || after.t != before.t || after.leaf != before.leaf))
+    if (r.type != RayType::kShadow && (after.tri != before.tri || after.t != before.t || after.leaf != before.leaf))
       lvb_->on_closest_hit(r);
   }
   r.leaf_done_at = std::max<Tick>(r.leaf_done_at, std::max(f.ready, now) + ctx_.clock.cycles(latency_));

@@ -11,13 +11,14 @@
 
 namespace rtsim::model {
 
-enum class RayType : uint8_t { kPrimary, kShadow };
+enum class RayType : uint8_t { kPrimary, kReflection, kShadow };
 
 
 struct RayState {
   TraversalState trav;
   RayType type = RayType::kPrimary;
-  uint32_t pixel = 0;
+  uint32_t pixel = 0;      // primary and reflection rays: the pixel; shadow rays: the frame entry
+  uint8_t depth = 0;       // reflection bounces so far
   uint8_t light = 0;       // shadow rays: which light
   uint16_t trv_unit = 0;   // the TRV unit that owns the ray (it returns there after each leaf)
   bool started = false;    // traversal_begin done
@@ -60,6 +61,7 @@ class RayPool {
     r.waiting_lines = 0;
     r.fill_ready = false;
     r.stage = 0;
+    r.depth = 0;
     return id;
   }
   void release(uint32_t id) { free_.push_back(id); }

@@ -11,8 +11,8 @@ ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, 
 
 void ShadingUnit::process(uint32_t id, Tick now) {
   RayState& r = (*ctx_.pool)[id];
-  PixelState& px = frame_->pixels[r.pixel];
   if (r.type == RayType::kShadow) {
+    PixelState& px = frame_->pixels[r.pixel];
     ++stats_.shadow_rays;
     if (r.trav.found) {
       px.occluded |= uint16_t(1u << r.light);
@@ -21,9 +21,10 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     return retire(id, RayType::kShadow, now);
   }
   if (!r.trav.found) {
-    ++stats_.primary_rays;
+    ++(r.type == RayType::kPrimary ? stats_.primary_rays : stats_.reflection_rays);
     return retire(id, RayType::kPrimary, now);
   }
+  PixelState& px = frame_->at(r.pixel, r.depth);
   // The triangle, then its material; a parked ray resumes at the stage it waited in.
   const image::Header& h = ctx_.header;
   if (r.stage == 0) {
@@ -43,13 +44,29 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   if (f.ready == kUnknown) return park(id, f.pending);
   uint8_t bytes[image::kMaterialBytes];
   read_record(*l1_, addr, image::kMaterialBytes, bytes);
-  ++stats_.primary_rays;
-  ++stats_.primary_hits;
+  const image::MaterialRecord mat = image::decode_material(bytes);
+  ++(r.type == RayType::kPrimary ? stats_.primary_rays : stats_.reflection_rays);
+  ++(r.type == RayType::kPrimary ? stats_.primary_hits : stats_.reflection_hits);
   px.hit = r.trav.hit;
   px.lvb = r.lvb;
   px.surface = r.surface;
-  px.diffuse = image::decode_material(bytes).diffuse;
-  retire(id, RayType::kPrimary, std::max(f.ready, now) + ctx_.clock.cycles(latency_));
+  px.diffuse = mat.diffuse;
+  px.reflectance = mat.reflectance;
+  const Tick done_at = std::max(f.ready, now) + ctx_.clock.cycles(latency_);
+  if (mat.reflectance > 0.f && r.depth + 1 < frame_->levels) {
+    // A mirror: the ray goes on as its reflection, in the same slot of the same TRV unit.
+    const Ray incoming = r.trav.ray;
+    r.type = RayType::kReflection;
+    ++r.depth;
+    r.started = false;
+    r.stage = 0;
+    r.lvb = r.leaf_lvb = 0;
+    r.trav.ray = reflection_ray(r.surface, incoming.d, ctx_.shadow_offset);
+    release();
+    (*trv_)[r.trv_unit]->return_ray(id, done_at);
+    return;
+  }
+  retire(id, RayType::kPrimary, done_at);
 }
 
 void ShadingUnit::retire(uint32_t id, RayType type, Tick when) {
@@ -64,6 +81,8 @@ void ShadingUnit::register_stats(StatsRegistry& r, const std::string& prefix) co
   register_unit_stats(r, prefix);
   r.counter(prefix + ".primary_rays", &stats_.primary_rays, "primary rays shaded");
   r.counter(prefix + ".primary_hits", &stats_.primary_hits, "primary rays that hit");
+  r.counter(prefix + ".reflection_rays", &stats_.reflection_rays, "reflection rays shaded");
+  r.counter(prefix + ".reflection_hits", &stats_.reflection_hits, "reflection rays that hit");
   r.counter(prefix + ".shadow_rays", &stats_.shadow_rays, "shadow rays finished");
   r.counter(prefix + ".shadow_occluded", &stats_.shadow_occluded, "shadow rays that were blocked");
 }

@@ -1,7 +1,8 @@
-// Shading: takes every ray whose traversal is over. For a primary ray it fetches the hit
-// triangle and its material through its L1, computes the surface point and keeps it with the
-// hit leaf's LVB word for the shadow phase; for a shadow ray it records whether the light was
-// blocked. Either way the ray retires and its TRV slot frees.
+// Shading: takes every ray whose traversal is over. For a primary or reflection ray it fetches
+// the hit triangle and its material through its L1, computes the surface point and keeps it with
+// the hit leaf's LVB word for the shadow phase; on a mirror material, while the depth allows, the
+// ray goes on as its reflection (same slot). For a shadow ray it records whether the light was
+// blocked. A ray that ends retires and its TRV slot frees.
 #pragma once
 
 #include "model/cache.h"
@@ -17,6 +18,7 @@ class TrvUnit;
 
 struct ShadingStats {
   uint64_t primary_rays = 0, primary_hits = 0;
+  uint64_t reflection_rays = 0, reflection_hits = 0;
   uint64_t shadow_rays = 0, shadow_occluded = 0;
 };
 

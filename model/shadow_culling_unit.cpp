@@ -56,7 +56,7 @@ bool ShadowCullingUnit::cycle(Tick now) {
   const uint32_t id = ctx_.pool->allocate();
   RayState& r = (*ctx_.pool)[id];
   r.type = RayType::kShadow;
-  r.pixel = uint32_t(pixel_);
+  r.pixel = uint32_t(pixel_);  // the frame entry (pixel and bounce)
   r.light = uint8_t(light_);
   r.trav.ray = shadow_ray(px.surface, light.position, ctx_.shadow_offset);
   f->push(id, std::max(fl.ready, now + clock().period()), now);

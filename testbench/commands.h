@@ -41,6 +41,7 @@ struct RunArgs {
   PrepareOptions prepare;
   bool lvb = true;
   bool check = false;  // also run the reference tracer and compare every pixel
+  int reflection_depth = 0;
 };
 int run_model(const RunArgs& args);
 

@@ -64,6 +64,7 @@ extern "C" int sc_main(int argc, char** argv) {
   run_cmd->add_option("--out", run.out, "Output directory")->required();
   run_cmd->add_option("--lvb", lvb_switch, "LVB shadow-ray culling: on or off")->check(CLI::IsMember({"on", "off"}));
   run_cmd->add_flag("--check", run.check, "Compare every pixel with the reference tracer (exit 1 on a difference)");
+  run_cmd->add_option("--reflections", run.reflection_depth, "Mirror reflection depth")->check(CLI::Range(0, 8));
   add_prepare_options(run_cmd, run.prepare);
 
   try {

@@ -19,6 +19,7 @@ int run_model(const RunArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   model::AcceleratorConfig hw = load_hw_config(args.hw);
   hw.lvb_culling = args.lvb;
+  hw.reflection_depth = args.reflection_depth;
   PreparedScene p = prepare_scene(args.scene, args.prepare);
   double lvb_seconds = 0;
   if (args.lvb) {
@@ -41,6 +42,7 @@ int run_model(const RunArgs& args) {
     opt.width = p.scene.width;
     opt.height = p.scene.height;
     opt.cull_with_lvb = args.lvb;
+    opt.reflection_depth = args.reflection_depth;
     const TraceResult ref = ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
     for (size_t i = 0; i < ref.pixels.size(); ++i) {
       const PixelRecord& a = ref.pixels[i];
@@ -77,9 +79,10 @@ int run_model(const RunArgs& args) {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const uint64_t rays = r.primary_rays + r.shadow_rays;
+  const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
   const nlohmann::json config = {{"scene_file", args.scene}, {"hw_file", args.hw}, {"hw", hw_config_json(hw)},
-                                 {"lvb", args.lvb}, {"resolution", {p.scene.width, p.scene.height}},
+                                 {"lvb", args.lvb}, {"reflection_depth", args.reflection_depth},
+                                 {"resolution", {p.scene.width, p.scene.height}},
                                  {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)["params"]}};
   const nlohmann::json report = {
       {"schema", "rtsim-report/1"},
@@ -93,7 +96,8 @@ int run_model(const RunArgs& args) {
       {"cycles_shadow", r.cycles_shadow},
       {"frame_ms", {{"all", double(r.cycles_total) / (r.clock_ghz * 1e6)},
                     {"shadow", double(r.cycles_shadow) / (r.clock_ghz * 1e6)}}},
-      {"rays", {{"primary", r.primary_rays}, {"primary_hits", r.primary_hits}, {"shadow", r.shadow_rays}}},
+      {"rays", {{"primary", r.primary_rays}, {"primary_hits", r.primary_hits}, {"reflection", r.reflection_rays},
+                {"shadow", r.shadow_rays}}},
       {"per_light", per_light},
       {"reference_check", check},
       {"stats", r.stats},

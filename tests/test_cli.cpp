@@ -135,7 +135,7 @@ TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
 TEST(Cli, RunMatchesTheReferenceAndCullingSavesCycles) {
   const fs::path on = test::temp_dir("cli_run_on"), off = test::temp_dir("cli_run_off");
   const std::string base = "run " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
-                           (test::source_dir() / "configs/hw/tni-paper.yaml").string() + " --width 48 --height 27 --check";
+                           (test::source_dir() / "configs/hw/tni-paper.yaml").string() + " --width 48 --height 27 --check --reflections 2";
   const RunResult a = run(base + " --out " + on.string() + " --lvb on");
   ASSERT_EQ(a.code, 0) << a.err;
   const RunResult b = run(base + " --out " + off.string() + " --lvb off");
