@@ -16,7 +16,7 @@ void Unit::wake(Tick at) {
   at = clock_.edge_at_or_after(std::max({at, now, accounted_to_}));
   if (armed_at_ != kUnknown && armed_at_ <= at && armed_at_ >= now) return;
   armed_at_ = at;
-  wake_event_.notify(sc_core::sc_time(double(at - now), sc_core::SC_PS));
+  wake_event_.notify(sc_core::sc_time::from_value(at - now));  // the time resolution is 1 ps
 }
 
 void Unit::activate() {

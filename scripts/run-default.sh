@@ -7,3 +7,4 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
 ./build/rtsim info configs/scenes/city.yaml
 ./build/rtsim render configs/scenes/city.yaml --out out/city
+./build/rtsim run configs/scenes/city.yaml --hw configs/hw/tni-paper.yaml --out out/city-model --check
