@@ -63,10 +63,10 @@ int run_model(const RunArgs& args) {
     if (ref.rgb != r.rgb || culled_diff) ++mismatches;
   }
 
-  std::vector<uint16_t> mask(r.frame.pixels.size());
-  for (size_t i = 0; i < mask.size(); ++i) {
-    const model::PixelState& px = r.frame.pixels[i];
-    mask[i] = uint16_t((px.hit.tri != kNoHit ? 1u : 0u) | (uint32_t(px.occluded) << 1));
+  std::vector<uint16_t> mask(r.frame.pixel_count());  // primary hits only (level 0)
+  for (uint32_t i = 0; i < mask.size(); ++i) {
+    const model::PixelState& px = r.frame.at(i, 0);
+    mask[i] = mask_value(px.hit.tri, px.occluded);
   }
   nlohmann::json per_light = nlohmann::json::array();
   uint64_t generated = 0;

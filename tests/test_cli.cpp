@@ -121,8 +121,12 @@ TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
     uint64_t from_mask = 0;
     for (size_t i = 0; i < culled.size(); ++i) {
       from_mask += (culled[i] >> (1 + l)) & 1u;
-      if ((culled[i] >> (1 + l)) & 1u) EXPECT_FALSE((mask[i] >> (1 + l)) & 1u) << "a culled ray is lit";
-      if (culled[i]) EXPECT_TRUE(mask[i] & 1u) << "only hits cast shadow rays";
+      if ((culled[i] >> (1 + l)) & 1u) {
+        EXPECT_FALSE((mask[i] >> (1 + l)) & 1u) << "a culled ray is lit";
+      }
+      if (culled[i]) {
+        EXPECT_TRUE(mask[i] & 1u) << "only hits cast shadow rays";
+      }
     }
     EXPECT_EQ(from_mask, pl["culled_rays"].get<uint64_t>());
     culled_rays += from_mask;
@@ -150,6 +154,14 @@ TEST(Cli, RunMatchesTheReferenceAndCullingSavesCycles) {
   }
   EXPECT_EQ(slurp(on / "render.png"), slurp(off / "render.png")) << "culling never changes the image";
   EXPECT_EQ(slurp(on / "mask.npy"), slurp(off / "mask.npy"));
+  // One entry per pixel, whatever the reflection depth, and the primary hits agree with the report.
+  const std::vector<uint16_t> mask = read_npy_u16(on / "mask.npy", 27, 48);
+  const std::string npy = slurp(on / "mask.npy");
+  ASSERT_GT(npy.size(), 10u);
+  EXPECT_EQ(npy.size(), 10 + (uint8_t(npy[8]) | (uint8_t(npy[9]) << 8)) + 2 * 48 * 27);
+  uint64_t hits = 0;
+  for (uint16_t v : mask) hits += v & 1u;
+  EXPECT_EQ(hits, ra["rays"]["primary_hits"].get<uint64_t>());
   uint64_t culled = 0;
   for (const auto& l : ra["per_light"]) culled += l["culled"].get<uint64_t>();
   for (const auto& l : rb["per_light"]) EXPECT_EQ(l["culled"].get<uint64_t>(), 0u);
