@@ -3,17 +3,12 @@
 //                [--ki K_I] [--kt K_T] [--empty-bonus B] [--max-depth D] [--max-prims M]
 // Default scene: ../shared/scenes/bunny/bun_zipper.ply. Prints every build's time, the median and
 // the tree statistics (single-threaded build).
+#include "bench/bench_util.h"
 #include "kernels/kdtree.h"
 #include "scene_loader/scene.h"
 
-#if __has_include("scene_loader/ply_loader.h")
-#include "scene_loader/ply_loader.h"
-#define RTSIM_HAVE_PLY_LOADER 1
-#endif
-#if __has_include("scene_loader/aff_loader.h")
 #include "scene_loader/aff_loader.h"
-#define RTSIM_HAVE_AFF_LOADER 1
-#endif
+#include "scene_loader/ply_loader.h"
 
 #include <algorithm>
 #include <chrono>
@@ -65,17 +60,9 @@ int main(int argc, char** argv) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     if (!aff.empty()) {
-#ifdef RTSIM_HAVE_AFF_LOADER
       load_aff(aff, time, scene);
-#else
-      usage("built without scene_loader/aff_loader.h");
-#endif
     } else {
-#ifdef RTSIM_HAVE_PLY_LOADER
       load_ply(ply, 0, scene);
-#else
-      usage("built without scene_loader/ply_loader.h");
-#endif
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "bench_kdtree: %s\n", e.what());
@@ -100,12 +87,7 @@ int main(int argc, char** argv) {
     cpu.push_back(c);
     std::printf("build %d: %.3f s (cpu %.3f s)\n", r + 1, tree.stats.build_seconds, c);
   }
-  auto median = [](std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-  };
-  std::printf("median: %.3f s (cpu %.3f s) over %d builds\n", median(wall), median(cpu), runs);
+  std::printf("median: %.3f s (cpu %.3f s) over %d builds\n", bench::median(wall), bench::median(cpu), runs);
 
   const KdTreeStats& s = tree.stats;
   std::printf("nodes %llu (inner %llu, leaves %llu, empty %llu)\n", (unsigned long long)s.nodes,

@@ -10,7 +10,8 @@ namespace rtsim::bench {
 
 inline double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
-  return v[v.size() / 2];
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 // The value after option argv[i] (advancing i), or exit 2 with a message.

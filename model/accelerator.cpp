@@ -239,14 +239,17 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
                                std::pair{"operations", &UnitStats::operations}})
       reg.formula(type + ".total." + name, sum_unit(field), std::string("all ") + type + " units: " + name);
   };
-  auto const_ptrs = [](auto& v) {
-    std::vector<const typename std::decay_t<decltype(*v[0])>*> out;
-    for (auto& p : v) out.push_back(&*p);
+  // Plain pointers to the elements of a vector of pointers (owning or not), as base pointers.
+  auto pointers = [](auto type_tag, const auto& v) {
+    std::vector<decltype(type_tag)> out;
+    for (const auto& p : v) out.push_back(&*p);
     return out;
   };
-  add_totals("trv", const_ptrs(trv_l1), {trv.begin(), trv.end()});
-  add_totals("list", const_ptrs(list_l1), [&] { std::vector<const Unit*> u; for (auto& x : list) u.push_back(x.get()); return u; }());
-  add_totals("ist", const_ptrs(ist_l1), [&] { std::vector<const Unit*> u; for (auto& x : ist) u.push_back(x.get()); return u; }());
+  const Cache* cache_tag = nullptr;
+  const Unit* unit_tag = nullptr;
+  add_totals("trv", pointers(cache_tag, trv_l1), pointers(unit_tag, trv));
+  add_totals("list", pointers(cache_tag, list_l1), pointers(unit_tag, list));
+  add_totals("ist", pointers(cache_tag, ist_l1), pointers(unit_tag, ist));
   trv_l2.register_stats(reg, "trv.l2");
   list_l2.register_stats(reg, "list.l2");
   ist_l2.register_stats(reg, "ist.l2");

@@ -36,7 +36,7 @@ int run_lvb(const LvbArgs& args) {
 
   std::vector<uint16_t> mask(r.pixels.size()), culled(r.pixels.size());
   for (size_t i = 0; i < r.pixels.size(); ++i) {
-    mask[i] = uint16_t((r.pixels[i].hit.tri != kNoHit ? 1u : 0u) | (uint32_t(r.pixels[i].occluded) << 1));
+    mask[i] = mask_value(r.pixels[i].hit.tri, r.pixels[i].occluded);
     culled[i] = uint16_t(uint32_t(r.pixels[i].culled) << 1);
   }
 

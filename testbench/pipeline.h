@@ -3,6 +3,7 @@
 
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
+#include "kernels/ray.h"
 #include "scene_loader/scene_file.h"
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,11 @@ struct PreparedScene {
 };
 
 PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions& options);
+
+// One pixel of mask.npy: bit 0 = the primary ray hit, bit 1+i = its shadow ray to light i is occluded.
+inline uint16_t mask_value(uint32_t hit_tri, uint16_t occluded) {
+  return uint16_t((hit_tri != kNoHit ? 1u : 0u) | (uint32_t(occluded) << 1));
+}
 
 // The scene and kd-tree statistics, as written into every report.
 nlohmann::json scene_json(const PreparedScene& p);

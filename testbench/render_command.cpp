@@ -23,7 +23,7 @@ int run_render(const RenderArgs& args) {
 
   std::vector<uint16_t> mask(r.pixels.size());
   for (size_t i = 0; i < r.pixels.size(); ++i)
-    mask[i] = uint16_t((r.pixels[i].hit.tri != kNoHit ? 1u : 0u) | (uint32_t(r.pixels[i].occluded) << 1));
+    mask[i] = mask_value(r.pixels[i].hit.tri, r.pixels[i].occluded);
 
   const TraceStats& s = r.stats;
   uint64_t shadow = 0;

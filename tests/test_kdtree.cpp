@@ -3,14 +3,8 @@
 #include "kernels/kdtree.h"
 #include "tests/test_util.h"
 
-#if __has_include("scene_loader/ply_loader.h")
-#include "scene_loader/ply_loader.h"
-#define RTSIM_HAVE_PLY_LOADER 1
-#endif
-#if __has_include("scene_loader/aff_loader.h")
 #include "scene_loader/aff_loader.h"
-#define RTSIM_HAVE_AFF_LOADER 1
-#endif
+#include "scene_loader/ply_loader.h"
 
 #include <gtest/gtest.h>
 
@@ -530,23 +524,16 @@ TEST(KdTree, SahCostImprovesOnALeaf) {
 
 TEST(KdTree, Bunny) {
   RTSIM_REQUIRE_SHARED_SCENES();
-#ifndef RTSIM_HAVE_PLY_LOADER
-  GTEST_SKIP() << "scene_loader/ply_loader.h not available";
-#else
   Scene scene;
   load_ply((test::shared_scenes() / "bunny" / "bun_zipper.ply").string(), 0, scene);
   ASSERT_EQ(scene.triangles.size(), 69451u);
   const KdTree t = build_kdtree(scene.triangles);
   check_structure(scene.triangles, t);
   check_coverage(scene.triangles, t);
-#endif
 }
 
 TEST(KdTree, Kitchen) {
   RTSIM_REQUIRE_SHARED_SCENES();
-#ifndef RTSIM_HAVE_AFF_LOADER
-  GTEST_SKIP() << "scene_loader/aff_loader.h not available";
-#else
   // Axis-aligned furniture: planar triangles and shared planes everywhere.
   Scene scene;
   load_aff((test::shared_scenes() / "bart" / "kitchen" / "kitchen.aff").string(), 0.0, scene);
@@ -554,7 +541,6 @@ TEST(KdTree, Kitchen) {
   const KdTree t = build_kdtree(scene.triangles);
   check_structure(scene.triangles, t);
   check_coverage(scene.triangles, t);
-#endif
 }
 
 }  // namespace
