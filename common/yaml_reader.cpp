@@ -5,7 +5,58 @@
 
 namespace rtsim {
 
-YamlMap YamlMap::load_file(const std::string& path) {
+ConfigOverride parse_override(const std::string& text) {
+  const size_t eq = text.find('=');
+  auto bad = [&](const std::string& why) -> ConfigOverride {
+    throw InputError(fmt::format("--set {}: {} (expected key.path=value)", text, why));
+  };
+  if (eq == std::string::npos) return bad("no '='");
+  ConfigOverride o;
+  o.text = "--set " + text;
+  const std::string path = text.substr(0, eq);
+  size_t start = 0;
+  while (true) {
+    const size_t dot = path.find('.', start);
+    o.keys.push_back(path.substr(start, dot - start));
+    if (o.keys.back().empty()) return bad("empty key in the path");
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  try {
+    o.value = YAML::Load(text.substr(eq + 1));
+  } catch (const YAML::Exception& e) {
+    return bad("the value is not valid YAML: " + e.msg);
+  }
+  if (!o.value.IsDefined() || o.value.IsNull()) return bad("no value");
+  return o;
+}
+
+YamlMap YamlMap::from_node(const YAML::Node& node, std::string file, std::string path,
+                           const std::vector<ConfigOverride>& overrides) {
+  auto origins = std::make_shared<std::map<std::string, std::string>>();
+  for (const ConfigOverride& o : overrides) {
+    YAML::Node at = node;
+    std::string key_path = path;
+    for (size_t i = 0; i < o.keys.size(); ++i) {
+      key_path += (key_path.empty() ? "" : ".") + o.keys[i];
+      (*origins)[key_path] = o.text;
+      if (i + 1 == o.keys.size()) {
+        at[o.keys[i]] = YAML::Clone(o.value);
+        break;
+      }
+      if (!at[o.keys[i]].IsDefined() || at[o.keys[i]].IsNull()) at[o.keys[i]] = YAML::Node(YAML::NodeType::Map);
+      const YAML::Node next = at[o.keys[i]];
+      if (!next.IsMap()) throw InputError(fmt::format("{}: key '{}' of {} is not a mapping", o.text, key_path, file));
+      at.reset(next);
+    }
+  }
+  if (!node.IsMap()) throw_at_line(file, node.Mark().line + 1, "expected a mapping of keys");
+  YamlMap m(node, std::move(file), std::move(path));
+  m.overridden_ = std::move(origins);
+  return m;
+}
+
+YamlMap YamlMap::load_file(const std::string& path, const std::vector<ConfigOverride>& overrides) {
   if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: file not found", path));
   if (!std::filesystem::is_regular_file(path)) throw InputError(fmt::format("{}: not a regular file", path));
   YAML::Node root;
@@ -17,7 +68,7 @@ YamlMap YamlMap::load_file(const std::string& path) {
     throw InputError(fmt::format("{}: cannot read YAML: {}", path, e.what()));
   }
   if (!root.IsMap()) throw_at_line(path, root.Mark().line + 1, "expected a mapping of keys at the top level");
-  return YamlMap(root, path, "");
+  return from_node(root, path, "", overrides);
 }
 
 YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string path)
@@ -68,7 +119,13 @@ YAML::Node YamlMap::raw_sequence(const std::string& key) {
 YamlMap YamlMap::map(const std::string& key) {
   const YAML::Node n = child(key);
   if (!n.IsMap()) fail(key, "expected a mapping of keys", n);
-  return YamlMap(n, file_, key_path(key));
+  return sub(n, key_path(key));
+}
+
+YamlMap YamlMap::sub(const YAML::Node& n, std::string path) const {
+  YamlMap m(n, file_, std::move(path));
+  m.overridden_ = overridden_;
+  return m;
 }
 
 std::vector<YamlMap> YamlMap::list_of_maps(const std::string& key) {
@@ -78,7 +135,7 @@ std::vector<YamlMap> YamlMap::list_of_maps(const std::string& key) {
   for (size_t i = 0; i < n.size(); ++i) {
     const std::string p = fmt::format("{}[{}]", key_path(key), i);
     if (!n[i].IsMap()) throw_at_line(file_, n[i].Mark().line + 1, fmt::format("key '{}': expected a mapping of keys", p));
-    out.emplace_back(n[i], file_, p);
+    out.push_back(sub(n[i], p));
   }
   return out;
 }
@@ -88,14 +145,21 @@ void YamlMap::finish() const {
     const std::string key = kv.first.as<std::string>();
     if (used_->count(key)) continue;
     const long line = kv.first.Mark().line + 1;
-    if (kv.second.IsNull()) throw_at_line(file_, line, fmt::format("key '{}': has no value", key_path(key)));
-    throw_at_line(file_, line, fmt::format("key '{}': unknown key", key_path(key)));
+    throw_for(key, line, kv.second.IsNull() ? "has no value" : "unknown key");
   }
 }
 
 void YamlMap::fail(const std::string& key, const std::string& message, const YAML::Node& at) const {
-  const long line = at.IsDefined() ? at.Mark().line + 1 : node_.Mark().line + 1;
-  throw_at_line(file_, line, fmt::format("key '{}': {}", key_path(key), message));
+  throw_for(key, at.IsDefined() ? at.Mark().line + 1 : node_.Mark().line + 1, message);
+}
+
+void YamlMap::throw_for(const std::string& key, long line, const std::string& message) const {
+  const std::string path = key_path(key);
+  if (overridden_) {
+    const auto it = overridden_->find(path);
+    if (it != overridden_->end()) throw InputError(fmt::format("{}: key '{}' of {}: {}", it->second, path, file_, message));
+  }
+  throw_at_line(file_, line, fmt::format("key '{}': {}", path, message));
 }
 
 }  // namespace rtsim

@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -18,10 +19,24 @@
 
 namespace rtsim {
 
+// One command-line override, "a.b.c=value": the value is parsed as YAML ("16", "[480, 270]",
+// "off"), the dotted path names map keys below one document's top level.
+struct ConfigOverride {
+  std::vector<std::string> keys;
+  YAML::Node value;
+  std::string text;  // "--set path=value" as the user wrote it, for error messages
+};
+// Parses "path=value"; a malformed one is an InputError naming it.
+ConfigOverride parse_override(const std::string& text);
+
 class YamlMap {
  public:
-  // Parses a whole file; a missing file or a syntax error is an InputError.
-  static YamlMap load_file(const std::string& path);
+  // Parses a whole file, then applies `overrides` to it; a missing file or a syntax error is an
+  // InputError. Errors about an overridden key name the override instead of a line.
+  static YamlMap load_file(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
+  // A map built in memory (a document's section, or one assembled from command-line flags).
+  static YamlMap from_node(const YAML::Node& node, std::string file, std::string path,
+                           const std::vector<ConfigOverride>& overrides = {});
   YamlMap(const YAML::Node& node, std::string file, std::string path);
 
   // A key given without a value ("key: ~") counts as absent.
@@ -78,6 +93,8 @@ class YamlMap {
  private:
   YAML::Node child(const std::string& key);
   void mark(const std::string& key) { used_->insert(key); }
+  YamlMap sub(const YAML::Node& n, std::string path) const;
+  [[noreturn]] void throw_for(const std::string& key, long line, const std::string& message) const;
   template <class T>
   static const char* type_name() {
     if constexpr (std::is_same_v<T, bool>) return "true or false";
@@ -90,6 +107,8 @@ class YamlMap {
   YAML::Node node_;
   std::string file_, path_;
   std::shared_ptr<std::set<std::string>> used_ = std::make_shared<std::set<std::string>>();
+  // Key path -> the override that set it (shared by a document's maps).
+  std::shared_ptr<const std::map<std::string, std::string>> overridden_;
 };
 
 }  // namespace rtsim

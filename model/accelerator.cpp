@@ -5,6 +5,7 @@
 #include "model/ist_unit.h"
 #include "model/list_unit.h"
 #include "model/lvb_updater.h"
+#include "model/periodic_probe.h"
 #include "model/shading_unit.h"
 #include "model/shadow_culling_unit.h"
 #include "model/trv_unit.h"
@@ -62,7 +63,7 @@ void AcceleratorConfig::validate() const {
 }
 
 AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage& image, const Camera& camera,
-                                 int width, int height) {
+                                 int width, int height, const SimulationHooks& hooks) {
   cfg.validate();
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   const image::Header& h = image.header();
@@ -173,6 +174,7 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (auto& u : list) ray_units.push_back({u->name(), u.get()});
   for (auto& u : ist) ray_units.push_back({u->name(), u.get()});
   ray_units.push_back({shading.name(), &shading});
+  auto pending = [&] { return pool.in_flight() > 0 || !generator.finished() || !culling.finished(); };
   Watchdog watchdog(
       "watchdog", ctx.clock, cfg.watchdog_cycles,
       [&] {
@@ -180,7 +182,7 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
         for (const auto& [name, u] : ray_units) n += u->unit_stats().operations;
         return n;
       },
-      [&] { return pool.in_flight() > 0 || !generator.finished() || !culling.finished(); },
+      pending,
       [&] {
         std::string s = std::to_string(pool.in_flight()) + " rays in flight; non-empty FIFOs:";
         for (const RayFifo* f : fifos)
@@ -190,9 +192,36 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
           if (u->held() > 0) s += " " + name + " (" + std::to_string(u->held()) + ")";
         return s;
       });
+  std::unique_ptr<PeriodicProbe> progress;
+  if (hooks.progress) {
+    progress = std::make_unique<PeriodicProbe>("progress", ctx.clock.cycles(hooks.progress_cycles), [&](Tick now) {
+      Progress p;
+      p.phase = culling.started() ? 2 : 1;
+      p.cycle = ctx.clock.to_cycles(now);
+      p.pixels = uint64_t(width) * uint64_t(height);
+      p.primaries_retired = primaries_retired;
+      p.shadows_generated = culling.generated();
+      p.shadows_retired = shadows_retired;
+      p.culling_scanned = culling.scanned_fraction();
+      hooks.progress(p);
+      return pending();
+    });
+    progress->start_at(0);
+  }
+  std::unique_ptr<VcdTrace> trace;
+  if (!hooks.trace.file.empty()) {
+    trace = std::make_unique<VcdTrace>(hooks.trace, ctx.clock);
+    for (const RayFifo* f : fifos) trace->add_fifo(f);
+    trace->add_unit("raygen", &generator);
+    for (const auto& [name, u] : ray_units) trace->add_unit(name, u);
+    trace->add_unit("culling", &culling);
+    trace->add_counter("rays_in_flight", [&pool] { return uint64_t(pool.in_flight()); });
+    trace->start(pending);
+  }
   generator.wake(0);
   watchdog.start();
   sc_core::sc_start();
+  if (trace) trace->close();
   if (watchdog.fired()) throw std::runtime_error("the accelerator model stopped: " + watchdog.report());
   if (!culling.finished() || shadows_retired != culling.generated())
     throw std::logic_error("simulation ended with rays in flight");

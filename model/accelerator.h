@@ -10,11 +10,13 @@
 #include "model/frame_buffer.h"
 #include "model/ray_generator.h"
 #include "model/stats_registry.h"
+#include "model/vcd_trace.h"
 #include "scene_loader/scene.h"
 
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -57,9 +59,25 @@ struct AcceleratorResult {
   nlohmann::json stats;  // every named statistic
 };
 
+// Where a running frame stands, for progress reports.
+struct Progress {
+  int phase = 1;                     // 1: primary rays, 2: shadow rays
+  uint64_t cycle = 0;
+  uint64_t pixels = 0, primaries_retired = 0;
+  uint64_t shadows_generated = 0, shadows_retired = 0;
+  double culling_scanned = 0;        // share of the hit pixels the culling unit has passed (phase 2)
+};
+
+// Observers of a run; neither changes a simulated figure.
+struct SimulationHooks {
+  std::function<void(const Progress&)> progress;  // called every progress_cycles while the frame runs
+  uint64_t progress_cycles = 20000;
+  TraceRequest trace;                              // a VCD of FIFOs and unit busy signals
+};
+
 // Simulates one frame of `camera` over `image` at width x height. SystemC elaborates once per
 // process: call this once.
 AcceleratorResult simulate_frame(const AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
-                                 int width, int height);
+                                 int width, int height, const SimulationHooks& hooks = {});
 
 }  // namespace rtsim::model

@@ -26,7 +26,9 @@ class ShadowCullingUnit : public Unit, public FillListener {
   ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, Cache* l1,
                     FrameBuffer* frame, std::vector<RayFifo*> trv_inputs);
   void start(Tick now);
+  bool started() const { return started_; }
   bool finished() const { return started_ && pixel_ >= frame_->pixels.size(); }
+  double scanned_fraction() const { return frame_->pixels.empty() ? 1.0 : double(pixel_) / double(frame_->pixels.size()); }
   uint64_t generated() const;
   void on_fill(uint64_t, uint64_t, Tick when) override {
     waiting_ = false;

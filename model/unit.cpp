@@ -29,6 +29,7 @@ void Unit::activate() {
   }
   const bool issued = cycle(now);
   if (issued) {
+    last_issue_ = now;
     ++stats_.busy_cycles;
     ++stats_.operations;
   } else {

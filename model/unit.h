@@ -32,6 +32,8 @@ class Unit : public sc_core::sc_module {
   const UnitStats& unit_stats() const { return stats_; }
   void register_unit_stats(StatsRegistry& r, const std::string& prefix) const;
   const Clock& clock() const { return clock_; }
+  // Whether an operation issued at clock edge `edge` (the latest edge only).
+  bool issued_at(Tick edge) const { return last_issue_ == edge; }
 
  protected:
   SC_HAS_PROCESS(Unit);
@@ -55,6 +57,7 @@ class Unit : public sc_core::sc_module {
   Tick armed_at_ = kUnknown;   // time of the pending activation, if any
   Tick accounted_to_ = 0;      // cycles before this are classified
   bool held_work_ = false;     // state of the gap since the last activation
+  Tick last_issue_ = kUnknown;
   UnitStats stats_;
 };
 

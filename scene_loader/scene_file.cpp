@@ -157,7 +157,7 @@ std::string default_scene_root() {
 }
 
 SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& options) {
-  YamlMap top = YamlMap::load_file(path);
+  YamlMap top = YamlMap::load_file(path, options.overrides);
   const fs::path root = options.scene_root.empty() ? default_scene_root() : options.scene_root;
   SceneSetup setup;
   Scene& scene = setup.scene;

@@ -2,15 +2,18 @@
 // lit by which lights. Format: docs/scene-files.md.
 #pragma once
 
+#include "common/yaml_reader.h"
 #include "kernels/kdtree.h"
 #include "scene_loader/scene.h"
 
 #include <string>
+#include <vector>
 
 namespace rtsim {
 
 struct SceneFileOptions {
   std::string scene_root;  // relative geometry paths resolve here; empty = default_scene_root()
+  std::vector<ConfigOverride> overrides;  // "--set scene.KEY=VALUE", applied to the file's keys
 };
 
 // $RTSIM_SCENE_ROOT, else ../shared/scenes (from the working directory, then from the source

@@ -3,6 +3,7 @@
 
 #include "kernels/lvb.h"
 #include "testbench/pipeline.h"
+#include "testbench/run_config.h"
 
 #include <string>
 
@@ -35,13 +36,10 @@ struct LvbArgs {
 int run_lvb(const LvbArgs& args);
 
 struct RunArgs {
-  std::string scene;
-  std::string hw;
+  RunSources sources;  // scene, hardware, flags and overrides: resolved into a RunConfig
   std::string out;
-  PrepareOptions prepare;
-  bool lvb = true;
-  bool check = false;  // also run the reference tracer and compare every pixel
-  int reflection_depth = 0;
+  bool quiet = false;  // no progress line, no summary
+  std::string trace_file, trace_window;
 };
 int run_model(const RunArgs& args);
 

@@ -40,8 +40,11 @@ void read_unit(YamlMap m, model::UnitTypeConfig& u, bool has_l2) {
 
 }  // namespace
 
-model::AcceleratorConfig load_hw_config(const std::string& path) {
-  YamlMap top = YamlMap::load_file(path);
+model::AcceleratorConfig load_hw_config(const std::string& path, const std::vector<ConfigOverride>& overrides) {
+  return read_hw_config(YamlMap::load_file(path, overrides));
+}
+
+model::AcceleratorConfig read_hw_config(YamlMap top) {
   model::AcceleratorConfig c;
   c.clock_ghz = top.get_in_range("clock_ghz", c.clock_ghz, 0.01, 100.0);
   c.ray_pool = get_u32(top, "ray_pool", c.ray_pool, 1, 1 << 24);
@@ -71,7 +74,7 @@ model::AcceleratorConfig load_hw_config(const std::string& path) {
   try {
     c.validate();
   } catch (const std::invalid_argument& e) {
-    throw InputError(path + ": " + e.what());
+    throw InputError(top.file() + ": " + e.what());
   }
   return c;
 }
@@ -100,8 +103,7 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
            {{"preset", c.dram.preset},
             {"channels", c.dram.channels},
             {"queue_size", c.dram.queue_size},
-            {"address_mapping", c.dram.address_mapping}}},
-          {"lvb_culling", c.lvb_culling}};
+            {"address_mapping", c.dram.address_mapping}}}};
 }
 
 }  // namespace rtsim

@@ -2,16 +2,21 @@
 // Format: configs/README.md.
 #pragma once
 
+#include "common/yaml_reader.h"
 #include "model/accelerator.h"
 
 #include <nlohmann/json.hpp>
 
 #include <string>
+#include <vector>
 
 namespace rtsim {
 
 // Loads and validates; every error names the file, the line and the key path (InputError).
-model::AcceleratorConfig load_hw_config(const std::string& path);
+// `overrides` are "--set hw.KEY=VALUE" without the "hw." prefix.
+model::AcceleratorConfig load_hw_config(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
+// The same from a map (a file's top level, or the "hw" section of a config.json).
+model::AcceleratorConfig read_hw_config(YamlMap top);
 // The resolved configuration, as written beside every report.
 nlohmann::json hw_config_json(const model::AcceleratorConfig& c);
 

@@ -58,14 +58,32 @@ extern "C" int sc_main(int argc, char** argv) {
 
   rtsim::RunArgs run;
   std::string lvb_switch = "on";
+  int run_width = 0, run_height = 0, run_reflections = 0;
+  bool run_check = false, run_no_plots = false;
   CLI::App* run_cmd = app.add_subcommand("run", "Simulate a frame on the SystemC model of the accelerator");
-  run_cmd->add_option("scene", run.scene, "Scene description (YAML)")->required();
-  run_cmd->add_option("--hw", run.hw, "Hardware configuration (YAML)")->required();
+  run_cmd->add_option("scene", run.sources.scene_file, "Scene description (YAML)");
+  run_cmd->add_option("--hw", run.sources.hw_file, "Hardware configuration (YAML)");
+  run_cmd->add_option("--config", run.sources.config_file, "Repeat a run from its config.json (instead of SCENE --hw)");
+  run_cmd->add_option("--set", run.sources.set, "Override a key: hw.PATH=VALUE, scene.PATH=VALUE or run.PATH=VALUE")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   run_cmd->add_option("--out", run.out, "Output directory")->required();
-  run_cmd->add_option("--lvb", lvb_switch, "LVB shadow-ray culling: on or off")->check(CLI::IsMember({"on", "off"}));
-  run_cmd->add_flag("--check", run.check, "Compare every pixel with the reference tracer (exit 1 on a difference)");
-  run_cmd->add_option("--reflections", run.reflection_depth, "Mirror reflection depth")->check(CLI::Range(0, 8));
-  add_prepare_options(run_cmd, run.prepare);
+  CLI::Option* lvb_opt =
+      run_cmd->add_option("--lvb", lvb_switch, "LVB shadow-ray culling: on or off")->check(CLI::IsMember({"on", "off"}));
+  CLI::Option* check_opt =
+      run_cmd->add_flag("--check", run_check, "Compare every pixel with the reference tracer (exit 1 on a difference)");
+  CLI::Option* refl_opt =
+      run_cmd->add_option("--reflections", run_reflections, "Mirror reflection depth")->check(CLI::Range(0, 8));
+  CLI::Option* width_opt =
+      run_cmd->add_option("--width", run_width, "Override the scene's image width")->check(CLI::Range(1, 16384));
+  CLI::Option* height_opt =
+      run_cmd->add_option("--height", run_height, "Override the scene's image height")->check(CLI::Range(1, 16384));
+  CLI::Option* plots_opt = run_cmd->add_flag("--no-plots", run_no_plots, "Skip the PNG figures");
+  run_cmd->add_option("--scene-root", run.sources.scene_root, "Directory that relative geometry paths resolve against")
+      ->envname("RTSIM_SCENE_ROOT");
+  run_cmd->add_flag("--quiet", run.quiet, "No progress line and no summary");
+  CLI::Option* trace_opt = run_cmd->add_option("--trace", run.trace_file, "Write a VCD of FIFO occupancies and unit busy signals");
+  run_cmd->add_option("--trace-window", run.trace_window, "Cycles START:END to trace (default 0:100000)")->needs(trace_opt);
 
   try {
     app.parse(argc, argv);
@@ -82,7 +100,14 @@ extern "C" int sc_main(int argc, char** argv) {
     if (*info_cmd) return rtsim::run_info(info);
     if (*lvb_cmd) return rtsim::run_lvb(lvb);
     if (*run_cmd) {
-      run.lvb = lvb_switch == "on";
+      // Only the flags given: they override a --config file's run section.
+      YAML::Node& flags = run.sources.run_flags;
+      if (lvb_opt->count()) flags["lvb"] = lvb_switch == "on";
+      if (check_opt->count()) flags["check"] = run_check;
+      if (refl_opt->count()) flags["reflections"] = run_reflections;
+      if (width_opt->count()) flags["width"] = run_width;
+      if (height_opt->count()) flags["height"] = run_height;
+      if (plots_opt->count()) flags["plots"] = !run_no_plots;
       return rtsim::run_model(run);
     }
   } catch (const rtsim::InputError& e) {

@@ -19,7 +19,7 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
   PreparedScene p;
   p.file = scene_file;
   auto t0 = std::chrono::steady_clock::now();
-  SceneSetup setup = load_scene_file(scene_file, SceneFileOptions{options.scene_root});
+  SceneSetup setup = load_scene_file(scene_file, SceneFileOptions{options.scene_root, options.overrides});
   p.scene = std::move(setup.scene);
   p.kdtree_params = setup.kdtree;
   if (options.width > 0) p.scene.width = options.width;

@@ -15,6 +15,7 @@ namespace rtsim {
 
 struct PrepareOptions {
   std::string scene_root;  // empty = default
+  std::vector<ConfigOverride> overrides;  // of the scene file's keys
   int width = 0, height = 0;  // 0 = from the scene file
 };
 

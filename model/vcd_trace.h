@@ -1,0 +1,60 @@
+// Not a hardware block: a VCD recording (sc_trace, viewable in GTKWave) of FIFO occupancies, unit
+// busy signals and counters over a window of cycles. Each traced value is an sc_signal that a
+// probe writes once per cycle inside the window, half a cycle after the edge (after every unit
+// has acted), so outside the window the file holds no changes and the run pays little.
+#pragma once
+
+#include "model/model_time.h"
+#include "model/periodic_probe.h"
+#include "model/ray_fifo.h"
+#include "model/unit.h"
+
+#include <systemc>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+struct TraceRequest {
+  std::string file;             // empty = no trace
+  uint64_t start_cycle = 0;     // the window [start_cycle, end_cycle)
+  uint64_t end_cycle = 0;
+};
+
+class VcdTrace {
+ public:
+  VcdTrace(const TraceRequest& request, const Clock& clock);
+  ~VcdTrace();
+  void add_fifo(const RayFifo* fifo);
+  void add_unit(const std::string& name, const Unit* unit);  // 1 in cycles where an operation issued
+  void add_counter(const std::string& name, std::function<uint64_t()> value);
+  // Arms the sampling probe (before sc_start); it stops at the window's end or when nothing is pending.
+  void start(std::function<bool()> pending);
+  void close();  // after the run: completes the file and moves it to its name
+
+ private:
+  bool sample(Tick now);
+
+  TraceRequest request_;
+  const Clock& clock_;
+  std::string temp_base_;
+  sc_core::sc_trace_file* file_ = nullptr;
+  struct Counter {
+    std::unique_ptr<sc_core::sc_signal<uint64_t>> signal;
+    std::function<uint64_t()> value;
+  };
+  struct Busy {
+    std::unique_ptr<sc_core::sc_signal<bool>> signal;
+    const Unit* unit;
+  };
+  std::vector<Counter> counters_;
+  std::vector<Busy> busy_;
+  std::unique_ptr<PeriodicProbe> probe_;
+  std::function<bool()> pending_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,543 @@
+#!/usr/bin/python3
+"""PNG figures for an rtsim run directory or sweep directory.
+
+Usage:
+    plots.py run DIR [--verbose]
+    plots.py sweep DIR [--verbose]
+
+run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
+  culled.png                where shadow rays were culled: one panel per light (fraction of pixels culled
+                            per block, all on one colour scale) and one "all lights" panel (culled lights per
+                            pixel). culled.npy is uint16 (H, W), bit i = the primary hit's shadow ray to light i
+                            was culled. Skipped when culled.npy is absent.
+  plot_culling.png          the paper's Fig. 7: per light, % of non-empty leaves culled and % of shadow rays
+                            culled. With culling off the figure is still written and only says so, so every
+                            run directory gets the same set of plot_*.png files.
+  plot_time_breakdown.png   busy / stalled / idle as % of the unit cycles per unit type (summed over units).
+  plot_cache_hit_rates.png  hit rate per unit type and cache level, and the DRAM row-hit rate.
+
+sweep DIR reads DIR/results.json (schema rtsim-sweep/1) and writes DIR/plots/<metric>_vs_<axis>.png for
+every metric and every axis with at least 2 distinct values (the scene counts as an axis when there are
+several), plus DIR/plots/index.md listing them.
+
+Exit status 0 on success (silent unless --verbose, which lists the files written); on bad input one line
+"plots.py: error: ..." on stderr and exit status 2. Needs only numpy and matplotlib.
+"""
+
+import argparse
+import json
+import math
+import os
+import re
+import sys
+
+import numpy as np
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
+from matplotlib.ticker import NullLocator  # noqa: E402
+
+DPI = 100
+CULLED_MAX_WIDTH = 480  # panels wider than this are block-averaged: keeps culled.png small and fast
+MAX_SERIES = 8  # lines per sweep plot; more are unreadable
+BUSY, STALLED, IDLE = "tab:green", "tab:orange", "lightgray"
+
+
+class InputError(Exception):
+    """Bad input: reported as one line and exit status 2."""
+
+
+_MISSING = object()
+
+
+def is_number(v):
+    # bool is an int subclass in Python but never a number in our JSON.
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+
+
+def field(obj, path, default=_MISSING, where="report.json"):
+    """obj["a"]["b"]... for path "a.b..."; default (or an InputError) when a level is missing."""
+    node = obj
+    for key in path.split("."):
+        if not isinstance(node, dict) or key not in node:
+            if default is _MISSING:
+                raise InputError(f"{where}: missing field '{path}'")
+            return default
+        node = node[key]
+    return node
+
+
+def number(obj, path, where="report.json"):
+    v = field(obj, path, where=where)
+    if not is_number(v):
+        raise InputError(f"{where}: field '{path}' is not a number")
+    return float(v)
+
+
+def load_json(path):
+    try:
+        with open(path, encoding="utf-8") as f:
+            return json.load(f)
+    except FileNotFoundError:
+        raise InputError(f"{path}: not found") from None
+    except (OSError, ValueError) as e:
+        raise InputError(f"{path}: {e}") from None
+
+
+def save(fig, path, written):
+    """Write fig to path atomically (temporary file in the same directory, then rename)."""
+    folder, name = os.path.split(path)
+    tmp = os.path.join(folder, f".{name}.tmp")
+    try:
+        # No Software tag: the bytes should not depend on the matplotlib version.
+        fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None})
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    finally:
+        plt.close(fig)
+    written.append(path)
+
+
+def write_text(path, text, written):
+    folder, name = os.path.split(path)
+    tmp = os.path.join(folder, f".{name}.tmp")
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(text)
+    os.replace(tmp, path)
+    written.append(path)
+
+
+def bar_labels(ax, xs, values, fmt="{:.1f}"):
+    """Value above each bar; "n/a" where the value is unknown (None)."""
+    for x, v in zip(xs, values):
+        if v is None:
+            ax.text(x, 1, "n/a", ha="center", va="bottom", fontsize=8, color="dimgray", rotation=90)
+        else:
+            ax.text(x, v + 1, fmt.format(v), ha="center", va="bottom", fontsize=8)
+
+
+def pct(part, whole):
+    return 100.0 * part / whole if whole > 0 else None
+
+
+# ----------------------------------------------------------------------------------------------- run
+
+
+def parse_report(rep):
+    """Everything the run figures need, checked up front so bad input writes no file."""
+    if not isinstance(rep, dict):
+        raise InputError("report.json: not a JSON object")
+    name = field(rep, "scene.name")
+    # Older reports keep these under config; accept both.
+    res = field(rep, "scene.resolution", None)
+    if res is None:
+        res = field(rep, "config.resolution")
+    if not (isinstance(res, list) and len(res) == 2 and all(isinstance(v, int) and v > 0 for v in res)):
+        raise InputError("report.json: field 'scene.resolution' is not [width, height]")
+    lvb_on = field(rep, "config.run.lvb", None)
+    if lvb_on is None:
+        lvb_on = field(rep, "config.lvb", None)
+    if not isinstance(lvb_on, bool):
+        raise InputError("report.json: field 'config.run.lvb' is missing or not a bool")
+    cycles, ghz = number(rep, "cycles_total"), number(rep, "clock_ghz")
+
+    per_light = field(rep, "per_light")
+    if not isinstance(per_light, list) or not per_light:
+        raise InputError("report.json: field 'per_light' is not a non-empty list")
+    rays = [(number(l, "shadow_rays", where=f"report.json: per_light[{i}]"),
+             number(l, "culled", where=f"report.json: per_light[{i}]")) for i, l in enumerate(per_light)]
+    lvb = field(rep, "lvb", None)
+    leaves = None
+    if lvb is not None:
+        pl = field(lvb, "per_light", where="report.json: lvb")
+        if not isinstance(pl, list):
+            raise InputError("report.json: field 'lvb.per_light' is not a list")
+        leaves = [(number(l, "culled_leaves", where=f"report.json: lvb.per_light[{i}]"),
+                   number(l, "nonempty_leaves", where=f"report.json: lvb.per_light[{i}]")) for i, l in enumerate(pl)]
+
+    stats = field(rep, "stats")
+    hw = field(rep, "config.hw", {})
+    units = []  # (label, busy, stalled, idle) or (label, None...) when the unit type is absent
+    for label, path, count_path in [("raygen", "raygen", None), ("TRV", "trv.total", "trv.count"),
+                                    ("LIST", "list.total", "list.count"), ("IST", "ist.total", "ist.count"),
+                                    ("shading", "shading.unit", None), ("culling", "culling", None)]:
+        s = field(stats, path, None)
+        count = field(hw, count_path, None) if count_path else None
+        if is_number(count):
+            label += f" (×{count:g})"
+        if isinstance(s, dict):
+            where = f"report.json: stats.{path}"
+            units.append((label, *(number(s, k, where) for k in ("busy_cycles", "stalled_cycles", "idle_cycles"))))
+        else:
+            units.append((label, None, None, None))
+
+    def hit_rate(path):
+        c = field(stats, path, None)
+        if not isinstance(c, dict) or not is_number(c.get("hit_rate")):
+            return None
+        if is_number(c.get("accesses")) and c["accesses"] == 0:
+            return None  # a cache nobody used reports 0, which is not a hit rate
+        return 100.0 * c["hit_rate"]
+
+    caches = [(t, [hit_rate(f"{key}.{lvl}") for lvl in ("l1", "l2")])
+              for t, key in [("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]]
+    dram = field(stats, "dram.row_hit_rate", None)
+    dram = 100.0 * dram if is_number(dram) else None
+
+    title = (f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
+             + (f" = {cycles / (ghz * 1e6):.3f} ms at {ghz:g} GHz" if ghz > 0 else ""))
+    return dict(title=title, width=res[0], height=res[1], lvb_on=lvb_on, rays=rays, leaves=leaves,
+                units=units, caches=caches, dram=dram)
+
+
+def load_culled(path, r):
+    try:
+        with open(path, "rb") as f:
+            if f.read(6) != b"\x93NUMPY":  # else np.load would guess a pickle and say so
+                raise InputError(f"{path}: not a .npy file")
+        a = np.load(path, allow_pickle=False)
+    except (OSError, ValueError) as e:
+        raise InputError(f"{path}: cannot read: {e}") from None
+    if not isinstance(a, np.ndarray) or a.dtype != np.uint16 or a.ndim != 2:
+        raise InputError(f"{path}: expected a uint16 array of shape (H, W)")
+    if a.shape != (r["height"], r["width"]):
+        raise InputError(f"{path}: shape {a.shape} does not match the resolution {r['width']}x{r['height']}")
+    n = len(r["rays"])
+    # A bit above the last light means the file uses another layout (e.g. bit 0 = hit, bit 1+i = light i).
+    if n < 16 and (a >> n).any():
+        raise InputError(f"{path}: bits set above light {n}; expected bit i = light i for the {n} lights in report.json")
+    return a
+
+
+def block_mean(img, f):
+    """Mean over f x f pixel blocks; the last row and column of blocks may be partial."""
+    if f == 1:
+        return img.astype(np.float32)
+    h, w = img.shape
+    rows, cols = np.arange(0, h, f), np.arange(0, w, f)
+    sums = np.add.reduceat(np.add.reduceat(img, rows, axis=0, dtype=np.int32), cols, axis=1)
+    counts = np.outer(np.diff(np.append(rows, h)), np.diff(np.append(cols, w)))
+    return (sums / counts).astype(np.float32)
+
+
+def plot_culled(a, r, path, written):
+    n = len(r["rays"])
+    h, w = a.shape
+    f = max(1, math.ceil(w / CULLED_MAX_WIDTH))
+    panels, total = [], np.zeros(a.shape, np.uint8)
+    for i in range(n):
+        bit = ((a >> i) & 1).astype(np.uint8)
+        total += bit
+        panels.append((block_mean(bit, f), int(np.count_nonzero(bit))))
+    ncols = min(4, n + 1)
+    nrows = math.ceil((n + 1) / ncols)
+    ph = 3.5 * h / w  # panel height in inches: 4-inch cells hold 3.5-inch-wide images next to the labels
+    fig = plt.figure(figsize=(4.0 * ncols + 0.6, nrows * (ph + 0.75) + 1.5), layout="constrained")
+    # The colorbars get a row of their own: colorbars attached to panels upset the grid.
+    gs = fig.add_gridspec(nrows + 1, ncols, height_ratios=[ph] * nrows + [0.12])
+    axes = [fig.add_subplot(gs[k // ncols, k % ncols]) for k in range(n + 1)]
+    half = (ncols + 1) // 2
+    cax_lights, cax_total = fig.add_subplot(gs[nrows, :half]), fig.add_subplot(gs[nrows, half:])
+    extent = (0, w, h, 0)  # axes in full-resolution pixels, row 0 at the top
+    for i, (img, count) in enumerate(panels):
+        im = axes[i].imshow(img, cmap="inferno", vmin=0, vmax=1, extent=extent, interpolation="antialiased")
+        axes[i].set_title(f"light {i + 1}: {count:,} culled ({100.0 * count / a.size:.1f} %)", fontsize=10)
+    s = axes[n].imshow(block_mean(total, f), cmap="viridis", vmin=0, vmax=n, extent=extent,
+                       interpolation="antialiased")
+    axes[n].set_title(f"all lights: {int(total.sum(dtype=np.int64)):,} culled", fontsize=10)
+    block = "pixel" if f == 1 else f"{f}×{f}-pixel block"
+    fig.colorbar(im, cax=cax_lights, orientation="horizontal",
+                 label=f"light panels: fraction of shadow rays culled per {block}")
+    fig.colorbar(s, cax=cax_total, orientation="horizontal",
+                 label="all lights: culled lights per pixel" + ("" if f == 1 else " (block mean)"))
+    for ax in axes:
+        ax.set_xlabel("x (px)")
+        ax.set_ylabel("y (px)")
+    fig.suptitle(f"{r['title']}\nshadow rays from primary hits culled by the LVB (% of all {w}×{h} pixels)")
+    save(fig, path, written)
+
+
+def plot_culling(r, path, written):
+    if not r["lvb_on"]:
+        fig, ax = plt.subplots(figsize=(8, 3), layout="constrained")
+        ax.set_axis_off()
+        ax.text(0.5, 0.5, "LVB culling was off in this run:\nno leaves or shadow rays were culled.",
+                ha="center", va="center", fontsize=13)
+        fig.suptitle(r["title"])
+        save(fig, path, written)
+        return
+    n = max(len(r["rays"]), len(r["leaves"] or []))
+    leaves = [pct(*r["leaves"][i]) if r["leaves"] and i < len(r["leaves"]) else None for i in range(n)]
+    rays = [pct(r["rays"][i][1], r["rays"][i][0]) if i < len(r["rays"]) else None for i in range(n)]
+    x, bw = np.arange(n), 0.38
+    fig, ax = plt.subplots(figsize=(max(7.5, 0.9 * n + 3.0), 4.8), layout="constrained")
+    ax.bar(x - bw / 2, [v or 0 for v in leaves], bw, label="leaves culled (% of non-empty leaves)", color="tab:blue")
+    ax.bar(x + bw / 2, [v or 0 for v in rays], bw, label="shadow rays culled (% of shadow rays)", color="tab:red")
+    bar_labels(ax, x - bw / 2, leaves)
+    bar_labels(ax, x + bw / 2, rays)
+    ax.set_xticks(x, [f"L{i + 1}" for i in range(n)])
+    ax.set_xlabel("light")
+    ax.set_ylabel("culled (%)")
+    top = max([100.0] + [v for v in leaves + rays if v is not None])  # over 100 % is wrong, but show it
+    ax.set_ylim(0, 1.25 * top)  # headroom for the value labels and the legend
+    ax.set_yticks(range(0, int(top) + 1, 20))
+    ax.legend(loc="upper center", ncol=2, fontsize=9, frameon=False)
+    ax.grid(axis="y", alpha=0.3)
+    shadow, culled = sum(s for s, _ in r["rays"]), sum(c for _, c in r["rays"])
+    overall = pct(culled, shadow)
+    ax.set_title(f"{r['title']}\nLVB culling per light"
+                 + (f" (all lights: {overall:.1f} % of {shadow:,.0f} shadow rays culled)" if overall is not None else ""),
+                 fontsize=10)
+    save(fig, path, written)
+
+
+def plot_time_breakdown(r, path, written):
+    units = r["units"]
+    fig, ax = plt.subplots(figsize=(9, 0.55 * len(units) + 2.2), layout="constrained")
+    y = np.arange(len(units))
+    legend_done = set()  # label each state once, whichever unit draws it first
+    for yi, (label, *cycles) in zip(y, units):
+        total = sum(cycles) if cycles[0] is not None else 0
+        if total <= 0:
+            ax.text(1, yi, "n/a", va="center", fontsize=9, color="dimgray")
+            continue
+        left = 0.0
+        for c, colour, name in zip(cycles, (BUSY, STALLED, IDLE), ("busy", "stalled", "idle")):
+            share = 100.0 * c / total
+            ax.barh(yi, share, left=left, color=colour, label=None if name in legend_done else name)
+            legend_done.add(name)
+            if share >= 4:  # narrower segments have no room for a label
+                ax.text(left + share / 2, yi, f"{share:.0f} %", ha="center", va="center", fontsize=8)
+            left += share
+    ax.set_yticks(y, [u[0] for u in units])
+    ax.invert_yaxis()  # pipeline order from the top
+    ax.set_xlim(0, 100)
+    ax.set_xlabel("share of unit cycles (%), summed over the units of a type")
+    ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=9, frameon=False)
+    fig.suptitle(f"{r['title']}\nunit time breakdown", fontsize=10)
+    save(fig, path, written)
+
+
+def plot_cache_hit_rates(r, path, written):
+    caches = r["caches"]
+    x, bw = np.arange(len(caches)), 0.38
+    fig, ax = plt.subplots(figsize=(8, 4.8), layout="constrained")
+    for k, (lvl, colour) in enumerate([("L1", "tab:blue"), ("L2", "tab:purple")]):
+        xs = x + (k - 0.5) * bw
+        vals = [c[1][k] for c in caches]
+        ax.bar(xs, [v or 0 for v in vals], bw, label=lvl, color=colour)
+        bar_labels(ax, xs, vals)
+    xd = len(caches) + 0.2  # DRAM is a different kind of rate: set apart from the caches
+    ax.bar([xd], [r["dram"] or 0], bw, label="DRAM row hits", color="tab:gray")
+    bar_labels(ax, [xd], [r["dram"]])
+    ax.axvline(len(caches) - 0.4, color="black", lw=0.5, alpha=0.4)
+    ax.set_xticks(list(x) + [xd], [c[0] for c in caches] + ["DRAM"])
+    ax.set_xlabel("unit type (cache) / DRAM")
+    ax.set_ylabel("hit rate (%)")
+    ax.set_ylim(0, 125)
+    ax.set_yticks(range(0, 101, 20))
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend(loc="upper center", ncol=3, fontsize=9, frameon=False)
+    ax.set_title(f"{r['title']}\ncache hit rates (n/a: no such cache or no accesses)", fontsize=10)
+    save(fig, path, written)
+
+
+def run(folder, written):
+    path = os.path.join(folder, "report.json")
+    rep = load_json(path)
+    try:
+        r = parse_report(rep)
+    except InputError as e:  # parse_report's messages say "report.json"; name the real file
+        raise InputError(str(e).replace("report.json", path, 1)) from None
+    npy = os.path.join(folder, "culled.npy")
+    culled = load_culled(npy, r) if os.path.exists(npy) else None
+    if culled is not None:
+        plot_culled(culled, r, os.path.join(folder, "culled.png"), written)
+    plot_culling(r, os.path.join(folder, "plot_culling.png"), written)
+    plot_time_breakdown(r, os.path.join(folder, "plot_time_breakdown.png"), written)
+    plot_cache_hit_rates(r, os.path.join(folder, "plot_cache_hit_rates.png"), written)
+
+
+# --------------------------------------------------------------------------------------------- sweep
+
+
+def fmt_value(v):
+    if isinstance(v, float):
+        return f"{v:g}"
+    return str(v)  # bools print as True/False, like the labels in the sweep runner
+
+
+def unit_of(name):
+    """A best guess at the unit from a metric or axis name, for the axis labels."""
+    n = name.lower()
+    if re.search(r"(^|[._])ms($|[._])", n):
+        return "ms"
+    if n.endswith("rate"):
+        return "0–1"
+    if "cycles" in n:
+        return "cycles"
+    for suffix, unit in (("_kb", "KB"), ("_mb", "MB"), ("_bytes", "bytes"), ("_ghz", "GHz"), ("_seconds", "s")):
+        if n.endswith(suffix):
+            return unit
+    return None
+
+
+def labelled(name):
+    unit = unit_of(name)
+    return f"{name} ({unit})" if unit else name
+
+
+def sanitize(name):
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
+
+
+def parse_results(res):
+    where = "results.json"
+    if not isinstance(res, dict):
+        raise InputError(f"{where}: not a JSON object")
+    if res.get("schema") != "rtsim-sweep/1":
+        raise InputError(f"{where}: schema is {res.get('schema')!r}, expected 'rtsim-sweep/1'")
+    axes, metrics, rows = field(res, "axes", where=where), field(res, "metrics", where=where), field(res, "rows", where=where)
+    for key, v in (("axes", axes), ("metrics", metrics)):
+        if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
+            raise InputError(f"{where}: field '{key}' is not a list of names")
+    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
+        raise InputError(f"{where}: field 'rows' is not a list of objects")
+    for i, row in enumerate(rows):
+        for a in axes:
+            if a not in row:
+                raise InputError(f"{where}: rows[{i}] has no value for axis '{a}'")
+        for m in metrics:
+            v = row.get(m)
+            if v is not None and not is_number(v):
+                raise InputError(f"{where}: rows[{i}]: metric '{m}' is not a number or null")
+    if all(isinstance(r.get("point"), int) for r in rows):
+        rows = sorted(rows, key=lambda r: r["point"])  # the order of points, whatever order they finished in
+    return str(res.get("name", "")), axes, metrics, rows
+
+
+def distinct(rows, axis):
+    """The values of axis in first-seen order; JSON text as the key so True and 1 stay apart."""
+    seen = {}
+    for row in rows:
+        seen.setdefault(json.dumps(row.get(axis), sort_keys=True), row.get(axis))
+    return list(seen.values())
+
+
+def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
+    numeric = all(is_number(v) for v in values)
+    pow2 = numeric and all(v > 0 and math.log2(v) == round(math.log2(v)) for v in values)
+    keys = [json.dumps(v, sort_keys=True) for v in values]
+
+    # One series per combination of the other varying axes, in first-seen order.
+    series = {}
+    for row in rows:
+        combo = tuple(json.dumps(row.get(b), sort_keys=True) for b in others)
+        label = ", ".join(f"{b}={fmt_value(row.get(b))}" for b in others)
+        series.setdefault(combo, (label, {}))
+        v = row.get(metric)
+        if v is not None:
+            x = float(row[axis]) if numeric else keys.index(json.dumps(row[axis], sort_keys=True))
+            series[combo][1].setdefault(x, []).append(v)
+    shown = list(series.values())[:MAX_SERIES]
+
+    fig, ax = plt.subplots(figsize=(9, 5), layout="constrained")
+    plotted = 0
+    for label, points in shown:
+        xs = sorted(points)
+        if xs:
+            # Repeated points (same x and combination) are averaged.
+            ax.plot(xs, [sum(points[x]) / len(points[x]) for x in xs], marker="o", label=label or metric)
+            plotted += 1
+    if not plotted:
+        ax.text(0.5, 0.5, "no values yet", transform=ax.transAxes, ha="center", va="center", color="dimgray")
+    if pow2:
+        ax.set_xscale("log", base=2)
+        ax.xaxis.set_minor_locator(NullLocator())
+    if numeric:
+        if len(values) <= 12:
+            ax.set_xticks(values, [fmt_value(v) for v in values])
+    else:
+        labels = [fmt_value(v) for v in values]
+        ax.set_xticks(range(len(values)), labels, rotation=30 if sum(map(len, labels)) > 60 else 0)
+        ax.set_xlim(-0.5, len(values) - 0.5)
+    ax.set_xlabel(labelled(axis) + (" (log₂ scale)" if pow2 else ""))
+    ax.set_ylabel(labelled(metric))
+    ax.grid(alpha=0.3)
+    if plotted and others:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title="series")
+    title = f"{metric} vs {axis}\n{title_extra}"
+    if len(series) > MAX_SERIES:
+        title += f" — first {MAX_SERIES} of {len(series)} series shown"
+    ax.set_title(title, fontsize=10)
+    save(fig, path, written)
+
+
+def sweep(folder, written):
+    path = os.path.join(folder, "results.json")
+    res = load_json(path)
+    try:
+        name, axes, metrics, rows = parse_results(res)
+    except InputError as e:
+        raise InputError(str(e).replace("results.json", path, 1)) from None
+    scenes = distinct(rows, "scene")
+    if len(scenes) > 1 and "scene" not in axes:
+        axes = axes + ["scene"]  # several scenes: the scene is one more axis
+    varying = [a for a in axes if len(distinct(rows, a)) >= 2]
+    title_extra = f"sweep {name}" + (f", scene {fmt_value(scenes[0])}" if len(scenes) == 1 else "")
+    title_extra += f", {len(rows)} points"
+
+    out = os.path.join(folder, "plots")
+    os.makedirs(out, exist_ok=True)
+    files = []
+    for metric in metrics:
+        for axis in varying:
+            fname = f"{sanitize(metric)}_vs_{sanitize(axis)}.png"
+            if fname in files:
+                raise InputError(f"results.json: two metric/axis pairs give the file name {fname}")
+            files.append(fname)
+            others = [b for b in varying if b != axis]
+            plot_metric(rows, metric, axis, distinct(rows, axis), others, title_extra, os.path.join(out, fname), written)
+    lines = [f"# Sweep {name}: plots", ""] + [f"- [{f}]({f})" for f in files]
+    if not files:
+        lines.append("No axis has two or more values yet: nothing to plot.")
+    write_text(os.path.join(out, "index.md"), "\n".join(lines) + "\n", written)
+
+
+# ---------------------------------------------------------------------------------------------- main
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line and exit status 2, like every other input error
+        raise InputError(message)
+
+
+def main(argv=None):
+    parser = _Parser(prog="plots.py", description="PNG figures for an rtsim run or sweep directory.")
+    parser.add_argument("--verbose", action="store_true", help="list the files written")
+    sub = parser.add_subparsers(dest="mode", required=True, metavar="{run,sweep}")
+    for mode, text in (("run", "figures for a run directory (report.json, culled.npy)"),
+                       ("sweep", "figures for a sweep directory (results.json)")):
+        p = sub.add_parser(mode, help=text)
+        p.add_argument("dir", metavar="DIR")
+        p.add_argument("--verbose", action="store_true", default=argparse.SUPPRESS, help="list the files written")
+    written = []
+    try:
+        args = parser.parse_args(argv)
+        if not os.path.isdir(args.dir):
+            raise InputError(f"{args.dir}: not a directory")
+        (run if args.mode == "run" else sweep)(args.dir, written)
+    except (InputError, OSError) as e:
+        print("plots.py: error: " + " ".join(str(e).split()), file=sys.stderr)
+        return 2
+    if args.verbose:
+        print("\n".join(written))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,133 @@
+#include "testbench/run_config.h"
+
+#include "testbench/hw_config.h"
+
+#include <fmt/format.h>
+
+#include <cstdio>
+
+namespace rtsim {
+
+namespace {
+
+struct SplitOverrides {
+  std::vector<ConfigOverride> hw, scene, run;
+  std::vector<std::string> scene_text;
+};
+
+SplitOverrides split_overrides(const std::vector<std::string>& set) {
+  SplitOverrides out;
+  for (const std::string& text : set) {
+    ConfigOverride o = parse_override(text);
+    const std::string section = o.keys.front();
+    if (o.keys.size() < 2 || (section != "hw" && section != "scene" && section != "run"))
+      throw InputError(fmt::format("--set {}: expected a key path starting with 'hw.', 'scene.' or 'run.'", text));
+    o.keys.erase(o.keys.begin());
+    if (section == "hw") out.hw.push_back(std::move(o));
+    else if (section == "run") out.run.push_back(std::move(o));
+    else {
+      out.scene.push_back(std::move(o));
+      out.scene_text.push_back(text);
+    }
+  }
+  return out;
+}
+
+template <class Enum>
+Enum read_choice(YamlMap& m, const std::string& key, Enum fallback, std::initializer_list<Enum> choices) {
+  const std::string v = m.get<std::string>(key, to_string(fallback));
+  std::string expected;
+  for (Enum c : choices) {
+    if (v == to_string(c)) return c;
+    expected += (expected.empty() ? "'" : " or '") + std::string(to_string(c)) + "'";
+  }
+  m.fail(key, "expected " + expected);
+}
+
+RunSettings read_run_settings(YamlMap m) {
+  RunSettings r;
+  r.lvb = m.get<bool>("lvb", r.lvb);
+  r.lvb_params.method = read_choice(m, "lvb_method", r.lvb_params.method, {LvbMethod::kHierarchical, LvbMethod::kPaper});
+  r.lvb_params.bounds = read_choice(m, "lvb_bounds", r.lvb_params.bounds, {LvbBounds::kCell, LvbBounds::kGeometry});
+  r.lvb_params.self_occlusion = read_choice(m, "lvb_self_occlusion", r.lvb_params.self_occlusion,
+                                            {LvbSelfOcclusion::kTest, LvbSelfOcclusion::kIgnore});
+  r.reflections = m.get_in_range("reflections", r.reflections, 0, 8);
+  r.width = m.get_in_range("width", r.width, 0, 16384);
+  r.height = m.get_in_range("height", r.height, 0, 16384);
+  r.check = m.get<bool>("check", r.check);
+  r.plots = m.get<bool>("plots", r.plots);
+  m.finish();
+  return r;
+}
+
+}  // namespace
+
+RunConfig resolve_run_config(const RunSources& src) {
+  const SplitOverrides ov = split_overrides(src.set);
+  RunConfig c;
+  YAML::Node run_node(YAML::NodeType::Map);
+  std::string run_file = "command line";
+  if (!src.config_file.empty()) {
+    if (!src.scene_file.empty() || !src.hw_file.empty())
+      throw InputError("give either --config FILE or a scene file and --hw, not both");
+    YamlMap doc = YamlMap::load_file(src.config_file);
+    c.scene_file = doc.require<std::string>("scene_file");
+    for (const auto& s : doc.get<std::vector<std::string>>("scene_set", {})) c.scene_set.push_back(s);
+    c.scene_root = doc.get<std::string>("scene_root", "");
+    c.hw_file = doc.get<std::string>("hw_file", "");
+    c.hw = read_hw_config(YamlMap::from_node(doc.raw("hw"), src.config_file, "hw", ov.hw));
+    run_node = doc.raw("run");
+    run_file = src.config_file;
+    doc.finish();
+  } else {
+    if (src.scene_file.empty() || src.hw_file.empty())
+      throw InputError("expected a scene file and --hw HW.yaml (or --config DIR/config.json)");
+    c.scene_file = src.scene_file;
+    c.hw_file = src.hw_file;
+    c.hw = load_hw_config(src.hw_file, ov.hw);
+  }
+  if (!src.scene_root.empty()) c.scene_root = src.scene_root;
+  c.scene_set.insert(c.scene_set.end(), ov.scene_text.begin(), ov.scene_text.end());
+  // Flags given on the command line, then --set run.*: the later one wins.
+  std::vector<ConfigOverride> run_ov;
+  for (const auto& kv : src.run_flags)
+    run_ov.push_back({{kv.first.as<std::string>()}, kv.second, "--" + kv.first.as<std::string>()});
+  run_ov.insert(run_ov.end(), ov.run.begin(), ov.run.end());
+  c.run = read_run_settings(YamlMap::from_node(run_node, run_file, src.config_file.empty() ? "" : "run", run_ov));
+  c.hw.lvb_culling = c.run.lvb;
+  c.hw.reflection_depth = c.run.reflections;
+  return c;
+}
+
+model::TraceRequest parse_trace_request(const std::string& file, const std::string& window) {
+  model::TraceRequest t;
+  t.file = file;
+  t.end_cycle = 100000;
+  if (window.empty()) return t;
+  unsigned long long a = 0, b = 0;
+  char tail = 0;
+  if (std::sscanf(window.c_str(), "%llu:%llu%c", &a, &b, &tail) != 2 || window.find('-') != std::string::npos || b <= a)
+    throw InputError(fmt::format("--trace-window {}: expected START:END in cycles with START < END", window));
+  t.start_cycle = a;
+  t.end_cycle = b;
+  return t;
+}
+
+nlohmann::json run_settings_json(const RunSettings& r) {
+  return {{"lvb", r.lvb},
+          {"lvb_method", to_string(r.lvb_params.method)},
+          {"lvb_bounds", to_string(r.lvb_params.bounds)},
+          {"lvb_self_occlusion", to_string(r.lvb_params.self_occlusion)},
+          {"reflections", r.reflections},
+          {"width", r.width},
+          {"height", r.height},
+          {"check", r.check},
+          {"plots", r.plots}};
+}
+
+nlohmann::json run_config_json(const RunConfig& c) {
+  return {{"scene_file", c.scene_file}, {"scene_set", c.scene_set}, {"scene_root", c.scene_root},
+          {"hw_file", c.hw_file},       {"hw", hw_config_json(c.hw)},  {"run", run_settings_json(c.run)}};
+}
+
+}  // namespace rtsim
