@@ -18,9 +18,7 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::ve
     : sc_core::sc_module(name), engine_(config), memory_(memory), accel_clock_(accel_clock) {
   if (sc_core::sc_get_time_resolution() != sc_core::sc_time(1, sc_core::SC_PS))
     throw std::logic_error("Dram needs sc_set_time_resolution(1, SC_PS)");
-  SC_METHOD(run);
-  sensitive << wake_;
-  dont_initialize();
+  Scheduler::instance().add(this);
 }
 
 Tick Dram::fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) {
@@ -33,7 +31,7 @@ Tick Dram::fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint
   const uint64_t id = next_id_++;
   requesters_.emplace(id, Requester{line_addr, listener, cookie});
   engine_.enqueue(line_addr, now, id);
-  wake_for(engine_.next_event_time(), sim_now);
+  wake_for(engine_.next_event_time());
   return kUnknown;
 }
 
@@ -49,7 +47,7 @@ const uint8_t* Dram::line_data(uint64_t line_addr) const {
   return memory_->data() + line_addr;
 }
 
-void Dram::run() {
+void Dram::activate() {
   const Tick now = sim_now_ps();
   done_.clear();
   engine_.advance(now, done_);
@@ -61,18 +59,16 @@ void Dram::run() {
     const auto it = requesters_.find(d.id);
     const Requester r = it->second;
     requesters_.erase(it);
-    // on_fill may call fetch_line again (it re-notifies wake_; the earliest notification wins).
+    // on_fill may call fetch_line again (it re-arms this module; the earliest time wins).
     if (r.listener) r.listener->on_fill(r.line, r.cookie, d.when);
   }
   Tick next = engine_.next_event_time();
   if (!deliveries_.empty()) next = std::min(next, deliveries_.top().when);
-  wake_for(next, now);
+  wake_for(next);
 }
 
-void Dram::wake_for(Tick t, Tick now) {
-  if (t == kUnknown) return;
-  // A pending later notification is overridden by an earlier one, so notifying every time is safe.
-  wake_.notify(t > now ? sc_core::sc_time::from_value(t - now) : sc_core::SC_ZERO_TIME);
+void Dram::wake_for(Tick t) {
+  if (t != kUnknown) Scheduler::instance().schedule(this, t);  // a pending earlier time stands
 }
 
 }  // namespace rtsim::model

@@ -1,13 +1,12 @@
 // The DRAM as a SystemC module: a thin wrapper that drives the DramController engine in
 // simulated time and serves the memory image's bytes.
 //
-// fetch_line enqueues a read and returns kUnknown (DRAM times are decided by the scheduler). One
-// SC_METHOD, woken by an internal event, advances the engine to the current time, and tells each
+// fetch_line enqueues a read and returns kUnknown (DRAM times are decided by the scheduler). An
+// activation on the scheduler's calendar advances the engine to the current time, and tells each
 // requester through FillListener::on_fill at the first accelerator-clock edge at or after the
 // data are ready (the DRAM runs on its own command clock; the accelerator samples on its own).
-// Deliveries later than now wait in a small time-ordered queue. The event is re-notified for the
-// earliest of the engine's next event and the next delivery, so the module costs no activation
-// while idle. Needs sc_set_time_resolution(1, SC_PS).
+// Deliveries later than now wait in a small time-ordered queue. The module re-arms for the
+// earliest of the engine's next event and the next delivery, so it costs no activation while idle. Needs sc_set_time_resolution(1, SC_PS).
 //
 // Line addresses are byte addresses of request_bytes-aligned blocks (the cache line above).
 #pragma once
@@ -16,6 +15,7 @@
 #include "model/dram_controller.h"
 #include "model/memory_interface.h"
 #include "model/model_time.h"
+#include "model/scheduler.h"
 #include "model/stats_registry.h"
 
 #include <systemc>
@@ -28,9 +28,8 @@
 
 namespace rtsim::model {
 
-class Dram : public sc_core::sc_module, public LineSource {
+class Dram : public sc_core::sc_module, public LineSource, public Scheduler::Client {
  public:
-  SC_HAS_PROCESS(Dram);
   // `memory` is the loaded memory image (may be null for a timing-only model; line_data then
   // throws). It must outlive the module.
   Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
@@ -62,13 +61,12 @@ class Dram : public sc_core::sc_module, public LineSource {
     bool operator>(const Delivery& o) const { return when != o.when ? when > o.when : id > o.id; }
   };
 
-  void run();  // the SC_METHOD
-  void wake_for(Tick t, Tick now);
+  void activate() override;  // on the scheduler's calendar
+  void wake_for(Tick t);
 
   DramController engine_;
   const std::vector<uint8_t>* memory_;
   Clock accel_clock_;
-  sc_core::sc_event wake_;
   std::unordered_map<uint64_t, Requester> requesters_;  // by request id
   std::priority_queue<Delivery, std::vector<Delivery>, std::greater<Delivery>> deliveries_;
   std::vector<DramController::Completion> done_;  // scratch

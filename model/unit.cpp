@@ -5,23 +5,17 @@
 namespace rtsim::model {
 
 Unit::Unit(sc_core::sc_module_name name, const Clock& clock) : sc_core::sc_module(name), clock_(clock) {
-  SC_METHOD(activate);
-  sensitive << wake_event_;
-  dont_initialize();
+  Scheduler::instance().add(this);
 }
 
 void Unit::wake(Tick at) {
   const Tick now = now_ps();
   // Never twice in one cycle: the earliest next activation is the cycle after the last one.
-  at = clock_.edge_at_or_after(std::max({at, now, accounted_to_}));
-  if (armed_at_ != kUnknown && armed_at_ <= at && armed_at_ >= now) return;
-  armed_at_ = at;
-  wake_event_.notify(sc_core::sc_time::from_value(at - now));  // the time resolution is 1 ps
+  Scheduler::instance().schedule(this, clock_.edge_at_or_after(std::max({at, now, accounted_to_})));
 }
 
 void Unit::activate() {
   const Tick now = now_ps();
-  armed_at_ = kUnknown;
   // The gap since the last activation: stalled if the unit held work, idle otherwise.
   if (now > accounted_to_) {
     const uint64_t gap = clock_.to_cycles(now - accounted_to_);

@@ -1,5 +1,5 @@
-// The common shape of every pipelined unit: an SC_METHOD that runs only when the unit has work.
-// An activation does one cycle's work (`cycle`), then the unit re-arms itself for the next cycle
+// The common shape of every pipelined unit: activations on the scheduler's calendar, only when the
+// unit has work. An activation does one cycle's work (`cycle`), then the unit re-arms itself for the next cycle
 // if more work is ready by then, for the earliest future ready time, or not at all (idle until
 // something calls wake()). Busy, stalled and idle cycles are accounted from these transitions:
 // a cycle is busy when an operation issued, stalled when the unit held work it could not issue
@@ -8,6 +8,7 @@
 
 #include "model/memory_interface.h"
 #include "model/model_time.h"
+#include "model/scheduler.h"
 #include "model/stats_registry.h"
 
 #include <systemc>
@@ -23,7 +24,7 @@ struct UnitStats {
   uint64_t operations = 0;
 };
 
-class Unit : public sc_core::sc_module {
+class Unit : public sc_core::sc_module, public Scheduler::Client {
  public:
   // Schedules an activation at time `at` (or at once if `at` has passed); the earliest wins.
   void wake(Tick at);
@@ -36,7 +37,6 @@ class Unit : public sc_core::sc_module {
   bool issued_at(Tick edge) const { return last_issue_ == edge; }
 
  protected:
-  SC_HAS_PROCESS(Unit);
   Unit(sc_core::sc_module_name name, const Clock& clock);
 
   // One cycle at `now` (a clock edge). Returns true if an operation issued.
@@ -50,11 +50,9 @@ class Unit : public sc_core::sc_module {
   static Tick now_ps() { return Tick(sc_core::sc_time_stamp().value()); }
 
  private:
-  void activate();
+  void activate() override;
 
   const Clock& clock_;
-  sc_core::sc_event wake_event_;
-  Tick armed_at_ = kUnknown;   // time of the pending activation, if any
   Tick accounted_to_ = 0;      // cycles before this are classified
   bool held_work_ = false;     // state of the gap since the last activation
   Tick last_issue_ = kUnknown;

@@ -7,12 +7,13 @@ Usage:
 
 run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
   culled.png                where shadow rays were culled: one panel per light (fraction of pixels culled
-                            per block, all on one colour scale) and one "all lights" panel (culled lights per
-                            pixel). culled.npy is uint16 (H, W), bit i = the primary hit's shadow ray to light i
-                            was culled. Skipped when culled.npy is absent.
+                            per block, all on one colour scale; the % in its title is of all pixels) and one
+                            "all lights" panel (culled lights per pixel). culled.npy is uint16 (H, W), bit i =
+                            the primary hit's shadow ray to light i was culled. Skipped when it is absent.
   plot_culling.png          the paper's Fig. 7: per light, % of non-empty leaves culled and % of shadow rays
-                            culled. With culling off the figure is still written and only says so, so every
-                            run directory gets the same set of plot_*.png files.
+                            culled. With culling off (config.run.lvb false, lvb null) the figure is still
+                            written and only says so, so every run directory gets the same plot_*.png files.
+                            Culling on but lvb null: the leaf bars show n/a.
   plot_time_breakdown.png   busy / stalled / idle as % of the unit cycles per unit type (summed over units).
   plot_cache_hit_rates.png  hit rate per unit type and cache level, and the DRAM row-hit rate.
 
@@ -132,17 +133,12 @@ def parse_report(rep):
     if not isinstance(rep, dict):
         raise InputError("report.json: not a JSON object")
     name = field(rep, "scene.name")
-    # Older reports keep these under config; accept both.
-    res = field(rep, "scene.resolution", None)
-    if res is None:
-        res = field(rep, "config.resolution")
+    res = field(rep, "scene.resolution")
     if not (isinstance(res, list) and len(res) == 2 and all(isinstance(v, int) and v > 0 for v in res)):
         raise InputError("report.json: field 'scene.resolution' is not [width, height]")
-    lvb_on = field(rep, "config.run.lvb", None)
-    if lvb_on is None:
-        lvb_on = field(rep, "config.lvb", None)
+    lvb_on = field(rep, "config.run.lvb")
     if not isinstance(lvb_on, bool):
-        raise InputError("report.json: field 'config.run.lvb' is missing or not a bool")
+        raise InputError("report.json: field 'config.run.lvb' is not a bool")
     cycles, ghz = number(rep, "cycles_total"), number(rep, "clock_ghz")
 
     per_light = field(rep, "per_light")
@@ -189,7 +185,7 @@ def parse_report(rep):
     dram = 100.0 * dram if is_number(dram) else None
 
     title = (f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
-             + (f" = {cycles / (ghz * 1e6):.3f} ms at {ghz:g} GHz" if ghz > 0 else ""))
+             + (f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""))
     return dict(title=title, width=res[0], height=res[1], lvb_on=lvb_on, rays=rays, leaves=leaves,
                 units=units, caches=caches, dram=dram)
 
@@ -209,7 +205,8 @@ def load_culled(path, r):
     n = len(r["rays"])
     # A bit above the last light means the file uses another layout (e.g. bit 0 = hit, bit 1+i = light i).
     if n < 16 and (a >> n).any():
-        raise InputError(f"{path}: bits set above light {n}; expected bit i = light i for the {n} lights in report.json")
+        raise InputError(f"{path}: bits set above light {n}; expected bit i = light i "
+                         f"for the {n} lights in report.json")
     return a
 
 
@@ -290,7 +287,8 @@ def plot_culling(r, path, written):
     shadow, culled = sum(s for s, _ in r["rays"]), sum(c for _, c in r["rays"])
     overall = pct(culled, shadow)
     ax.set_title(f"{r['title']}\nLVB culling per light"
-                 + (f" (all lights: {overall:.1f} % of {shadow:,.0f} shadow rays culled)" if overall is not None else ""),
+                 + (f" (all lights: {overall:.1f} % of {shadow:,.0f} shadow rays culled)"
+                    if overall is not None else ""),
                  fontsize=10)
     save(fig, path, written)
 
@@ -401,7 +399,7 @@ def parse_results(res):
         raise InputError(f"{where}: not a JSON object")
     if res.get("schema") != "rtsim-sweep/1":
         raise InputError(f"{where}: schema is {res.get('schema')!r}, expected 'rtsim-sweep/1'")
-    axes, metrics, rows = field(res, "axes", where=where), field(res, "metrics", where=where), field(res, "rows", where=where)
+    axes, metrics, rows = (field(res, key, where=where) for key in ("axes", "metrics", "rows"))
     for key, v in (("axes", axes), ("metrics", metrics)):
         if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
             raise InputError(f"{where}: field '{key}' is not a list of names")
@@ -488,7 +486,7 @@ def sweep(folder, written):
     if len(scenes) > 1 and "scene" not in axes:
         axes = axes + ["scene"]  # several scenes: the scene is one more axis
     varying = [a for a in axes if len(distinct(rows, a)) >= 2]
-    title_extra = f"sweep {name}" + (f", scene {fmt_value(scenes[0])}" if len(scenes) == 1 else "")
+    title_extra = f"sweep {name}" + (f", scene {scenes[0]}" if len(scenes) == 1 and scenes[0] is not None else "")
     title_extra += f", {len(rows)} points"
 
     out = os.path.join(folder, "plots")
@@ -501,7 +499,8 @@ def sweep(folder, written):
                 raise InputError(f"results.json: two metric/axis pairs give the file name {fname}")
             files.append(fname)
             others = [b for b in varying if b != axis]
-            plot_metric(rows, metric, axis, distinct(rows, axis), others, title_extra, os.path.join(out, fname), written)
+            plot_metric(rows, metric, axis, distinct(rows, axis), others, title_extra,
+                        os.path.join(out, fname), written)
     lines = [f"# Sweep {name}: plots", ""] + [f"- [{f}]({f})" for f in files]
     if not files:
         lines.append("No axis has two or more values yet: nothing to plot.")

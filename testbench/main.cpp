@@ -23,6 +23,7 @@ void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {
 }  // namespace
 
 extern "C" int sc_main(int argc, char** argv) {
+  sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);  // stdout carries reports
   CLI::App app{"rtsim: a ray-tracing accelerator model with LVB shadow-ray culling"};
   app.require_subcommand(1);
 
