@@ -4,6 +4,7 @@
 Usage:
     plots.py run DIR [--verbose]
     plots.py sweep DIR [--verbose]
+    plots.py reproduce DIR [--verbose]
 
 run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
   culled.png                where shadow rays were culled: one panel per light (fraction of pixels culled
@@ -20,6 +21,15 @@ run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
 sweep DIR reads DIR/results.json (schema rtsim-sweep/1) and writes DIR/plots/<metric>_vs_<axis>.png for
 every metric and every axis with at least 2 distinct values (the scene counts as an axis when there are
 several), plus DIR/plots/index.md listing them.
+
+reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written by `rtsim reproduce`) and writes:
+  reproduce_culling.png     per scene and light, % of shadow rays culled and % of leaves culled: the paper's
+                            figures, ours with the paper's method, ours exact. Lights go by index (the paper's
+                            lights are not ours, and their counts may differ). The leaf denominators differ: the
+                            paper's are all leaves, ours the non-empty leaves.
+  reproduce_time.png        per scene, the frame-time reduction with culling ((off - on) / off) for all rays and
+                            for the shadow rays, paper vs ours; the absolute times are in the captions only.
+A scene without the paper's figures, or without one of our runs, shows n/a in those places.
 
 Exit status 0 on success (silent unless --verbose, which lists the files written); on bad input one line
 "plots.py: error: ..." on stderr and exit status 2. Needs only numpy and matplotlib.

@@ -43,4 +43,12 @@ struct RunArgs {
 };
 int run_model(const RunArgs& args);
 
+// rtsim reproduce: the paper's experiments as one sweep, and a report beside the paper's tables.
+struct ReproduceArgs {
+  std::string out, scene_root;
+  int jobs = 1;
+  int width = 0, height = 0;  // 0 = the setups' 1920x1080
+};
+int run_reproduce(const ReproduceArgs& args);
+
 }  // namespace rtsim

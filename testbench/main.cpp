@@ -1,6 +1,7 @@
 // rtsim: the command-line front end. Input errors print one line and exit with code 2.
 #include "common/error.h"
 #include "testbench/commands.h"
+#include "testbench/sweep.h"
 
 #include <CLI/CLI.hpp>
 #include <systemc>
@@ -86,6 +87,30 @@ extern "C" int sc_main(int argc, char** argv) {
   CLI::Option* trace_opt = run_cmd->add_option("--trace", run.trace_file, "Write a VCD of FIFO occupancies and unit busy signals");
   run_cmd->add_option("--trace-window", run.trace_window, "Cycles START:END to trace (default 0:100000)")->needs(trace_opt);
 
+  rtsim::SweepArgs sweep;
+  bool sweep_no_plots = false;
+  CLI::App* sweep_cmd = app.add_subcommand("sweep", "Run the points of a sweep file in parallel processes (resumable)");
+  sweep_cmd->add_option("sweep", sweep.file, "Sweep description (YAML)");
+  sweep_cmd->add_option("--out", sweep.out, "Output directory (results.csv, results.json, points/, plots/)");
+  sweep_cmd->add_option("--jobs", sweep.jobs, "Points run at once")->check(CLI::Range(1, 1024));
+  sweep_cmd->add_option("--set", sweep.set, "Override a key in every point: hw.PATH=VALUE, scene.PATH=VALUE, run.PATH=VALUE")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  sweep_cmd->add_option("--emit", sweep.emit, "Write a job script and manifest instead of running")
+      ->check(CLI::IsMember({"slurm"}));
+  sweep_cmd->add_option("--merge", sweep.merge_dir, "Gather the rows of a sweep run elsewhere into DIR/results.csv");
+  sweep_cmd->add_option("--point", sweep.point, "Run one point of DIR/manifest.json (array tasks)")->check(CLI::Range(0, 1 << 30));
+  sweep_cmd->add_flag("--no-plots", sweep_no_plots, "Skip the figures");
+
+  rtsim::ReproduceArgs reproduce;
+  CLI::App* reproduce_cmd =
+      app.add_subcommand("reproduce", "Run the paper's three setups with culling off, paper-style and exact; compare with the paper");
+  reproduce_cmd->add_option("--out", reproduce.out, "Output directory")->required();
+  reproduce_cmd->add_option("--jobs", reproduce.jobs, "Runs at once")->check(CLI::Range(1, 1024));
+  reproduce_cmd->add_option("--width", reproduce.width, "Image width (default: the paper's 1920)")->check(CLI::Range(1, 16384));
+  reproduce_cmd->add_option("--height", reproduce.height, "Image height (default: the paper's 1080)")->check(CLI::Range(1, 16384));
+  reproduce_cmd->add_option("--scene-root", reproduce.scene_root, "Where the paper's scenes are")->envname("RTSIM_SCENE_ROOT");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -100,6 +125,11 @@ extern "C" int sc_main(int argc, char** argv) {
     if (*render_cmd) return rtsim::run_render(render);
     if (*info_cmd) return rtsim::run_info(info);
     if (*lvb_cmd) return rtsim::run_lvb(lvb);
+    if (*sweep_cmd) {
+      sweep.plots = !sweep_no_plots;
+      return rtsim::run_sweep_command(sweep);
+    }
+    if (*reproduce_cmd) return rtsim::run_reproduce(reproduce);
     if (*run_cmd) {
       // Only the flags given: they override a --config file's run section.
       YAML::Node& flags = run.sources.run_flags;

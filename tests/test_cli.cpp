@@ -272,5 +272,140 @@ TEST(Cli, BadCommandLineExitsWithTwo) {
   EXPECT_EQ(run("render x.yaml --out d --width -3").code, 2);
 }
 
+
+// The report without what depends on the host (docs/reports.md: "host" and "host_seconds").
+nlohmann::json without_host(nlohmann::json r) {
+  r.erase("host");
+  r.erase("host_seconds");
+  return r;
+}
+
+std::string city_run(const fs::path& out, const std::string& extra = "") {
+  return "run " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
+         (test::source_dir() / "configs/hw/tni-paper.yaml").string() + " --width 64 --height 36 --no-plots --out " +
+         out.string() + " " + extra;
+}
+
+TEST(Cli, IdenticalRunsGiveIdenticalReportsAndConfigJsonRepeatsARun) {
+  const fs::path a = test::temp_dir("cli_det_a"), b = test::temp_dir("cli_det_b"), c = test::temp_dir("cli_det_c");
+  ASSERT_EQ(run(city_run(a, "--set hw.trv.l1.size_kb=4")).code, 0);
+  ASSERT_EQ(run(city_run(b, "--set hw.trv.l1.size_kb=4")).code, 0);
+  const std::string ja = without_host(nlohmann::json::parse(slurp(a / "report.json"))).dump(1);
+  EXPECT_EQ(ja, without_host(nlohmann::json::parse(slurp(b / "report.json"))).dump(1));
+  // Byte for byte apart from the host figures: the reports' other lines are equal.
+  const std::string ra = slurp(a / "report.json"), rb = slurp(b / "report.json");
+  EXPECT_EQ(ra.size() > 0, true);
+  EXPECT_EQ(slurp(a / "stats.csv"), slurp(b / "stats.csv"));
+  EXPECT_EQ(nlohmann::json::parse(slurp(a / "config.json"))["hw"]["trv"]["l1"]["size_kb"], 4);
+  // config.json holds everything: --config repeats the run.
+  const RunResult r = run("run --config " + (a / "config.json").string() + " --out " + c.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(ja, without_host(nlohmann::json::parse(slurp(c / "report.json"))).dump(1));
+  for (const fs::path& d : {a, b, c}) fs::remove_all(d);
+}
+
+TEST(Cli, RunWritesMarkdownCsvAndFigures) {
+  const fs::path out = test::temp_dir("cli_reports");
+  const std::string args = "run " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
+                           (test::source_dir() / "configs/hw/tni-paper.yaml").string() +
+                           " --width 64 --height 36 --out " + out.string();
+  const RunResult r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+  const nlohmann::json rep = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(rep["schema"], "rtsim-report/2");
+  const std::string md = slurp(out / "report.md");
+  for (const char* table : {"Table 3", "Table 4", "Table 5", "Table 6", "## Units", "## Caches", "## DRAM"})
+    EXPECT_NE(md.find(table), std::string::npos) << table;
+  // stats.csv carries every named statistic with the value in report.json.
+  const std::string csv = slurp(out / "stats.csv");
+  EXPECT_NE(csv.find("cycles_total," + rep["cycles_total"].dump() + "\n"), std::string::npos);
+  EXPECT_NE(csv.find("stats.trv.l1.hits," + rep["stats"]["trv"]["l1"]["hits"].dump() + "\n"), std::string::npos);
+  EXPECT_EQ(csv.find("host"), std::string::npos) << "host figures stay out of stats.csv";
+  // culled.npy: bit l set in exactly per_light[l].culled pixels.
+  const std::vector<uint16_t> culled = read_npy_u16(out / "culled.npy", 36, 64);
+  for (size_t l = 0; l < rep["per_light"].size(); ++l) {
+    uint64_t n = 0;
+    for (uint16_t v : culled) n += (v >> l) & 1u;
+    EXPECT_EQ(n, rep["per_light"][l]["culled"].get<uint64_t>()) << "light " << l;
+  }
+  for (const char* png : {"render.png", "culled.png", "plot_culling.png", "plot_time_breakdown.png", "plot_cache_hit_rates.png"}) {
+    const std::string bytes = slurp(out / png);
+    EXPECT_GT(bytes.size(), 1000u) << png;
+    EXPECT_EQ(bytes.substr(1, 3), "PNG") << png;
+  }
+  fs::remove_all(out);
+}
+
+TEST(Cli, ObserversDoNotChangeSimulatedFigures) {
+  const fs::path a = test::temp_dir("cli_trace_a"), b = test::temp_dir("cli_trace_b");
+  ASSERT_EQ(run(city_run(a)).code, 0);
+  const RunResult r = run(city_run(b, "--trace " + (b / "t.vcd").string() + " --trace-window 500:800"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(without_host(nlohmann::json::parse(slurp(a / "report.json"))).dump(),
+            without_host(nlohmann::json::parse(slurp(b / "report.json"))).dump());
+  const std::string vcd = slurp(b / "t.vcd");
+  EXPECT_NE(vcd.find("$enddefinitions"), std::string::npos);
+  // Dotted names become GTKWave scopes: fifo/trv0/in, busy/trv0.
+  EXPECT_NE(vcd.find("$scope module fifo $end"), std::string::npos);
+  EXPECT_NE(vcd.find("$scope module busy $end"), std::string::npos);
+  EXPECT_NE(vcd.find("trv0"), std::string::npos);
+  // Samples half a cycle after each edge of the window, none outside it (the final time stamp aside).
+  EXPECT_NE(vcd.find("\n#500500\n"), std::string::npos);
+  EXPECT_NE(vcd.find("\n#799500\n"), std::string::npos);
+  EXPECT_EQ(vcd.find("\n#800500\n"), std::string::npos);
+  EXPECT_EQ(vcd.find("\n#499500\n"), std::string::npos);
+  EXPECT_FALSE(fs::exists(b / "t.vcd.part.vcd"));
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
+TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
+  const fs::path dir = test::temp_dir("cli_set");
+  const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const std::string base = "run " + scene + " --hw " + hw + " --out " + (dir / "o").string() + " --set ";
+  expect_input_error(base + "hw.trv.l1.sise_kb=8", {"--set hw.trv.l1.sise_kb=8", "trv.l1.sise_kb", "unknown key"});
+  expect_input_error(base + "hw.trv.l1.ways=two", {"--set hw.trv.l1.ways=two", "expected an integer"});
+  expect_input_error(base + "hw.ist.l2.size_kb=-16", {"ist.l2.size_kb", "got -16"});
+  expect_input_error(base + "hw.trv.l2.size_kb=96", {"trv.l2.size_kb", "power of two"});
+  expect_input_error(base + "hw.list.l1.ways=128", {"list.l1", "exceeds the number of lines"});
+  expect_input_error(base + "scene.kdtree.max_depth=deep", {"city.yaml", "kdtree.max_depth", "expected an integer"});
+  expect_input_error(base + "run.lvb=sometimes", {"--set run.lvb=sometimes", "true or false"});
+  expect_input_error(base + "run.lvb_bounds=sphere", {"lvb_bounds", "'cell' or 'geometry'"});
+  expect_input_error(base + "cache.size=3", {"--set cache.size=3", "'hw.', 'scene.' or 'run.'"});
+  expect_input_error(base + "hw.trv", {"--set hw.trv", "no '='"});
+  expect_input_error("run " + (dir / "nothere.yaml").string() + " --hw " + hw + " --out " + (dir / "o").string(),
+                     {"nothere.yaml", "not found"});
+  expect_input_error("run " + scene + " --hw " + hw + " --out " + (dir / "o").string() + " --trace t.vcd --trace-window 9:3",
+                     {"--trace-window 9:3", "START < END"});
+  expect_input_error("run --config " + (dir / "none.json").string() + " --out " + (dir / "o").string(),
+                     {"none.json", "not found"});
+  write(dir / "bad_config.json", "{\"scene_file\": \"" + scene + "\", \"hw\": {}, \"run\": {\"lvb\": true, \"speed\": 3}}");
+  expect_input_error("run --config " + (dir / "bad_config.json").string() + " --out " + (dir / "o").string(),
+                     {"bad_config.json", "run.speed", "unknown key"});
+  EXPECT_FALSE(fs::exists(dir / "o" / "report.json"));
+  fs::remove_all(dir);
+}
+
+TEST(Cli, BadSweepFilesAreNamed) {
+  const fs::path dir = test::temp_dir("cli_sweep_bad");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+  const std::string head = "scenes: [" + scene + "]\nhw: " + hw + "\n";
+  auto check = [&](const std::string& name, const std::string& yaml, const std::vector<std::string>& fragments) {
+    write(dir / name, yaml);
+    expect_input_error("sweep " + (dir / name).string() + " --out " + (dir / "o").string(), fragments);
+  };
+  check("unknown.yaml", head + "axis:\n  hw.trv.count: [1, 2]\n", {"unknown.yaml:3", "axis", "unknown key"});
+  check("prefix.yaml", head + "axes:\n  trv.count: [1, 2]\n", {"prefix.yaml", "trv.count", "'hw.', 'scene.' or 'run.'"});
+  check("empty.yaml", head + "axes:\n  hw.trv.count: []\n", {"empty.yaml:4", "at least one value"});
+  check("value.yaml", head + "axes:\n  hw.trv.l1.size_kb: [8, 12]\n", {"value.yaml", "p0001", "power of two"});
+  check("scene.yaml", "scenes: [nowhere.yaml]\nhw: " + hw + "\n", {"scene.yaml:1", "nowhere.yaml", "not found"});
+  check("type.yaml", head + "axes:\n  run.reflections: [0, many]\n", {"type.yaml", "p0001", "expected an integer"});
+  EXPECT_FALSE(fs::exists(dir / "o" / "manifest.json")) << "nothing runs before every point is valid";
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace rtsim
