@@ -26,7 +26,7 @@ sweep_pid=$!
 victim=""
 for _ in $(seq 1 1000); do
   if compgen -G "$work/a/points/*/row.json" > /dev/null; then
-    victim=$(pgrep -P "$sweep_pid" | head -n 1 || true)
+    victim=$(pgrep -n -P "$sweep_pid" || true)  # the newest: far from finishing
     [ -n "$victim" ] && break
   fi
   sleep 0.01
