@@ -4,6 +4,10 @@
 // always act in the same order, whatever observers (progress, traces) exist, and a cycle with N
 // active blocks costs one SystemC activation instead of N. One scheduler per process (SystemC
 // elaborates once per process); it is created by the first block.
+//
+// Most activations are clock edges a few cycles ahead, so those live in a ring of per-cycle
+// bitsets (one bit per block); other times (the DRAM's own clock, far-off watchdog looks) go to a
+// heap. Both yield the same order: at a time, the lowest block id still queued runs next.
 #pragma once
 
 #include "model/memory_interface.h"
@@ -27,11 +31,13 @@ class Scheduler : public sc_core::sc_module {
    private:
     friend class Scheduler;
     uint32_t id_ = 0;
+    Tick period_ = 0;  // the clock it acts on (0: any time)
     Tick armed_at_ = kUnknown;
   };
 
   static Scheduler& instance();
-  void add(Client* c);
+  // `period`: the clock period of the block's activations (0 when they fall at any time).
+  void add(Client* c, Tick period = 0);
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
   // the past) stands; a later one is replaced.
   void schedule(Client* c, Tick at);
@@ -40,14 +46,23 @@ class Scheduler : public sc_core::sc_module {
   SC_HAS_PROCESS(Scheduler);
   explicit Scheduler(sc_core::sc_module_name name);
   void run();
+  void notify_at(Tick at, Tick now);
+  Tick next_time(Tick now);       // the earliest queued time at or after now; kUnknown if none
+  bool pop_due(Tick now, uint32_t& id);  // the lowest id queued for `now`
 
+  static constexpr uint64_t kSlots = 256;  // cycles ahead held in the ring
   struct Entry {
     Tick at;
     uint32_t id;
     bool operator>(const Entry& o) const { return at != o.at ? at > o.at : id > o.id; }
   };
   std::vector<Client*> clients_;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> calendar_;
+  Tick period_ = 0;                   // the ring's clock: the first block's
+  size_t words_ = 1;                  // 64-bit words per ring slot
+  std::vector<uint64_t> ring_;        // kSlots x words_ bits: slot = cycle % kSlots
+  std::vector<uint32_t> slot_count_;  // bits set per slot
+  uint64_t ring_entries_ = 0;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
   sc_core::sc_event event_;
   Tick event_at_ = kUnknown;  // time of the pending SystemC notification
   bool running_ = false;

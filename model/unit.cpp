@@ -5,7 +5,7 @@
 namespace rtsim::model {
 
 Unit::Unit(sc_core::sc_module_name name, const Clock& clock) : sc_core::sc_module(name), clock_(clock) {
-  Scheduler::instance().add(this);
+  Scheduler::instance().add(this, clock.period());
 }
 
 void Unit::wake(Tick at) {

@@ -41,6 +41,7 @@ import math
 import os
 import re
 import sys
+import textwrap
 
 import numpy as np
 import matplotlib
@@ -524,6 +525,7 @@ SOURCES = [("paper", "paper (published)", "tab:gray"),
            ("ours_paper", "ours, paper's method", "tab:orange"),
            ("ours_exact", "ours, exact mode", "tab:blue")]
 REPRO_COLS = 3  # scenes per row; more scenes wrap
+REPRO_MIN_WIDTH = 9.5  # inches: the figure titles must fit above a single scene
 
 
 def numbers(obj, key, where):
@@ -561,7 +563,7 @@ def parse_reproduction(rep):
         s = dict(title=title, rays={}, leaves={}, time={}, ms={}, pixels={}, missing=[])
         paper = field(sc, "paper", None, where=w)
         if paper is None:
-            s["missing"].append("paper's figures")
+            s["missing"].append("the paper's figures")
         else:
             wp = f"{w}.paper"
             per_light = number(paper, "shadow_rays_per_light", wp)
@@ -578,8 +580,9 @@ def parse_reproduction(rep):
         if off is not None:
             off = [number(off, f"frame_ms_{k}", f"{w}.ours.off") for k in ("all", "shadow")]
         else:
-            s["missing"].append("ours, culling off")
-        for var, key, label in (("paper", "ours_paper", "ours, paper's method"), ("exact", "ours_exact", "ours, exact")):
+            s["missing"].append("our culling-off run")
+        for var, key, label in (("paper", "ours_paper", "our paper's-method run"),
+                                ("exact", "ours_exact", "our exact-mode run")):
             o = ours.get(var)
             if o is None:
                 s["missing"].append(label)
@@ -645,7 +648,22 @@ def nothing_to_plot(fig):
     ax.text(0.5, 0.5, "reproduction.json lists no scene: no run finished.", ha="center", va="center", fontsize=13)
 
 
-def per_light_panel(ax, s, kind, nlights):
+def panel_title(ax, s, extra=""):
+    title = s["title"]
+    if s["missing"]:
+        # Wrapped: a scene missing everything would otherwise run into its neighbour's title.
+        title += "\n" + textwrap.fill("missing: " + "; ".join(s["missing"]), 60)
+    ax.set_title(title + extra, fontsize=10)
+
+
+def nothing_here(ax):
+    ax.text(0.5, 0.5, "nothing to compare", transform=ax.transAxes, ha="center", va="center", color="dimgray")
+    ax.set_yticks([])
+
+
+def per_light_panel(ax, s, kind):
+    # The scene's own light count (the larger of the paper's and ours), not the widest scene's: no rows of n/a.
+    nlights = max([1] + [len(v) for k in ("rays", "leaves") for v in s[k].values()])
     x, bw = np.arange(nlights), 0.27
     top = 0.0
     for k, (key, _, colour) in enumerate(SOURCES):
@@ -662,13 +680,16 @@ def per_light_panel(ax, s, kind, nlights):
     ax.set_ylim(0, 1.3 * max(top, 1.0))  # headroom for the vertical value labels
     ax.grid(axis="y", alpha=0.3)
     ax.set_xlabel("light (by index)")
-    title = s["title"]
-    if s["missing"]:
-        title += "\nmissing: " + "; ".join(s["missing"])
+    if not s[kind]:
+        nothing_here(ax)
+        ax.set_xticks([])  # no light to name
+    extra = ""
     if kind == "rays" and s["pixels"]:
-        title += "\npixels whose shadows differ from culling off: " + ", ".join(
-            f"{label.split(', ')[1]} {s['pixels'][key]:,.0f}" for key, label, _ in SOURCES if key in s["pixels"])
-    ax.set_title(title, fontsize=10)
+        items = ", ".join(f"{label.split(', ')[1]} {s['pixels'][key]:,.0f}"
+                          for key, label, _ in SOURCES if key in s["pixels"])
+        head = "shadow pixels changed by culling:"
+        extra = f"\n{head}" + ("\n" if len(head) + len(items) > 60 else " ") + items  # break between, not inside
+    panel_title(ax, s, extra)
 
 
 def plot_reproduce_culling(scenes, path, written):
@@ -676,7 +697,8 @@ def plot_reproduce_culling(scenes, path, written):
     nlights = max([1] + [len(v) for s in scenes for kind in ("rays", "leaves") for v in s[kind].values()])
     ncols, nrows = min(REPRO_COLS, max(n, 1)), math.ceil(max(n, 1) / REPRO_COLS)
     width = max(4.8, 0.7 * nlights + 1.4)
-    fig = plt.figure(figsize=(width * ncols + 0.4, 2 * nrows * 3.9 + 1.3), layout="constrained")
+    fig = plt.figure(figsize=(max(REPRO_MIN_WIDTH, width * ncols + 0.4), 2 * nrows * 3.9 + 1.3),
+                     layout="constrained")
     fig.suptitle("LVB culling per light: the paper vs ours\n"
                  "lights go by index: the paper did not publish its light positions, ours are the scene files' own")
     if not n:
@@ -688,9 +710,10 @@ def plot_reproduce_culling(scenes, path, written):
     rays_fig.suptitle("shadow rays culled (% of the shadow rays to that light)", fontsize=11, fontweight="bold")
     leaves_fig.suptitle("leaves culled — the denominators differ: paper: % of all leaves; "
                         "ours: % of non-empty leaves", fontsize=11, fontweight="bold")
-    for sub, kind, ylabel in ((rays_fig, "rays", "shadow rays culled (%)"), (leaves_fig, "leaves", "leaves culled (%)")):
+    for sub, kind, ylabel in ((rays_fig, "rays", "shadow rays culled (%)"),
+                              (leaves_fig, "leaves", "leaves culled (%)")):
         for k, (ax, s) in enumerate(zip(scene_grid(sub, n), scenes)):
-            per_light_panel(ax, s, kind, nlights)
+            per_light_panel(ax, s, kind)
             if k % ncols == 0:
                 ax.set_ylabel(ylabel)
     save(fig, path, written)
@@ -701,13 +724,14 @@ def ms_caption(s):
     lines = []
     p = s["ms"].get("paper")
     if p:
+        # Two decimals as published; ours with three, as in reproduction.md.
         lines.append(f"paper: all {p['all_off']:.2f} → {p['all_on']:.2f}, shadow {p['shadow_off']:.2f} → "
                      f"{p['shadow_on']:.2f} ms")
     off = s["ms"]["off"]
     for key, label, _ in SOURCES[1:]:
         on = s["ms"].get(key)
         if on:
-            pairs = [f"{off[i]:.2f} → {on[i]:.2f}" if off else f"? → {on[i]:.2f}" for i in range(2)]
+            pairs = [f"{off[i]:.3f} → {on[i]:.3f}" if off else f"? → {on[i]:.3f}" for i in range(2)]
             lines.append(f"{label}: all {pairs[0]}, shadow {pairs[1]} ms")
     return "frame time, culling off → on:\n" + "\n".join(lines) if lines else "no frame times"
 
@@ -715,15 +739,15 @@ def ms_caption(s):
 def plot_reproduce_time(scenes, path, written):
     n = len(scenes)
     ncols, nrows = min(REPRO_COLS, max(n, 1)), math.ceil(max(n, 1) / REPRO_COLS)
-    fig = plt.figure(figsize=(5.2 * ncols + 0.4, nrows * 5.4 + 1.3), layout="constrained")
+    fig = plt.figure(figsize=(max(REPRO_MIN_WIDTH, 5.2 * ncols + 0.4), nrows * 5.4 + 1.5), layout="constrained")
     fig.suptitle("Frame-time reduction with LVB culling, (off − on) / off\n"
-                 "absolute times differ (the paper's simulator and ours model the hardware differently), "
+                 "absolute times differ (the paper's simulator and ours model the hardware differently),\n"
                  "so the reductions are compared")
     if not n:
         nothing_to_plot(fig)
         save(fig, path, written)
         return
-    top, main = fig.subfigures(2, 1, height_ratios=[0.35, 5.4 * nrows])
+    top, main = fig.subfigures(2, 1, height_ratios=[0.35, 5.4 * nrows])  # legend strip, panels
     legend_strip(top)
     x, bw = np.arange(2), 0.27
     for k, (ax, s) in enumerate(zip(scene_grid(main, n), scenes)):
@@ -742,10 +766,11 @@ def plot_reproduce_time(scenes, path, written):
         ax.set_xlim(-0.6, 1.6)
         ax.grid(axis="y", alpha=0.3)
         ax.set_xlabel(ms_caption(s), fontsize=8, loc="left")
+        if not vals_all:
+            nothing_here(ax)
         if k % ncols == 0:
             ax.set_ylabel("frame-time reduction (%)")
-        title = s["title"] + ("\nmissing: " + "; ".join(s["missing"]) if s["missing"] else "")
-        ax.set_title(title, fontsize=10)
+        panel_title(ax, s)
     save(fig, path, written)
 
 
