@@ -37,7 +37,7 @@ struct AcceleratorConfig {
   UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16}, {32768, 2, 64, 4, 64}};
   UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16}, {131072, 2, 64, 4, 64}};
   UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16}, {}};  // its L1 sits on the IST L2
-  DramConfig dram = dram_preset("gddr3-gt200");
+  DramConfig dram = dram_preset("gddr3-gt200-1ghz");
   uint32_t ray_pool = 2048;   // rays in flight, all units together
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;

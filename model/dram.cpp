@@ -9,7 +9,7 @@ namespace rtsim::model {
 
 namespace {
 
-Tick sim_now_ps() { return Tick(sc_core::sc_time_stamp().value()); }  // resolution is 1 ps
+Tick sim_now_ps() { return Scheduler::instance().now(); }  // resolution is 1 ps
 
 }  // namespace
 

@@ -74,9 +74,9 @@ DramConfig gddr3_gt200() {
 // The same chip's timings in nanoseconds on a 1 GHz command clock (each rounded up to whole
 // cycles): a faster GDDR3 part of the same family (K4J52324QH-HC10 is the 1 GHz grade). The
 // HC10 datasheet values are not in GPGPU-Sim; this rescaling is our assumption.
-DramConfig gddr3_1ghz() {
+DramConfig gddr3_gt200_1ghz() {
   DramConfig c = gddr3_gt200();
-  c.preset = "gddr3-1ghz";
+  c.preset = "gddr3-gt200-1ghz";
   auto rescale = [&c](uint32_t cycles_at_800) { return uint32_t((uint64_t(cycles_at_800) * c.tCK_ps + 999) / 1000); };
   c.tRRD = rescale(c.tRRD);  // 10 ns
   c.tRCD = rescale(c.tRCD);  // 15 ns
@@ -138,11 +138,11 @@ void DramConfig::validate() const {
   }
 }
 
-std::vector<std::string> dram_preset_names() { return {"gddr3-gt200", "gddr3-1ghz"}; }
+std::vector<std::string> dram_preset_names() { return {"gddr3-gt200", "gddr3-gt200-1ghz"}; }
 
 DramConfig dram_preset(const std::string& name) {
   if (name == "gddr3-gt200") return gddr3_gt200();
-  if (name == "gddr3-1ghz") return gddr3_1ghz();
+  if (name == "gddr3-gt200-1ghz") return gddr3_gt200_1ghz();
   std::string known;
   for (const std::string& n : dram_preset_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown DRAM preset '" + name + "' (known: " + known + ")");

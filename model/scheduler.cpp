@@ -34,12 +34,13 @@ void Scheduler::add(Client* c, Tick period) {
 }
 
 void Scheduler::schedule(Client* c, Tick at) {
-  const Tick now = now_ps();
+  const Tick now = this->now();
   if (at < now) at = now;
   if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;
   c->armed_at_ = at;
-  if (c->period_ != 0 && c->period_ == period_ && at % period_ == 0 && at / period_ < now / period_ + kSlots) {
-    const uint64_t slot = (at / period_) % kSlots;
+  const uint64_t cycle = period_ ? at / period_ : 0;
+  if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at && at - now < kSlots * period_) {
+    const uint64_t slot = cycle % kSlots;
     uint64_t& word = ring_[slot * words_ + c->id_ / 64];
     const uint64_t bit = uint64_t(1) << (c->id_ % 64);
     if (!(word & bit)) {
@@ -100,6 +101,7 @@ Tick Scheduler::next_time(Tick now) {
 void Scheduler::run() {
   const Tick now = now_ps();
   event_at_ = kUnknown;
+  now_ = now;
   running_ = true;
   // Blocks woken for `now` while this runs are served in this same loop: the lowest id queued
   // for `now` runs next.

@@ -41,6 +41,8 @@ class Scheduler : public sc_core::sc_module {
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
   // the past) stands; a later one is replaced.
   void schedule(Client* c, Tick at);
+  // The simulated time (cached while the calendar runs: blocks ask often).
+  Tick now() const { return running_ ? now_ : Tick(sc_core::sc_time_stamp().value()); }
 
  private:
   SC_HAS_PROCESS(Scheduler);
@@ -66,6 +68,7 @@ class Scheduler : public sc_core::sc_module {
   sc_core::sc_event event_;
   Tick event_at_ = kUnknown;  // time of the pending SystemC notification
   bool running_ = false;
+  Tick now_ = 0;  // while running
 };
 
 }  // namespace rtsim::model

@@ -9,9 +9,9 @@ Unit::Unit(sc_core::sc_module_name name, const Clock& clock) : sc_core::sc_modul
 }
 
 void Unit::wake(Tick at) {
-  const Tick now = now_ps();
+  Scheduler& s = Scheduler::instance();
   // Never twice in one cycle: the earliest next activation is the cycle after the last one.
-  Scheduler::instance().schedule(this, clock_.edge_at_or_after(std::max({at, now, accounted_to_})));
+  s.schedule(this, clock_.edge_at_or_after(std::max({at, s.now(), accounted_to_})));
 }
 
 void Unit::activate() {

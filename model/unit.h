@@ -47,7 +47,7 @@ class Unit : public sc_core::sc_module, public Scheduler::Client {
   // True while the unit holds work (for stalled versus idle).
   virtual bool holds_work() const = 0;
 
-  static Tick now_ps() { return Tick(sc_core::sc_time_stamp().value()); }
+  static Tick now_ps() { return Scheduler::instance().now(); }
 
  private:
   void activate() override;

@@ -59,7 +59,7 @@ model::AcceleratorConfig read_hw_config(YamlMap top) {
   if (top.has("shading")) read_unit(top.map("shading"), c.shading, false);
   if (top.has("dram")) {
     YamlMap d = top.map("dram");
-    const std::string preset = d.get<std::string>("preset", "gddr3-gt200");
+    const std::string preset = d.get<std::string>("preset", "gddr3-gt200-1ghz");
     try {
       c.dram = model::dram_preset(preset);
     } catch (const std::invalid_argument& e) {

@@ -81,7 +81,7 @@ TEST(DramConfig, PresetIsGpgpuSimGt200) {
 }
 
 TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
-  EXPECT_EQ(dram_preset_names(), std::vector<std::string>{"gddr3-gt200"});
+  EXPECT_EQ(dram_preset_names(), (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz"}));
   try {
     dram_preset("ddr9");
     FAIL() << "unknown preset accepted";
@@ -220,6 +220,29 @@ TEST(DramController, IdleLatenciesAreTheClosedFormSums) {
   EXPECT_EQ(e.stats().row_conflicts, 1u);
   EXPECT_EQ(e.stats().latency_sum_ps, 30 * kNs + 15 * kNs + 42500);
   EXPECT_EQ(e.next_event_time(), kUnknown);
+}
+
+// The same chip's nanosecond timings on a 1 GHz command clock, rounded up to whole cycles.
+TEST(DramController, OneGigahertzPresetIdleLatencies) {
+  DramConfig c = dram_preset("gddr3-gt200-1ghz");
+  c.request_bytes = 32;
+  EXPECT_EQ(c.tCK_ps, 1000u);
+  EXPECT_EQ(c.tRCD, 15u);
+  EXPECT_EQ(c.CL, 13u);
+  EXPECT_EQ(c.tRP, 13u);
+  EXPECT_EQ(c.tRC, 44u);
+  DramController e(c);
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 1);                   // closed bank: tRCD + CL + BL/2 = 30 cycles
+  e.advance(100 * kNs, done);
+  e.enqueue(kCol1, 100 * kNs, 2);       // row hit: CL + BL/2 = 15
+  e.advance(200 * kNs, done);
+  e.enqueue(kRow1, 200 * kNs, 3);       // row conflict: tRP + tRCD + CL + BL/2 = 43
+  e.advance(300 * kNs, done);
+  ASSERT_EQ(done.size(), 3u);
+  EXPECT_EQ(ready_of(done, 1), 30 * kNs);
+  EXPECT_EQ(ready_of(done, 2), 115 * kNs);
+  EXPECT_EQ(ready_of(done, 3), 243 * kNs);
 }
 
 TEST(DramController, RequestArrivingBetweenEdgesWaitsForTheNextEdge) {
