@@ -67,6 +67,13 @@ std::vector<uint16_t> read_npy_u16(const std::string& path) {
   return v;
 }
 
+std::vector<std::string> split_path(const std::string& dotted) {
+  std::vector<std::string> out;
+  std::stringstream ss(dotted);
+  for (std::string part; std::getline(ss, part, '.');) out.push_back(part);
+  return out;
+}
+
 std::string pct(double part, double whole) { return whole > 0 ? fmt::format("{:.2f}%", 100 * part / whole) : "n/a"; }
 std::string reduction(double on, double off) { return off > 0 ? fmt::format("{:.2f}%", 100 * (off - on) / off) : "n/a"; }
 
@@ -127,40 +134,33 @@ int run_reproduce(const ReproduceArgs& a) {
                      {"ms", {{"all_on", ps->all_on}, {"all_off", ps->all_off}, {"shadow_on", ps->shadow_on},
                              {"shadow_off", ps->shadow_off}}}};
 
-    md << "Table 4: leaves culled per light (ours: of the non-empty leaves; the paper's: of all leaves)\n\n"
-          "| light | paper | ours, paper's method | ours, exact |\n|---|---|---|---|\n";
-    for (size_t l = 0; l < std::max<size_t>(lights, ps ? ps->culled_leaves.size() : 0); ++l) {
-      std::string row = fmt::format("| {} | ", l + 1);
-      row += ps && l < ps->culled_leaves.size() ? fmt::format("{} ({})", ps->culled_leaves[l], pct(ps->culled_leaves[l], ps->leaves)) : "-";
-      for (const char* var : {"paper", "exact"}) {
-        const auto it = v.find(var);
-        if (it == v.end() || l >= lights || it->second["lvb"].is_null()) {
-          row += " | -";
-          continue;
+    // A per-light table: the paper's count beside ours (list, count and total fields of a report).
+    auto per_light = [&](const std::vector<double>* paper_counts, double paper_total, const char* list,
+                         const char* count, const char* total) {
+      md << "| light | paper | ours, paper's method | ours, exact |\n|---|---|---|---|\n";
+      for (size_t l = 0; l < std::max(lights, paper_counts ? paper_counts->size() : 0); ++l) {
+        std::string row = fmt::format("| {} | ", l + 1);
+        row += paper_counts && l < paper_counts->size()
+                   ? fmt::format("{} ({})", (*paper_counts)[l], pct((*paper_counts)[l], paper_total))
+                   : "-";
+        for (const char* var : {"paper", "exact"}) {
+          const auto it = v.find(var);
+          const nlohmann::json* entries = it == v.end() ? nullptr : &it->second;
+          for (const std::string& key : split_path(list)) entries = entries && entries->contains(key) ? &(*entries)[key] : nullptr;
+          if (!entries || !entries->is_array() || l >= entries->size()) {
+            row += " | -";
+            continue;
+          }
+          const auto& e = (*entries)[l];
+          row += fmt::format(" | {} ({})", e[count].get<uint64_t>(), pct(e[count].get<double>(), e[total].get<double>()));
         }
-        const auto& e = it->second["lvb"]["per_light"][l];
-        row += fmt::format(" | {} ({})", e["culled_leaves"].get<uint64_t>(),
-                           pct(e["culled_leaves"].get<double>(), e["nonempty_leaves"].get<double>()));
+        md << row << " |\n";
       }
-      md << row << " |\n";
-    }
-    md << "\nTable 5: shadow rays culled per light (of the hit points' shadow rays to that light)\n\n"
-          "| light | paper | ours, paper's method | ours, exact |\n|---|---|---|---|\n";
-    for (size_t l = 0; l < std::max<size_t>(lights, ps ? ps->culled_rays.size() : 0); ++l) {
-      std::string row = fmt::format("| {} | ", l + 1);
-      row += ps && l < ps->culled_rays.size() ? fmt::format("{} ({})", ps->culled_rays[l], pct(ps->culled_rays[l], ps->rays_per_light)) : "-";
-      for (const char* var : {"paper", "exact"}) {
-        const auto it = v.find(var);
-        if (it == v.end() || l >= lights) {
-          row += " | -";
-          continue;
-        }
-        const auto& e = it->second["per_light"][l];
-        row += fmt::format(" | {} ({})", e["culled"].get<uint64_t>(),
-                           pct(e["culled"].get<double>(), e["shadow_rays"].get<double>()));
-      }
-      md << row << " |\n";
-    }
+    };
+    md << "Table 4: leaves culled per light (ours: of the non-empty leaves; the paper's: of all leaves)\n\n";
+    per_light(ps ? &ps->culled_leaves : nullptr, ps ? ps->leaves : 0, "lvb.per_light", "culled_leaves", "nonempty_leaves");
+    md << "\nTable 5: shadow rays culled per light (of the hit points' shadow rays to that light)\n\n";
+    per_light(ps ? &ps->culled_rays : nullptr, ps ? ps->rays_per_light : 0, "per_light", "culled", "shadow_rays");
     md << "\nTable 6: frame time (ms at 1 GHz) and the reduction against culling off\n\n"
           "| rays | paper on | paper off | paper reduction | ours off | ours on (paper's method) | reduction | ours on (exact) | reduction |\n"
           "|---|---|---|---|---|---|---|---|---|\n";
