@@ -147,18 +147,24 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
     f->connect(&culling, nullptr);
   }
 
-  // Phase control: the shadow phase starts when the last primary ray retires.
+  if (cfg.schedule == Schedule::kOnePhase)
+    shading.on_hit = [&culling](uint32_t entry, Tick ready) { culling.add(entry, ready); };
+  // Phase control: the shadow phase starts when the last primary ray retires (two phases); in
+  // one phase the culling unit learns there that no more hits will come.
   Tick primary_end = 0, end = 0;
+  bool primaries_done = false;
   uint64_t primaries_retired = 0, shadows_retired = 0;
   shading.on_retire = [&](RayType type, Tick when) {
-    const Tick now = Tick(sc_core::sc_time_stamp().value());
+    const Tick now = Scheduler::instance().now();
     end = std::max(end, when);
+    if (!generator.finished()) generator.wake(now);  // a ray slot is free
     if (type == RayType::kPrimary) {
       ++primaries_retired;
-      if (!generator.finished()) generator.wake(now);
+      primary_end = std::max(primary_end, when);
       if (generator.finished() && primaries_retired == generator.issued()) {
-        primary_end = end;
-        culling.start(std::max(now, primary_end));
+        primaries_done = true;
+        if (cfg.schedule == Schedule::kTwoPhase) culling.scan_all(std::max(now, primary_end));
+        else culling.close(now);
       }
     } else {
       ++shadows_retired;
@@ -196,13 +202,13 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   if (hooks.progress) {
     progress = std::make_unique<PeriodicProbe>("progress", ctx.clock.cycles(hooks.progress_cycles), [&](Tick now) {
       Progress p;
-      p.phase = culling.started() ? 2 : 1;
+      p.phase = primaries_done ? 2 : 1;
       p.cycle = ctx.clock.to_cycles(now);
       p.pixels = uint64_t(width) * uint64_t(height);
       p.primaries_retired = primaries_retired;
       p.shadows_generated = culling.generated();
       p.shadows_retired = shadows_retired;
-      p.culling_scanned = culling.scanned_fraction();
+      p.culling_scanned = culling.decided_fraction();
       hooks.progress(p);
       return pending();
     });

@@ -30,6 +30,10 @@ struct UnitTypeConfig {
   CacheConfig l1, l2;
 };
 
+// When shadow rays go: after every primary ray (two phases, the paper's Table 6), or as soon as
+// their hit is shaded (one phase: primary and shadow rays overlap).
+enum class Schedule { kTwoPhase, kOnePhase };
+
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
   // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36).
@@ -41,6 +45,7 @@ struct AcceleratorConfig {
   uint32_t ray_pool = 2048;   // rays in flight, all units together
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;
+  Schedule schedule = Schedule::kTwoPhase;
   int tile = 8;
   uint64_t watchdog_cycles = 100000;  // stop when nothing moved for this long
   int reflection_depth = 0;           // mirror bounces for materials with reflectance > 0

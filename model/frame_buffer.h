@@ -27,8 +27,9 @@ struct FrameBuffer {
   int levels = 1;
   std::vector<PixelState> pixels;
   size_t pixel_count() const { return size_t(width) * height; }
-  PixelState& at(uint32_t pixel, int level) { return pixels[size_t(level) * pixel_count() + pixel]; }
-  const PixelState& at(uint32_t pixel, int level) const { return pixels[size_t(level) * pixel_count() + pixel]; }
+  uint32_t entry(uint32_t pixel, int level) const { return uint32_t(size_t(level) * pixel_count() + pixel); }
+  PixelState& at(uint32_t pixel, int level) { return pixels[entry(pixel, level)]; }
+  const PixelState& at(uint32_t pixel, int level) const { return pixels[entry(pixel, level)]; }
 };
 
 }  // namespace rtsim::model

@@ -28,6 +28,8 @@ class ShadingUnit : public RayUnit {
               RayFifo* in, const std::vector<TrvUnit*>* trv, FrameBuffer* frame);
   // Called after every retirement (the accelerator's phase control listens).
   std::function<void(RayType, Tick)> on_retire;
+  // Called when a hit (frame entry) is shaded, with the time its result is ready (one phase).
+  std::function<void(uint32_t, Tick)> on_hit;
   const ShadingStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 

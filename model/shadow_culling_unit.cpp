@@ -9,37 +9,63 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
     : Unit(name, ctx.clock), ctx_(ctx), culling_(culling), l1_(l1), frame_(frame), inputs_(std::move(trv_inputs)),
       lights_(ctx.header.light_count) {}
 
-void ShadowCullingUnit::start(Tick now) {
-  started_ = true;
-  pixel_ = 0;
+void ShadowCullingUnit::scan_all(Tick now) {
+  scanning_ = closed_ = true;
+  scan_ready_ = now;
+  entry_ = 0;
   light_ = 0;
-  if (ctx_.header.light_count == 0) pixel_ = frame_->pixels.size();
-  while (pixel_ < frame_->pixels.size() && frame_->pixels[pixel_].hit.tri == kNoHit) ++pixel_;
+  for (const PixelState& px : frame_->pixels) added_ += px.hit.tri != kNoHit;
+  if (ctx_.header.light_count == 0) entry_ = frame_->pixels.size();
+  while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit) ++entry_;
   wake(now);
 }
 
-// The next (hit pixel, light) pair.
-void ShadowCullingUnit::advance() {
-  if (++light_ < ctx_.header.light_count) return;
+void ShadowCullingUnit::add(uint32_t entry, Tick ready) {
+  if (ctx_.header.light_count == 0) return;
+  queue_.push_back({entry, ready});
+  ++added_;
+  wake(queue_.front().ready);
+}
+
+void ShadowCullingUnit::close(Tick now) {
+  closed_ = true;
+  wake(now);
+}
+
+double ShadowCullingUnit::decided_fraction() const {
+  return added_ ? double(done_) / double(added_) : 0.0;
+}
+
+void ShadowCullingUnit::next_entry() {
+  ++done_;
   light_ = 0;
-  do ++pixel_;
-  while (pixel_ < frame_->pixels.size() && frame_->pixels[pixel_].hit.tri == kNoHit);
+  if (!scanning_) {
+    queue_.pop_front();
+    return;
+  }
+  do ++entry_;
+  while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit);
+}
+
+void ShadowCullingUnit::advance() {
+  if (++light_ == ctx_.header.light_count) next_entry();
 }
 
 bool ShadowCullingUnit::cycle(Tick now) {
-  if (!started_ || finished() || waiting_) return false;
+  if (!has_work() || waiting_ || current_ready() > now) return false;
   // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
   // unit emits the next shadow ray that is not culled.
   bool culled_any = false;
-  while (culling_ && !finished() && !((frame_->pixels[pixel_].lvb >> light_) & 1u)) {
+  while (culling_ && has_work() && current_ready() <= now && !((frame_->pixels[current()].lvb >> light_) & 1u)) {
     ++lights_[light_].decisions;
     ++lights_[light_].culled;
-    frame_->pixels[pixel_].culled |= uint16_t(1u << light_);
+    frame_->pixels[current()].culled |= uint16_t(1u << light_);
     culled_any = true;
     advance();
   }
-  if (finished()) return culled_any;
-  PixelState& px = frame_->pixels[pixel_];
+  if (!has_work() || current_ready() > now) return culled_any;
+  const uint32_t entry = current();
+  PixelState& px = frame_->pixels[entry];
   LightStats& ls = lights_[light_];
   if (ctx_.pool->full()) return culled_any;  // woken when a ray retires
   RayFifo* f = inputs_.next_free();
@@ -56,7 +82,7 @@ bool ShadowCullingUnit::cycle(Tick now) {
   const uint32_t id = ctx_.pool->allocate();
   RayState& r = (*ctx_.pool)[id];
   r.type = RayType::kShadow;
-  r.pixel = uint32_t(pixel_);  // the frame entry (pixel and bounce)
+  r.pixel = entry;  // the frame entry (pixel and bounce)
   r.light = uint8_t(light_);
   r.trav.ray = shadow_ray(px.surface, light.position, ctx_.shadow_offset);
   f->push(id, std::max(fl.ready, now + clock().period()), now);
@@ -67,9 +93,10 @@ bool ShadowCullingUnit::cycle(Tick now) {
 }
 
 Tick ShadowCullingUnit::next_ready(Tick from) const {
-  if (!started_ || finished() || waiting_) return kUnknown;
-  if (ctx_.pool->full()) return kUnknown;  // woken when a ray retires
-  return inputs_.any_free() ? from : kUnknown;  // woken when a TRV input frees a slot
+  if (!has_work() || waiting_) return kUnknown;  // woken by add() or a fill
+  if (ctx_.pool->full()) return kUnknown;        // woken when a ray retires
+  if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
+  return std::max(from, current_ready());
 }
 
 uint64_t ShadowCullingUnit::generated() const {

@@ -1,8 +1,12 @@
-// Shadow culling unit (the paper's Fig. 5): in the shadow phase, for every hit pixel and every
-// light, it emits the shadow ray only when the hit leaf's LVB bit for that light is 1; a culled
-// ray counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on the
-// hit's whole word, so culled lights are skipped within the cycle. Light records are read
+// Shadow culling unit (the paper's Fig. 5): for every hit (a frame entry: pixel and bounce) and
+// every light, it emits the shadow ray only when the hit leaf's LVB bit for that light is 1; a
+// culled ray counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on
+// the hit's whole word, so culled lights are skipped within the cycle. Light records are read
 // through its L1.
+//
+// Its work comes one of two ways (the schedule): in two phases, scan_all() at the end of the
+// primary phase hands it every hit in frame order; in one phase, the shading unit add()s each hit
+// as it is shaded and close() says no more will come.
 #pragma once
 
 #include "model/cache.h"
@@ -11,6 +15,7 @@
 #include "model/ray_fifo.h"
 #include "model/unit.h"
 
+#include <deque>
 #include <vector>
 
 namespace rtsim::model {
@@ -25,10 +30,14 @@ class ShadowCullingUnit : public Unit, public FillListener {
  public:
   ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, Cache* l1,
                     FrameBuffer* frame, std::vector<RayFifo*> trv_inputs);
-  void start(Tick now);
-  bool started() const { return started_; }
-  bool finished() const { return started_ && pixel_ >= frame_->pixels.size(); }
-  double scanned_fraction() const { return frame_->pixels.empty() ? 1.0 : double(pixel_) / double(frame_->pixels.size()); }
+  // Two phases: every hit entry of the frame, in order, from `now`; no more will come.
+  void scan_all(Tick now);
+  // One phase: the hit at frame entry `entry` is shaded by `ready`; close() after the last.
+  void add(uint32_t entry, Tick ready);
+  void close(Tick now);
+  bool finished() const { return closed_ && !has_work(); }
+  // Share of the known hits decided (for progress reports).
+  double decided_fraction() const;
   uint64_t generated() const;
   void on_fill(uint64_t, uint64_t, Tick when) override {
     waiting_ = false;
@@ -40,18 +49,30 @@ class ShadowCullingUnit : public Unit, public FillListener {
  protected:
   bool cycle(Tick now) override;
   Tick next_ready(Tick from) const override;
-  bool holds_work() const override { return started_ && !finished(); }
+  bool holds_work() const override { return has_work(); }
 
  private:
-  void advance();
+  bool has_work() const { return scanning_ ? entry_ < frame_->pixels.size() : !queue_.empty(); }
+  uint32_t current() const { return scanning_ ? uint32_t(entry_) : queue_.front().entry; }
+  Tick current_ready() const { return scanning_ ? scan_ready_ : queue_.front().ready; }
+  void advance();      // the next (hit, light) pair
+  void next_entry();   // the next hit
 
   const ModelContext& ctx_;
   bool culling_;
   Cache* l1_;
   FrameBuffer* frame_;
   RoundRobin inputs_;  // the TRV units' input FIFOs
-  bool started_ = false, waiting_ = false;
-  size_t pixel_ = 0;
+  bool closed_ = false, waiting_ = false;
+  bool scanning_ = false;  // two phases: a cursor over the frame
+  size_t entry_ = 0;
+  Tick scan_ready_ = 0;
+  struct Pending {
+    uint32_t entry;
+    Tick ready;
+  };
+  std::deque<Pending> queue_;  // one phase: hits in the order they were shaded
+  uint64_t added_ = 0, done_ = 0;
   uint32_t light_ = 0;
   std::vector<LightStats> lights_;
 };

@@ -51,6 +51,9 @@ model::AcceleratorConfig read_hw_config(YamlMap top) {
   const std::string order = top.get<std::string>("order", "tiles");
   if (order != "tiles" && order != "scanline") top.fail("order", "expected 'tiles' or 'scanline'");
   c.order = order == "tiles" ? model::RayOrder::kTiles : model::RayOrder::kScanline;
+  const std::string schedule = top.get<std::string>("schedule", "two-phase");
+  if (schedule != "two-phase" && schedule != "one-phase") top.fail("schedule", "expected 'two-phase' or 'one-phase'");
+  c.schedule = schedule == "two-phase" ? model::Schedule::kTwoPhase : model::Schedule::kOnePhase;
   c.tile = top.get_in_range("tile", c.tile, 1, 4096);
   c.watchdog_cycles = uint64_t(top.get_in_range<int64_t>("watchdog_cycles", int64_t(c.watchdog_cycles), 1000, int64_t(1) << 40));
   if (top.has("trv")) read_unit(top.map("trv"), c.trv, true);
@@ -93,6 +96,7 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
   return {{"clock_ghz", c.clock_ghz},
           {"ray_pool", c.ray_pool},
           {"order", c.order == model::RayOrder::kTiles ? "tiles" : "scanline"},
+          {"schedule", c.schedule == model::Schedule::kTwoPhase ? "two-phase" : "one-phase"},
           {"tile", c.tile},
           {"watchdog_cycles", c.watchdog_cycles},
           {"trv", unit(c.trv, true)},

@@ -166,11 +166,13 @@ int run_model(const RunArgs& args) {
 
   const uint64_t culled_rays = [&] { uint64_t n = 0; for (uint64_t x : r.shadow_culled) n += x; return n; }();
   if (!args.quiet) {
-    fmt::print("{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), shadow phase {} cycles; {} rays ({} shadow, {} "
+    fmt::print("{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
                "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, stats.csv, "
                "config.json, render.png, mask.npy, culled.npy{}\n",
                p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
-               double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz, r.cycles_shadow, rays, r.shadow_rays,
+               double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
+               c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
+               r.cycles_shadow, rays, r.shadow_rays,
                culled_rays, sim_seconds, sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out.string(),
                c.run.plots && plots_note.empty() ? ", plots" : "");
   }

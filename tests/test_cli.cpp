@@ -360,6 +360,25 @@ TEST(Cli, ObserversDoNotChangeSimulatedFigures) {
   fs::remove_all(b);
 }
 
+TEST(Cli, OnePhaseScheduleMatchesTheReferenceAndTheTwoPhaseImage) {
+  const fs::path one = test::temp_dir("cli_one_phase"), two = test::temp_dir("cli_two_phase");
+  const std::string extra = "--check --reflections 2";
+  const RunResult a = run(city_run(one, extra + " --set hw.schedule=one-phase"));
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(run(city_run(two, extra)).code, 0);
+  const nlohmann::json ra = nlohmann::json::parse(slurp(one / "report.json"));
+  const nlohmann::json rb = nlohmann::json::parse(slurp(two / "report.json"));
+  EXPECT_EQ(ra["config"]["hw"]["schedule"], "one-phase");
+  EXPECT_EQ(rb["config"]["hw"]["schedule"], "two-phase");
+  EXPECT_EQ(ra["reference_check"]["mismatched_pixels"], 0);
+  EXPECT_EQ(ra["per_light"], rb["per_light"]) << "the same shadow rays, generated and culled";
+  EXPECT_EQ(slurp(one / "render.png"), slurp(two / "render.png"));
+  EXPECT_EQ(slurp(one / "mask.npy"), slurp(two / "mask.npy"));
+  EXPECT_NE(ra["cycles_total"], rb["cycles_total"]) << "the overlap changes the timing";
+  fs::remove_all(one);
+  fs::remove_all(two);
+}
+
 TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
   const fs::path dir = test::temp_dir("cli_set");
   const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
@@ -373,6 +392,7 @@ TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
   expect_input_error(base + "scene.kdtree.max_depth=deep", {"city.yaml", "kdtree.max_depth", "expected an integer"});
   expect_input_error(base + "run.lvb=sometimes", {"--set run.lvb=sometimes", "true or false"});
   expect_input_error(base + "run.lvb_bounds=sphere", {"lvb_bounds", "'cell' or 'geometry'"});
+  expect_input_error(base + "hw.schedule=eager", {"--set hw.schedule=eager", "'two-phase' or 'one-phase'"});
   expect_input_error(base + "cache.size=3", {"--set cache.size=3", "'hw.', 'scene.' or 'run.'"});
   expect_input_error(base + "hw.trv", {"--set hw.trv", "no '='"});
   expect_input_error("run " + (dir / "nothere.yaml").string() + " --hw " + hw + " --out " + (dir / "o").string(),
