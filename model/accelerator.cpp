@@ -48,6 +48,7 @@ void AcceleratorConfig::validate() const {
   validate_type(list, "list", true);
   validate_type(ist, "ist", true);
   validate_type(shading, "shading", false);
+  if (shading.count != 1) throw std::invalid_argument("shading.count: expected 1 (the model has one shading unit)");
   if (list.l2.line_bytes != trv.l2.line_bytes || ist.l2.line_bytes != trv.l2.line_bytes)
     throw std::invalid_argument("l2.line_bytes: the three L2s share one memory; expected equal line sizes");
   for (const UnitTypeConfig* u : {&trv, &list, &ist})

@@ -392,6 +392,7 @@ TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
   expect_input_error(base + "scene.kdtree.max_depth=deep", {"city.yaml", "kdtree.max_depth", "expected an integer"});
   expect_input_error(base + "run.lvb=sometimes", {"--set run.lvb=sometimes", "true or false"});
   expect_input_error(base + "run.lvb_bounds=sphere", {"lvb_bounds", "'cell' or 'geometry'"});
+  expect_input_error(base + "hw.shading.count=2", {"shading.count", "expected 1"});
   expect_input_error(base + "hw.schedule=eager", {"--set hw.schedule=eager", "'two-phase' or 'one-phase'"});
   expect_input_error(base + "cache.size=3", {"--set cache.size=3", "'hw.', 'scene.' or 'run.'"});
   expect_input_error(base + "hw.trv", {"--set hw.trv", "no '='"});
