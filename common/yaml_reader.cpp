@@ -33,6 +33,7 @@ ConfigOverride parse_override(const std::string& text) {
 
 YamlMap YamlMap::from_node(const YAML::Node& node, std::string file, std::string path,
                            const std::vector<ConfigOverride>& overrides) {
+  if (!node.IsMap()) throw_at_line(file, node.Mark().line + 1, path.empty() ? "expected a mapping of keys" : fmt::format("key '{}': expected a mapping of keys", path));
   auto origins = std::make_shared<std::map<std::string, std::string>>();
   for (const ConfigOverride& o : overrides) {
     YAML::Node at = node;
@@ -50,7 +51,6 @@ YamlMap YamlMap::from_node(const YAML::Node& node, std::string file, std::string
       at.reset(next);
     }
   }
-  if (!node.IsMap()) throw_at_line(file, node.Mark().line + 1, "expected a mapping of keys");
   YamlMap m(node, std::move(file), std::move(path));
   m.overridden_ = std::move(origins);
   return m;

@@ -158,7 +158,9 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   shading.on_retire = [&](RayType type, Tick when) {
     const Tick now = Scheduler::instance().now();
     end = std::max(end, when);
-    if (!generator.finished()) generator.wake(now);  // a ray slot is free
+    // A ray slot is free: whoever waits for one.
+    if (!generator.finished()) generator.wake(now);
+    if (cfg.schedule == Schedule::kOnePhase) culling.wake(now);
     if (type == RayType::kPrimary) {
       ++primaries_retired;
       primary_end = std::max(primary_end, when);

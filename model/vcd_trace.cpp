@@ -8,8 +8,7 @@ namespace rtsim::model {
 VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock) : request_(request), clock_(clock) {
   // SystemC appends ".vcd"; the file gets its own name only when complete.
   temp_base_ = request_.file + ".part";
-  file_ = sc_core::sc_create_vcd_trace_file(temp_base_.c_str());
-  if (!file_) throw std::runtime_error("cannot create trace file " + request_.file);
+  file_ = sc_core::sc_create_vcd_trace_file(temp_base_.c_str());  // opened at sc_start
   file_->set_time_unit(1, sc_core::SC_PS);
   probe_ = std::make_unique<PeriodicProbe>("vcd_probe", clock_.period(), [this](Tick now) { return sample(now); });
 }
@@ -52,8 +51,10 @@ bool VcdTrace::sample(Tick now) {
 void VcdTrace::close() {
   sc_core::sc_close_vcd_trace_file(file_);
   file_ = nullptr;
-  if (std::rename((temp_base_ + ".vcd").c_str(), request_.file.c_str()) != 0)
+  if (std::rename((temp_base_ + ".vcd").c_str(), request_.file.c_str()) != 0) {
+    std::remove((temp_base_ + ".vcd").c_str());
     throw std::runtime_error("cannot move the trace to " + request_.file);
+  }
 }
 
 }  // namespace rtsim::model

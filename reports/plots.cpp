@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 
 #include <cstdlib>
+#include <fcntl.h>
+#include <fstream>
 #include <filesystem>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -30,12 +32,28 @@ std::string make_plots(const std::string& kind, const std::string& dir) {
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
+  // Its output goes to a scratch file: on failure the last line says why, and nothing else is printed.
+  const std::string log = (std::filesystem::path(dir) / ".plots.log").string();
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&actions, 1, 2);
   pid_t pid = 0;
-  if (posix_spawnp(&pid, py.c_str(), nullptr, nullptr, argv.data(), environ) != 0) return "cannot start " + py;
+  const int spawned = posix_spawnp(&pid, py.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (spawned != 0) return "cannot start " + py;
   int status = 0;
-  if (waitpid(pid, &status, 0) < 0) return "lost " + py;
+  const bool waited = waitpid(pid, &status, 0) >= 0;
+  std::string last;
+  {
+    std::ifstream in(log);
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) last = line;
+  }
+  std::filesystem::remove(log);
+  if (!waited) return "lost " + py;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return fmt::format("{} {} {} {} failed (status {})", py, script, kind, dir, status);
+    return fmt::format("{} {} {} {} failed{}{}", py, script, kind, dir, last.empty() ? "" : ": ", last);
   return "";
 }
 

@@ -41,8 +41,8 @@ double json_number(const nlohmann::json& j, const std::string& path) {
     const size_t dot = path.find('.', start);
     const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
     if (at->is_object() && at->contains(key)) at = &(*at)[key];
-    else if (at->is_array() && !key.empty() && key.find_first_not_of("0123456789") == std::string::npos &&
-             std::stoul(key) < at->size())
+    else if (at->is_array() && !key.empty() && key.size() < 10 &&
+             key.find_first_not_of("0123456789") == std::string::npos && std::stoul(key) < at->size())
       at = &(*at)[std::stoul(key)];
     else return NAN;
     if (dot == std::string::npos) break;

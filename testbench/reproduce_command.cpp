@@ -61,6 +61,7 @@ std::vector<uint16_t> read_npy_u16(const std::string& path) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (bytes.size() < 10) return {};
   const size_t header = 10 + size_t(uint8_t(bytes[8])) + 256 * size_t(uint8_t(bytes[9]));
+  if (header > bytes.size()) return {};
   std::vector<uint16_t> v((bytes.size() - header) / 2);
   for (size_t i = 0; i < v.size(); ++i)
     v[i] = uint16_t(uint8_t(bytes[header + 2 * i]) | (uint8_t(bytes[header + 2 * i + 1]) << 8));
@@ -97,7 +98,11 @@ int run_reproduce(const ReproduceArgs& a) {
     const fs::path file = fs::path(sweep_point_dir(a.out, p)) / "report.json";
     if (!fs::exists(file)) continue;
     std::ifstream in(file);
-    nlohmann::json r = nlohmann::json::parse(in);
+    nlohmann::json r = nlohmann::json::parse(in, nullptr, false);
+    if (r.is_discarded() || !r.contains("scene")) {
+      fmt::print(stderr, "rtsim: warning: {} is not a report; left out\n", file.string());
+      continue;
+    }
     const std::string scene = r["scene"]["name"].get<std::string>();
     if (runs.find(scene) == runs.end()) order.push_back(scene);
     runs[scene][p.values["variant"].get<std::string>()] = std::move(r);
@@ -244,7 +249,7 @@ int run_reproduce(const ReproduceArgs& a) {
         "some shadows are lost (the pixel counts above). Our exact mode also tests the own leaf's triangles and the "
         "true shadow-ray origins, and changes no pixel (docs/lvb.md).\n"
         "- **Timing model.** Ours is a transaction-level model with the paper's unit counts, latencies and caches "
-        "(docs/model-design.md); the DRAM is GT200's GDDR3 (GPGPU-Sim's timing). \"Shadow\" time is the second phase "
+        "(docs/model-design.md); the DRAM is GT200's GDDR3 (GPGPU-Sim's timings, rescaled to 1 GHz). \"Shadow\" time is the second phase "
         "of a two-phase frame. Absolute milliseconds depend on these choices; compare the reductions.\n"
         "- **Where the time goes.** Each run's report.md has unit utilisation: when TRV units are the bottleneck, the "
         "culled rays (short ones, near the lights) remove less work than their share of rays.\n\n";

@@ -70,9 +70,8 @@ int run_model(const RunArgs& args) {
   RunConfig c = resolve_run_config(args.sources);
   model::SimulationHooks hooks;
   if (!args.trace_file.empty()) hooks.trace = parse_trace_request(args.trace_file, args.trace_window);
+  // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that ran.
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
-  c.run.width = p.scene.width;  // config.json records the resolution that ran
-  c.run.height = p.scene.height;
 
   nlohmann::json lvb_json = nullptr;
   double lvb_seconds = 0;

@@ -103,6 +103,14 @@ model::TraceRequest parse_trace_request(const std::string& file, const std::stri
   model::TraceRequest t;
   t.file = file;
   t.end_cycle = 100000;
+  // SystemC opens the file only when the simulation starts: check now that it can be written.
+  const std::string probe = file + ".part.vcd";
+  if (std::FILE* f = std::fopen(probe.c_str(), "w")) {
+    std::fclose(f);
+    std::remove(probe.c_str());
+  } else {
+    throw InputError(fmt::format("--trace {}: cannot write there", file));
+  }
   if (window.empty()) return t;
   unsigned long long a = 0, b = 0;
   char tail = 0;

@@ -23,7 +23,7 @@ struct RunSettings {
   bool lvb = true;               // shadow-ray culling with the precomputed LVB words
   LvbParams lvb_params;          // method, bounds, self-occlusion (the exact mode by default)
   int reflections = 0;           // mirror bounces
-  int width = 0, height = 0;     // 0 = the scene file's resolution
+  int width = 0, height = 0;     // 0 = the scene file's resolution (which --set scene.resolution changes)
   bool check = false;            // compare every pixel with the reference tracer
   bool plots = true;             // the PNG figures (python3 + matplotlib)
 };

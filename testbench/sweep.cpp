@@ -9,7 +9,10 @@
 
 #include <fmt/format.h>
 
+#include <cerrno>
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <csignal>
 #include <fcntl.h>
@@ -47,13 +50,13 @@ std::string emit_flow(const YAML::Node& n) {
 nlohmann::json typed(const YAML::Node& n) {
   if (!n.IsScalar()) return emit_flow(n);
   const std::string s = n.Scalar();
-  try {
-    size_t used = 0;
-    const long long i = std::stoll(s, &used);
-    if (used == s.size()) return i;
-    const double d = std::stod(s, &used);
-    if (used == s.size() && std::isfinite(d)) return d;
-  } catch (const std::exception&) {
+  if (!s.empty()) {
+    char* end = nullptr;
+    errno = 0;
+    const long long i = std::strtoll(s.c_str(), &end, 10);
+    if (*end == '\0' && errno == 0) return i;
+    const double d = std::strtod(s.c_str(), &end);
+    if (*end == '\0' && std::isfinite(d)) return d;
   }
   bool b = false;
   if (YAML::convert<bool>::decode(n, b)) return b;
@@ -82,6 +85,17 @@ std::vector<std::pair<std::string, std::string>> read_overrides(YamlMap& parent,
 fs::path beside(const std::string& file, const std::string& rel) {
   const fs::path p(rel);
   return p.is_absolute() ? p : (fs::path(file).parent_path() / p).lexically_normal();
+}
+
+// FNV-1a over a file's bytes: the manifest remembers what the inputs were.
+std::string file_digest(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint64_t h = 1469598103934665603ull;
+  char buf[65536];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ uint8_t(buf[i])) * 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
 }
 
 std::string point_dir(const std::string& dir, const SweepPoint& p) { return (fs::path(dir) / "points" / p.id).string(); }
@@ -164,6 +178,26 @@ double metric_value(const std::string& name, const nlohmann::json& r) {
   return json_number(r, name);  // any numeric field of report.json by its dotted path
 }
 
+bool is_metric(const std::string& name) {
+  static const std::vector<std::string> named = [] {
+    std::vector<std::string> v{"frame_ms_all", "frame_ms_shadow", "rays_primary", "rays_shadow", "shadow_culled",
+                               "shadow_culled_rate", "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
+                               "dram_reads"};
+    for (const char* type : {"trv", "list", "ist", "shading"}) {
+      v.push_back(fmt::format("{}_busy", type));
+      for (const char* level : {"l1", "l2"}) v.push_back(fmt::format("{}_{}_hit_rate", type, level));
+    }
+    return v;
+  }();
+  if (std::find(named.begin(), named.end(), name) != named.end()) return true;
+  const std::string head = name.substr(0, name.find('.'));
+  for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz"})
+    if (name == key) return true;
+  for (const char* key : {"frame_ms", "rays", "per_light", "lvb", "kdtree", "scene", "stats"})
+    if (head == key && name.size() > head.size() + 1) return true;
+  return false;
+}
+
 }  // namespace
 
 SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set) {
@@ -171,6 +205,8 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   SweepSpec s;
   s.file = path;
   s.name = top.get<std::string>("name", fs::path(path).stem().string());
+  if (s.name.empty() || s.name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+    top.fail("name", "expected letters, digits, '_', '.' or '-' (it names jobs and files)");
   const YAML::Node scenes = top.raw_sequence("scenes");
   if (scenes.size() == 0) top.fail("scenes", "expected at least one scene file");
   for (const auto& n : scenes) {
@@ -214,6 +250,11 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   if (top.has("metrics")) {
     s.metrics = top.get<std::vector<std::string>>("metrics", {});
     if (s.metrics.empty()) top.fail("metrics", "expected at least one metric");
+    for (const std::string& m : s.metrics)
+      if (!is_metric(m))
+        top.fail("metrics", fmt::format("'{}': expected a metric name (configs/README.md) or a dotted path into "
+                                        "report.json (cycles_*, frame_ms.*, rays.*, per_light.*, lvb.*, kdtree.*, "
+                                        "scene.*, stats.*)", m));
   } else {
     s.metrics = kDefaultMetrics;
   }
@@ -270,8 +311,11 @@ nlohmann::json sweep_manifest(const SweepSpec& s) {
   nlohmann::json points = nlohmann::json::array();
   for (const SweepPoint& p : s.points)
     points.push_back({{"index", p.index}, {"id", p.id}, {"scene_file", p.scene_file}, {"values", p.values}, {"set", p.set}});
+  nlohmann::json inputs = {{s.hw_file, file_digest(s.hw_file)}};
+  for (const std::string& scene : s.scenes) inputs[scene] = file_digest(scene);
   return {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},     {"hw_file", s.hw_file},
-          {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points}};
+          {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points},
+          {"inputs", inputs}};
 }
 
 nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann::json& report) {
@@ -351,8 +395,12 @@ void claim_directory(const SweepSpec& s, const std::string& dir) {
   nlohmann::json mine = sweep_manifest(s);
   if (fs::exists(file)) {
     nlohmann::json theirs = read_json(file.string());
-    if (theirs.value("points", nlohmann::json()) != mine["points"] || theirs.value("hw_file", "") != s.hw_file)
-      throw InputError(fmt::format("{}: holds the manifest of another sweep (its points differ); use another --out",
+    // Everything but where the sweep file lives: the points, the metrics and the inputs' contents.
+    if (theirs.is_object()) theirs.erase("sweep_file");
+    mine.erase("sweep_file");
+    if (theirs != mine)
+      throw InputError(fmt::format("{}: holds the manifest of another sweep (its points, metrics or input files "
+                                   "differ); use another --out",
                                    file.string()));
     return;
   }
@@ -365,7 +413,6 @@ pid_t spawn_point(const std::string& dir, const SweepPoint& p) {
   const fs::path out = point_dir(dir, p);
   fs::create_directories(out);
   const std::string log = (out / "log.txt").string();
-  const std::string self = fs::read_symlink("/proc/self/exe").string();
   const std::string index = std::to_string(p.index);
   const pid_t parent = getpid();
   const pid_t pid = fork();
@@ -379,7 +426,8 @@ pid_t spawn_point(const std::string& dir, const SweepPoint& p) {
       dup2(fd, 2);
       close(fd);
     }
-    execl(self.c_str(), self.c_str(), "sweep", "--out", dir.c_str(), "--point", index.c_str(), (char*)nullptr);
+    // The running binary itself, even if the file was rebuilt or removed meanwhile.
+    execl("/proc/self/exe", "rtsim", "sweep", "--out", dir.c_str(), "--point", index.c_str(), (char*)nullptr);
     _exit(127);
   }
   return pid;
@@ -405,6 +453,7 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
   std::fflush(stdout);
   std::map<pid_t, std::pair<const SweepPoint*, std::chrono::steady_clock::time_point>> running;
   size_t next = 0, finished = 0, failed = 0;
+  auto last_write = std::chrono::steady_clock::now();
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && running.size() < size_t(jobs)) {
       const SweepPoint* p = todo[next++];
@@ -430,7 +479,11 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
                  point_dir(dir, *p));
     }
     std::fflush(stdout);
-    write_sweep_results(s, dir);
+    // Keep results current while points finish, but do not reread every row after each point.
+    if (std::chrono::steady_clock::now() - last_write > std::chrono::seconds(2)) {
+      write_sweep_results(s, dir);
+      last_write = std::chrono::steady_clock::now();
+    }
   }
   const size_t rows = write_sweep_results(s, dir);
   std::string note;
@@ -447,6 +500,10 @@ int emit_slurm(const SweepSpec& s, const std::string& dir) {
   claim_directory(s, dir);
   const fs::path abs_dir = fs::absolute(dir).lexically_normal();
   const std::string self = fs::read_symlink("/proc/self/exe").string();
+  // #SBATCH lines cannot quote: keep the paths plain.
+  for (const std::string& p : {abs_dir.string(), self, fs::current_path().string()})
+    if (p.find_first_of(" \t\n'\"$`\\") != std::string::npos)
+      throw InputError(fmt::format("--emit slurm: the path '{}' has a space, quote or shell character; use a plain path", p));
   const std::string script = fmt::format(
       "#!/bin/bash\n"
       "# rtsim sweep '{name}' as a Slurm job array: one task per point of {dir}/manifest.json.\n"
@@ -493,7 +550,12 @@ int run_sweep_command(const SweepArgs& a) {
     if (!a.file.empty() || !a.set.empty()) throw InputError("--point runs a point of DIR/manifest.json: give only --out");
     const std::string file = (fs::path(a.out) / "manifest.json").string();
     if (!fs::exists(file)) throw InputError(file + ": file not found (emit or start the sweep first)");
-    const SweepSpec s = spec_from_manifest(read_json(file), file);
+    const nlohmann::json manifest = read_json(file);
+    const SweepSpec s = spec_from_manifest(manifest, file);
+    const nlohmann::json inputs = manifest.value("inputs", nlohmann::json::object());
+    for (const auto& [input, digest] : inputs.items())
+      if (file_digest(input) != digest.get<std::string>())
+        throw InputError(fmt::format("{}: changed since the sweep in {} began (its points would mix inputs)", input, a.out));
     return run_point(s, a.out, point_by_index(s, a.point, file));
   }
   if (a.file.empty()) throw InputError("expected a sweep file (or --merge DIR, or --out DIR --point I)");

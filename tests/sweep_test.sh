@@ -6,49 +6,87 @@ set -euo pipefail
 rtsim=$1
 src=$2
 work=$(mktemp -d)
-trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
 
+cp "$src/configs/hw/tni-paper.yaml" "$work/hw.yaml"
 cat > "$work/sweep.yaml" <<YAML
 name: test-sweep
 scenes: [$src/configs/scenes/city.yaml]
-hw: $src/configs/hw/tni-paper.yaml
+hw: $work/hw.yaml
 set: {scene.resolution: [200, 112]}
 axes:
   hw.trv.l1.size_kb: [4, 8, 16, 32]
   run.lvb: [on, off]
 YAML
 
-# 1. Kill one running point's process; the sweep goes on and reports it.
+sweep_pid=""
+trap '[ -n "$sweep_pid" ] && kill "$sweep_pid" 2>/dev/null; rm -rf "$work"' EXIT
+
+# Once a first point has finished, the pid of a point process whose row is not written yet.
+running_point() {
+  local dir=$1 pid point
+  compgen -G "$dir/points/*/row.json" > /dev/null || return 1
+  for pid in $(pgrep -P "$sweep_pid"); do
+    point=$(tr '\0' ' ' < "/proc/$pid/cmdline" 2>/dev/null | sed -n 's/.*--point \([0-9]*\).*/\1/p')
+    [ -n "$point" ] || continue
+    [ -e "$dir/points/$(printf 'p%04d' "$point")/row.json" ] && continue
+    echo "$pid"
+    return 0
+  done
+  return 1
+}
+wait_for_running_point() {
+  local victim=""
+  for _ in $(seq 1 6000); do
+    victim=$(running_point "$1") && break
+    sleep 0.01
+  done
+  [ -n "$victim" ] || fail "no running point seen"
+  echo "$victim"
+}
+rows_of() { ls "$1"/points/*/row.json 2> /dev/null | wc -l; }
+
+# 1. Kill one running point's process midway; the sweep finishes the others and reports it.
 "$rtsim" sweep "$work/sweep.yaml" --out "$work/a" --jobs 2 --no-plots > "$work/first.log" 2>&1 &
 sweep_pid=$!
-# Midway: once a first point has finished, kill a point that is running.
-victim=""
-for _ in $(seq 1 1000); do
-  if compgen -G "$work/a/points/*/row.json" > /dev/null; then
-    victim=$(pgrep -n -P "$sweep_pid" || true)  # the newest: far from finishing
-    [ -n "$victim" ] && break
-  fi
-  sleep 0.01
-done
-[ -n "$victim" ] || fail "no point process seen"
-kill -KILL "$victim"
+kill -KILL "$(wait_for_running_point "$work/a")"
 set +e
 wait "$sweep_pid"
 code=$?
 set -e
 cat "$work/first.log"
-[ "$code" -eq 1 ] || fail "the sweep with a killed point exited with $code, expected 1"
-grep -q "FAILED (killed by signal 9" "$work/first.log" || fail "the killed point is not reported"
-done_first=$(ls "$work"/a/points/*/row.json | wc -l)
-[ "$done_first" -eq 7 ] || fail "$done_first rows after the first run, expected 7"
+done_first=$(rows_of "$work/a")
+if grep -q "FAILED (killed by signal 9" "$work/first.log"; then
+  [ "$code" -eq 1 ] || fail "the sweep with a killed point exited with $code, expected 1"
+  [ "$done_first" -eq 7 ] || fail "$done_first rows after the first run, expected 7"
+else
+  # The point wrote its row in the instant before the kill: nothing to resume from this part.
+  [ "$done_first" -eq 8 ] || fail "no point reported killed, yet $done_first rows"
+fi
 
-# 2. The rerun runs only the missing point.
+# 2. The rerun runs only the missing point(s).
 "$rtsim" sweep "$work/sweep.yaml" --out "$work/a" --jobs 2 --no-plots > "$work/second.log" 2>&1 || fail "rerun failed"
 cat "$work/second.log"
-grep -q "8 points, 7 already done, running 1 with 2 jobs" "$work/second.log" || fail "the rerun did not run just the missing point"
+grep -q "8 points, $done_first already done, running $((8 - done_first)) with 2 jobs" "$work/second.log" ||
+  fail "the rerun did not run just the missing points"
 rows=$(($(wc -l < "$work/a/results.csv") - 1))
 [ "$rows" -eq 8 ] || fail "results.csv has $rows rows, expected 8"
+
+# 2b. Kill the sweep itself midway: its points die with it, the rerun runs the rest.
+"$rtsim" sweep "$work/sweep.yaml" --out "$work/c" --jobs 2 --no-plots > /dev/null 2>&1 &
+sweep_pid=$!
+wait_for_running_point "$work/c" > /dev/null
+kill -KILL "$sweep_pid"
+wait "$sweep_pid" 2> /dev/null || true
+sweep_pid=""
+sleep 0.5  # the points get SIGTERM when their parent dies
+pgrep -f "sweep --out $work/c --point" > /dev/null && fail "point processes outlived the sweep"
+done_c=$(rows_of "$work/c")
+[ "$done_c" -lt 8 ] || fail "every point finished before the kill"
+"$rtsim" sweep "$work/sweep.yaml" --out "$work/c" --jobs 2 --no-plots > "$work/c.log" 2>&1 || fail "rerun after a killed sweep failed"
+grep -q "8 points, $done_c already done, running $((8 - done_c)) with 2 jobs" "$work/c.log" || fail "rerun after a killed sweep"
+[ "$(rows_of "$work/c")" -eq 8 ] || fail "rows after the rerun"
+cmp "$work/a/results.csv" "$work/c/results.csv" || fail "the same sweep gave different results"
 
 # 3. The same sweep for Slurm: the script parses, one array task by hand gives the local row.
 "$rtsim" sweep "$work/sweep.yaml" --out "$work/b" --emit slurm > /dev/null
@@ -64,12 +102,17 @@ set -e
 grep -q "merged 1 of 8 points" "$work/merge.log" || fail "merge count"
 [ "$(($(wc -l < "$work/b/results.csv") - 1))" -eq 1 ] || fail "merged results.csv should have 1 row"
 
-# 4. A directory holding another sweep is refused.
+# 4. A directory holding another sweep is refused: other points, or an input file that changed.
+refused() {
+  set +e
+  "$rtsim" sweep "$work/sweep.yaml" --out "$work/a" --no-plots > /dev/null 2> "$work/other.err"
+  local code=$?
+  set -e
+  [ "$code" -eq 2 ] || fail "$1: exited with $code, expected 2"
+  grep -q "another sweep" "$work/other.err" || fail "$1: message"
+}
+echo "# edited" >> "$work/hw.yaml"
+refused "a changed hardware file"
 sed -i 's/\[4, 8, 16, 32\]/[2, 4]/' "$work/sweep.yaml"
-set +e
-"$rtsim" sweep "$work/sweep.yaml" --out "$work/a" --no-plots > /dev/null 2> "$work/other.err"
-code=$?
-set -e
-[ "$code" -eq 2 ] || fail "another sweep in the same directory exited with $code, expected 2"
-grep -q "another sweep" "$work/other.err" || fail "message for another sweep"
+refused "other points"
 echo "sweep test passed"
