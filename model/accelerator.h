@@ -1,7 +1,7 @@
 // The accelerator: ray generator -> TRV -> LIST -> IST -> shading -> shadow culling -> TRV, with
 // an L1 per unit, an L2 per unit type, one GDDR3 memory, all built from one plain config struct.
-// It runs a frame in two phases (all primary rays, then all shadow rays) and reports per-pixel
-// results and named statistics.
+// It runs a frame in two phases (all primary rays, then all shadow rays) or in one (shadow rays
+// as soon as their hit is shaded), and reports per-pixel results and named statistics.
 #pragma once
 
 #include "kernels/memory_image.h"
