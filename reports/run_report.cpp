@@ -153,14 +153,14 @@ std::string run_report_markdown(const nlohmann::json& r) {
   if (!r["reference_check"].is_null()) {
     const nlohmann::json& c = r["reference_check"];
     md << fmt::format("## Reference check\n\n{} of {} pixels differ from the reference tracer; image {}; culled counts {}.\n\n",
-                      c["mismatched_pixels"].get<uint64_t>(), c["pixels"].get<uint64_t>(),
+                      num(c["mismatched_pixels"].get<double>()), num(c["pixels"].get<double>()),
                       c["image_identical"].get<bool>() ? "identical" : "different",
                       c["culled_counts_identical"].get<bool>() ? "identical" : "different");
   }
   const nlohmann::json& host = r["host"];
-  md << fmt::format("## Host\n\n{:.1f} s in all ({:.1f} s simulating: {:.0f} rays/s, {:.0f} cycles/s), peak memory {:.0f} MB.\n\n",
+  md << fmt::format("## Host\n\n{:.1f} s in all ({:.1f} s simulating: {} rays/s, {} cycles/s), peak memory {:.0f} MB.\n\n",
                     host["seconds"]["total"].get<double>(), host["seconds"]["simulate"].get<double>(),
-                    host["rays_per_second"].get<double>(), host["cycles_per_second"].get<double>(),
+                    num(host["rays_per_second"].get<double>()), num(host["cycles_per_second"].get<double>()),
                     host["peak_memory_mb"].get<double>());
   md << "## Figures\n\n";
   for (const auto& [file, what] : std::vector<std::pair<std::string, std::string>>{
