@@ -97,6 +97,15 @@ def load_json(path):
         raise InputError(f"{path}: {e}") from None
 
 
+def load_parsed(folder, name, parse):
+    """Reads folder/name and parses it; the parser's messages name the bare file, so name the real one."""
+    path = os.path.join(folder, name)
+    try:
+        return parse(load_json(path))
+    except InputError as e:
+        raise InputError(str(e).replace(name, path, 1)) from None
+
+
 def save(fig, path, written):
     """Write fig to path atomically (temporary file in the same directory, then rename)."""
     folder, name = os.path.split(path)
@@ -356,12 +365,7 @@ def plot_cache_hit_rates(r, path, written):
 
 
 def run(folder, written):
-    path = os.path.join(folder, "report.json")
-    rep = load_json(path)
-    try:
-        r = parse_report(rep)
-    except InputError as e:  # parse_report's messages say "report.json"; name the real file
-        raise InputError(str(e).replace("report.json", path, 1)) from None
+    r = load_parsed(folder, "report.json", parse_report)
     npy = os.path.join(folder, "culled.npy")
     culled = load_culled(npy, r) if os.path.exists(npy) else None
     if culled is not None:
@@ -487,12 +491,7 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
 
 
 def sweep(folder, written):
-    path = os.path.join(folder, "results.json")
-    res = load_json(path)
-    try:
-        name, axes, metrics, rows = parse_results(res)
-    except InputError as e:
-        raise InputError(str(e).replace("results.json", path, 1)) from None
+    name, axes, metrics, rows = load_parsed(folder, "results.json", parse_results)
     scenes = distinct(rows, "scene")
     if len(scenes) > 1 and "scene" not in axes:
         axes = axes + ["scene"]  # several scenes: the scene is one more axis
@@ -775,12 +774,7 @@ def plot_reproduce_time(scenes, path, written):
 
 
 def reproduce(folder, written):
-    path = os.path.join(folder, "reproduction.json")
-    rep = load_json(path)
-    try:
-        scenes = parse_reproduction(rep)
-    except InputError as e:
-        raise InputError(str(e).replace("reproduction.json", path, 1)) from None
+    scenes = load_parsed(folder, "reproduction.json", parse_reproduction)
     plot_reproduce_culling(scenes, os.path.join(folder, "reproduce_culling.png"), written)
     plot_reproduce_time(scenes, os.path.join(folder, "reproduce_time.png"), written)
 
