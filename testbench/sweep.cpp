@@ -100,6 +100,10 @@ std::string file_digest(const std::string& path) {
 
 std::string point_dir(const std::string& dir, const SweepPoint& p) { return (fs::path(dir) / "points" / p.id).string(); }
 
+// A point is finished when its row is written (the last thing its run does).
+fs::path row_file(const std::string& dir, const SweepPoint& p) { return fs::path(point_dir(dir, p)) / "row.json"; }
+bool point_done(const std::string& dir, const SweepPoint& p) { return fs::exists(row_file(dir, p)); }
+
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot read");
@@ -339,9 +343,8 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
   for (size_t i = 0; i < header.size(); ++i) csv += (i ? "," : "") + header[i];
   csv += "\n";
   for (const SweepPoint& p : s.points) {
-    const fs::path row_file = fs::path(point_dir(dir, p)) / "row.json";
-    if (!fs::exists(row_file)) continue;
-    const nlohmann::json row = read_json(row_file.string());
+    if (!point_done(dir, p)) continue;
+    const nlohmann::json row = read_json(row_file(dir, p).string());
     rows.push_back(row);
     for (size_t i = 0; i < header.size(); ++i) {
       const nlohmann::json& v = row.contains(header[i]) ? row[header[i]] : nlohmann::json(nullptr);
@@ -367,7 +370,7 @@ namespace {
 // Runs one point in this process and writes its row.
 int run_point(const SweepSpec& s, const std::string& dir, const SweepPoint& p) {
   const fs::path out = point_dir(dir, p);
-  if (fs::exists(out / "row.json")) {
+  if (point_done(dir, p)) {
     fmt::print("{}: already done\n", p.id);
     return 0;
   }
@@ -379,7 +382,7 @@ int run_point(const SweepSpec& s, const std::string& dir, const SweepPoint& p) {
   args.quiet = true;
   const int code = run_model(args);
   if (code != 0) return code;
-  write_json((out / "row.json").string(), sweep_row(s, p, read_json((out / "report.json").string())));
+  write_json(row_file(dir, p).string(), sweep_row(s, p, read_json((out / "report.json").string())));
   return 0;
 }
 
@@ -445,18 +448,18 @@ std::string sweep_point_dir(const std::string& dir, const SweepPoint& p) { retur
 
 int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool plots) {
   claim_directory(s, dir);
-  std::vector<const SweepPoint*> todo;
+  std::vector<const SweepPoint*> missing;
   for (const SweepPoint& p : s.points)
-    if (!fs::exists(fs::path(point_dir(dir, p)) / "row.json")) todo.push_back(&p);
+    if (!point_done(dir, p)) missing.push_back(&p);
   fmt::print("sweep {}: {} points, {} already done, running {} with {} job{}\n", s.name, s.points.size(),
-             s.points.size() - todo.size(), todo.size(), jobs, jobs == 1 ? "" : "s");
+             s.points.size() - missing.size(), missing.size(), jobs, jobs == 1 ? "" : "s");
   std::fflush(stdout);
   std::map<pid_t, std::pair<const SweepPoint*, std::chrono::steady_clock::time_point>> running;
   size_t next = 0, finished = 0, failed = 0;
   auto last_write = std::chrono::steady_clock::now();
-  while (next < todo.size() || !running.empty()) {
-    while (next < todo.size() && running.size() < size_t(jobs)) {
-      const SweepPoint* p = todo[next++];
+  while (next < missing.size() || !running.empty()) {
+    while (next < missing.size() && running.size() < size_t(jobs)) {
+      const SweepPoint* p = missing[next++];
       running[spawn_point(dir, *p)] = {p, std::chrono::steady_clock::now()};
     }
     int status = 0;
@@ -468,14 +471,13 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
     running.erase(it);
     ++finished;
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    const bool ok = fs::exists(fs::path(point_dir(dir, *p)) / "row.json");
-    if (ok) {
-      fmt::print("[{}/{}] {} done in {:.1f} s ({})\n", finished, todo.size(), p->id, secs, describe(*p));
+    if (point_done(dir, *p)) {
+      fmt::print("[{}/{}] {} done in {:.1f} s ({})\n", finished, missing.size(), p->id, secs, describe(*p));
     } else {
       ++failed;
       const std::string why = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
                                                   : fmt::format("exit code {}", WEXITSTATUS(status));
-      fmt::print("[{}/{}] {} FAILED ({}; {}): see {}/log.txt\n", finished, todo.size(), p->id, why, describe(*p),
+      fmt::print("[{}/{}] {} FAILED ({}; {}): see {}/log.txt\n", finished, missing.size(), p->id, why, describe(*p),
                  point_dir(dir, *p));
     }
     std::fflush(stdout);
@@ -536,7 +538,7 @@ int run_sweep_command(const SweepArgs& a) {
     const size_t rows = write_sweep_results(s, a.merge_dir);
     std::string missing;
     for (const SweepPoint& p : s.points)
-      if (!fs::exists(fs::path(point_dir(a.merge_dir, p)) / "row.json")) missing += " " + p.id;
+      if (!point_done(a.merge_dir, p)) missing += " " + p.id;
     if (a.plots) {
       const std::string note = make_plots("sweep", a.merge_dir);
       if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);
