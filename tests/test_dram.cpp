@@ -199,22 +199,26 @@ TEST(DramController, DifferentChannelBitsGoToDifferentChannels) {
   for (const auto& r : trace) EXPECT_EQ(r.channel, r.id);
 }
 
+// Three reads 100 ns apart on an idle engine: a closed bank, then a row hit (row 0 is open), then
+// a row conflict. Returns their latencies.
+std::vector<Tick> idle_latencies(DramController& e) {
+  std::vector<DramController::Completion> done;
+  const std::vector<uint64_t> addrs{0, kCol1, kRow1};
+  for (uint64_t i = 0; i < addrs.size(); ++i) {
+    e.enqueue(addrs[i], i * 100 * kNs, i + 1);
+    e.advance((i + 1) * 100 * kNs, done);
+  }
+  EXPECT_EQ(done.size(), 3u);
+  std::vector<Tick> latency;
+  for (uint64_t i = 0; i < addrs.size(); ++i) latency.push_back(ready_of(done, i + 1) - i * 100 * kNs);
+  return latency;
+}
+
 TEST(DramController, IdleLatenciesAreTheClosedFormSums) {
   DramController e(gt200());
-  std::vector<DramController::Completion> done;
-  // Closed bank: tRCD + CL + BL/2 = 24 cycles = 30 ns.
-  e.enqueue(0, 0, 1);
-  e.advance(100 * kNs, done);
-  // Row hit (row 0 is open): CL + BL/2 = 12 cycles = 15 ns.
-  e.enqueue(kCol1, 100 * kNs, 2);
-  e.advance(200 * kNs, done);
-  // Row conflict: tRP + tRCD + CL + BL/2 = 34 cycles = 42.5 ns.
-  e.enqueue(kRow1, 200 * kNs, 3);
-  e.advance(300 * kNs, done);
-  ASSERT_EQ(done.size(), 3u);
-  EXPECT_EQ(ready_of(done, 1), 30 * kNs);
-  EXPECT_EQ(ready_of(done, 2), 100 * kNs + 15 * kNs);
-  EXPECT_EQ(ready_of(done, 3), 200 * kNs + 42500);
+  // Closed bank: tRCD + CL + BL/2 = 24 cycles = 30 ns; row hit: CL + BL/2 = 12 cycles = 15 ns;
+  // row conflict: tRP + tRCD + CL + BL/2 = 34 cycles = 42.5 ns.
+  EXPECT_EQ(idle_latencies(e), (std::vector<Tick>{30 * kNs, 15 * kNs, 42500}));
   EXPECT_EQ(e.stats().row_misses, 1u);
   EXPECT_EQ(e.stats().row_hits, 1u);
   EXPECT_EQ(e.stats().row_conflicts, 1u);
@@ -232,17 +236,8 @@ TEST(DramController, OneGigahertzPresetIdleLatencies) {
   EXPECT_EQ(c.tRP, 13u);
   EXPECT_EQ(c.tRC, 44u);
   DramController e(c);
-  std::vector<DramController::Completion> done;
-  e.enqueue(0, 0, 1);                   // closed bank: tRCD + CL + BL/2 = 30 cycles
-  e.advance(100 * kNs, done);
-  e.enqueue(kCol1, 100 * kNs, 2);       // row hit: CL + BL/2 = 15
-  e.advance(200 * kNs, done);
-  e.enqueue(kRow1, 200 * kNs, 3);       // row conflict: tRP + tRCD + CL + BL/2 = 43
-  e.advance(300 * kNs, done);
-  ASSERT_EQ(done.size(), 3u);
-  EXPECT_EQ(ready_of(done, 1), 30 * kNs);
-  EXPECT_EQ(ready_of(done, 2), 115 * kNs);
-  EXPECT_EQ(ready_of(done, 3), 243 * kNs);
+  // Closed bank tRCD + CL + BL/2 = 30 cycles, row hit CL + BL/2 = 15, conflict tRP + tRCD + CL + BL/2 = 43.
+  EXPECT_EQ(idle_latencies(e), (std::vector<Tick>{30 * kNs, 15 * kNs, 43 * kNs}));
 }
 
 TEST(DramController, RequestArrivingBetweenEdgesWaitsForTheNextEdge) {
