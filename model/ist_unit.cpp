@@ -14,10 +14,9 @@ void IstUnit::process(uint32_t id, Tick now) {
   if (r.tests_issued == 0) r.leaf_ray = traversal_leaf_ray(r.trav);
   const uint32_t tri = r.tris[r.tests_issued];
   const uint64_t addr = ctx_.header.triangles.base + uint64_t(tri) * image::kTriangleBytes;
-  const RecordFetch f = fetch(*l1_, id, addr, image::kTriangleBytes, now);
-  if (f.ready == kUnknown) return park(id, f.pending);
   uint8_t bytes[image::kTriangleBytes];
-  read_record(*l1_, addr, image::kTriangleBytes, bytes);
+  const Tick ready = load(*l1_, id, addr, image::kTriangleBytes, bytes, now);
+  if (ready == kUnknown) return;
   const image::TriangleRecord t = image::decode_triangle(bytes);
   ++stats_.tests;
   float t_hit;
@@ -29,7 +28,7 @@ void IstUnit::process(uint32_t id, Tick now) {
     if (r.type != RayType::kShadow && (after.tri != before.tri || after.t != before.t || after.leaf != before.leaf))
       lvb_->on_closest_hit(r);
   }
-  r.leaf_done_at = std::max<Tick>(r.leaf_done_at, std::max(f.ready, now) + ctx_.clock.cycles(latency_));
+  r.leaf_done_at = std::max<Tick>(r.leaf_done_at, std::max(ready, now) + ctx_.clock.cycles(latency_));
   if (++r.tests_issued < r.tris.size()) {
     keep(id, now + ctx_.clock.period());  // the next test issues as soon as next cycle
     return;

@@ -13,17 +13,16 @@ void ListUnit::process(uint32_t id, Tick now) {
   const image::Header& h = ctx_.header;
   if (r.prim_count == 0) {  // first the leaf record
     const uint64_t addr = h.leaves.base + uint64_t(r.trav.leaf) * image::kLeafBytes;
-    const RecordFetch f = fetch(*l1_, id, addr, image::kLeafBytes, now);
-    if (f.ready == kUnknown) return park(id, f.pending);
     uint8_t bytes[image::kLeafBytes];
-    read_record(*l1_, addr, image::kLeafBytes, bytes);
+    const Tick ready = load(*l1_, id, addr, image::kLeafBytes, bytes, now);
+    if (ready == kUnknown) return;
     const image::LeafRecord leaf = image::decode_leaf(bytes);
     ++stats_.leaves;
     r.prim_offset = leaf.prim_offset;
     r.prim_count = leaf.prim_count;
     r.leaf_lvb = leaf.lvb;  // the LVB updater takes it when a hit in this leaf becomes the closest
     r.prims_fetched = 0;
-    keep(id, std::max(f.ready, now) + ctx_.clock.cycles(latency_));
+    keep(id, std::max(ready, now) + ctx_.clock.cycles(latency_));
     return;
   }
   // Then the primitive list, one line at a time.

@@ -73,6 +73,17 @@ class RayUnit : public Unit, public FillListener {
     }
     return fetch_record(cache, addr, bytes, now, this, ray);
   }
+  // Reads a record for `ray` into `out` and returns when it is there; kUnknown when a line is still
+  // to come (the ray is parked until it arrives, then issues again and reads it).
+  Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, uint8_t* out, Tick now) {
+    const RecordFetch f = fetch(cache, ray, addr, bytes, now);
+    if (f.ready == kUnknown) {
+      park(ray, f.pending);
+      return kUnknown;
+    }
+    read_record(cache, addr, bytes, out);
+    return f.ready;
+  }
   // The ray leaves this unit through `out`, visible from `when`.
   void emit(RayFifo* out, uint32_t ray, Tick when, Tick now) {
     if (out->push(ray, when, now)) {

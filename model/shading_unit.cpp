@@ -29,21 +29,19 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   const image::Header& h = ctx_.header;
   if (r.stage == 0) {
     const uint64_t addr = h.triangles.base + uint64_t(r.trav.hit.tri) * image::kTriangleBytes;
-    const RecordFetch f = fetch(*l1_, id, addr, image::kTriangleBytes, now);
-    if (f.ready == kUnknown) return park(id, f.pending);
     uint8_t bytes[image::kTriangleBytes];
-    read_record(*l1_, addr, image::kTriangleBytes, bytes);
+    const Tick ready = load(*l1_, id, addr, image::kTriangleBytes, bytes, now);
+    if (ready == kUnknown) return;
     const image::TriangleRecord tri = image::decode_triangle(bytes);
     r.surface = surface_point(r.trav.ray, r.trav.hit.t, tri.v0, tri.v1, tri.v2);
     r.material = tri.material;
     r.stage = 1;
-    return keep(id, std::max(f.ready, now + ctx_.clock.period()));
+    return keep(id, std::max(ready, now + ctx_.clock.period()));
   }
   const uint64_t addr = h.materials.base + uint64_t(r.material) * image::kMaterialBytes;
-  const RecordFetch f = fetch(*l1_, id, addr, image::kMaterialBytes, now);
-  if (f.ready == kUnknown) return park(id, f.pending);
   uint8_t bytes[image::kMaterialBytes];
-  read_record(*l1_, addr, image::kMaterialBytes, bytes);
+  const Tick ready = load(*l1_, id, addr, image::kMaterialBytes, bytes, now);
+  if (ready == kUnknown) return;
   const image::MaterialRecord mat = image::decode_material(bytes);
   ++(r.type == RayType::kPrimary ? stats_.primary_rays : stats_.reflection_rays);
   ++(r.type == RayType::kPrimary ? stats_.primary_hits : stats_.reflection_hits);
@@ -52,7 +50,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   px.surface = r.surface;
   px.diffuse = mat.diffuse;
   px.reflectance = mat.reflectance;
-  const Tick done_at = std::max(f.ready, now) + ctx_.clock.cycles(latency_);
+  const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
   if (on_hit) on_hit(frame_->entry(r.pixel, r.depth), done_at);
   if (mat.reflectance > 0.f && r.depth + 1 < frame_->levels) {
     // A mirror: the ray goes on as its reflection, in the same slot of the same TRV unit.

@@ -27,16 +27,12 @@ void TrvUnit::process(uint32_t id, Tick now) {
     }
   }
   const uint64_t addr = ctx_.header.nodes.base + uint64_t(r.trav.node) * image::kNodeBytes;
-  const RecordFetch f = fetch(*l1_, id, addr, image::kNodeBytes, now);
   ++stats_.node_fetches;
-  if (f.ready == kUnknown) {
-    park(id, f.pending);
-    return;
-  }
   uint8_t bytes[image::kNodeBytes];
-  read_record(*l1_, addr, image::kNodeBytes, bytes);
+  const Tick ready = load(*l1_, id, addr, image::kNodeBytes, bytes, now);
+  if (ready == kUnknown) return;
   const TraversalStep step = traversal_node(r.trav, image::decode_node(bytes));
-  const Tick done_at = std::max(f.ready, now) + ctx_.clock.cycles(latency_);
+  const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
   switch (step) {
     case TraversalStep::kFetchNode:
       keep(id, done_at);
