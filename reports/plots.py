@@ -408,12 +408,16 @@ def sanitize(name):
     return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
 
 
+def check_schema(doc, where, schema):
+    if not isinstance(doc, dict):
+        raise InputError(f"{where}: not a JSON object")
+    if doc.get("schema") != schema:
+        raise InputError(f"{where}: schema is {doc.get('schema')!r}, expected {schema!r}")
+
+
 def parse_results(res):
     where = "results.json"
-    if not isinstance(res, dict):
-        raise InputError(f"{where}: not a JSON object")
-    if res.get("schema") != "rtsim-sweep/1":
-        raise InputError(f"{where}: schema is {res.get('schema')!r}, expected 'rtsim-sweep/1'")
+    check_schema(res, where, "rtsim-sweep/1")
     axes, metrics, rows = (field(res, key, where=where) for key in ("axes", "metrics", "rows"))
     for key, v in (("axes", axes), ("metrics", metrics)):
         if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
@@ -545,10 +549,7 @@ def reduction_pct(on, off):
 def parse_reproduction(rep):
     """Per scene, the percentages both figures need, checked up front so bad input writes no file."""
     where = "reproduction.json"
-    if not isinstance(rep, dict):
-        raise InputError(f"{where}: not a JSON object")
-    if rep.get("schema") != "rtsim-reproduction/1":
-        raise InputError(f"{where}: schema is {rep.get('schema')!r}, expected 'rtsim-reproduction/1'")
+    check_schema(rep, where, "rtsim-reproduction/1")
     scenes = field(rep, "scenes", where=where)
     if not isinstance(scenes, list) or not all(isinstance(s, dict) for s in scenes):
         raise InputError(f"{where}: field 'scenes' is not a list of objects")
