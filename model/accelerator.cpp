@@ -31,6 +31,11 @@ void validate_type(const UnitTypeConfig& u, const std::string& name, bool has_l2
   } catch (const std::invalid_argument& e) {
     bad("l1", e.what());
   }
+  try {
+    u.link.validate();
+  } catch (const std::invalid_argument& e) {
+    bad("link", e.what());
+  }
   if (has_l2) {
     try {
       u.l2.validate();
@@ -54,6 +59,11 @@ void AcceleratorConfig::validate() const {
   for (const UnitTypeConfig* u : {&trv, &list, &ist})
     if (u->l1.line_bytes > u->l2.line_bytes) throw std::invalid_argument("l1.line_bytes: expected <= the L2's");
   if (shading.l1.line_bytes > ist.l2.line_bytes) throw std::invalid_argument("shading.l1.line_bytes: expected <= the IST L2's");
+  try {
+    memory_link.validate();
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("memory_link: ") + e.what());
+  }
   if (ray_pool < 1 || ray_pool > (1u << 24)) throw std::invalid_argument("ray_pool: expected 1..16777216");
   if (tile < 1 || tile > 4096) throw std::invalid_argument("tile: expected 1..4096");
   if (watchdog_cycles < 1000) throw std::invalid_argument("watchdog_cycles: expected at least 1000");
@@ -80,10 +90,38 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   DramConfig dram_cfg = cfg.dram;
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
   Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock);
-  Cache trv_l2("trv.l2", cfg.trv.l2, ctx.clock, &dram);
-  Cache list_l2("list.l2", cfg.list.l2, ctx.clock, &dram);
-  Cache ist_l2("ist.l2", cfg.ist.l2, ctx.clock, &dram);
-  Cache shading_l1("shading.l1", cfg.shading.l1, ctx.clock, &ist_l2);
+  // The memory crossbar: every L2 bank is a source port, every DRAM channel a destination.
+  Crossbar memory_icnt("memory.icnt", cfg.memory_link, ctx.clock,
+                       cfg.trv.l2.banks + cfg.list.l2.banks + cfg.ist.l2.banks, dram.port_count());
+  const uint32_t line = cfg.trv.l2.line_bytes;
+  CrossbarPort trv_mem(&memory_icnt, 0, nullptr, &dram, line);
+  CrossbarPort list_mem(&memory_icnt, cfg.trv.l2.banks, nullptr, &dram, line);
+  CrossbarPort ist_mem(&memory_icnt, cfg.trv.l2.banks + cfg.list.l2.banks, nullptr, &dram, line);
+  Cache trv_l2("trv.l2", cfg.trv.l2, ctx.clock, &trv_mem);
+  Cache list_l2("list.l2", cfg.list.l2, ctx.clock, &list_mem);
+  Cache ist_l2("ist.l2", cfg.ist.l2, ctx.clock, &ist_mem);
+  trv_mem.set_requester(&trv_l2);
+  list_mem.set_requester(&list_l2);
+  ist_mem.set_requester(&ist_l2);
+  // A crossbar per unit type between its L1s and its L2's banks; the shading L1 is the IST
+  // crossbar's last source.
+  Crossbar trv_icnt("trv.icnt", cfg.trv.link, ctx.clock, cfg.trv.count, cfg.trv.l2.banks);
+  Crossbar list_icnt("list.icnt", cfg.list.link, ctx.clock, cfg.list.count, cfg.list.l2.banks);
+  Crossbar ist_icnt("ist.icnt", cfg.ist.link, ctx.clock, cfg.ist.count + 1, cfg.ist.l2.banks);
+  auto make_ports = [](Crossbar& xbar, Cache& l2, uint32_t n, const std::string& type) {
+    std::vector<std::unique_ptr<CrossbarPort>> v;
+    for (uint32_t i = 0; i < n; ++i) {
+      v.push_back(std::make_unique<CrossbarPort>(&xbar, i, nullptr, &l2, l2.config().line_bytes));
+      l2.name_requester(v.back().get(), type);
+    }
+    return v;
+  };
+  auto trv_ports = make_ports(trv_icnt, trv_l2, cfg.trv.count, "trv");
+  auto list_ports = make_ports(list_icnt, list_l2, cfg.list.count, "list");
+  auto ist_ports = make_ports(ist_icnt, ist_l2, cfg.ist.count, "ist");
+  CrossbarPort shading_port(&ist_icnt, cfg.ist.count, nullptr, &ist_l2, ist_l2.config().line_bytes);
+  ist_l2.name_requester(&shading_port, "shading");
+  Cache shading_l1("shading.l1", cfg.shading.l1, ctx.clock, &shading_port);
 
   FrameBuffer frame;
   frame.width = width;
@@ -97,19 +135,20 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
     for (uint32_t i = 0; i < n; ++i) v.push_back(std::make_unique<RayFifo>(prefix + std::to_string(i) + ".in", depth));
     return v;
   };
-  auto make_l1s = [&](const std::string& prefix, const UnitTypeConfig& u, Cache* l2) {
+  auto make_l1s = [&](const std::string& prefix, const UnitTypeConfig& u,
+                      std::vector<std::unique_ptr<CrossbarPort>>& ports) {
     std::vector<std::unique_ptr<Cache>> v;
     for (uint32_t i = 0; i < u.count; ++i)
-      v.push_back(std::make_unique<Cache>(prefix + std::to_string(i) + ".l1", u.l1, ctx.clock, l2));
+      v.push_back(std::make_unique<Cache>(prefix + std::to_string(i) + ".l1", u.l1, ctx.clock, ports[i].get()));
     return v;
   };
   auto trv_in = make_fifos("trv", cfg.trv.count, cfg.trv.fifo_depth);
   auto list_in = make_fifos("list", cfg.list.count, cfg.list.fifo_depth);
   auto ist_in = make_fifos("ist", cfg.ist.count, cfg.ist.fifo_depth);
   RayFifo done("shading.in", cfg.shading.fifo_depth);
-  auto trv_l1 = make_l1s("trv", cfg.trv, &trv_l2);
-  auto list_l1 = make_l1s("list", cfg.list, &list_l2);
-  auto ist_l1 = make_l1s("ist", cfg.ist, &ist_l2);
+  auto trv_l1 = make_l1s("trv", cfg.trv, trv_ports);
+  auto list_l1 = make_l1s("list", cfg.list, list_ports);
+  auto ist_l1 = make_l1s("ist", cfg.ist, ist_ports);
 
   std::vector<TrvUnit*> trv;
   std::vector<std::unique_ptr<TrvUnit>> trv_owned;
@@ -143,6 +182,11 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (auto& f : trv_in) trv_inputs.push_back(f.get());
   RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs);
   ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &shading_l1, &frame, trv_inputs);
+  for (uint32_t i = 0; i < cfg.trv.count; ++i) trv_l1[i]->name_requester(trv[i], "trv");
+  for (uint32_t j = 0; j < cfg.list.count; ++j) list_l1[j]->name_requester(list[j].get(), "list");
+  for (uint32_t k = 0; k < cfg.ist.count; ++k) ist_l1[k]->name_requester(ist[k].get(), "ist");
+  shading_l1.name_requester(&shading, "shading");
+  shading_l1.name_requester(&culling, "culling");
   for (auto& f : trv_in) {
     f->connect(&generator, nullptr);
     f->connect(&culling, nullptr);
@@ -288,6 +332,10 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   add_totals("trv", pointers(cache_tag, trv_l1), pointers(unit_tag, trv));
   add_totals("list", pointers(cache_tag, list_l1), pointers(unit_tag, list));
   add_totals("ist", pointers(cache_tag, ist_l1), pointers(unit_tag, ist));
+  trv_icnt.register_stats(reg, "trv.icnt", &end);
+  list_icnt.register_stats(reg, "list.icnt", &end);
+  ist_icnt.register_stats(reg, "ist.icnt", &end);
+  memory_icnt.register_stats(reg, "memory.icnt", &end);
   trv_l2.register_stats(reg, "trv.l2");
   list_l2.register_stats(reg, "list.l2");
   ist_l2.register_stats(reg, "ist.l2");

@@ -6,6 +6,7 @@
 
 #include "kernels/memory_image.h"
 #include "model/cache.h"
+#include "model/crossbar.h"
 #include "model/dram_config.h"
 #include "model/frame_buffer.h"
 #include "model/ray_generator.h"
@@ -28,6 +29,7 @@ struct UnitTypeConfig {
   uint32_t capacity = 16;     // rays held (TRV: rays owned, the ray accumulation buffer)
   uint32_t fifo_depth = 16;   // input FIFO
   CacheConfig l1, l2;
+  LinkConfig link;            // the crossbar between the type's L1s and its L2 (shading: the IST's)
 };
 
 // When shadow rays go: after every primary ray (two phases, the paper's Table 6), or as soon as
@@ -42,6 +44,7 @@ struct AcceleratorConfig {
   UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16}, {131072, 2, 64, 4, 64}};
   UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16}, {}};  // its L1 sits on the IST L2
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
+  LinkConfig memory_link;     // the crossbar between the L2 banks and the DRAM channels
   uint32_t ray_pool = 2048;   // rays in flight, all units together
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;

@@ -27,6 +27,9 @@ void CacheConfig::validate() const {
   if (ways > lines) bad("ways", "exceeds the number of lines (" + std::to_string(lines) + ")");
   if (lines % ways != 0) bad("size_bytes", "must be a multiple of ways * line_bytes");
   if (!is_pow2(lines / ways)) bad("size_bytes", "sets (" + std::to_string(lines / ways) + ") must be a power of two");
+  if (!is_pow2(banks) || banks > lines / ways)
+    bad("banks", "must be a power of two of at most the number of sets (" + std::to_string(lines / ways) + ")");
+  if (ports > 64) bad("ports", "expected 0 (unlimited) .. 64");
 }
 
 Cache::Cache(std::string name, const CacheConfig& cfg, const Clock& clock, LineSource* below)
@@ -44,6 +47,38 @@ Cache::Cache(std::string name, const CacheConfig& cfg, const Clock& clock, LineS
   mshr_of_.assign(n, 0);
   data_.assign(n * cfg_.line_bytes, 0);
   mshrs_.resize(cfg_.mshrs);
+  if (cfg_.ports > 0) banks_.assign(cfg_.banks, PortSchedule(clock_.period(), cfg_.ports));
+}
+
+void Cache::name_requester(const FillListener* requester, const std::string& type) {
+  const auto it = std::find(type_names_.begin(), type_names_.end(), type);
+  const uint32_t index = uint32_t(it - type_names_.begin());
+  if (it == type_names_.end()) {
+    type_names_.push_back(type);
+    stall_cycles_by_type_.push_back(0);
+  }
+  requester_type_.push_back({requester, index});
+}
+
+Tick Cache::lookup_slot(uint64_t line, Tick now, const FillListener* requester) {
+  const Tick slot = banks_[port_of(line)].reserve(now);
+  if (slot > now) {
+    const uint64_t wait = ceil_cycles(slot - now);
+    ++stats_.bank_stall_events;
+    stats_.bank_stall_cycles += wait;
+    uint32_t type = 0;
+    for (const auto& [who, t] : requester_type_)
+      if (who == requester) type = t;
+    stall_cycles_by_type_[type] += wait;
+  }
+  return slot;
+}
+
+Tick Cache::fill_slot(uint64_t line, Tick when) {
+  if (banks_.empty() || cfg_.fill_port == FillPort::kSeparate) return when;
+  const Tick slot = banks_[port_of(line)].reserve(when);
+  stats_.fill_stall_cycles += ceil_cycles(slot - when);
+  return slot;
 }
 
 uint32_t Cache::find_way(uint64_t line) const {
@@ -57,6 +92,7 @@ Tick Cache::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t
   if (line & (cfg_.line_bytes - 1))
     throw std::logic_error("cache " + name_ + ": line address " + std::to_string(line) + " not line-aligned");
   ++stats_.accesses;
+  if (!banks_.empty()) now = lookup_slot(line, now, listener);
   return access(line, now, listener, cookie, now, false);
 }
 
@@ -108,9 +144,10 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   lru_[victim] = ++stamp_;
 
   const Tick earliest = issue + hit_ticks_;
-  const Tick delivered = below_->fetch_line(line, earliest, this, line);
+  Tick delivered = below_->fetch_line(line, earliest, this, line);
   Mshr& m = mshrs_[mshr];
   if (delivered != kUnknown) {
+    delivered = fill_slot(line, delivered);
     std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
     ++stats_.fills;
     ready_[victim] = delivered;
@@ -129,6 +166,7 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   const uint32_t way = find_way(line);
   if (way == kNoWay || ready_[way] != kUnknown)
     throw std::logic_error("cache " + name_ + ": fill for line " + std::to_string(line) + " that is not awaited");
+  when = fill_slot(line, when);
   std::memcpy(&data_[size_t(way) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
   ++stats_.fills;
   ready_[way] = when;
@@ -176,6 +214,13 @@ void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {
   const CacheStats* s = &stats_;
   r.formula(prefix + ".hit_rate", [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; },
             "hits / accesses");
+  if (banks_.empty()) return;
+  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "lookups that waited for a slot of their bank");
+  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles lookups waited for a bank slot");
+  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles fills waited for a bank slot");
+  for (size_t t = 0; t < type_names_.size(); ++t)
+    r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t],
+              "cycles lookups from " + type_names_[t] + " waited for a bank slot");
 }
 
 }  // namespace rtsim::model

@@ -26,6 +26,17 @@
 //    (in arrival order, as an access made at the fill time) when an on_fill frees an MSHR; it
 //    then completes through listener->on_fill.
 //
+// Banks and ports: the array is split into `banks` banks by the lowest bits of the line number
+// (bank = line_addr / line_bytes mod banks, so consecutive lines go to consecutive banks), each
+// serving `ports` accesses per cycle (model/port_schedule.h: first come, first served in the
+// calendar's fixed order). A lookup takes a slot of its line's bank first and is made at that
+// slot's cycle; the wait is counted per requester type. A fill (a line arriving from below) is a
+// write into the array: with `fill_port` kShared it takes a slot of the same bank, competing with
+// lookups as in a single-ported SRAM bank, and the line is delivered at that slot; with kSeparate
+// (GPGPU-Sim's caches) fills have a port of their own and cost no lookup slot. A request that
+// waits for an MSHR is served from the MSHR queue when one frees, without a second bank slot.
+// `ports == 0` is the ideal cache: no bank limit at all.
+//
 // Statistics: accesses = hits + misses + mshr_merges (+ requests still queued; a queued
 // request is classified when it is finally served). mshr_stall_events counts requests that
 // waited for an MSHR or a way; mshr_stall_cycles their total wait, each rounded up to whole
@@ -38,6 +49,7 @@
 
 #include "model/memory_interface.h"
 #include "model/model_time.h"
+#include "model/port_schedule.h"
 #include "model/stats_registry.h"
 
 #include <cstdint>
@@ -46,12 +58,17 @@
 
 namespace rtsim::model {
 
+enum class FillPort { kShared, kSeparate };
+
 struct CacheConfig {
   uint32_t size_bytes = 8192;
   uint32_t ways = 2;
   uint32_t line_bytes = 64;  // power of two, >= 4
   uint32_t hit_latency = 1;  // cycles of the cache's clock (0 allowed: an ideal cache)
   uint32_t mshrs = 16;       // outstanding misses (distinct lines)
+  uint32_t banks = 1;        // power of two, at most the number of sets
+  uint32_t ports = 0;        // accesses per bank per cycle; 0: unlimited (ideal)
+  FillPort fill_port = FillPort::kShared;
 
   // Throws std::invalid_argument naming the offending field.
   void validate() const;
@@ -67,6 +84,9 @@ struct CacheStats {
   uint64_t mshr_stall_cycles = 0;
   uint64_t fills = 0;
   uint64_t evictions = 0;
+  uint64_t bank_stall_events = 0;  // lookups that found their bank's slots taken
+  uint64_t bank_stall_cycles = 0;
+  uint64_t fill_stall_cycles = 0;  // fills that waited for a slot of their bank
 };
 
 class Cache : public LineSource, public FillListener {
@@ -85,8 +105,18 @@ class Cache : public LineSource, public FillListener {
   // A fill from below for a line this cache asked for with an unknown time.
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
 
+  // The bank serving `line_addr` (a crossbar's destination port).
+  uint32_t port_of(uint64_t line_addr) const override {
+    return uint32_t((line_addr >> line_shift_) & (cfg_.banks - 1));
+  }
+  uint32_t port_count() const override { return cfg_.banks; }
+  // Bank waits are also counted per requester type; unnamed requesters count as "other".
+  void name_requester(const FillListener* requester, const std::string& type);
+
   // Registers <prefix>.accesses, .hits, .misses, .mshr_merges, .mshr_stall_events,
-  // .mshr_stall_cycles, .fills, .evictions and the formula .hit_rate (hits / accesses).
+  // .mshr_stall_cycles, .fills, .evictions and the formula .hit_rate (hits / accesses); with
+  // banks modelled also .bank.stall_events, .bank.stall_cycles, .bank.stall_cycles_by.<type>,
+  // .bank.fill_stall_cycles.
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
   const CacheStats& stats() const { return stats_; }
@@ -129,6 +159,10 @@ class Cache : public LineSource, public FillListener {
   Tick miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
             bool requeued);
   uint64_t ceil_cycles(Tick t) const { return (t + clock_.period() - 1) / clock_.period(); }
+  // The cycle a lookup by `requester` made at `now` gets a slot of the line's bank.
+  Tick lookup_slot(uint64_t line, Tick now, const FillListener* requester);
+  // The time a fill of `line` arriving at `when` is written into the array.
+  Tick fill_slot(uint64_t line, Tick when);
 
   std::string name_;
   CacheConfig cfg_;
@@ -148,6 +182,10 @@ class Cache : public LineSource, public FillListener {
 
   std::vector<Mshr> mshrs_;
   std::vector<Queued> queued_;
+  std::vector<PortSchedule> banks_;  // empty: ideal
+  std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;
+  std::vector<std::string> type_names_{"other"};
+  std::vector<uint64_t> stall_cycles_by_type_{0};
   CacheStats stats_;
 };
 

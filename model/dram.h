@@ -42,6 +42,9 @@ class Dram : public sc_core::sc_module, public LineSource, public Scheduler::Cli
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
   // Pointer into the memory image; std::out_of_range if the line is not wholly inside it.
   const uint8_t* line_data(uint64_t line_addr) const override;
+  // The channel a line maps to (a crossbar's destination port).
+  uint32_t port_of(uint64_t line_addr) const override { return engine_.mapping().decode(line_addr).channel; }
+  uint32_t port_count() const override { return engine_.config().channels; }
 
   const DramController& engine() const { return engine_; }
   const DramStats& stats() const { return engine_.stats(); }

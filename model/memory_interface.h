@@ -35,6 +35,10 @@ class LineSource {
   virtual Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) = 0;
   // The bytes of the line (the simulated memory's contents), valid once it is delivered.
   virtual const uint8_t* line_data(uint64_t line_addr) const = 0;
+  // Which of the level's ports serves the line (a cache bank, a DRAM channel): where a crossbar
+  // in front of it delivers the request.
+  virtual uint32_t port_of(uint64_t /*line_addr*/) const { return 0; }
+  virtual uint32_t port_count() const { return 1; }
 };
 
 }  // namespace rtsim::model

@@ -19,6 +19,11 @@ model::CacheConfig read_cache(YamlMap m, model::CacheConfig c) {
   c.line_bytes = get_u32(m, "line_bytes", c.line_bytes, 4, 4096);
   c.hit_latency = get_u32(m, "hit_latency", c.hit_latency, 0, 10000);
   c.mshrs = get_u32(m, "mshrs", c.mshrs, 1, 65536);
+  c.banks = get_u32(m, "banks", c.banks, 1, 1024);
+  c.ports = get_u32(m, "ports", c.ports, 0, 64);
+  const std::string fill = m.get<std::string>("fill_port", c.fill_port == model::FillPort::kShared ? "shared" : "separate");
+  if (fill != "shared" && fill != "separate") m.fail("fill_port", "expected 'shared' or 'separate'");
+  c.fill_port = fill == "shared" ? model::FillPort::kShared : model::FillPort::kSeparate;
   m.finish();
   try {
     c.validate();
@@ -28,6 +33,14 @@ model::CacheConfig read_cache(YamlMap m, model::CacheConfig c) {
   return c;
 }
 
+model::LinkConfig read_link(YamlMap m, model::LinkConfig l) {
+  l.latency = get_u32(m, "latency", l.latency, 0, 10000);
+  l.bytes_per_cycle = get_u32(m, "bytes_per_cycle", l.bytes_per_cycle, 0, 4096);
+  l.header_bytes = get_u32(m, "header_bytes", l.header_bytes, 0, 4096);
+  m.finish();
+  return l;
+}
+
 void read_unit(YamlMap m, model::UnitTypeConfig& u, bool has_l2) {
   u.count = get_u32(m, "count", u.count, 1, 1024);
   u.latency = get_u32(m, "latency", u.latency, 1, 10000);
@@ -35,6 +48,7 @@ void read_unit(YamlMap m, model::UnitTypeConfig& u, bool has_l2) {
   u.fifo_depth = get_u32(m, "fifo_depth", u.fifo_depth, 1, 65536);
   if (m.has("l1")) u.l1 = read_cache(m.map("l1"), u.l1);
   if (has_l2 && m.has("l2")) u.l2 = read_cache(m.map("l2"), u.l2);
+  if (has_l2 && m.has("link")) u.link = read_link(m.map("link"), u.link);
   m.finish();
 }
 
@@ -60,6 +74,7 @@ model::AcceleratorConfig read_hw_config(YamlMap top) {
   if (top.has("list")) read_unit(top.map("list"), c.list, true);
   if (top.has("ist")) read_unit(top.map("ist"), c.ist, true);
   if (top.has("shading")) read_unit(top.map("shading"), c.shading, false);
+  if (top.has("memory_link")) c.memory_link = read_link(top.map("memory_link"), c.memory_link);
   if (top.has("dram")) {
     YamlMap d = top.map("dram");
     const std::string preset = d.get<std::string>("preset", "gddr3-gt200-1ghz");
@@ -85,12 +100,21 @@ model::AcceleratorConfig read_hw_config(YamlMap top) {
 nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
   auto cache = [](const model::CacheConfig& k) {
     return nlohmann::json{{"size_kb", k.size_bytes / 1024}, {"ways", k.ways}, {"line_bytes", k.line_bytes},
-                          {"hit_latency", k.hit_latency}, {"mshrs", k.mshrs}};
+                          {"hit_latency", k.hit_latency}, {"mshrs", k.mshrs}, {"banks", k.banks},
+                          {"ports", k.ports},
+                          {"fill_port", k.fill_port == model::FillPort::kShared ? "shared" : "separate"}};
+  };
+  auto link = [](const model::LinkConfig& l) {
+    return nlohmann::json{
+        {"latency", l.latency}, {"bytes_per_cycle", l.bytes_per_cycle}, {"header_bytes", l.header_bytes}};
   };
   auto unit = [&](const model::UnitTypeConfig& u, bool l2) {
     nlohmann::json j = {{"count", u.count}, {"latency", u.latency}, {"capacity", u.capacity},
                         {"fifo_depth", u.fifo_depth}, {"l1", cache(u.l1)}};
-    if (l2) j["l2"] = cache(u.l2);
+    if (l2) {
+      j["l2"] = cache(u.l2);
+      j["link"] = link(u.link);
+    }
     return j;
   };
   return {{"clock_ghz", c.clock_ghz},
@@ -103,6 +127,7 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
           {"list", unit(c.list, true)},
           {"ist", unit(c.ist, true)},
           {"shading", unit(c.shading, false)},
+          {"memory_link", link(c.memory_link)},
           {"dram",
            {{"preset", c.dram.preset},
             {"channels", c.dram.channels},
