@@ -84,11 +84,14 @@ std::string run_report_markdown(const nlohmann::json& r) {
 
   const nlohmann::json& per_light = r["per_light"];
   if (lvb) {
-    md << "## Culled leaves (as Table 4)\n\n| light | culled leaves | non-empty leaves | rate |\n|---|---|---|---|\n";
+    // The paper's Table 4 divides by all leaves (empty ones included); only non-empty leaves get an LVB.
+    md << "## Culled leaves (as Table 4)\n\n| light | culled leaves | non-empty leaves | rate of non-empty leaves | "
+          "all leaves | rate of all leaves (the paper's) |\n|---|---|---|---|---|---|\n";
     const nlohmann::json& lp = r["lvb"]["per_light"];
+    const double all = kd["leaves"].get<double>();
     for (size_t l = 0; l < lp.size(); ++l) {
       const double c = lp[l]["culled_leaves"].get<double>(), n = lp[l]["nonempty_leaves"].get<double>();
-      md << fmt::format("| {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n));
+      md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n), num(all), pct(c, all));
     }
     md << "\n";
   }

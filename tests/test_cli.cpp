@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <sys/wait.h>
@@ -112,6 +113,23 @@ TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
   EXPECT_GE(j["preprocess_seconds"].get<double>(), 0.0);
   const std::vector<uint16_t> culled = read_npy_u16(out / "culled.npy", 36, 64);
   const std::vector<uint16_t> mask = read_npy_u16(out / "mask.npy", 36, 64);
+  // Table 4 both ways: culled leaves over the non-empty leaves, and over all leaves (empty ones
+  // included: the paper's denominator), in lvb.json and in the printed table.
+  EXPECT_NE(r.out.find("rate of all leaves"), std::string::npos);
+  const uint64_t all_leaves = j["kdtree"]["leaves"].get<uint64_t>();
+  EXPECT_GT(all_leaves, j["kdtree"]["nonempty_leaves"].get<uint64_t>()) << "the city tree has empty leaves";
+  for (size_t l = 0; l < j["per_light"].size(); ++l) {
+    const nlohmann::json& pl = j["per_light"][l];
+    const uint64_t c = pl["culled_leaves"].get<uint64_t>(), n = pl["nonempty_leaves"].get<uint64_t>();
+    EXPECT_EQ(pl["leaves"].get<uint64_t>(), all_leaves);
+    EXPECT_DOUBLE_EQ(pl["culled_rate_all_leaves"].get<double>(), double(c) / double(all_leaves));
+    EXPECT_DOUBLE_EQ(pl["culled_rate_nonempty_leaves"].get<double>(), double(c) / double(n));
+    char row[160];
+    std::snprintf(row, sizeof row, "| %zu | %llu | %llu | %.2f%% | %llu | %.2f%% |", l + 1, (unsigned long long)c,
+                  (unsigned long long)n, 100.0 * double(c) / double(n), (unsigned long long)all_leaves,
+                  100.0 * double(c) / double(all_leaves));
+    EXPECT_NE(r.out.find(row), std::string::npos) << row << " not in:\n" << r.out;
+  }
   uint64_t culled_rays = 0;
   for (size_t l = 0; l < j["per_light"].size(); ++l) {
     const nlohmann::json& pl = j["per_light"][l];
@@ -317,6 +335,23 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
   const std::string md = slurp(out / "report.md");
   for (const char* table : {"Table 3", "Table 4", "Table 5", "Table 6", "## Units", "## Caches", "## DRAM"})
     EXPECT_NE(md.find(table), std::string::npos) << table;
+  // Table 4 gives the culled-leaf rate of the non-empty leaves and of all leaves (the paper's).
+  EXPECT_NE(md.find("rate of all leaves"), std::string::npos);
+  auto commas = [](uint64_t v) {  // report.md's integers: thousands separated by commas
+    std::string d = std::to_string(v), out;
+    for (size_t i = 0; i < d.size(); ++i) out += (i > 0 && (d.size() - i) % 3 == 0 ? "," : "") + d.substr(i, 1);
+    return out;
+  };
+  const uint64_t all = rep["kdtree"]["leaves"].get<uint64_t>();
+  for (size_t l = 0; l < rep["lvb"]["per_light"].size(); ++l) {
+    const uint64_t c = rep["lvb"]["per_light"][l]["culled_leaves"].get<uint64_t>();
+    const uint64_t n = rep["lvb"]["per_light"][l]["nonempty_leaves"].get<uint64_t>();
+    char rates[64];
+    std::snprintf(rates, sizeof rates, "%.2f%% | %s | %.2f%% |", 100.0 * double(c) / double(n), commas(all).c_str(),
+                  100.0 * double(c) / double(all));
+    const std::string row = "| " + std::to_string(l + 1) + " | " + commas(c) + " | " + commas(n) + " | " + rates;
+    EXPECT_NE(md.find(row), std::string::npos) << row << " not in:\n" << md;
+  }
   // stats.csv carries every named statistic with the value in report.json.
   const std::string csv = slurp(out / "stats.csv");
   EXPECT_NE(csv.find("cycles_total," + rep["cycles_total"].dump() + "\n"), std::string::npos);
