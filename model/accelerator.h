@@ -38,13 +38,15 @@ enum class Schedule { kTwoPhase, kOnePhase };
 
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
-  // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36).
-  UnitTypeConfig trv{24, 8, 16, 16, {8192, 2, 64, 1, 16}, {131072, 2, 64, 4, 64}};
-  UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16}, {32768, 2, 64, 4, 64}};
-  UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16}, {131072, 2, 64, 4, 64}};
-  UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16}, {}};  // its L1 sits on the IST L2
+  // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
+  // ports and links as configs/README.md gives them with their sources: single-ported L1s; L2s
+  // of 8 single-ported banks (GPGPU-Sim's GT200); 32-byte flits, 8-byte headers, 2 cycles a hop.
+  UnitTypeConfig trv{24, 8, 16, 16, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
+  UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
+  UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
+  UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16, 1, 1}, {}, {}};  // its L1 sits on the IST L2
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
-  LinkConfig memory_link;     // the crossbar between the L2 banks and the DRAM channels
+  LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
   uint32_t ray_pool = 2048;   // rays in flight, all units together
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;
