@@ -41,53 +41,73 @@ const char* field_name(AddressMapping::Field f) {
   }
 }
 
-// GT200 as configured in GPGPU-Sim's configs/QuadroFX5800/gpgpusim.config. Its timing line is
-// "-gpgpu_dram_timing_opt 8:2:8:12:25:10:35:10:7:6", commented "GDDR3 timing from Samsung
-// K4J52324QH-HC12 @ 800MHz", fields {nbk:tCCD:tRRD:tRCD:tRAS:tRP:tRC:CL:WL:tWTR}.
+// GT200 as configured in GPGPU-Sim's QuadroFX5800 file, configs/deprecated-cfgs/QuadroFX5800/
+// gpgpusim.config (configs/QuadroFX5800/ before 2018; "cfg:N" = its line N at master 90ec3399
+// and at 5e8e8497). Its timing line (cfg:71), commented "GDDR3 timing from Samsung
+// K4J52324QH-HC12 @ 800MHz", reads at 5e8e8497
+//   -gpgpu_dram_timing_opt nbk=8:CCD=2:RRD=8:RCD=12:RAS=25:RP=10:RC=35:CL=10:WL=7:CDLR=6:WR=11
+// (until 2011-07 it had ten positional fields, the 10th (6) then read as tWTR; since 2011-08 the
+// 10th is tCDLR and an 11th, tWR = 11, follows: GPGPU-Sim derives tWTR = WL + BL/2 + tCDLR = 15).
 DramConfig gddr3_gt200() {
   DramConfig c;
   c.preset = "gddr3-gt200";
-  c.channels = 8;         // -gpgpu_n_mem 8
-  c.banks = 8;            // timing field 1, nbk = 8
-  c.tCK_ps = 1250;        // -gpgpu_clock_domains 325.0:650.0:650.0:800.0, DRAM clock 800 MHz
-  c.tCCD = 2;             // timing field 2
-  c.tRRD = 8;             // timing field 3
-  c.tRCD = 12;            // timing field 4
-  c.tRAS = 25;            // timing field 5
-  c.tRP = 10;             // timing field 6
-  c.tRC = 35;             // timing field 7
-  c.CL = 10;              // timing field 8
-  c.WL = 7;               // timing field 9 (unused: no writes)
-  c.tWTR = 6;             // timing field 10 (GPGPU-Sim parses it as tCDLR; unused: no writes)
-  c.tWR = 13;             // not in the GT200 line (10 fields): GPGPU-Sim's default for the 11th
-                          // field, "4:2:8:12:21:13:34:9:4:5:13:1:0:0" (unused: no writes)
-  c.burst_length = 4;     // -gpgpu_dram_burst_length 4 (DDR: 2 command cycles of data bus)
-  c.bus_bytes = 8;        // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4
-  c.queue_size = 16;      // -gpgpu_dram_sched_queue_size 16 (with -gpgpu_dram_scheduler 1, FR-FCFS)
-  c.request_bytes = 32;   // -gpgpu_cache:dl2 64:32:8, 32-byte L2 lines (= one burst); the
+  c.channels = 8;         // -gpgpu_n_mem 8 (cfg:12)
+  c.banks = 8;            // nbk = 8
+  c.tCK_ps = 1250;        // -gpgpu_clock_domains 325.0:650.0:650.0:800.0, DRAM clock 800 MHz (cfg:13)
+  c.tCCD = 2;             // CCD
+  c.tRRD = 8;             // RRD
+  c.tRCD = 12;            // RCD
+  c.tRAS = 25;            // RAS
+  c.tRP = 10;             // RP
+  c.tRC = 35;             // RC (= tRAS + tRP exactly)
+  c.CL = 10;              // CL
+  c.WL = 7;               // WL
+  c.tCDLR = 6;            // CDLR
+  c.tWR = 11;             // WR
+  c.burst_length = 4;     // -gpgpu_dram_burst_length 4, -dram_data_command_freq_ratio 2 (cfg:66-67):
+                          // DDR, 2 command cycles of data bus
+  c.bus_bytes = 8;        // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
+  c.queue_size = 16;      // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
+                          // FR-FCFS (cfg:54, 60)
+  c.request_bytes = 32;   // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
                           // accelerator sets its own L2 line size here
   c.row_policy = RowPolicy::kOpenPage;  // GPGPU-Sim's DRAM model keeps rows open
-  c.address_mapping = kGt200AddressMapping;  // -gpgpu_mem_addr_mapping, verbatim
+  c.address_mapping = kGt200AddressMapping;  // -gpgpu_mem_addr_mapping, verbatim (cfg:69)
   return c;
 }
 
 // The same chip's timings in nanoseconds on a 1 GHz command clock (each rounded up to whole
 // cycles): a faster GDDR3 part of the same family (K4J52324QH-HC10 is the 1 GHz grade). The
-// HC10 datasheet values are not in GPGPU-Sim; this rescaling is our assumption.
+// HC10 datasheet values are not in GPGPU-Sim; this rescaling is our assumption. The derived
+// write turnarounds follow from the rescaled WL, tCDLR and tWR with GPGPU-Sim's formulas (BL/2
+// and the 2-cycle bus turnaround stay cycles of the data bus).
 DramConfig gddr3_gt200_1ghz() {
   DramConfig c = gddr3_gt200();
   c.preset = "gddr3-gt200-1ghz";
   auto rescale = [&c](uint32_t cycles_at_800) { return uint32_t((uint64_t(cycles_at_800) * c.tCK_ps + 999) / 1000); };
-  c.tRRD = rescale(c.tRRD);  // 10 ns
-  c.tRCD = rescale(c.tRCD);  // 15 ns
-  c.tRAS = rescale(c.tRAS);  // 31.25 -> 32
-  c.tRP = rescale(c.tRP);    // 12.5 -> 13
-  c.tRC = rescale(c.tRC);    // 43.75 -> 44
-  c.CL = rescale(c.CL);      // 12.5 -> 13
-  c.WL = rescale(c.WL);
-  c.tWTR = rescale(c.tWTR);
-  c.tWR = rescale(c.tWR);
-  c.tCK_ps = 1000;           // tCCD stays 2: a burst of 4 on a DDR bus
+  c.tRRD = rescale(c.tRRD);    // 10 ns
+  c.tRCD = rescale(c.tRCD);    // 15 ns
+  c.tRAS = rescale(c.tRAS);    // 31.25 -> 32
+  c.tRP = rescale(c.tRP);      // 12.5 -> 13
+  c.CL = rescale(c.CL);        // 12.5 -> 13
+  c.WL = rescale(c.WL);        // 8.75 -> 9
+  c.tCDLR = rescale(c.tCDLR);  // 7.5 -> 8
+  c.tWR = rescale(c.tWR);      // 13.75 -> 14
+  // 43.75 ns rounds up to 44, but tRAS and tRP, rounded up separately, sum to 45: GT200's values
+  // satisfy tRC = tRAS + tRP exactly (35 = 25 + 10), so keep that. This changes no timing: a bank
+  // cannot ACT again before ACT + tRAS (to PRE) + tRP (to ACT) anyway.
+  c.tRC = std::max(rescale(c.tRC), c.tRAS + c.tRP);  // 45
+  c.tCK_ps = 1000;             // tCCD stays 2: a burst of 4 on a DDR bus
+  return c;
+}
+
+// GPGPU-Sim's other reading of "GDDR3 at 1 GHz": its timings are counted in DRAM command
+// cycles, so setting its DRAM clock domain to 1000 MHz keeps GT200's cycle counts, each now 1 ns
+// (tRCD 12 ns, CL 10 ns, ...: a faster part than any K4J52324QH grade).
+DramConfig gddr3_gt200_1ghz_cycles() {
+  DramConfig c = gddr3_gt200();
+  c.preset = "gddr3-gt200-1ghz-cycles";
+  c.tCK_ps = 1000;
   return c;
 }
 
@@ -107,8 +127,19 @@ void DramConfig::validate() const {
   require_at_least("tCCD", tCCD, 1);
   require_at_least("tRRD", tRRD, 1);
   if (tRC < tRAS) fail("tRC", "must be >= tRAS (" + std::to_string(tRAS) + "), got " + std::to_string(tRC));
+  require_at_least("WL", WL, 1);
+  require_at_least("tCDLR", tCDLR, 1);
+  require_at_least("tWR", tWR, 1);
   require_at_least("burst_length", burst_length, 2);
   require_pow2("burst_length", burst_length);
+  // GPGPU-Sim's derived write turnarounds subtract WL (gpu-sim.h memory_config::init()); both
+  // must stay >= 1 cycle.
+  if (WL + 1 >= tRCD)
+    fail("WL", "must be < tRCD - 1 (" + std::to_string(tRCD) + " - 1) for an activate-to-write delay tRCD - (WL + 1) >= 1, got " +
+                   std::to_string(WL));
+  if (WL >= CL + burst_cycles() + kReadToWriteTurnaround)
+    fail("WL", "must be < CL + BL/2 + 2 (" + std::to_string(CL + burst_cycles() + kReadToWriteTurnaround) +
+                   ") for a read-to-write delay >= 1, got " + std::to_string(WL));
   require_at_least("bus_bytes", bus_bytes, 1);
   require_pow2("bus_bytes", bus_bytes);
   require_at_least("queue_size", queue_size, 1);
@@ -138,11 +169,14 @@ void DramConfig::validate() const {
   }
 }
 
-std::vector<std::string> dram_preset_names() { return {"gddr3-gt200", "gddr3-gt200-1ghz"}; }
+std::vector<std::string> dram_preset_names() {
+  return {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"};
+}
 
 DramConfig dram_preset(const std::string& name) {
   if (name == "gddr3-gt200") return gddr3_gt200();
   if (name == "gddr3-gt200-1ghz") return gddr3_gt200_1ghz();
+  if (name == "gddr3-gt200-1ghz-cycles") return gddr3_gt200_1ghz_cycles();
   std::string known;
   for (const std::string& n : dram_preset_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown DRAM preset '" + name + "' (known: " + known + ")");

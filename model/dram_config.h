@@ -54,13 +54,27 @@ struct DramConfig {
   uint32_t tRP = 0;   // PRE -> ACT, same bank
   uint32_t tRAS = 0;  // ACT -> PRE, same bank
   uint32_t tRC = 0;   // ACT -> ACT, same bank
-  uint32_t tCCD = 0;  // column command -> column command, same channel
+  uint32_t tCCD = 0;  // column command -> column command (RD or WR), same channel
   uint32_t tRRD = 0;  // ACT -> ACT, different banks of the channel
-  // Write timings: kept for completeness, not checked and unused: the accelerator never writes
-  // (scene data are read-only), so the engine issues only ACT, PRE and RD.
-  uint32_t WL = 0;
-  uint32_t tWR = 0;
-  uint32_t tWTR = 0;
+  // Write timings, GPGPU-Sim's three base values (the 9th to 11th fields of
+  // -gpgpu_dram_timing_opt; names and meanings from gpu-sim.h, memory_config):
+  uint32_t WL = 0;     // write latency: WR -> first data beat in
+  uint32_t tCDLR = 0;  // last data-in -> RD ("switching from write to read")
+  uint32_t tWR = 0;    // last data-in -> PRE, same bank (write recovery)
+
+  // The turnarounds GPGPU-Sim derives from them (src/gpgpu-sim/gpu-sim.h, memory_config::init(),
+  // lines 246-254 at commit 011891ab; 208-216 at 90ec3399), with its BL / data_command_freq_ratio
+  // = our burst_cycles() (BL 4 on a DDR bus: 2). dram.cc applies them: WR needs RCDWRc and RTWc
+  // at 0 and sets WTRc and the bank's WTPc; RD needs WTRc at 0 and sets RTWc; PRE needs WTPc at 0
+  // (dram_t::issue_col_command and issue_row_command). Defined only for a config that passed
+  // validate() (which keeps the two subtractions >= 1).
+  uint32_t write_to_read() const { return WL + burst_cycles() + tCDLR; }  // tWTR: WR -> RD, channel
+  uint32_t write_to_precharge() const { return WL + burst_cycles() + tWR; }  // tWTP: WR -> PRE, bank
+  // tRTW: RD -> WR, channel. The read's data end at CL + BL/2; the +2 is GPGPU-Sim's fixed bus
+  // turnaround, so a write's data (from WR + WL) start 2 cycles after the read's data end.
+  uint32_t read_to_write() const { return CL + burst_cycles() + kReadToWriteTurnaround - WL; }
+  uint32_t activate_to_write() const { return tRCD - (WL + 1); }  // tRCDWR: ACT -> WR, bank
+  static constexpr uint32_t kReadToWriteTurnaround = 2;
 
   uint32_t burst_length = 0;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
   uint32_t bus_bytes = 0;     // data-bus width of one channel

@@ -31,6 +31,7 @@ DramController::DramController(const DramConfig& config)
   const uint32_t burst = config_.burst_cycles();
   const TimingRule rules[] = {
       {C::kActivate, C::kRead, Scope::kBank, config_.tRCD},
+      {C::kActivate, C::kWrite, Scope::kBank, config_.activate_to_write()},
       {C::kActivate, C::kPrecharge, Scope::kBank, config_.tRAS},
       {C::kActivate, C::kActivate, Scope::kBank, config_.tRC},
       {C::kActivate, C::kActivate, Scope::kChannel, config_.tRRD},
@@ -38,8 +39,24 @@ DramController::DramController(const DramConfig& config)
       {C::kRead, C::kRead, Scope::kChannel, config_.tCCD},
       {C::kRead, C::kRead, Scope::kChannel, burst},      // the data bus holds one burst at a time
       {C::kRead, C::kPrecharge, Scope::kBank, burst},    // READ to PRECHARGE
+      {C::kRead, C::kWrite, Scope::kChannel, config_.tCCD},
+      {C::kRead, C::kWrite, Scope::kChannel, config_.read_to_write()},
+      {C::kWrite, C::kWrite, Scope::kChannel, config_.tCCD},
+      {C::kWrite, C::kWrite, Scope::kChannel, burst},    // the data bus, as for reads
+      {C::kWrite, C::kRead, Scope::kChannel, config_.tCCD},
+      {C::kWrite, C::kRead, Scope::kChannel, config_.write_to_read()},
+      {C::kWrite, C::kPrecharge, Scope::kBank, config_.write_to_precharge()},
   };
-  for (const TimingRule& r : rules) rules_by_prev_[size_t(r.prev)].push_back(r);
+  // Rules with the same (prev, next, scope) fold into one with the largest delay: issue() then
+  // stamps each target once (the stamps are maxima, so this changes no timing).
+  for (const TimingRule& r : rules) {
+    std::vector<TimingRule>& list = rules_by_prev_[size_t(r.prev)];
+    const auto same = std::find_if(list.begin(), list.end(), [&r](const TimingRule& o) {
+      return o.next == r.next && o.scope == r.scope;
+    });
+    if (same == list.end()) list.push_back(r);
+    else same->cycles = std::max(same->cycles, r.cycles);
+  }
 
   channels_.resize(config_.channels);
   for (Channel& ch : channels_) {
@@ -50,13 +67,14 @@ DramController::DramController(const DramConfig& config)
   stats_.channel_reads.assign(config_.channels, 0);
 }
 
-void DramController::enqueue(uint64_t addr, Tick now, uint64_t id) {
+void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   const Tick arrival = std::max(now, now_);
   const DramAddress a = mapping_.decode(addr & ~uint64_t(config_.request_bytes - 1));
   const Request r{id, next_seq_++, arrival, (arrival + config_.tCK_ps - 1) / config_.tCK_ps, a.bank, a.row,
-                  a.column, 0, false};
-  stats_.first_arrival_ps = stats_.requests == 0 ? arrival : std::min(stats_.first_arrival_ps, arrival);
-  ++stats_.requests;
+                  a.column, 0, false, write};
+  const bool first = stats_.requests + stats_.write_requests == 0;
+  stats_.first_arrival_ps = first ? arrival : std::min(stats_.first_arrival_ps, arrival);
+  ++(write ? stats_.write_requests : stats_.requests);
   Channel& ch = channels_[a.channel];
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
@@ -84,7 +102,7 @@ DramController::Choice DramController::choose(Channel& ch) {
     Command cmd;
     if (b.open && b.row == r.row) {
       if (owner != ch.queue.size() && owner != i) continue;  // the column commands are taken
-      cmd = Command::kRead;
+      cmd = r.write ? Command::kWrite : Command::kRead;
     } else if (b.open) {
       if (hit_pending_[r.bank]) continue;  // keep the row open while it still has hits
       cmd = Command::kPrecharge;
@@ -95,9 +113,9 @@ DramController::Choice DramController::choose(Channel& ch) {
     const uint64_t cycle = std::max({b.earliest[k], ch.earliest[k], r.arrival_cycle, ch.free_from});
     bool better = cycle < best.cycle;
     if (cycle == best.cycle) {
-      const bool read = cmd == Command::kRead, best_read = best.command == Command::kRead;
+      const bool col = is_column(cmd), best_col = is_column(best.command);
       const Request& o = ch.queue[best.index];
-      better = read != best_read ? read : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
+      better = col != best_col ? col : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
     }
     if (better) best = Choice{i, cmd, cycle};
   }
@@ -112,7 +130,7 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
 
   if (!r.classified) {
     r.classified = true;
-    if (c.command == Command::kRead) ++stats_.row_hits;
+    if (is_column(c.command)) ++stats_.row_hits;
     else if (c.command == Command::kActivate) ++stats_.row_misses;
     else ++stats_.row_conflicts;
   }
@@ -124,7 +142,7 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
   ch.free_from = c.cycle + 1;
   if (trace_)
     trace_->push_back(CommandRecord{c.cycle * tck, channel_index, r.bank, c.command, r.row,
-                                    c.command == Command::kRead ? r.column + r.bursts_issued : 0, r.id});
+                                    is_column(c.command) ? r.column + r.bursts_issued : 0, r.id});
 
   switch (c.command) {
     case Command::kActivate:
@@ -137,12 +155,16 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
       ++stats_.precharges;
       break;
     case Command::kRead:
+    case Command::kWrite:
       ++r.bursts_issued;
-      ++stats_.bursts;
+      ++(r.write ? stats_.write_bursts : stats_.bursts);
       stats_.data_bus_busy_ps += config_.burst_cycles() * tck;
       if (r.bursts_issued == config_.bursts_per_request()) {
-        const Tick ready = (c.cycle + config_.CL + config_.burst_cycles()) * tck;
-        completions_.push(Pending{ready, r.seq, r.id, channel_index, r.arrival});
+        // A read's data are ready after CL plus its burst; a write's last beat is in after WL
+        // plus its burst (tWR then only holds the bank's PRE back).
+        const uint32_t latency = r.write ? config_.WL : config_.CL;
+        const Tick ready = (c.cycle + latency + config_.burst_cycles()) * tck;
+        completions_.push(Pending{ready, r.seq, r.id, channel_index, r.arrival, r.write});
         ch.queue.erase(ch.queue.begin() + std::ptrdiff_t(c.index));
         if (!ch.overflow.empty()) {
           ch.queue.push_back(ch.overflow.front());
@@ -170,7 +192,13 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
   while (!completions_.empty() && completions_.top().time <= now) {
     const Pending p = completions_.top();
     completions_.pop();
-    done.push_back(Completion{p.id, p.time});
+    done.push_back(Completion{p.id, p.time, p.write});
+    if (p.write) {
+      ++stats_.writes;
+      stats_.bytes_written += config_.request_bytes;
+      stats_.last_write_completion_ps = std::max(stats_.last_write_completion_ps, p.time);
+      continue;
+    }
     ++stats_.reads;
     ++stats_.channel_reads[p.channel];
     stats_.bytes += config_.request_bytes;
@@ -194,13 +222,17 @@ void DramController::register_stats(StatsRegistry& reg, const std::string& prefi
   reg.counter(p + "bursts", &s.bursts, "RD commands (one burst each)");
   reg.counter(p + "activates", &s.activates, "ACT commands");
   reg.counter(p + "precharges", &s.precharges, "PRE commands");
-  reg.counter(p + "row_hits", &s.row_hits, "requests whose row was open");
-  reg.counter(p + "row_misses", &s.row_misses, "requests that found their bank closed");
-  reg.counter(p + "row_conflicts", &s.row_conflicts, "requests that found another row open");
+  reg.counter(p + "row_hits", &s.row_hits, "requests (reads and writes) whose row was open");
+  reg.counter(p + "row_misses", &s.row_misses, "requests (reads and writes) that found their bank closed");
+  reg.counter(p + "row_conflicts", &s.row_conflicts, "requests (reads and writes) that found another row open");
   reg.counter(p + "bytes", &s.bytes, "bytes read (completed requests)");
-  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "data-bus busy time summed over channels (ps)");
+  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "data-bus busy time (reads and writes) summed over channels (ps)");
   reg.counter(p + "queue_full_events", &s.queue_full_events, "requests that waited in the overflow FIFO");
-  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "sum of arrival-to-data latencies (ps)");
+  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "sum of read arrival-to-data latencies (ps)");
+  reg.counter(p + "write_requests", &s.write_requests, "write requests accepted");
+  reg.counter(p + "writes", &s.writes, "write requests completed");
+  reg.counter(p + "write_bursts", &s.write_bursts, "WR commands (one burst each)");
+  reg.counter(p + "bytes_written", &s.bytes_written, "bytes written (completed requests)");
   for (size_t i = 0; i < s.channel_reads.size(); ++i)
     reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "read requests completed by channel");
   reg.formula(p + "row_hit_rate", [&s] { return s.row_hit_rate(); }, "row_hits / (hits + misses + conflicts)");
@@ -211,10 +243,11 @@ void DramController::register_stats(StatsRegistry& reg, const std::string& prefi
   reg.formula(
       p + "bus_utilization",
       [&s, channels] {
-        const uint64_t span = s.last_completion_ps > s.first_arrival_ps ? s.last_completion_ps - s.first_arrival_ps : 0;
+        const uint64_t last = std::max(s.last_completion_ps, s.last_write_completion_ps);
+        const uint64_t span = last > s.first_arrival_ps ? last - s.first_arrival_ps : 0;
         return span ? double(s.data_bus_busy_ps) / (channels * double(span)) : 0.0;
       },
-      "data_bus_busy / (channels * (last completion - first arrival))");
+      "data_bus_busy / (channels * (last read or write completion - first arrival))");
 }
 
 }  // namespace rtsim::model

@@ -62,7 +62,7 @@ TEST(DramConfig, PresetIsGpgpuSimGt200) {
   EXPECT_EQ(c.channels, 8u);
   EXPECT_EQ(c.banks, 8u);
   EXPECT_EQ(c.tCK_ps, 1250u);
-  // -gpgpu_dram_timing_opt 8:2:8:12:25:10:35:10:7:6
+  // -gpgpu_dram_timing_opt nbk=8:CCD=2:RRD=8:RCD=12:RAS=25:RP=10:RC=35:CL=10:WL=7:CDLR=6:WR=11
   EXPECT_EQ(c.tCCD, 2u);
   EXPECT_EQ(c.tRRD, 8u);
   EXPECT_EQ(c.tRCD, 12u);
@@ -71,8 +71,8 @@ TEST(DramConfig, PresetIsGpgpuSimGt200) {
   EXPECT_EQ(c.tRC, 35u);
   EXPECT_EQ(c.CL, 10u);
   EXPECT_EQ(c.WL, 7u);
-  EXPECT_EQ(c.tWTR, 6u);
-  EXPECT_EQ(c.tWR, 13u);
+  EXPECT_EQ(c.tCDLR, 6u);
+  EXPECT_EQ(c.tWR, 11u);
   EXPECT_EQ(c.burst_bytes(), 32u);
   EXPECT_EQ(c.burst_cycles(), 2u);
   EXPECT_EQ(c.queue_size, 16u);
@@ -80,8 +80,46 @@ TEST(DramConfig, PresetIsGpgpuSimGt200) {
   EXPECT_NO_THROW(c.validate());
 }
 
+// GPGPU-Sim's derivations (gpu-sim.h memory_config::init()): tWTR = WL + BL/2 + tCDLR,
+// tWTP = WL + BL/2 + tWR, tRTW = CL + BL/2 + 2 - WL, tRCDWR = tRCD - (WL + 1).
+TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
+  const DramConfig g = gt200();
+  EXPECT_EQ(g.write_to_read(), 15u);       // 7 + 2 + 6
+  EXPECT_EQ(g.write_to_precharge(), 20u);  // 7 + 2 + 11
+  EXPECT_EQ(g.read_to_write(), 7u);        // 10 + 2 + 2 - 7
+  EXPECT_EQ(g.activate_to_write(), 4u);    // 12 - 8
+
+  // Nanoseconds rescaled to 1 GHz, each rounded up: WL 8.75 -> 9, tCDLR 7.5 -> 8, tWR 13.75 -> 14.
+  const DramConfig r = dram_preset("gddr3-gt200-1ghz");
+  EXPECT_EQ(r.tCK_ps, 1000u);
+  EXPECT_EQ(r.WL, 9u);
+  EXPECT_EQ(r.tCDLR, 8u);
+  EXPECT_EQ(r.tWR, 14u);
+  EXPECT_EQ(r.tRC, r.tRAS + r.tRP);
+  EXPECT_EQ(r.write_to_read(), 19u);       // 9 + 2 + 8
+  EXPECT_EQ(r.write_to_precharge(), 25u);  // 9 + 2 + 14
+  EXPECT_EQ(r.read_to_write(), 8u);        // 13 + 2 + 2 - 9
+  EXPECT_EQ(r.activate_to_write(), 5u);    // 15 - 10
+  EXPECT_NO_THROW(r.validate());
+
+  // GT200's cycle counts kept, each 1 ns.
+  const DramConfig k = dram_preset("gddr3-gt200-1ghz-cycles");
+  EXPECT_EQ(k.preset, "gddr3-gt200-1ghz-cycles");
+  EXPECT_EQ(k.tCK_ps, 1000u);
+  for (auto f : {&DramConfig::tCCD, &DramConfig::tRRD, &DramConfig::tRCD, &DramConfig::tRAS, &DramConfig::tRP,
+                 &DramConfig::tRC, &DramConfig::CL, &DramConfig::WL, &DramConfig::tCDLR, &DramConfig::tWR})
+    EXPECT_EQ(k.*f, g.*f);
+  EXPECT_EQ(k.write_to_read(), 15u);
+  EXPECT_EQ(k.write_to_precharge(), 20u);
+  EXPECT_EQ(k.read_to_write(), 7u);
+  EXPECT_EQ(k.activate_to_write(), 4u);
+  EXPECT_DOUBLE_EQ(k.peak_bandwidth_gbps(), 128.0);
+  EXPECT_NO_THROW(k.validate());
+}
+
 TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
-  EXPECT_EQ(dram_preset_names(), (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz"}));
+  EXPECT_EQ(dram_preset_names(),
+            (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"}));
   try {
     dram_preset("ddr9");
     FAIL() << "unknown preset accepted";
@@ -109,6 +147,26 @@ TEST(DramConfig, ValidationNamesTheField) {
   c = gt200();
   c.tRC = 20;  // < tRAS
   expect_invalid(c, "tRC");
+  c = gt200();
+  c.WL = 0;
+  expect_invalid(c, "WL");
+  c = gt200();
+  c.tCDLR = 0;
+  expect_invalid(c, "tCDLR");
+  c = gt200();
+  c.tWR = 0;
+  expect_invalid(c, "tWR");
+  c = gt200();
+  c.WL = 11;  // tRCD - (WL + 1) = 0: no activate-to-write delay left
+  expect_invalid(c, "WL");
+  c.WL = 10;
+  EXPECT_NO_THROW(c.validate());
+  c = gt200();
+  c.tRCD = 30;
+  c.WL = 14;  // CL + BL/2 + 2 - WL = 0: no read-to-write delay left
+  expect_invalid(c, "WL");
+  c.WL = 13;
+  EXPECT_NO_THROW(c.validate());
   c = gt200();
   c.burst_length = 3;
   expect_invalid(c, "burst_length");
@@ -199,16 +257,17 @@ TEST(DramController, DifferentChannelBitsGoToDifferentChannels) {
   for (const auto& r : trace) EXPECT_EQ(r.channel, r.id);
 }
 
-// Three reads 100 ns apart on an idle engine: a closed bank, then a row hit (row 0 is open), then
-// a row conflict. Returns their latencies.
-std::vector<Tick> idle_latencies(DramController& e) {
+// Three reads (or writes) 100 ns apart on an idle engine: a closed bank, then a row hit (row 0 is
+// open), then a row conflict. Returns their latencies.
+std::vector<Tick> idle_latencies(DramController& e, bool write = false) {
   std::vector<DramController::Completion> done;
   const std::vector<uint64_t> addrs{0, kCol1, kRow1};
   for (uint64_t i = 0; i < addrs.size(); ++i) {
-    e.enqueue(addrs[i], i * 100 * kNs, i + 1);
+    e.enqueue(addrs[i], i * 100 * kNs, i + 1, write);
     e.advance((i + 1) * 100 * kNs, done);
   }
   EXPECT_EQ(done.size(), 3u);
+  for (const auto& c : done) EXPECT_EQ(c.write, write);
   std::vector<Tick> latency;
   for (uint64_t i = 0; i < addrs.size(); ++i) latency.push_back(ready_of(done, i + 1) - i * 100 * kNs);
   return latency;
@@ -234,10 +293,32 @@ TEST(DramController, OneGigahertzPresetIdleLatencies) {
   EXPECT_EQ(c.tRCD, 15u);
   EXPECT_EQ(c.CL, 13u);
   EXPECT_EQ(c.tRP, 13u);
-  EXPECT_EQ(c.tRC, 44u);
+  EXPECT_EQ(c.tRC, 45u);  // 43.75 ns rounds to 44, raised to tRAS + tRP = 32 + 13 (no timing changes)
   DramController e(c);
   // Closed bank tRCD + CL + BL/2 = 30 cycles, row hit CL + BL/2 = 15, conflict tRP + tRCD + CL + BL/2 = 43.
   EXPECT_EQ(idle_latencies(e), (std::vector<Tick>{30 * kNs, 15 * kNs, 43 * kNs}));
+}
+
+// GPGPU-Sim's reading of "GDDR3 at 1 GHz": GT200's cycles, 1 ns each.
+TEST(DramController, OneGigahertzCyclesPresetIdleLatencies) {
+  DramConfig c = dram_preset("gddr3-gt200-1ghz-cycles");
+  c.request_bytes = 32;
+  DramController e(c);
+  // Closed bank tRCD + CL + BL/2 = 24 cycles, row hit CL + BL/2 = 12, conflict tRP + tRCD + CL + BL/2 = 34.
+  EXPECT_EQ(idle_latencies(e), (std::vector<Tick>{24 * kNs, 12 * kNs, 34 * kNs}));
+}
+
+TEST(DramController, OneGigahertzPresetsIdleWriteLatencies) {
+  DramConfig r = dram_preset("gddr3-gt200-1ghz");
+  r.request_bytes = 32;
+  DramController e(r);
+  // Row miss tRCDWR + WL + BL/2 = 5 + 9 + 2, row hit WL + BL/2 = 11, conflict tRP + 16 = 29.
+  EXPECT_EQ(idle_latencies(e, true), (std::vector<Tick>{16 * kNs, 11 * kNs, 29 * kNs}));
+  DramConfig k = dram_preset("gddr3-gt200-1ghz-cycles");
+  k.request_bytes = 32;
+  DramController f(k);
+  // GT200's cycles: 4 + 7 + 2, 7 + 2, 10 + 13.
+  EXPECT_EQ(idle_latencies(f, true), (std::vector<Tick>{13 * kNs, 9 * kNs, 23 * kNs}));
 }
 
 TEST(DramController, RequestArrivingBetweenEdgesWaitsForTheNextEdge) {
@@ -509,6 +590,208 @@ TEST(DramController, RegistersStatisticsByDottedName) {
   EXPECT_TRUE(reg.has("dram.queue_full_events"));
   EXPECT_TRUE(reg.has("dram.latency_sum_ps"));
   EXPECT_TRUE(reg.has("dram.bus_utilization"));
+}
+
+// ---- Writes (GT200 preset: WL 7, tWTR 15, tWTP 20, tRTW 7, tRCDWR 4; tCK 1.25 ns) ----
+
+std::vector<uint64_t> ids_of(const std::vector<DramController::CommandRecord>& trace, Cmd cmd) {
+  std::vector<uint64_t> out;
+  for (const auto& r : trace)
+    if (r.command == cmd) out.push_back(r.id);
+  return out;
+}
+
+// Opens row 0 of bank 0 (and of bank 1 with `bank1`) with reads at 0 and runs to 100 ns (cycle
+// 80), so that the requests a test enqueues at 100 ns find the engine idle.
+void open_rows(DramController& e, bool bank1 = false) {
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 100);
+  if (bank1) e.enqueue(kBank1, 0, 101);
+  e.advance(100 * kNs, done);
+  ASSERT_EQ(done.size(), bank1 ? 2u : 1u);
+}
+
+TEST(DramController, IdleWriteLatencies) {
+  DramController e(gt200());
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  // A write is complete when its last data beat is in: last WR + WL + BL/2.
+  // Closed bank: ACT 0, WR at tRCD - (WL + 1) = 4, done 4 + 7 + 2 = 13 cycles = 16.25 ns.
+  // Row hit: WL + BL/2 = 9 cycles = 11.25 ns.
+  // Row conflict (at cycle 160; the WR at 80 allowed a PRE from 80 + 20): PRE 160, ACT 170,
+  // WR 174, done 183: 23 cycles = 28.75 ns.
+  EXPECT_EQ(idle_latencies(e, true), (std::vector<Tick>{16250, 11250, 28750}));
+  EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{4 * kTck, 80 * kTck, 174 * kTck}));
+  EXPECT_EQ(times_of(trace, Cmd::kRead), std::vector<Tick>{});
+  for (const auto& r : trace)
+    if (r.command == Cmd::kWrite) EXPECT_EQ(r.column, r.id == 2 ? 1u : 0u);
+  const DramStats& s = e.stats();
+  EXPECT_EQ(s.write_requests, 3u);
+  EXPECT_EQ(s.writes, 3u);
+  EXPECT_EQ(s.write_bursts, 3u);
+  EXPECT_EQ(s.bytes_written, 96u);
+  EXPECT_EQ(s.last_write_completion_ps, 183 * kTck);
+  EXPECT_EQ(s.row_misses, 1u);  // the row statistics count writes too
+  EXPECT_EQ(s.row_hits, 1u);
+  EXPECT_EQ(s.row_conflicts, 1u);
+  // The read statistics keep their meaning: no read happened.
+  EXPECT_EQ(s.requests, 0u);
+  EXPECT_EQ(s.reads, 0u);
+  EXPECT_EQ(s.bursts, 0u);
+  EXPECT_EQ(s.bytes, 0u);
+  EXPECT_EQ(s.latency_sum_ps, 0u);
+  EXPECT_EQ(s.data_bus_busy_ps, 3 * 2 * kTck);
+}
+
+TEST(DramController, ActivateToWriteIsShorterThanActivateToRead) {
+  for (const bool write : {false, true}) {
+    DramController e(gt200());
+    std::vector<DramController::CommandRecord> trace;
+    e.set_command_trace(&trace);
+    e.enqueue(kBank1, 0, 1, write);
+    drain(e);
+    ASSERT_EQ(trace.size(), 2u);
+    EXPECT_EQ(trace[0].command, Cmd::kActivate);
+    EXPECT_EQ(trace[1].command, write ? Cmd::kWrite : Cmd::kRead);
+    EXPECT_EQ(trace[1].time, (write ? 4 : 12) * kTck);  // tRCD - (WL + 1) = 4, tRCD = 12
+  }
+}
+
+TEST(DramController, ReadAfterWriteWaitsForTheWriteToReadTurnaround) {
+  // Same bank, and another bank of the channel (the turnaround is the channel's data bus).
+  for (const uint64_t read_addr : {2 * kCol1, kBank1 + kCol1}) {
+    DramController e(gt200());
+    open_rows(e, true);
+    std::vector<DramController::CommandRecord> trace;
+    e.set_command_trace(&trace);
+    e.enqueue(kCol1, 100 * kNs, 1, true);  // older: WR at cycle 80
+    e.enqueue(read_addr, 100 * kNs, 2);    // a row hit too, but RD waits for WR + tWTR
+    std::vector<DramController::Completion> done;
+    for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
+    EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{80 * kTck}));
+    EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{(80 + 15) * kTck})) << read_addr;
+    EXPECT_EQ(ready_of(done, 1), (80 + 9) * kTck);       // WR + WL + BL/2
+    EXPECT_EQ(ready_of(done, 2), (95 + 12) * kTck);      // RD + CL + BL/2
+    EXPECT_EQ(trace.size(), 2u);
+  }
+  // Another channel is not held up.
+  DramController e(gt200());
+  std::vector<DramController::Completion> done;
+  e.enqueue(0, 0, 100);
+  e.enqueue(kChan1, 0, 101);
+  e.advance(100 * kNs, done);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(kCol1, 100 * kNs, 1, true);
+  e.enqueue(kChan1 + kCol1, 100 * kNs, 2);
+  drain(e);
+  EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{80 * kTck}));
+}
+
+TEST(DramController, WriteAfterReadWaitsForTheReadToWriteTurnaround) {
+  DramController e(gt200());
+  open_rows(e);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(kCol1, 100 * kNs, 1);            // RD at 80
+  e.enqueue(2 * kCol1, 100 * kNs, 2, true);  // WR no earlier than the last RD + tRTW (CL + BL/2 + 2 - WL = 7)
+  e.enqueue(3 * kCol1, 100 * kNs, 3);        // younger, but its RD is legal first (82 < 87): it goes
+  std::vector<DramController::Completion> done;
+  for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
+  EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{80 * kTck, 82 * kTck}));
+  EXPECT_EQ(ids_of(trace, Cmd::kRead), (std::vector<uint64_t>{1, 3}));
+  EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{(82 + 7) * kTck}));
+  EXPECT_EQ(ready_of(done, 1), 92 * kTck);
+  EXPECT_EQ(ready_of(done, 3), 94 * kTck);
+  // The write's data (96..98) start 2 cycles after the last read's data end (92..94).
+  EXPECT_EQ(ready_of(done, 2), 98 * kTck);
+}
+
+TEST(DramController, WriteToPrechargeHoldsTheRowConflict) {
+  for (const bool write : {false, true}) {
+    DramController e(gt200());
+    open_rows(e);
+    std::vector<DramController::CommandRecord> trace;
+    e.set_command_trace(&trace);
+    e.enqueue(kCol1, 100 * kNs, 1, write);  // a hit at cycle 80
+    e.enqueue(kRow1, 100 * kNs, 2);         // then a conflict in the same bank
+    std::vector<DramController::Completion> done;
+    for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
+    // PRE after a RD: 80 + BL/2 = 82; after a WR: 80 + WL + BL/2 + tWR = 100.
+    const Tick pre = write ? 100 : 82;
+    EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{pre * kTck}));
+    EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{(pre + 10) * kTck}));
+    EXPECT_EQ(ready_of(done, 2), (pre + 10 + 12 + 12) * kTck);
+  }
+}
+
+TEST(DramController, WritesAreSpacedByTccdAndTheDataBus) {
+  DramConfig c = gt200();
+  c.tCCD = 1;  // the data bus (BL/2 = 2 cycles per burst) paces the bursts
+  DramController e(c);
+  open_rows(e);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  for (uint64_t i = 1; i <= 3; ++i) e.enqueue(i * kCol1, 100 * kNs, i, true);
+  drain(e);
+  EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{80 * kTck, 82 * kTck, 84 * kTck}));
+}
+
+TEST(DramController, MultiBurstWriteIsCompleteAfterItsLastBurst) {
+  DramConfig c = gt200();
+  c.request_bytes = 128;  // 4 bursts
+  DramController e(c);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(0x80, 0, 1, true);
+  const auto done = drain(e);
+  std::vector<uint64_t> cols;
+  for (const auto& r : trace)
+    if (r.command == Cmd::kWrite) cols.push_back(r.column);
+  EXPECT_EQ(cols, (std::vector<uint64_t>{4, 5, 6, 7}));
+  EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{4 * kTck, 6 * kTck, 8 * kTck, 10 * kTck}));
+  ASSERT_EQ(done.size(), 1u);
+  EXPECT_TRUE(done[0].write);
+  EXPECT_EQ(done[0].data_ready, (10 + 7 + 2) * kTck);
+  EXPECT_EQ(e.stats().write_bursts, 4u);
+  EXPECT_EQ(e.stats().bytes_written, 128u);
+}
+
+TEST(DramController, FrFcfsServesAWriteHitBeforeAnOlderReadConflict) {
+  DramController e(gt200());
+  open_rows(e);
+  std::vector<DramController::CommandRecord> trace;
+  e.set_command_trace(&trace);
+  e.enqueue(kRow1, 100 * kNs, 1);        // older: a conflict
+  e.enqueue(kCol1, 100 * kNs, 2, true);  // younger: a hit
+  drain(e);
+  ASSERT_GE(trace.size(), 2u);
+  EXPECT_EQ(trace[0].command, Cmd::kWrite);
+  EXPECT_EQ(trace[0].time, 80 * kTck);
+  EXPECT_EQ(trace[1].command, Cmd::kPrecharge);
+  EXPECT_EQ(trace[1].time, 100 * kTck);  // WR + tWTP
+}
+
+TEST(DramController, RegistersWriteStatistics) {
+  DramController e(gt200());
+  StatsRegistry reg;
+  e.register_stats(reg, "dram");
+  e.enqueue(0, 0, 0);
+  e.enqueue(kChan1, 0, 1, true);
+  drain(e);
+  EXPECT_DOUBLE_EQ(reg.value("dram.requests"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.reads"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.bursts"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.bytes"), 32.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.ch1.reads"), 0.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.avg_latency_ns"), 30.0);  // reads only
+  EXPECT_DOUBLE_EQ(reg.value("dram.write_requests"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.writes"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.write_bursts"), 1.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.bytes_written"), 32.0);
+  EXPECT_DOUBLE_EQ(reg.value("dram.row_misses"), 2.0);
+  // Both bursts over the span to the read's completion at 30 ns (the write ends at 16.25 ns).
+  EXPECT_DOUBLE_EQ(reg.value("dram.bus_utilization"), 2.0 * 2 * kTck / (8 * 30.0 * kNs));
 }
 
 TEST(DramController, RejectsAnInvalidConfig) {
