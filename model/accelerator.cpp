@@ -5,6 +5,7 @@
 #include "model/ist_unit.h"
 #include "model/list_unit.h"
 #include "model/lvb_updater.h"
+#include "model/memory_system.h"
 #include "model/periodic_probe.h"
 #include "model/shading_unit.h"
 #include "model/shadow_culling_unit.h"
@@ -90,38 +91,8 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   DramConfig dram_cfg = cfg.dram;
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
   Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock);
-  // The memory crossbar: every L2 bank is a source port, every DRAM channel a destination.
-  Crossbar memory_icnt("memory.icnt", cfg.memory_link, ctx.clock,
-                       cfg.trv.l2.banks + cfg.list.l2.banks + cfg.ist.l2.banks, dram.port_count());
-  const uint32_t line = cfg.trv.l2.line_bytes;
-  CrossbarPort trv_mem(&memory_icnt, 0, nullptr, &dram, line);
-  CrossbarPort list_mem(&memory_icnt, cfg.trv.l2.banks, nullptr, &dram, line);
-  CrossbarPort ist_mem(&memory_icnt, cfg.trv.l2.banks + cfg.list.l2.banks, nullptr, &dram, line);
-  Cache trv_l2("trv.l2", cfg.trv.l2, ctx.clock, &trv_mem);
-  Cache list_l2("list.l2", cfg.list.l2, ctx.clock, &list_mem);
-  Cache ist_l2("ist.l2", cfg.ist.l2, ctx.clock, &ist_mem);
-  trv_mem.set_requester(&trv_l2);
-  list_mem.set_requester(&list_l2);
-  ist_mem.set_requester(&ist_l2);
-  // A crossbar per unit type between its L1s and its L2's banks; the shading L1 is the IST
-  // crossbar's last source.
-  Crossbar trv_icnt("trv.icnt", cfg.trv.link, ctx.clock, cfg.trv.count, cfg.trv.l2.banks);
-  Crossbar list_icnt("list.icnt", cfg.list.link, ctx.clock, cfg.list.count, cfg.list.l2.banks);
-  Crossbar ist_icnt("ist.icnt", cfg.ist.link, ctx.clock, cfg.ist.count + 1, cfg.ist.l2.banks);
-  auto make_ports = [](Crossbar& xbar, Cache& l2, uint32_t n, const std::string& type) {
-    std::vector<std::unique_ptr<CrossbarPort>> v;
-    for (uint32_t i = 0; i < n; ++i) {
-      v.push_back(std::make_unique<CrossbarPort>(&xbar, i, nullptr, &l2, l2.config().line_bytes));
-      l2.name_requester(v.back().get(), type);
-    }
-    return v;
-  };
-  auto trv_ports = make_ports(trv_icnt, trv_l2, cfg.trv.count, "trv");
-  auto list_ports = make_ports(list_icnt, list_l2, cfg.list.count, "list");
-  auto ist_ports = make_ports(ist_icnt, ist_l2, cfg.ist.count, "ist");
-  CrossbarPort shading_port(&ist_icnt, cfg.ist.count, nullptr, &ist_l2, ist_l2.config().line_bytes);
-  ist_l2.name_requester(&shading_port, "shading");
-  Cache shading_l1("shading.l1", cfg.shading.l1, ctx.clock, &shading_port);
+  MemorySystem memory(cfg, &dram, ctx.clock);
+  Cache& shading_l1 = memory.l1(MemorySystem::kShading, 0);
 
   FrameBuffer frame;
   frame.width = width;
@@ -135,20 +106,10 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
     for (uint32_t i = 0; i < n; ++i) v.push_back(std::make_unique<RayFifo>(prefix + std::to_string(i) + ".in", depth));
     return v;
   };
-  auto make_l1s = [&](const std::string& prefix, const UnitTypeConfig& u,
-                      std::vector<std::unique_ptr<CrossbarPort>>& ports) {
-    std::vector<std::unique_ptr<Cache>> v;
-    for (uint32_t i = 0; i < u.count; ++i)
-      v.push_back(std::make_unique<Cache>(prefix + std::to_string(i) + ".l1", u.l1, ctx.clock, ports[i].get()));
-    return v;
-  };
   auto trv_in = make_fifos("trv", cfg.trv.count, cfg.trv.fifo_depth);
   auto list_in = make_fifos("list", cfg.list.count, cfg.list.fifo_depth);
   auto ist_in = make_fifos("ist", cfg.ist.count, cfg.ist.fifo_depth);
   RayFifo done("shading.in", cfg.shading.fifo_depth);
-  auto trv_l1 = make_l1s("trv", cfg.trv, trv_ports);
-  auto list_l1 = make_l1s("list", cfg.list, list_ports);
-  auto ist_l1 = make_l1s("ist", cfg.ist, ist_ports);
 
   std::vector<TrvUnit*> trv;
   std::vector<std::unique_ptr<TrvUnit>> trv_owned;
@@ -156,19 +117,19 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   std::vector<std::unique_ptr<IstUnit>> ist;
   for (uint32_t k = 0; k < cfg.ist.count; ++k) {
     ist.push_back(std::make_unique<IstUnit>(("ist" + std::to_string(k)).c_str(), ctx, cfg.ist.latency,
-                                            cfg.ist.capacity, ist_l1[k].get(), ist_in[k].get(), &trv, &done, &lvb));
+                                            cfg.ist.capacity, &memory.l1(MemorySystem::kIst, k), ist_in[k].get(), &trv, &done, &lvb));
     done.connect(ist.back().get(), nullptr);
   }
   for (uint32_t j = 0; j < cfg.list.count; ++j) {
     RayFifo* to_ist = ist_in[j * cfg.ist.count / cfg.list.count].get();
     list.push_back(std::make_unique<ListUnit>(("list" + std::to_string(j)).c_str(), ctx, cfg.list.latency,
-                                              cfg.list.capacity, list_l1[j].get(), list_in[j].get(), to_ist));
+                                              cfg.list.capacity, &memory.l1(MemorySystem::kList, j), list_in[j].get(), to_ist));
     to_ist->connect(list.back().get(), ist[j * cfg.ist.count / cfg.list.count].get());
   }
   for (uint32_t i = 0; i < cfg.trv.count; ++i) {
     const uint32_t j = i * cfg.list.count / cfg.trv.count;
     trv_owned.push_back(std::make_unique<TrvUnit>(("trv" + std::to_string(i)).c_str(), ctx, cfg.trv.latency,
-                                                  cfg.trv.capacity, trv_l1[i].get(), trv_in[i].get(),
+                                                  cfg.trv.capacity, &memory.l1(MemorySystem::kTrv, i), trv_in[i].get(),
                                                   list_in[j].get(), &done));
     trv_owned.back()->set_index(uint16_t(i));
     trv.push_back(trv_owned.back().get());
@@ -182,9 +143,9 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (auto& f : trv_in) trv_inputs.push_back(f.get());
   RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs);
   ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &shading_l1, &frame, trv_inputs);
-  for (uint32_t i = 0; i < cfg.trv.count; ++i) trv_l1[i]->name_requester(trv[i], "trv");
-  for (uint32_t j = 0; j < cfg.list.count; ++j) list_l1[j]->name_requester(list[j].get(), "list");
-  for (uint32_t k = 0; k < cfg.ist.count; ++k) ist_l1[k]->name_requester(ist[k].get(), "ist");
+  for (uint32_t i = 0; i < cfg.trv.count; ++i) memory.l1(MemorySystem::kTrv, i).name_requester(trv[i], "trv");
+  for (uint32_t j = 0; j < cfg.list.count; ++j) memory.l1(MemorySystem::kList, j).name_requester(list[j].get(), "list");
+  for (uint32_t k = 0; k < cfg.ist.count; ++k) memory.l1(MemorySystem::kIst, k).name_requester(ist[k].get(), "ist");
   shading_l1.name_requester(&shading, "shading");
   shading_l1.name_requester(&culling, "culling");
   for (auto& f : trv_in) {
@@ -290,56 +251,26 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (uint32_t i = 0; i < trv.size(); ++i) trv[i]->register_stats(reg, "trv.unit" + std::to_string(i));
   for (uint32_t i = 0; i < list.size(); ++i) list[i]->register_stats(reg, "list.unit" + std::to_string(i));
   for (uint32_t i = 0; i < ist.size(); ++i) ist[i]->register_stats(reg, "ist.unit" + std::to_string(i));
-  for (uint32_t i = 0; i < trv_l1.size(); ++i) trv_l1[i]->register_stats(reg, "trv.l1.unit" + std::to_string(i));
-  for (uint32_t i = 0; i < list_l1.size(); ++i) list_l1[i]->register_stats(reg, "list.l1.unit" + std::to_string(i));
-  for (uint32_t i = 0; i < ist_l1.size(); ++i) ist_l1[i]->register_stats(reg, "ist.l1.unit" + std::to_string(i));
-  // Totals per unit type, beside the per-instance figures.
-  auto add_totals = [&reg](const std::string& type, const std::vector<const Cache*>& l1s, const std::vector<const Unit*>& units) {
-    auto sum_cache = [l1s](uint64_t CacheStats::*field) {
-      return [l1s, field] {
-        uint64_t n = 0;
-        for (const Cache* c : l1s) n += c->stats().*field;
-        return double(n);
-      };
-    };
-    for (auto [name, field] : {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
-                               std::pair{"misses", &CacheStats::misses}, std::pair{"mshr_merges", &CacheStats::mshr_merges}})
-      reg.formula(type + ".l1." + name, sum_cache(field), std::string("all ") + type + " L1s: " + name);
-    reg.formula(type + ".l1.hit_rate", [h = sum_cache(&CacheStats::hits), a = sum_cache(&CacheStats::accesses)] {
-      return a() > 0 ? h() / a() : 0.0;
-    }, "all " + type + " L1s: hits / accesses");
-    auto sum_unit = [units](uint64_t UnitStats::*field) {
-      return [units, field] {
-        uint64_t n = 0;
-        for (const Unit* u : units) n += u->unit_stats().*field;
-        return double(n);
-      };
-    };
+  // Unit totals per type, beside the per-instance figures.
+  auto add_totals = [&reg](const std::string& type, std::vector<const Unit*> units) {
     for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
                                std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
                                std::pair{"idle_cycles", &UnitStats::idle_cycles},
                                std::pair{"operations", &UnitStats::operations}})
-      reg.formula(type + ".total." + name, sum_unit(field), std::string("all ") + type + " units: " + name);
+      reg.formula(type + ".total." + name, [units, field = field] {
+        uint64_t n = 0;
+        for (const Unit* u : units) n += u->unit_stats().*field;
+        return double(n);
+      }, std::string("all ") + type + " units: " + name);
   };
-  // Plain pointers to the elements of a vector of pointers (owning or not), as base pointers.
-  auto pointers = [](auto type_tag, const auto& v) {
-    std::vector<decltype(type_tag)> out;
-    for (const auto& p : v) out.push_back(&*p);
-    return out;
-  };
-  const Cache* cache_tag = nullptr;
-  const Unit* unit_tag = nullptr;
-  add_totals("trv", pointers(cache_tag, trv_l1), pointers(unit_tag, trv));
-  add_totals("list", pointers(cache_tag, list_l1), pointers(unit_tag, list));
-  add_totals("ist", pointers(cache_tag, ist_l1), pointers(unit_tag, ist));
-  trv_icnt.register_stats(reg, "trv.icnt", &end);
-  list_icnt.register_stats(reg, "list.icnt", &end);
-  ist_icnt.register_stats(reg, "ist.icnt", &end);
-  memory_icnt.register_stats(reg, "memory.icnt", &end);
-  trv_l2.register_stats(reg, "trv.l2");
-  list_l2.register_stats(reg, "list.l2");
-  ist_l2.register_stats(reg, "ist.l2");
-  shading_l1.register_stats(reg, "shading.l1");
+  add_totals("trv", std::vector<const Unit*>(trv.begin(), trv.end()));
+  std::vector<const Unit*> units;
+  for (auto& u : list) units.push_back(u.get());
+  add_totals("list", units);
+  units.clear();
+  for (auto& u : ist) units.push_back(u.get());
+  add_totals("ist", units);
+  memory.register_stats(reg, &end);
   shading.register_stats(reg, "shading.unit");
   generator.register_unit_stats(reg, "raygen");
   culling.register_stats(reg, "culling");

@@ -23,6 +23,9 @@
 
 namespace rtsim::model {
 
+// One L2 shared by all units of a type, or a private L2 per unit (model/memory_system.h).
+enum class L2Sharing { kType, kUnit };
+
 struct UnitTypeConfig {
   uint32_t count = 1;
   uint32_t latency = 1;       // pipeline latency in cycles (one operation issues per cycle)
@@ -30,6 +33,7 @@ struct UnitTypeConfig {
   uint32_t fifo_depth = 16;   // input FIFO
   CacheConfig l1, l2;
   LinkConfig link;            // the crossbar between the type's L1s and its L2 (shading: the IST's)
+  L2Sharing l2_sharing = L2Sharing::kType;
 };
 
 // When shadow rays go: after every primary ray (two phases, the paper's Table 6), or as soon as

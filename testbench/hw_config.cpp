@@ -13,7 +13,13 @@ uint32_t get_u32(YamlMap& m, const std::string& key, uint32_t fallback, int64_t 
   return uint32_t(m.get_in_range<int64_t>(key, fallback, lo, hi));
 }
 
-model::CacheConfig read_cache(YamlMap m, model::CacheConfig c) {
+// `sharing`: where the cache is an L2, its sharing key (null for L1s, where the key is unknown).
+model::CacheConfig read_cache(YamlMap m, model::CacheConfig c, model::L2Sharing* sharing = nullptr) {
+  if (sharing) {
+    const std::string v = m.get<std::string>("sharing", *sharing == model::L2Sharing::kType ? "type" : "unit");
+    if (v != "type" && v != "unit") m.fail("sharing", "expected 'type' (one L2 per unit type) or 'unit' (a private L2 per unit)");
+    *sharing = v == "type" ? model::L2Sharing::kType : model::L2Sharing::kUnit;
+  }
   c.size_bytes = get_u32(m, "size_kb", c.size_bytes / 1024, 1, 1 << 20) * 1024;
   c.ways = get_u32(m, "ways", c.ways, 1, 1024);
   c.line_bytes = get_u32(m, "line_bytes", c.line_bytes, 4, 4096);
@@ -47,7 +53,7 @@ void read_unit(YamlMap m, model::UnitTypeConfig& u, bool has_l2) {
   u.capacity = get_u32(m, "capacity", u.capacity, 1, 65536);
   u.fifo_depth = get_u32(m, "fifo_depth", u.fifo_depth, 1, 65536);
   if (m.has("l1")) u.l1 = read_cache(m.map("l1"), u.l1);
-  if (has_l2 && m.has("l2")) u.l2 = read_cache(m.map("l2"), u.l2);
+  if (has_l2 && m.has("l2")) u.l2 = read_cache(m.map("l2"), u.l2, &u.l2_sharing);
   if (has_l2 && m.has("link")) u.link = read_link(m.map("link"), u.link);
   m.finish();
 }
@@ -113,6 +119,7 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
                         {"fifo_depth", u.fifo_depth}, {"l1", cache(u.l1)}};
     if (l2) {
       j["l2"] = cache(u.l2);
+      j["l2"]["sharing"] = u.l2_sharing == model::L2Sharing::kType ? "type" : "unit";
       j["link"] = link(u.link);
     }
     return j;

@@ -190,6 +190,28 @@ TEST(Cli, RunMatchesTheReferenceAndCullingSavesCycles) {
   fs::remove_all(off);
 }
 
+TEST(Cli, PrivateL2sMatchTheReferenceAndReportEachL2) {
+  const fs::path out = test::temp_dir("cli_private_l2");
+  std::string args = "run " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
+                     (test::source_dir() / "configs/hw/small.yaml").string() + " --width 48 --height 27 --check --out " +
+                     out.string();
+  for (const char* t : {"trv", "list", "ist"}) args += std::string(" --set hw.") + t + ".l2.sharing=unit";
+  const RunResult r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(j["reference_check"]["mismatched_pixels"], 0);
+  const nlohmann::json& s = j["stats"];
+  // small.yaml: 4 TRV units with an L2 each, and the shading unit gets its own (the IST's are private).
+  uint64_t accesses = 0;
+  for (int i = 0; i < 4; ++i) accesses += s["trv"]["l2"]["unit" + std::to_string(i)]["accesses"].get<uint64_t>();
+  EXPECT_GT(accesses, 0u);
+  EXPECT_EQ(s["trv"]["l2"]["accesses"].get<double>(), double(accesses));
+  EXPECT_FALSE(s["trv"]["l2"].contains("unit4"));
+  EXPECT_GT(s["shading"]["l2"]["accesses"].get<uint64_t>(), 0u);
+  EXPECT_EQ(j["config"]["hw"]["ist"]["l2"]["sharing"], "unit");
+  fs::remove_all(out);
+}
+
 TEST(Cli, BadHardwareConfigsAreNamed) {
   const fs::path dir = test::temp_dir("cli_hw");
   const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
@@ -203,6 +225,12 @@ TEST(Cli, BadHardwareConfigsAreNamed) {
   check("sets.yaml", "trv:\n  l1: {size_kb: 24, ways: 2}\n", {"sets.yaml:2", "trv.l1", "power of two"});
   check("ways.yaml", "ist:\n  l1: {size_kb: 1, ways: 32, line_bytes: 64}\n", {"ways.yaml:2", "ist.l1"});
   check("preset.yaml", "dram: {preset: ddr9}\n", {"preset.yaml:1", "dram.preset", "gddr3-gt200"});
+  check("sharing.yaml", "trv:\n  l2: {sharing: pooled}\n", {"sharing.yaml:2", "trv.l2.sharing", "'unit'"});
+  check("banks.yaml", "ist:\n  l2: {banks: 3}\n", {"banks.yaml:2", "ist.l2", "banks"});
+  check("ports.yaml", "list:\n  l1: {ports: 65}\n", {"ports.yaml:2", "list.l1.ports"});
+  check("fill.yaml", "list:\n  l1: {fill_port: dual}\n", {"fill.yaml:2", "list.l1.fill_port", "'separate'"});
+  check("link.yaml", "memory_link: {bytes_per_cycle: -32}\n", {"link.yaml:1", "memory_link.bytes_per_cycle"});
+  check("link2.yaml", "shading:\n  link: {latency: 2}\n", {"link2.yaml:2", "shading.link", "unknown key"});
   expect_input_error("run " + scene + " --hw " + (dir / "missing.yaml").string() + " --out " + (dir / "o").string(),
                      {"missing.yaml", "not found"});
   fs::remove_all(dir);
