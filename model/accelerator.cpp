@@ -66,6 +66,8 @@ void AcceleratorConfig::validate() const {
     throw std::invalid_argument(std::string("memory_link: ") + e.what());
   }
   if (ray_pool < 1 || ray_pool > (1u << 24)) throw std::invalid_argument("ray_pool: expected 1..16777216");
+  if (raygen_rays_per_cycle < 1 || raygen_rays_per_cycle > 64)
+    throw std::invalid_argument("raygen.rays_per_cycle: expected 1..64");
   if (tile < 1 || tile > 4096) throw std::invalid_argument("tile: expected 1..4096");
   if (watchdog_cycles < 1000) throw std::invalid_argument("watchdog_cycles: expected at least 1000");
   if (reflection_depth < 0 || reflection_depth > 8) throw std::invalid_argument("reflection_depth: expected 0..8");
@@ -141,7 +143,8 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   done.connect(nullptr, &shading);
   std::vector<RayFifo*> trv_inputs;
   for (auto& f : trv_in) trv_inputs.push_back(f.get());
-  RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs);
+  RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs,
+                         cfg.raygen_rays_per_cycle);
   ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &shading_l1, &frame, trv_inputs);
   for (uint32_t i = 0; i < cfg.trv.count; ++i) memory.l1(MemorySystem::kTrv, i).name_requester(trv[i], "trv");
   for (uint32_t j = 0; j < cfg.list.count; ++j) memory.l1(MemorySystem::kList, j).name_requester(list[j].get(), "list");

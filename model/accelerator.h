@@ -52,6 +52,7 @@ struct AcceleratorConfig {
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
   LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
   uint32_t ray_pool = 2048;   // rays in flight, all units together
+  uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;
   Schedule schedule = Schedule::kTwoPhase;

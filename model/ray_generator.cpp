@@ -3,9 +3,11 @@
 namespace rtsim::model {
 
 RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width,
-                           int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs)
+                           int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs,
+                           uint32_t rays_per_cycle)
     : Unit(name, ctx.clock), ctx_(ctx), camera_(camera, width, height), width_(width), height_(height),
-      order_(order), tile_(tile), inputs_(std::move(trv_inputs)), total_(uint64_t(width) * height) {
+      order_(order), tile_(tile), inputs_(std::move(trv_inputs)), rays_per_cycle_(rays_per_cycle),
+      total_(uint64_t(width) * height) {
   if (order_ == RayOrder::kTiles) {
     // Square tiles row by row, pixels row by row inside a tile; partial tiles at the edges.
     tiled_.reserve(total_);
@@ -20,17 +22,19 @@ RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx
 uint32_t RayGenerator::pixel_of(uint64_t k) const { return order_ == RayOrder::kScanline ? uint32_t(k) : tiled_[k]; }
 
 bool RayGenerator::cycle(Tick now) {
-  if (finished() || ctx_.pool->full()) return false;
-  RayFifo* f = inputs_.next_free();
-  if (!f) return false;
-  const uint32_t pixel = pixel_of(next_++);
-  const uint32_t id = ctx_.pool->allocate();
-  RayState& r = (*ctx_.pool)[id];
-  r.type = RayType::kPrimary;
-  r.pixel = pixel;
-  r.trav.ray = camera_.ray(int(pixel % width_), int(pixel / width_));
-  f->push(id, now + clock().period(), now);
-  return true;
+  uint32_t issued = 0;
+  for (; issued < rays_per_cycle_ && !finished() && !ctx_.pool->full(); ++issued) {
+    RayFifo* f = inputs_.next_free();
+    if (!f) break;
+    const uint32_t pixel = pixel_of(next_++);
+    const uint32_t id = ctx_.pool->allocate();
+    RayState& r = (*ctx_.pool)[id];
+    r.type = RayType::kPrimary;
+    r.pixel = pixel;
+    r.trav.ray = camera_.ray(int(pixel % width_), int(pixel / width_));
+    f->push(id, now + clock().period(), now);
+  }
+  return issued > 0;
 }
 
 Tick RayGenerator::next_ready(Tick from) const {

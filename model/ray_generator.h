@@ -1,5 +1,6 @@
-// Ray generator: one primary ray per cycle, through pixel centres in scanline or square-tile
-// order, dealt round-robin to the TRV units' input FIFOs, as long as the ray pool has a free slot.
+// Ray generator: up to `rays_per_cycle` primary rays per cycle (the T&I engine's dispatcher issues
+// one), through pixel centres in scanline or square-tile order, dealt round-robin to the TRV
+// units' input FIFOs, as long as the ray pool has a free slot.
 #pragma once
 
 #include "kernels/camera.h"
@@ -16,7 +17,7 @@ enum class RayOrder { kScanline, kTiles };
 class RayGenerator : public Unit {
  public:
   RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width, int height,
-               RayOrder order, int tile, std::vector<RayFifo*> trv_inputs);
+               RayOrder order, int tile, std::vector<RayFifo*> trv_inputs, uint32_t rays_per_cycle = 1);
   bool finished() const { return next_ == total_; }
   uint64_t issued() const { return next_; }
 
@@ -34,6 +35,7 @@ class RayGenerator : public Unit {
   RayOrder order_;
   int tile_;
   RoundRobin inputs_;  // the TRV units' input FIFOs
+  uint32_t rays_per_cycle_;
   uint64_t next_ = 0, total_ = 0;
   std::vector<uint32_t> tiled_;  // issue order for RayOrder::kTiles
 };

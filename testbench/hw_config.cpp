@@ -80,6 +80,11 @@ model::AcceleratorConfig read_hw_config(YamlMap top) {
   if (top.has("list")) read_unit(top.map("list"), c.list, true);
   if (top.has("ist")) read_unit(top.map("ist"), c.ist, true);
   if (top.has("shading")) read_unit(top.map("shading"), c.shading, false);
+  if (top.has("raygen")) {
+    YamlMap g = top.map("raygen");
+    c.raygen_rays_per_cycle = get_u32(g, "rays_per_cycle", c.raygen_rays_per_cycle, 1, 64);
+    g.finish();
+  }
   if (top.has("memory_link")) c.memory_link = read_link(top.map("memory_link"), c.memory_link);
   if (top.has("dram")) {
     YamlMap d = top.map("dram");
@@ -134,6 +139,7 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
           {"list", unit(c.list, true)},
           {"ist", unit(c.ist, true)},
           {"shading", unit(c.shading, false)},
+          {"raygen", {{"rays_per_cycle", c.raygen_rays_per_cycle}}},
           {"memory_link", link(c.memory_link)},
           {"dram",
            {{"preset", c.dram.preset},
