@@ -54,7 +54,7 @@ void AcceleratorConfig::validate() const {
   validate_type(list, "list", true);
   validate_type(ist, "ist", true);
   validate_type(shading, "shading", false);
-  if (shading.count != 1) throw std::invalid_argument("shading.count: expected 1 (the model has one shading unit)");
+  if (shading.count > 64) throw std::invalid_argument("shading.count: expected 1..64");
   if (list.l2.line_bytes != trv.l2.line_bytes || ist.l2.line_bytes != trv.l2.line_bytes)
     throw std::invalid_argument("l2.line_bytes: the three L2s share one memory; expected equal line sizes");
   for (const UnitTypeConfig* u : {&trv, &list, &ist})
@@ -94,7 +94,7 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
   Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock);
   MemorySystem memory(cfg, &dram, ctx.clock);
-  Cache& shading_l1 = memory.l1(MemorySystem::kShading, 0);
+  Cache& culling_l1 = memory.l1(MemorySystem::kShading, 0);  // the culling unit reads lights through it
 
   FrameBuffer frame;
   frame.width = width;
@@ -111,7 +111,10 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   auto trv_in = make_fifos("trv", cfg.trv.count, cfg.trv.fifo_depth);
   auto list_in = make_fifos("list", cfg.list.count, cfg.list.fifo_depth);
   auto ist_in = make_fifos("ist", cfg.ist.count, cfg.ist.fifo_depth);
-  RayFifo done("shading.in", cfg.shading.fifo_depth);
+  auto shading_in = make_fifos("shading", cfg.shading.count, cfg.shading.fifo_depth);
+  // The rays of TRV unit i finish in shading unit i * shading / trv.
+  std::vector<RayFifo*> done_by_trv;
+  for (uint32_t i = 0; i < cfg.trv.count; ++i) done_by_trv.push_back(shading_in[i * cfg.shading.count / cfg.trv.count].get());
 
   std::vector<TrvUnit*> trv;
   std::vector<std::unique_ptr<TrvUnit>> trv_owned;
@@ -119,8 +122,8 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   std::vector<std::unique_ptr<IstUnit>> ist;
   for (uint32_t k = 0; k < cfg.ist.count; ++k) {
     ist.push_back(std::make_unique<IstUnit>(("ist" + std::to_string(k)).c_str(), ctx, cfg.ist.latency,
-                                            cfg.ist.capacity, &memory.l1(MemorySystem::kIst, k), ist_in[k].get(), &trv, &done, &lvb));
-    done.connect(ist.back().get(), nullptr);
+                                            cfg.ist.capacity, &memory.l1(MemorySystem::kIst, k), ist_in[k].get(), &trv, &done_by_trv, &lvb));
+    for (auto& f : shading_in) f->connect(ist.back().get(), nullptr);
   }
   for (uint32_t j = 0; j < cfg.list.count; ++j) {
     RayFifo* to_ist = ist_in[j * cfg.ist.count / cfg.list.count].get();
@@ -132,38 +135,44 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
     const uint32_t j = i * cfg.list.count / cfg.trv.count;
     trv_owned.push_back(std::make_unique<TrvUnit>(("trv" + std::to_string(i)).c_str(), ctx, cfg.trv.latency,
                                                   cfg.trv.capacity, &memory.l1(MemorySystem::kTrv, i), trv_in[i].get(),
-                                                  list_in[j].get(), &done));
+                                                  list_in[j].get(), done_by_trv[i]));
     trv_owned.back()->set_index(uint16_t(i));
     trv.push_back(trv_owned.back().get());
     list_in[j]->connect(trv.back(), list[j].get());
     trv_in[i]->connect(nullptr, trv.back());
-    done.connect(trv.back(), nullptr);
+    done_by_trv[i]->connect(trv.back(), nullptr);
   }
-  ShadingUnit shading("shading", ctx, cfg.shading.latency, cfg.shading.capacity, &shading_l1, &done, &trv, &frame);
-  done.connect(nullptr, &shading);
+  std::vector<std::unique_ptr<ShadingUnit>> shading;
+  for (uint32_t s = 0; s < cfg.shading.count; ++s) {
+    shading.push_back(std::make_unique<ShadingUnit>(("shading" + std::to_string(s)).c_str(), ctx, cfg.shading.latency,
+                                                    cfg.shading.capacity, &memory.l1(MemorySystem::kShading, s),
+                                                    shading_in[s].get(), &trv, &frame));
+    shading_in[s]->connect(nullptr, shading.back().get());
+  }
   std::vector<RayFifo*> trv_inputs;
   for (auto& f : trv_in) trv_inputs.push_back(f.get());
   RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs,
                          cfg.raygen_rays_per_cycle);
-  ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &shading_l1, &frame, trv_inputs);
+  ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &culling_l1, &frame, trv_inputs);
   for (uint32_t i = 0; i < cfg.trv.count; ++i) memory.l1(MemorySystem::kTrv, i).name_requester(trv[i], "trv");
   for (uint32_t j = 0; j < cfg.list.count; ++j) memory.l1(MemorySystem::kList, j).name_requester(list[j].get(), "list");
   for (uint32_t k = 0; k < cfg.ist.count; ++k) memory.l1(MemorySystem::kIst, k).name_requester(ist[k].get(), "ist");
-  shading_l1.name_requester(&shading, "shading");
-  shading_l1.name_requester(&culling, "culling");
+  for (uint32_t s = 0; s < cfg.shading.count; ++s)
+    memory.l1(MemorySystem::kShading, s).name_requester(shading[s].get(), "shading");
+  culling_l1.name_requester(&culling, "culling");
   for (auto& f : trv_in) {
     f->connect(&generator, nullptr);
     f->connect(&culling, nullptr);
   }
 
   if (cfg.schedule == Schedule::kOnePhase)
-    shading.on_hit = [&culling](uint32_t entry, Tick ready) { culling.add(entry, ready); };
+    for (auto& u : shading) u->on_hit = [&culling](uint32_t entry, Tick ready) { culling.add(entry, ready); };
   // Phase control: the shadow phase starts when the last primary ray retires (two phases); in
   // one phase the culling unit learns there that no more hits will come.
   Tick primary_end = 0, end = 0;
   bool primaries_done = false;
   uint64_t primaries_retired = 0, shadows_retired = 0;
-  shading.on_retire = [&](RayType type, Tick when) {
+  auto on_retire = [&](RayType type, Tick when) {
     const Tick now = Scheduler::instance().now();
     end = std::max(end, when);
     // A ray slot is free: whoever waits for one.
@@ -182,15 +191,16 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
       culling.wake(now);
     }
   };
+  for (auto& u : shading) u->on_retire = on_retire;
   // The watchdog: a run that stops moving names what is stuck.
-  std::vector<RayFifo*> fifos{&done};
-  for (auto* v : {&trv_in, &list_in, &ist_in})
+  std::vector<RayFifo*> fifos;
+  for (auto* v : {&shading_in, &trv_in, &list_in, &ist_in})
     for (auto& f : *v) fifos.push_back(f.get());
   std::vector<std::pair<std::string, const RayUnit*>> ray_units;
   for (auto* t : trv) ray_units.push_back({t->name(), t});
   for (auto& u : list) ray_units.push_back({u->name(), u.get()});
   for (auto& u : ist) ray_units.push_back({u->name(), u.get()});
-  ray_units.push_back({shading.name(), &shading});
+  for (auto& u : shading) ray_units.push_back({u->name(), u.get()});
   auto pending = [&] { return pool.in_flight() > 0 || !generator.finished() || !culling.finished(); };
   Watchdog watchdog(
       "watchdog", ctx.clock, cfg.watchdog_cycles,
@@ -246,7 +256,8 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
 
   // Statistics, by name.
   StatsRegistry reg;
-  for (Unit* u : std::vector<Unit*>{&generator, &shading, &culling}) u->finish_accounting(end);
+  for (Unit* u : std::vector<Unit*>{&generator, &culling}) u->finish_accounting(end);
+  for (auto& u : shading) u->finish_accounting(end);
   for (auto* t : trv) t->finish_accounting(end);
   for (auto& u : list) u->finish_accounting(end);
   for (auto& u : ist) u->finish_accounting(end);
@@ -273,8 +284,11 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   units.clear();
   for (auto& u : ist) units.push_back(u.get());
   add_totals("ist", units);
+  units.clear();
+  for (auto& u : shading) units.push_back(u.get());
+  add_totals("shading", units);
   memory.register_stats(reg, &end);
-  shading.register_stats(reg, "shading.unit");
+  for (uint32_t s = 0; s < shading.size(); ++s) shading[s]->register_stats(reg, "shading.unit" + std::to_string(s));
   generator.register_unit_stats(reg, "raygen");
   culling.register_stats(reg, "culling");
   lvb.register_stats(reg, "lvb_updater");
@@ -293,10 +307,12 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   out.cycles_total = ctx.clock.to_cycles(ctx.clock.edge_at_or_after(end));
   out.cycles_primary = ctx.clock.to_cycles(ctx.clock.edge_at_or_after(primary_end));
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
-  out.primary_rays = shading.stats().primary_rays;
-  out.primary_hits = shading.stats().primary_hits;
-  out.reflection_rays = shading.stats().reflection_rays;
-  out.shadow_rays = shading.stats().shadow_rays;
+  for (const auto& u : shading) {
+    out.primary_rays += u->stats().primary_rays;
+    out.primary_hits += u->stats().primary_hits;
+    out.reflection_rays += u->stats().reflection_rays;
+    out.shadow_rays += u->stats().shadow_rays;
+  }
   for (const LightStats& l : culling.per_light()) {
     out.shadow_generated.push_back(l.generated);
     out.shadow_culled.push_back(l.culled);

@@ -6,8 +6,9 @@
 namespace rtsim::model {
 
 IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
-                 Cache* l1, RayFifo* in, const std::vector<TrvUnit*>* trv, RayFifo* done, LvbUpdater* lvb)
-    : RayUnit(name, ctx, in, capacity), latency_(latency), l1_(l1), trv_(trv), done_(done), lvb_(lvb) {}
+                 Cache* l1, RayFifo* in, const std::vector<TrvUnit*>* trv, const std::vector<RayFifo*>* done_by_trv,
+                 LvbUpdater* lvb)
+    : RayUnit(name, ctx, in, capacity), latency_(latency), l1_(l1), trv_(trv), done_(done_by_trv), lvb_(lvb) {}
 
 void IstUnit::process(uint32_t id, Tick now) {
   RayState& r = (*ctx_.pool)[id];
@@ -38,7 +39,7 @@ void IstUnit::process(uint32_t id, Tick now) {
     release();
     (*trv_)[r.trv_unit]->return_ray(id, r.leaf_done_at);
   } else {
-    emit(done_, id, r.leaf_done_at, now);
+    emit((*done_)[r.trv_unit], id, r.leaf_done_at, now);
   }
 }
 

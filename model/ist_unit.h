@@ -22,7 +22,7 @@ struct IstStats {
 class IstUnit : public RayUnit {
  public:
   IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity, Cache* l1,
-          RayFifo* in, const std::vector<TrvUnit*>* trv, RayFifo* done, LvbUpdater* lvb);
+          RayFifo* in, const std::vector<TrvUnit*>* trv, const std::vector<RayFifo*>* done_by_trv, LvbUpdater* lvb);
   const IstStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
@@ -33,7 +33,7 @@ class IstUnit : public RayUnit {
   uint32_t latency_;
   Cache* l1_;
   const std::vector<TrvUnit*>* trv_;
-  RayFifo* done_;
+  const std::vector<RayFifo*>* done_;  // the shading input for the rays of each TRV unit
   LvbUpdater* lvb_;
   IstStats stats_;
 };

@@ -33,7 +33,7 @@ MemorySystem::MemorySystem(const AcceleratorConfig& cfg, LineSource* memory, con
       first_source += lc.l2.banks;
       grp.l2 = std::make_unique<Cache>(m.name + ".l2" + suffix, lc.l2, clock, grp.to_memory.get());
       grp.to_memory->set_requester(grp.l2.get());
-      const uint32_t l1s = groups > 1 ? 1 : u.count + (t == kIst && !ist_private ? 1 : 0);
+      const uint32_t l1s = groups > 1 ? 1 : u.count + (t == kIst && !ist_private ? cfg.shading.count : 0);
       grp.icnt = std::make_unique<Crossbar>(m.name + ".icnt" + suffix, lc.link, clock, l1s, lc.l2.banks);
       m.groups.push_back(std::move(grp));
     }
@@ -45,7 +45,7 @@ MemorySystem::MemorySystem(const AcceleratorConfig& cfg, LineSource* memory, con
     for (uint32_t i = 0; i < u.count; ++i) {
       const bool shared_ist = t == kShading && !ist_private;
       Group& g = shared_ist ? types_[kIst].groups[0] : m.groups[m.groups.size() > 1 ? i : 0];
-      const uint32_t source = shared_ist ? cfg.ist.count : (m.groups.size() > 1 ? 0 : i);
+      const uint32_t source = shared_ist ? cfg.ist.count + i : (m.groups.size() > 1 ? 0 : i);
       m.ports.push_back(std::make_unique<CrossbarPort>(g.icnt.get(), source, nullptr, g.l2.get(), g.l2->config().line_bytes));
       g.l2->name_requester(m.ports.back().get(), m.name);
       m.l1s.push_back(std::make_unique<Cache>(m.name + std::to_string(i) + ".l1", u.l1, clock, m.ports.back().get()));
@@ -73,10 +73,6 @@ void MemorySystem::register_stats(StatsRegistry& r, const Tick* end) const {
   for (const TypeMemory& m : types_) {
     std::vector<const Cache*> l1s;
     for (size_t i = 0; i < m.l1s.size(); ++i) {
-      if (m.name == "shading" && m.l1s.size() == 1) {
-        m.l1s[i]->register_stats(r, "shading.l1");  // one shading unit: no per-instance level
-        continue;
-      }
       m.l1s[i]->register_stats(r, m.name + ".l1.unit" + std::to_string(i));
       l1s.push_back(m.l1s[i].get());
     }

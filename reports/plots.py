@@ -180,7 +180,7 @@ def parse_report(rep):
     units = []  # (label, busy, stalled, idle) or (label, None...) when the unit type is absent
     for label, path, count_path in [("raygen", "raygen", None), ("TRV", "trv.total", "trv.count"),
                                     ("LIST", "list.total", "list.count"), ("IST", "ist.total", "ist.count"),
-                                    ("shading", "shading.unit", None), ("culling", "culling", None)]:
+                                    ("shading", "shading.total", "shading.count"), ("culling", "culling", None)]:
         s = field(stats, path, None)
         count = field(hw, count_path, None) if count_path else None
         if is_number(count):

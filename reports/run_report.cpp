@@ -128,7 +128,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
   for (const auto& [label, path, count] : std::vector<std::tuple<std::string, std::string, double>>{
            {"ray generator", "stats.raygen", 1}, {"TRV", "stats.trv.total", hw["trv"]["count"].get<double>()},
            {"LIST", "stats.list.total", hw["list"]["count"].get<double>()},
-           {"IST", "stats.ist.total", hw["ist"]["count"].get<double>()}, {"shading", "stats.shading.unit", 1},
+           {"IST", "stats.ist.total", hw["ist"]["count"].get<double>()}, {"shading", "stats.shading.total", hw["shading"]["count"].get<double>()},
            {"shadow culling", "stats.culling", 1}}) {
     const double b = json_number(r, path + ".busy_cycles"), s = json_number(r, path + ".stalled_cycles"),
                  i = json_number(r, path + ".idle_cycles");

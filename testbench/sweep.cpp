@@ -177,7 +177,7 @@ double metric_value(const std::string& name, const nlohmann::json& r) {
     for (const char* level : {"l1", "l2"})
       if (name == fmt::format("{}_{}_hit_rate", type, level)) return json_number(r, fmt::format("stats.{}.{}.hit_rate", type, level));
     if (name == fmt::format("{}_busy", type))
-      return share(std::string("stats.") + type + (std::string(type) == "shading" ? ".unit" : ".total"));
+      return share(std::string("stats.") + type + ".total");
   }
   return json_number(r, name);  // any numeric field of report.json by its dotted path
 }

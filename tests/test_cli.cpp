@@ -212,6 +212,26 @@ TEST(Cli, PrivateL2sMatchTheReferenceAndReportEachL2) {
   fs::remove_all(out);
 }
 
+TEST(Cli, SeveralShadingUnitsShareTheWorkAndMatchTheReference) {
+  const fs::path out = test::temp_dir("cli_shading3");
+  const RunResult r = run("run " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
+                          (test::source_dir() / "configs/hw/small.yaml").string() +
+                          " --width 48 --height 27 --reflections 1 --check --set hw.shading.count=3 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(j["reference_check"]["mismatched_pixels"], 0);
+  const nlohmann::json& s = j["stats"]["shading"];
+  uint64_t ops = 0;
+  for (int i = 0; i < 3; ++i) {
+    const uint64_t n = s["unit" + std::to_string(i)]["operations"].get<uint64_t>();
+    EXPECT_GT(n, 0u) << "shading unit " << i << " got no work";
+    ops += n;
+  }
+  EXPECT_EQ(s["total"]["operations"].get<double>(), double(ops));
+  EXPECT_GT(s["l1"]["unit2"]["accesses"].get<uint64_t>(), 0u);
+  fs::remove_all(out);
+}
+
 TEST(Cli, BadHardwareConfigsAreNamed) {
   const fs::path dir = test::temp_dir("cli_hw");
   const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
