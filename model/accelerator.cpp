@@ -66,6 +66,12 @@ void AcceleratorConfig::validate() const {
     throw std::invalid_argument(std::string("memory_link: ") + e.what());
   }
   if (ray_pool < 1 || ray_pool > (1u << 24)) throw std::invalid_argument("ray_pool: expected 1..16777216");
+  if (culling.records_per_cycle > 64) throw std::invalid_argument("culling.records_per_cycle: expected 0 (unlimited) .. 64");
+  if (culling.prefetch < 1 || culling.prefetch > 65536) throw std::invalid_argument("culling.prefetch: expected 1..65536");
+  if (schedule == Schedule::kTwoPhase && culling.records_per_cycle > 0 && !write_records)
+    throw std::invalid_argument(
+        "culling.records_per_cycle: in two phases the culling unit reads the hit records from memory, which needs "
+        "shading.write_records: true (or records_per_cycle: 0, the ideal unit)");
   if (raygen_rays_per_cycle < 1 || raygen_rays_per_cycle > 64)
     throw std::invalid_argument("raygen.rays_per_cycle: expected 1..64");
   if (tile < 1 || tile > 4096) throw std::invalid_argument("tile: expected 1..4096");
@@ -92,7 +98,12 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
 
   DramConfig dram_cfg = cfg.dram;
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
-  Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock);
+  // The frame buffer of hit records follows the image (model/hit_record.h).
+  const uint64_t entries = uint64_t(width) * uint64_t(height) * uint64_t(cfg.reflection_depth + 1);
+  HitRecordRegion records;
+  records.base = (image.bytes().size() + 4095) / 4096 * 4096;
+  records.stride = std::max(kHitRecordBytes, dram_cfg.request_bytes);
+  Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock, records.base - image.bytes().size() + entries * records.stride);
   MemorySystem memory(cfg, &dram, ctx.clock);
   Cache& culling_l1 = memory.l1(MemorySystem::kShading, 0);  // the culling unit reads lights through it
 
@@ -153,7 +164,16 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   for (auto& f : trv_in) trv_inputs.push_back(f.get());
   RayGenerator generator("raygen", ctx, camera, width, height, cfg.order, cfg.tile, trv_inputs,
                          cfg.raygen_rays_per_cycle);
-  ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, &culling_l1, &frame, trv_inputs);
+  ShadowCullingUnit culling("culling", ctx, cfg.lvb_culling, cfg.culling, &culling_l1, &frame, trv_inputs);
+  if (cfg.write_records)
+    for (uint32_t s = 0; s < cfg.shading.count; ++s) {
+      shading[s]->records = records;
+      shading[s]->write_line = [&memory, s](uint64_t line, const uint8_t* data, Tick when) {
+        memory.write_line(s, line, data, when);
+      };
+    }
+  if (cfg.schedule == Schedule::kTwoPhase && cfg.culling.records_per_cycle > 0)
+    culling.read_records_from(&memory.record_reader(), records);
   for (uint32_t i = 0; i < cfg.trv.count; ++i) memory.l1(MemorySystem::kTrv, i).name_requester(trv[i], "trv");
   for (uint32_t j = 0; j < cfg.list.count; ++j) memory.l1(MemorySystem::kList, j).name_requester(list[j].get(), "list");
   for (uint32_t k = 0; k < cfg.ist.count; ++k) memory.l1(MemorySystem::kIst, k).name_requester(ist[k].get(), "ist");

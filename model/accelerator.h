@@ -10,6 +10,7 @@
 #include "model/dram_config.h"
 #include "model/frame_buffer.h"
 #include "model/ray_generator.h"
+#include "model/shadow_culling_unit.h"
 #include "model/stats_registry.h"
 #include "model/vcd_trace.h"
 #include "scene_loader/scene.h"
@@ -53,6 +54,8 @@ struct AcceleratorConfig {
   LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
   uint32_t ray_pool = 2048;   // rays in flight, all units together
   uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
+  CullingConfig culling;               // one hit record per cycle, read from memory in two phases
+  bool write_records = true;           // shading units write each hit's record to the frame buffer
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;
   Schedule schedule = Schedule::kTwoPhase;

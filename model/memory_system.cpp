@@ -4,7 +4,8 @@
 
 namespace rtsim::model {
 
-MemorySystem::MemorySystem(const AcceleratorConfig& cfg, LineSource* memory, const Clock& clock) {
+MemorySystem::MemorySystem(const AcceleratorConfig& cfg, Dram* dram, const Clock& clock) : dram_(dram) {
+  LineSource* memory = dram;
   const UnitTypeConfig* unit_cfg[kTypes] = {&cfg.trv, &cfg.list, &cfg.ist, &cfg.shading};
   const char* names[kTypes] = {"trv", "list", "ist", "shading"};
   const bool ist_private = cfg.ist.l2_sharing == L2Sharing::kUnit;
@@ -17,7 +18,10 @@ MemorySystem::MemorySystem(const AcceleratorConfig& cfg, LineSource* memory, con
   };
   uint32_t sources = 0;
   for (int t = 0; t < kTypes; ++t) sources += l2_count(t) * l2_cfg(t).l2.banks;
+  first_writer_ = sources;
+  sources += cfg.shading.count + 1;
   memory_icnt_ = std::make_unique<Crossbar>("memory.icnt", cfg.memory_link, clock, sources, memory->port_count());
+  record_reader_ = std::make_unique<CrossbarPort>(memory_icnt_.get(), sources - 1, nullptr, memory, dram->engine().config().request_bytes);
 
   uint32_t first_source = 0;
   for (int t = 0; t < kTypes; ++t) {
@@ -51,6 +55,12 @@ MemorySystem::MemorySystem(const AcceleratorConfig& cfg, LineSource* memory, con
       m.l1s.push_back(std::make_unique<Cache>(m.name + std::to_string(i) + ".l1", u.l1, clock, m.ports.back().get()));
     }
   }
+}
+
+void MemorySystem::write_line(uint32_t writer, uint64_t line, const uint8_t* data, Tick now) {
+  const uint32_t bytes = dram_->engine().config().request_bytes;
+  const Tick arrived = memory_icnt_->request(first_writer_ + writer, dram_->port_of(line), bytes, now);
+  dram_->write_line(line, data, arrived);
 }
 
 void MemorySystem::register_stats(StatsRegistry& r, const Tick* end) const {

@@ -51,7 +51,13 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   px.diffuse = mat.diffuse;
   px.reflectance = mat.reflectance;
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
-  if (on_hit) on_hit(frame_->entry(r.pixel, r.depth), done_at);
+  const uint32_t entry = frame_->entry(r.pixel, r.depth);
+  if (write_line) {
+    line_.assign(records.stride, 0);
+    encode_hit_record(px, line_.data());
+    write_line(records.address(entry), line_.data(), done_at);
+  }
+  if (on_hit) on_hit(entry, done_at);
   if (mat.reflectance > 0.f && r.depth + 1 < frame_->levels) {
     // A mirror: the ray goes on as its reflection, in the same slot of the same TRV unit.
     const Ray incoming = r.trav.ray;

@@ -7,6 +7,7 @@
 
 #include "model/cache.h"
 #include "model/frame_buffer.h"
+#include "model/hit_record.h"
 #include "model/ray_unit.h"
 
 #include <functional>
@@ -30,6 +31,10 @@ class ShadingUnit : public RayUnit {
   std::function<void(RayType, Tick)> on_retire;
   // Called when a hit (frame entry) is shaded, with the time its result is ready (one phase).
   std::function<void(uint32_t, Tick)> on_hit;
+  // When set, every shaded hit's record is written to the frame buffer in memory through it
+  // (a posted write of one line at `records.address(entry)`).
+  std::function<void(uint64_t line, const uint8_t* data, Tick when)> write_line;
+  HitRecordRegion records;
   const ShadingStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
@@ -40,6 +45,7 @@ class ShadingUnit : public RayUnit {
   void retire(uint32_t id, RayType type, Tick now);
 
   uint32_t latency_;
+  std::vector<uint8_t> line_;  // the record line being written
   Cache* l1_;
   const std::vector<TrvUnit*>* trv_;
   FrameBuffer* frame_;

@@ -4,10 +4,11 @@
 
 namespace rtsim::model {
 
-ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, Cache* l1,
-                                     FrameBuffer* frame, std::vector<RayFifo*> trv_inputs)
+ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
+                                     const CullingConfig& config, Cache* l1, FrameBuffer* frame,
+                                     std::vector<RayFifo*> trv_inputs)
     : Unit(name, ctx.clock), ctx_(ctx), culling_(culling), l1_(l1), frame_(frame), inputs_(std::move(trv_inputs)),
-      lights_(ctx.header.light_count) {}
+      lights_(ctx.header.light_count), rate_(config.records_per_cycle), prefetch_(std::max<uint32_t>(1, config.prefetch)) {}
 
 void ShadowCullingUnit::scan_all(Tick now) {
   scanning_ = closed_ = true;
@@ -16,7 +17,12 @@ void ShadowCullingUnit::scan_all(Tick now) {
   light_ = 0;
   for (const PixelState& px : frame_->pixels) added_ += px.hit.tri != kNoHit;
   if (ctx_.header.light_count == 0) entry_ = frame_->pixels.size();
-  while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit) ++entry_;
+  if (from_memory()) {
+    arrival_.assign(prefetch_, kUnknown);
+    requested_ = entry_;
+  } else if (rate_ == 0) {
+    while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit) ++entry_;
+  }
   wake(now);
 }
 
@@ -32,15 +38,42 @@ void ShadowCullingUnit::close(Tick now) {
   wake(now);
 }
 
+void ShadowCullingUnit::on_fill(uint64_t, uint64_t cookie, Tick when) {
+  if (cookie == 0) {
+    waiting_ = false;
+  } else {
+    arrival_[(cookie - 1) % prefetch_] = when;
+    if (cookie - 1 != entry_) return;
+  }
+  wake(when);
+}
+
 double ShadowCullingUnit::decided_fraction() const {
   return added_ ? double(done_) / double(added_) : 0.0;
 }
 
+Tick ShadowCullingUnit::current_ready() const {
+  if (!scanning_) return queue_.front().ready;
+  return from_memory() ? arrival_[entry_ % prefetch_] : scan_ready_;
+}
+
 void ShadowCullingUnit::next_entry() {
-  ++done_;
   light_ = 0;
+  record_open_ = false;
   if (!scanning_) {
+    ++done_;
     queue_.pop_front();
+    return;
+  }
+  if (from_memory()) {
+    done_ += record_.hit;
+    arrival_[entry_ % prefetch_] = kUnknown;
+    ++entry_;
+    return;
+  }
+  ++done_;
+  if (rate_ > 0) {
+    ++entry_;
     return;
   }
   do ++entry_;
@@ -51,25 +84,10 @@ void ShadowCullingUnit::advance() {
   if (++light_ == ctx_.header.light_count) next_entry();
 }
 
-bool ShadowCullingUnit::cycle(Tick now) {
-  if (!has_work() || waiting_ || current_ready() > now) return false;
-  // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
-  // unit emits the next shadow ray that is not culled.
-  bool culled_any = false;
-  while (culling_ && has_work() && current_ready() <= now && !((frame_->pixels[current()].lvb >> light_) & 1u)) {
-    ++lights_[light_].decisions;
-    ++lights_[light_].culled;
-    frame_->pixels[current()].culled |= uint16_t(1u << light_);
-    culled_any = true;
-    advance();
-  }
-  if (!has_work() || current_ready() > now) return culled_any;
-  const uint32_t entry = current();
-  PixelState& px = frame_->pixels[entry];
-  LightStats& ls = lights_[light_];
-  if (ctx_.pool->full()) return culled_any;  // woken when a ray retires
+bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
+  if (ctx_.pool->full()) return false;  // woken when a ray retires
   RayFifo* f = inputs_.next_free();
-  if (!f) return culled_any;  // woken when a TRV input frees a slot
+  if (!f) return false;  // woken when a TRV input frees a slot
   const uint64_t addr = ctx_.header.lights.base + uint64_t(light_) * image::kLightBytes;
   const RecordFetch fl = fetch_record(*l1_, addr, image::kLightBytes, now, this, 0);
   if (fl.ready == kUnknown) {
@@ -82,21 +100,85 @@ bool ShadowCullingUnit::cycle(Tick now) {
   const uint32_t id = ctx_.pool->allocate();
   RayState& r = (*ctx_.pool)[id];
   r.type = RayType::kShadow;
-  r.pixel = entry;  // the frame entry (pixel and bounce)
+  r.pixel = current();  // the frame entry (pixel and bounce)
   r.light = uint8_t(light_);
-  r.trav.ray = shadow_ray(px.surface, light.position, ctx_.shadow_offset);
+  r.trav.ray = shadow_ray(surface, light.position, ctx_.shadow_offset);
   f->push(id, std::max(fl.ready, now + clock().period()), now);
-  ++ls.decisions;
-  ++ls.generated;
+  ++lights_[light_].decisions;
+  ++lights_[light_].generated;
   advance();
   return true;
 }
 
+bool ShadowCullingUnit::cycle(Tick now) { return rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now); }
+
+bool ShadowCullingUnit::cycle_unlimited(Tick now) {
+  if (!has_work() || waiting_ || current_ready() > now) return false;
+  // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
+  // unit emits the next shadow ray that is not culled.
+  bool culled_any = false;
+  while (culling_ && has_work() && current_ready() <= now && !((frame_->pixels[current()].lvb >> light_) & 1u)) {
+    ++lights_[light_].decisions;
+    ++lights_[light_].culled;
+    frame_->pixels[current()].culled |= uint16_t(1u << light_);
+    culled_any = true;
+    advance();
+  }
+  if (!has_work() || current_ready() > now) return culled_any;
+  return emit(frame_->pixels[current()].surface, now) || culled_any;
+}
+
+bool ShadowCullingUnit::request_records(Tick now) {
+  bool any = false;
+  for (uint32_t k = 0; k < rate_ && can_request(); ++k) {
+    const uint32_t entry = uint32_t(requested_++);
+    ++record_reads_;
+    const Tick t = reader_->fetch_line(region_.address(entry), now, this, uint64_t(entry) + 1);
+    arrival_[entry % prefetch_] = t;
+    any = true;
+  }
+  return any;
+}
+
+bool ShadowCullingUnit::cycle_limited(Tick now) {
+  const bool requested = request_records(now);
+  uint32_t taken = 0;
+  while (has_work() && !waiting_ && current_ready() <= now) {
+    if (!record_open_) {  // a new record: it takes one of this cycle's slots
+      if (taken == rate_) break;
+      ++taken;
+      ++records_taken_;
+      record_open_ = true;
+      if (from_memory()) {
+        record_ = decode_hit_record(reader_->line_data(region_.address(current())));
+      } else {
+        const PixelState& px = frame_->pixels[current()];
+        record_ = {px.surface, px.lvb, px.hit.tri != kNoHit};
+      }
+    }
+    if (!record_.hit) {
+      next_entry();
+      continue;
+    }
+    if (culling_ && !((record_.lvb >> light_) & 1u)) {
+      ++lights_[light_].decisions;
+      ++lights_[light_].culled;
+      frame_->pixels[current()].culled |= uint16_t(1u << light_);
+      advance();
+      continue;
+    }
+    return emit(record_.surface, now) || requested || taken > 0;  // one ray per cycle
+  }
+  return requested || taken > 0;
+}
+
 Tick ShadowCullingUnit::next_ready(Tick from) const {
+  if (rate_ > 0 && can_request()) return from;  // keep the reads flowing
   if (!has_work() || waiting_) return kUnknown;  // woken by add() or a fill
   if (ctx_.pool->full()) return kUnknown;        // woken when a ray retires
   if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
-  return std::max(from, current_ready());
+  const Tick ready = current_ready();
+  return ready == kUnknown ? kUnknown : std::max(from, ready);
 }
 
 uint64_t ShadowCullingUnit::generated() const {
@@ -107,6 +189,8 @@ uint64_t ShadowCullingUnit::generated() const {
 
 void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
+  r.counter(prefix + ".records_taken", &records_taken_, "hit records taken (limited rate only)");
+  r.counter(prefix + ".record_reads", &record_reads_, "hit-record lines read from the frame buffer");
   for (size_t i = 0; i < lights_.size(); ++i) {
     const std::string p = prefix + ".light" + std::to_string(i);
     r.counter(p + ".decisions", &lights_[i].decisions, "hit pixels considered");

@@ -5,12 +5,21 @@
 // through its L1.
 //
 // Its work comes one of two ways (the schedule): in two phases, scan_all() at the end of the
-// primary phase hands it every hit in frame order; in one phase, the shading unit add()s each hit
-// as it is shaded and close() says no more will come.
+// primary phase hands it every frame entry in order; in one phase, the shading unit add()s each
+// hit as it is shaded and close() says no more will come.
+//
+// Its rate: it takes at most `records_per_cycle` hit records per cycle (a record with several
+// lights to shoot holds it one cycle per ray). In two phases with read_records_from(), it reads
+// every entry's record from the frame buffer in memory (model/hit_record.h), up to `prefetch`
+// lines ahead, and builds the rays from the fetched bytes; an entry without a hit costs its read
+// and a record slot too. `records_per_cycle == 0` is the ideal unit: any number of records per
+// cycle, taken from the host-side frame without memory traffic, and entries without a hit skipped
+// for free.
 #pragma once
 
 #include "model/cache.h"
 #include "model/frame_buffer.h"
+#include "model/hit_record.h"
 #include "model/model_context.h"
 #include "model/ray_fifo.h"
 #include "model/unit.h"
@@ -26,10 +35,20 @@ struct LightStats {
   uint64_t culled = 0;     // shadow rays culled by the LVB
 };
 
+struct CullingConfig {
+  uint32_t records_per_cycle = 1;  // 0: unlimited (ideal)
+  uint32_t prefetch = 128;         // record lines in flight when reading the frame buffer
+};
+
 class ShadowCullingUnit : public Unit, public FillListener {
  public:
-  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, Cache* l1,
-                    FrameBuffer* frame, std::vector<RayFifo*> trv_inputs);
+  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, const CullingConfig& config,
+                    Cache* l1, FrameBuffer* frame, std::vector<RayFifo*> trv_inputs);
+  // Two phases, limited rate: read the records through `reader` from `region` (else from the host).
+  void read_records_from(LineSource* reader, const HitRecordRegion& region) {
+    reader_ = reader;
+    region_ = region;
+  }
   // Two phases: every hit entry of the frame, in order, from `now`; no more will come.
   void scan_all(Tick now);
   // One phase: the hit at frame entry `entry` is shaded by `ready`; close() after the last.
@@ -39,10 +58,8 @@ class ShadowCullingUnit : public Unit, public FillListener {
   // Share of the known hits decided (for progress reports).
   double decided_fraction() const;
   uint64_t generated() const;
-  void on_fill(uint64_t, uint64_t, Tick when) override {
-    waiting_ = false;
-    wake(when);
-  }
+  // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
+  void on_fill(uint64_t, uint64_t cookie, Tick when) override;
   const std::vector<LightStats>& per_light() const { return lights_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
@@ -54,9 +71,16 @@ class ShadowCullingUnit : public Unit, public FillListener {
  private:
   bool has_work() const { return scanning_ ? entry_ < frame_->pixels.size() : !queue_.empty(); }
   uint32_t current() const { return scanning_ ? uint32_t(entry_) : queue_.front().entry; }
-  Tick current_ready() const { return scanning_ ? scan_ready_ : queue_.front().ready; }
+  Tick current_ready() const;
+  bool from_memory() const { return scanning_ && rate_ > 0 && reader_; }
   void advance();      // the next (hit, light) pair
   void next_entry();   // the next hit
+  bool cycle_unlimited(Tick now);
+  bool cycle_limited(Tick now);
+  bool request_records(Tick now);   // memory reads for the coming entries; true if any issued
+  bool can_request() const { return from_memory() && requested_ < frame_->pixels.size() && requested_ < entry_ + prefetch_; }
+  // Emits the shadow ray of the current (hit, light) pair from `surface`: true if it went.
+  bool emit(const SurfacePoint& surface, Tick now);
 
   const ModelContext& ctx_;
   bool culling_;
@@ -75,6 +99,15 @@ class ShadowCullingUnit : public Unit, public FillListener {
   uint64_t added_ = 0, done_ = 0;
   uint32_t light_ = 0;
   std::vector<LightStats> lights_;
+  // The limited rate.
+  uint32_t rate_, prefetch_;
+  bool record_open_ = false;  // the current entry's record is taken (counted against the rate)
+  HitRecord record_;          // ... and its contents
+  LineSource* reader_ = nullptr;
+  HitRecordRegion region_;
+  size_t requested_ = 0;      // the next entry whose record is to be read
+  std::vector<Tick> arrival_; // per entry in the window (entry % prefetch): when its record is in
+  uint64_t record_reads_ = 0, records_taken_ = 0;
 };
 
 }  // namespace rtsim::model

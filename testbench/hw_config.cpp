@@ -79,7 +79,17 @@ model::AcceleratorConfig read_hw_config(YamlMap top) {
   if (top.has("trv")) read_unit(top.map("trv"), c.trv, true);
   if (top.has("list")) read_unit(top.map("list"), c.list, true);
   if (top.has("ist")) read_unit(top.map("ist"), c.ist, true);
-  if (top.has("shading")) read_unit(top.map("shading"), c.shading, false);
+  if (top.has("shading")) {
+    YamlMap m = top.map("shading");
+    c.write_records = m.get<bool>("write_records", c.write_records);
+    read_unit(m, c.shading, false);
+  }
+  if (top.has("culling")) {
+    YamlMap m = top.map("culling");
+    c.culling.records_per_cycle = get_u32(m, "records_per_cycle", c.culling.records_per_cycle, 0, 64);
+    c.culling.prefetch = get_u32(m, "prefetch", c.culling.prefetch, 1, 65536);
+    m.finish();
+  }
   if (top.has("raygen")) {
     YamlMap g = top.map("raygen");
     c.raygen_rays_per_cycle = get_u32(g, "rays_per_cycle", c.raygen_rays_per_cycle, 1, 64);
@@ -138,7 +148,12 @@ nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
           {"trv", unit(c.trv, true)},
           {"list", unit(c.list, true)},
           {"ist", unit(c.ist, true)},
-          {"shading", unit(c.shading, false)},
+          {"shading", [&] {
+             nlohmann::json j = unit(c.shading, false);
+             j["write_records"] = c.write_records;
+             return j;
+           }()},
+          {"culling", {{"records_per_cycle", c.culling.records_per_cycle}, {"prefetch", c.culling.prefetch}}},
           {"raygen", {{"rays_per_cycle", c.raygen_rays_per_cycle}}},
           {"memory_link", link(c.memory_link)},
           {"dram",

@@ -251,6 +251,10 @@ TEST(Cli, BadHardwareConfigsAreNamed) {
   check("fill.yaml", "list:\n  l1: {fill_port: dual}\n", {"fill.yaml:2", "list.l1.fill_port", "'separate'"});
   check("link.yaml", "memory_link: {bytes_per_cycle: -32}\n", {"link.yaml:1", "memory_link.bytes_per_cycle"});
   check("link2.yaml", "shading:\n  link: {latency: 2}\n", {"link2.yaml:2", "shading.link", "unknown key"});
+  check("records.yaml", "culling: {records_per_cycle: 1}\nshading: {write_records: false}\n",
+        {"records.yaml", "culling.records_per_cycle", "write_records"});
+  check("rate.yaml", "culling: {records_per_cycle: 65}\n", {"rate.yaml:1", "culling.records_per_cycle"});
+  check("raygen.yaml", "raygen: {rays_per_cycle: 0}\n", {"raygen.yaml:1", "raygen.rays_per_cycle"});
   expect_input_error("run " + scene + " --hw " + (dir / "missing.yaml").string() + " --out " + (dir / "o").string(),
                      {"missing.yaml", "not found"});
   fs::remove_all(dir);
