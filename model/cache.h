@@ -158,7 +158,7 @@ class Cache : public LineSource, public FillListener {
   Tick access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival, bool requeued);
   Tick miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
             bool requeued);
-  uint64_t ceil_cycles(Tick t) const { return (t + clock_.period() - 1) / clock_.period(); }
+  uint64_t ceil_cycles(Tick t) const { return clock_.ceil_cycles(t); }
   // The cycle a lookup by `requester` made at `now` gets a slot of the line's bank.
   Tick lookup_slot(uint64_t line, Tick now, const FillListener* requester);
   // The time a fill of `line` arriving at `when` is written into the array.

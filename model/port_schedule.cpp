@@ -9,93 +9,76 @@ namespace rtsim::model {
 
 namespace {
 
-constexpr size_t kInitialCycles = 256;
+constexpr size_t kInitialWords = 4;  // 256 cycles
 
-uint64_t sim_cycle(Tick period) { return uint64_t(sc_core::sc_time_stamp().value()) / period; }
+Tick sim_time() { return Tick(sc_core::sc_time_stamp().value()); }
 
 }  // namespace
 
-PortSchedule::PortSchedule(Tick period, uint32_t ports) : period_(period), ports_(ports) {
-  if (period_ == 0) throw std::invalid_argument("PortSchedule: zero clock period");
+PortSchedule::PortSchedule(Tick period, uint32_t ports) : clock_(Clock::with_period(period)), ports_(ports) {
+  if (period == 0) throw std::invalid_argument("PortSchedule: zero clock period");
   if (ports_ == 0) return;
-  mask_ = kInitialCycles - 1;
-  cycle_.assign(kInitialCycles, kEmpty);
-  used_.assign(kInitialCycles, 0);
-  next_.assign(kInitialCycles, 0);
+  if (ports_ > 255) throw std::invalid_argument("PortSchedule: at most 255 slots per cycle");
+  full_.assign(kInitialWords, 0);
+  if (ports_ > 1) used_.assign(kInitialWords * 64, 0);
 }
 
-size_t PortSchedule::slot(uint64_t cycle) {
-  for (;;) {
-    const size_t i = size_t(cycle & mask_);
-    if (cycle_[i] == cycle) return i;
-    // The entry holds another cycle: reuse it if that one is over, else make room.
-    if (cycle_[i] == kEmpty || cycle_[i] < sim_cycle(period_)) {
-      cycle_[i] = cycle;
-      used_[i] = 0;
-      next_[i] = cycle + 1;
-      return i;
+void PortSchedule::hold(uint64_t cycle) {
+  const uint64_t held = uint64_t(full_.size()) * 64;
+  if (cycle < base_ + held) return;
+  // Slide past the cycles that are over (nobody asks for a time before the simulated one).
+  const uint64_t now = clock_.to_cycles(sim_time()) & ~uint64_t(63);
+  if (now > base_) {
+    const uint64_t stop = std::min(now, base_ + held);
+    for (uint64_t c = base_; c < stop; c += 64) {
+      full_[word_of(c)] = 0;
+      if (!used_.empty()) std::fill_n(&used_[word_of(c) * 64], 64, uint8_t(0));
     }
-    grow();
+    base_ = now;
   }
+  while (cycle >= base_ + uint64_t(full_.size()) * 64) grow();
 }
 
 void PortSchedule::grow() {
-  const uint64_t now = sim_cycle(period_);
-  size_t size = cycle_.size();
-  for (;;) {
-    size *= 2;
-    const uint64_t mask = size - 1;
-    std::vector<uint64_t> cycle(size, kEmpty), next(size, 0);
-    std::vector<uint32_t> used(size, 0);
-    bool clash = false;
-    for (size_t i = 0; i < cycle_.size() && !clash; ++i) {
-      if (cycle_[i] == kEmpty || cycle_[i] < now) continue;
-      const size_t j = size_t(cycle_[i] & mask);
-      clash = cycle[j] != kEmpty;
-      cycle[j] = cycle_[i];
-      used[j] = used_[i];
-      next[j] = next_[i];
-    }
-    if (clash) continue;
-    cycle_.swap(cycle);
-    used_.swap(used);
-    next_.swap(next);
-    mask_ = mask;
-    return;
+  const size_t words = full_.size();
+  std::vector<uint64_t> full(words * 2, 0);
+  std::vector<uint8_t> used(used_.empty() ? 0 : words * 2 * 64, 0);
+  for (uint64_t c = base_; c < base_ + words * 64; c += 64) {
+    const size_t from = word_of(c), to = size_t(c >> 6) & (words * 2 - 1);
+    full[to] = full_[from];
+    if (!used.empty()) std::copy_n(&used_[from * 64], 64, &used[to * 64]);
   }
-}
-
-uint64_t PortSchedule::find(uint64_t cycle) {
-  path_.clear();
-  for (;;) {
-    const size_t i = slot(cycle);
-    if (used_[i] < ports_) break;
-    path_.push_back(cycle);
-    cycle = next_[i];
-  }
-  // Every full cycle passed on the way now points straight at the one with room.
-  for (const uint64_t c : path_) next_[slot(c)] = cycle;
-  return cycle;
+  full_.swap(full);
+  used_.swap(used);
 }
 
 Tick PortSchedule::reserve(Tick t) {
   ++stats_.requests;
   if (ports_ == 0) return t;
-  const uint64_t asked = (t + period_ - 1) / period_;
-  const uint64_t got = find(asked);
-  const size_t i = slot(got);
-  if (++used_[i] == ports_) next_[i] = got + 1;
-  if (got > asked) {
-    ++stats_.delayed;
-    stats_.wait_cycles += got - asked;
-    stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, got - asked);
+  const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
+  uint64_t c = asked;
+  for (;;) {
+    hold(c | 63);
+    const uint64_t free = ~full_[word_of(c)] & (~uint64_t(0) << (c & 63));
+    if (free) {
+      c = (c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free));
+      break;
+    }
+    c = (c | 63) + 1;
   }
-  return got * period_;
+  const uint64_t bit = uint64_t(1) << (c & 63);
+  if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full_[word_of(c)] |= bit;
+  if (c > asked) {
+    ++stats_.delayed;
+    stats_.wait_cycles += c - asked;
+    stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, c - asked);
+  }
+  return clock_.cycles(c);
 }
 
 Tick PortSchedule::reserve_run(Tick t, uint32_t n) {
   Tick last = reserve(t);
-  for (uint32_t k = 1; k < n; ++k) last = reserve(last + period_);
+  for (uint32_t k = 1; k < n; ++k) last = reserve(last + clock_.period());
   return last;
 }
 

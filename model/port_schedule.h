@@ -6,15 +6,18 @@
 // slots, not a single busy-until stamp: an earlier time asked later still finds the idle cycles
 // before a later reservation.
 //
-// A full cycle points at a later cycle that may have room (union-find with path compression), so
-// k requests piling up on one cycle cost O(k α(k)) in all, not O(k^2). Cycles live in a ring that
-// recycles the ones before the simulated time and doubles when reservations reach further ahead.
+// The calendar is a ring of bits, one per cycle, set when the cycle's slots are all taken (with a
+// count per cycle when a port has several slots): the first free cycle is found 64 cycles at a
+// time, so k requests piling up on one cycle cost O(k^2 / 64) word tests in all. The ring holds
+// the cycles from the simulated time (read lazily: it only moves on) onwards, and doubles when
+// reservations reach further ahead.
 //
 // `ports == 0` is the ideal port: every request is served at once and nothing is recorded but the
 // count.
 #pragma once
 
 #include "model/memory_interface.h"
+#include "model/model_time.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -42,22 +45,21 @@ class PortSchedule {
 
   bool ideal() const { return ports_ == 0; }
   uint32_t ports() const { return ports_; }
-  Tick period() const { return period_; }
+  Tick period() const { return clock_.period(); }
   const PortStats& stats() const { return stats_; }
 
  private:
-  static constexpr uint64_t kEmpty = ~uint64_t(0);
-  uint64_t find(uint64_t cycle);  // the first cycle >= `cycle` with room
-  size_t slot(uint64_t cycle);    // the ring index holding `cycle`, made fresh if it held a dead one
+  size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & (full_.size() - 1); }
+  // Makes the ring hold every cycle up to `cycle` (sliding past the cycles that are over, or
+  // growing).
+  void hold(uint64_t cycle);
   void grow();
 
-  Tick period_;
+  Clock clock_;
   uint32_t ports_;
-  uint64_t mask_ = 0;
-  std::vector<uint64_t> cycle_;  // the cycle a ring entry holds (kEmpty: none)
-  std::vector<uint32_t> used_;   // slots taken in that cycle
-  std::vector<uint64_t> next_;   // full cycles: a later cycle that may have room
-  std::vector<uint64_t> path_;   // scratch for path compression
+  uint64_t base_ = 0;           // first cycle held, a multiple of 64; the ring holds 64 * words
+  std::vector<uint64_t> full_;  // bit c % 64 of word c / 64: cycle c has no slot left
+  std::vector<uint8_t> used_;   // ports > 1: slots taken per cycle (index c % cycles held)
   PortStats stats_;
 };
 
