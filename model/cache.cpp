@@ -120,8 +120,9 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   // When can the miss go? It needs an MSHR and a way that are free (not in flight).
   uint32_t mshr = 0;
   Tick mshr_free = kUnknown;
-  for (uint32_t m = 0; m < cfg_.mshrs; ++m)
-    if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;  // earliest, lowest index
+  if (awaiting_ < cfg_.mshrs)  // else every MSHR waits for a fill of unknown time
+    for (uint32_t m = 0; m < cfg_.mshrs; ++m)
+      if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;  // earliest, lowest index
   Tick way_free = kUnknown;
   for (uint32_t i = base; i < base + cfg_.ways; ++i) way_free = std::min(way_free, ready_[i]);
   const Tick issue = std::max({now, mshr_free, way_free});
@@ -157,6 +158,7 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   ready_[victim] = kUnknown;
   mshr_of_[victim] = mshr;
   m.free_at = kUnknown;
+  ++awaiting_;
   m.waiters.clear();
   m.waiters.push_back({listener, cookie, earliest});
   return kUnknown;
@@ -173,6 +175,7 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   lru_[way] = ++stamp_;  // the waiters use it now
   Mshr& m = mshrs_[mshr_of_[way]];
   m.free_at = when;
+  --awaiting_;
 
   // Collect every completion first and call the listeners last, so they may call back in.
   std::vector<Delivery> out;
@@ -186,6 +189,12 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
     std::vector<Queued> waiting;
     waiting.swap(queued_);
     for (const Queued& q : waiting) {
+      // Without an MSHR that frees at a known time, only a request whose line is now in the cache
+      // (a hit or a merge) can go; the others stay queued, in order, as access() would leave them.
+      if (awaiting_ == cfg_.mshrs && find_way(q.line) == kNoWay) {
+        queued_.push_back(q);
+        continue;
+      }
       const Tick t = access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
       if (t != kUnknown) out.push_back({q.listener, q.line, q.cookie, t});
     }

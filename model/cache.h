@@ -181,6 +181,7 @@ class Cache : public LineSource, public FillListener {
   uint64_t stamp_ = 0;
 
   std::vector<Mshr> mshrs_;
+  uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time
   std::vector<Queued> queued_;
   std::vector<PortSchedule> banks_;  // empty: ideal
   std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;

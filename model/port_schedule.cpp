@@ -56,7 +56,7 @@ Tick PortSchedule::reserve(Tick t) {
   ++stats_.requests;
   if (ports_ == 0) return t;
   const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
-  uint64_t c = asked;
+  uint64_t c = asked == last_asked_ ? std::max(asked, last_granted_) : asked;
   for (;;) {
     hold(c | 63);
     const uint64_t free = ~full_[word_of(c)] & (~uint64_t(0) << (c & 63));
@@ -68,6 +68,8 @@ Tick PortSchedule::reserve(Tick t) {
   }
   const uint64_t bit = uint64_t(1) << (c & 63);
   if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full_[word_of(c)] |= bit;
+  last_asked_ = asked;
+  last_granted_ = c;
   if (c > asked) {
     ++stats_.delayed;
     stats_.wait_cycles += c - asked;

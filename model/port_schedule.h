@@ -8,7 +8,7 @@
 //
 // The calendar is a ring of bits, one per cycle, set when the cycle's slots are all taken (with a
 // count per cycle when a port has several slots): the first free cycle is found 64 cycles at a
-// time, so k requests piling up on one cycle cost O(k^2 / 64) word tests in all. The ring holds
+// time, and requests piling up on one cycle resume where the previous one found room. The ring holds
 // the cycles from the simulated time (read lazily: it only moves on) onwards, and doubles when
 // reservations reach further ahead.
 //
@@ -60,6 +60,9 @@ class PortSchedule {
   uint64_t base_ = 0;           // first cycle held, a multiple of 64; the ring holds 64 * words
   std::vector<uint64_t> full_;  // bit c % 64 of word c / 64: cycle c has no slot left
   std::vector<uint8_t> used_;   // ports > 1: slots taken per cycle (index c % cycles held)
+  // The last request's asked and granted cycles: cycles in between were full and stay full, so a
+  // pile-up on one cycle resumes the search where the previous request found room.
+  uint64_t last_asked_ = ~uint64_t(0), last_granted_ = 0;
   PortStats stats_;
 };
 
