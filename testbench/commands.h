@@ -44,8 +44,12 @@ struct RunArgs {
 int run_model(const RunArgs& args);
 
 // rtsim reproduce: the paper's experiments as one sweep, and a report beside the paper's tables.
+// With `ablation`, the contention ablation instead (configs/sweeps/ablation.yaml into OUT/ablation,
+// then OUT/ablation.md and OUT/ablation.json).
 struct ReproduceArgs {
   std::string out, scene_root;
+  std::string sweep;  // the sweep file to run instead of the shipped one (empty: the shipped one)
+  bool ablation = false;
   int jobs = 1;
   int width = 0, height = 0;  // 0 = the setups' 1920x1080
 };

@@ -110,6 +110,12 @@ extern "C" int sc_main(int argc, char** argv) {
   reproduce_cmd->add_option("--width", reproduce.width, "Image width (default: the paper's 1920)")->check(CLI::Range(1, 16384));
   reproduce_cmd->add_option("--height", reproduce.height, "Image height (default: the paper's 1080)")->check(CLI::Range(1, 16384));
   reproduce_cmd->add_option("--scene-root", reproduce.scene_root, "Where the paper's scenes are")->envname("RTSIM_SCENE_ROOT");
+  reproduce_cmd->add_flag("--ablation", reproduce.ablation,
+                          "Run the contention ablation instead (configs/sweeps/ablation.yaml into OUT/ablation; "
+                          "OUT/ablation.md and OUT/ablation.json)");
+  reproduce_cmd->add_option("--sweep", reproduce.sweep,
+                            "Sweep file to run instead of the shipped one (paper-reproduction.yaml, or ablation.yaml "
+                            "with --ablation)");
 
   try {
     app.parse(argc, argv);

@@ -68,13 +68,21 @@ void check_key_path(YamlMap& m, const std::string& section_key, const std::strin
     m.fail(section_key, fmt::format("'{}': expected a key path starting with 'hw.', 'scene.' or 'run.'", path));
 }
 
-// A map of dotted key paths to values -> "--set" strings, in file order.
-std::vector<std::pair<std::string, std::string>> read_overrides(YamlMap& parent, const std::string& key) {
+// A map of dotted key paths to values -> "--set" strings, in file order. With `hw` given (a
+// variant), the key `hw` names a hardware file instead (the value as written).
+std::vector<std::pair<std::string, std::string>> read_overrides(YamlMap& parent, const std::string& key,
+                                                                std::string* hw = nullptr) {
   std::vector<std::pair<std::string, std::string>> out;
   const YAML::Node n = parent.raw(key);
   if (!n.IsMap()) parent.fail(key, "expected a mapping of key paths to values", n);
   for (const auto& kv : n) {
     const std::string path = kv.first.as<std::string>();
+    if (hw && path == "hw") {
+      if (!kv.second.IsScalar() || kv.second.Scalar().empty())
+        parent.fail(key, "'hw': expected the path of a hardware file", kv.second);
+      *hw = kv.second.Scalar();
+      continue;
+    }
     check_key_path(parent, key, path);
     if (kv.second.IsNull()) parent.fail(key, fmt::format("'{}' has no value", path), kv.second);
     out.emplace_back(path, emit_flow(kv.second));
@@ -130,6 +138,7 @@ SweepSpec spec_from_manifest(const nlohmann::json& m, const std::string& path) {
       q.index = p.at("index").get<uint32_t>();
       q.id = p.at("id").get<std::string>();
       q.scene_file = p.at("scene_file").get<std::string>();
+      q.hw_file = p.value("hw_file", std::string());
       q.values = p.at("values");
       q.set = p.at("set").get<std::vector<std::string>>();
       s.points.push_back(std::move(q));
@@ -228,13 +237,22 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
     for (const auto& [k, v] : read_overrides(top, "set")) base.push_back(k + "=" + v);
   for (const std::string& e : extra_set) base.push_back(e);
 
-  std::vector<std::pair<std::string, std::vector<std::string>>> variants;  // name -> overrides
+  struct Variant {
+    std::string name, hw_file;  // hw_file: the variant's own hardware file, or empty
+    std::vector<std::string> set;
+  };
+  std::vector<Variant> variants;
   if (top.has("variants")) {
     YamlMap v = top.map("variants");
     for (const std::string& name : v.keys()) {
-      std::vector<std::string> set;
-      for (const auto& [k, val] : read_overrides(v, name)) set.push_back(k + "=" + val);
-      variants.emplace_back(name, std::move(set));
+      Variant var{name, "", {}};
+      std::string hw;
+      for (const auto& [k, val] : read_overrides(v, name, &hw)) var.set.push_back(k + "=" + val);
+      if (!hw.empty()) {
+        var.hw_file = beside(path, hw).string();
+        if (!fs::exists(var.hw_file)) v.fail(name, fmt::format("hardware file '{}' not found", var.hw_file));
+      }
+      variants.push_back(std::move(var));
     }
     if (variants.empty()) top.fail("variants", "expected at least one variant");
     s.columns.push_back("variant");
@@ -283,10 +301,11 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
       rest /= axes[a].second.size();
     }
     if (!variants.empty()) {
-      const auto& [name, set] = variants[rest % variants.size()];
+      const Variant& var = variants[rest % variants.size()];
       rest /= variants.size();
-      p.values["variant"] = name;
-      p.set.insert(p.set.end(), set.begin(), set.end());
+      p.values["variant"] = var.name;
+      p.hw_file = var.hw_file;
+      p.set.insert(p.set.end(), var.set.begin(), var.set.end());
     }
     p.scene_file = s.scenes[rest];
     for (size_t a = 0; a < axes.size(); ++a) {
@@ -299,7 +318,7 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   for (const SweepPoint& p : s.points) {
     RunSources src;
     src.scene_file = p.scene_file;
-    src.hw_file = s.hw_file;
+    src.hw_file = s.hw_of(p);
     for (const std::string& e : p.set)
       if (e.rfind("scene.", 0) != 0) src.set.push_back(e);
     try {
@@ -313,9 +332,15 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
 
 nlohmann::json sweep_manifest(const SweepSpec& s) {
   nlohmann::json points = nlohmann::json::array();
-  for (const SweepPoint& p : s.points)
-    points.push_back({{"index", p.index}, {"id", p.id}, {"scene_file", p.scene_file}, {"values", p.values}, {"set", p.set}});
   nlohmann::json inputs = {{s.hw_file, file_digest(s.hw_file)}};
+  for (const SweepPoint& p : s.points) {
+    nlohmann::json q = {{"index", p.index}, {"id", p.id}, {"scene_file", p.scene_file}, {"values", p.values}, {"set", p.set}};
+    if (!p.hw_file.empty()) {  // only then: manifests of sweeps without one are unchanged
+      q["hw_file"] = p.hw_file;
+      inputs[p.hw_file] = file_digest(p.hw_file);
+    }
+    points.push_back(q);
+  }
   for (const std::string& scene : s.scenes) inputs[scene] = file_digest(scene);
   return {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},     {"hw_file", s.hw_file},
           {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points},
@@ -376,7 +401,7 @@ int run_point(const SweepSpec& s, const std::string& dir, const SweepPoint& p) {
   }
   RunArgs args;
   args.sources.scene_file = p.scene_file;
-  args.sources.hw_file = s.hw_file;
+  args.sources.hw_file = s.hw_of(p);
   args.sources.set = p.set;
   args.out = out.string();
   args.quiet = true;

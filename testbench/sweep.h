@@ -18,6 +18,7 @@ struct SweepPoint {
   uint32_t index = 0;
   std::string id;                  // "p0007"
   std::string scene_file;
+  std::string hw_file;             // the variant's own hardware file ("hw:" in a variant), else empty
   nlohmann::json values;           // column -> value ("variant", axis names)
   std::vector<std::string> set;    // the point's overrides, "--set" syntax
 };
@@ -28,6 +29,7 @@ struct SweepSpec {
   std::vector<std::string> columns;  // "variant" (when there are variants) and the axis names
   std::vector<std::string> metrics;  // names of row metrics (see sweep_metric)
   std::vector<SweepPoint> points;
+  const std::string& hw_of(const SweepPoint& p) const { return p.hw_file.empty() ? hw_file : p.hw_file; }
 };
 
 SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set = {});

@@ -5,8 +5,11 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <sys/wait.h>
 
@@ -479,7 +482,7 @@ TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
   expect_input_error(base + "scene.kdtree.max_depth=deep", {"city.yaml", "kdtree.max_depth", "expected an integer"});
   expect_input_error(base + "run.lvb=sometimes", {"--set run.lvb=sometimes", "true or false"});
   expect_input_error(base + "run.lvb_bounds=sphere", {"lvb_bounds", "'cell' or 'geometry'"});
-  expect_input_error(base + "hw.shading.count=2", {"shading.count", "expected 1"});
+  expect_input_error(base + "hw.shading.count=65", {"shading.count", "1..64"});
   expect_input_error(base + "hw.schedule=eager", {"--set hw.schedule=eager", "'two-phase' or 'one-phase'"});
   expect_input_error(base + "cache.size=3", {"--set cache.size=3", "'hw.', 'scene.' or 'run.'"});
   expect_input_error(base + "hw.trv", {"--set hw.trv", "no '='"});
@@ -512,6 +515,123 @@ TEST(Cli, BadSweepFilesAreNamed) {
   check("scene.yaml", "scenes: [nowhere.yaml]\nhw: " + hw + "\n", {"scene.yaml:1", "nowhere.yaml", "not found"});
   check("type.yaml", head + "axes:\n  run.reflections: [0, many]\n", {"type.yaml", "p0001", "expected an integer"});
   EXPECT_FALSE(fs::exists(dir / "o" / "manifest.json")) << "nothing runs before every point is valid";
+  fs::remove_all(dir);
+}
+
+
+// rtsim reproduce --ablation on a small sweep of the city: one row per variant in ablation.md and
+// ablation.json, the `ideal` row is a plain run on ideal.yaml, the `all` row (the variant's own
+// hardware file) a plain run on tni-paper.yaml, and a rerun runs nothing again.
+TEST(Cli, AblationHasARowPerVariantAndItsIdealAndAllRowsArePlainRuns) {
+  const fs::path dir = test::temp_dir("cli_ablation");
+  const fs::path src = test::source_dir();
+  const std::string scene = (src / "configs/scenes/city.yaml").string();
+  const std::string link = "{latency: 2, bytes_per_cycle: 32, header_bytes: 8}";
+  // The variants of configs/sweeps/ablation.yaml.
+  const std::vector<std::pair<std::string, std::string>> variants = {
+      {"ideal", "{}"},
+      {"l1-ports", "{hw.trv.l1.ports: 1, hw.list.l1.ports: 1, hw.ist.l1.ports: 1, hw.shading.l1.ports: 1}"},
+      {"l2-banks", "{hw.trv.l2.banks: 8, hw.trv.l2.ports: 1, hw.list.l2.banks: 8, hw.list.l2.ports: 1, "
+                   "hw.ist.l2.banks: 8, hw.ist.l2.ports: 1}"},
+      {"l2-fill-port-separate", "{hw.trv.l2.banks: 8, hw.trv.l2.ports: 1, hw.trv.l2.fill_port: separate, "
+                                "hw.list.l2.banks: 8, hw.list.l2.ports: 1, hw.list.l2.fill_port: separate, "
+                                "hw.ist.l2.banks: 8, hw.ist.l2.ports: 1, hw.ist.l2.fill_port: separate}"},
+      {"links", "{hw.trv.link: " + link + ", hw.list.link: " + link + ", hw.ist.link: " + link + "}"},
+      {"memory-link", "{hw.memory_link: " + link + "}"},
+      {"l2-private", "{hw.trv.l2.sharing: unit, hw.list.l2.sharing: unit, hw.ist.l2.sharing: unit}"},
+      {"dram-cycles", "{hw.dram.preset: gddr3-gt200-1ghz-cycles}"},
+      {"culling-rate", "{hw.culling.records_per_cycle: 1, hw.shading.write_records: true}"},
+      {"frame-writes", "{hw.shading.write_records: true}"},
+      {"all", "{hw: " + (src / "configs/hw/tni-paper.yaml").string() + "}"}};
+  std::string yaml = "name: ablation-test\nscenes: [" + scene + "]\nhw: " + (src / "configs/hw/ideal.yaml").string() +
+                     "\nvariants:\n";
+  for (const auto& [name, set] : variants) yaml += "  " + name + ": " + set + "\n";
+  yaml += "axes:\n  run.lvb: [off, on]\nmetrics: [cycles_total, frame_ms_all, frame_ms_shadow, trv_busy, "
+          "stats.trv.l2.bank.stall_cycles, stats.memory.icnt.reply.avg_queue_cycles, dram_bandwidth_gbps, "
+          "stats.dram.bytes_written]\n";
+  write(dir / "ablation.yaml", yaml);
+  const std::string cmd = "reproduce --ablation --sweep " + (dir / "ablation.yaml").string() + " --out " +
+                          (dir / "out").string() + " --width 32 --height 18 --jobs 2";
+  const RunResult r = run(cmd);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  ASSERT_TRUE(fs::exists(dir / "out/ablation/results.json"));
+
+  // Markdown: a frame-time row and a statistics row per variant, each with numbers.
+  const std::string md = slurp(dir / "out/ablation.md");
+  for (const auto& [name, set] : variants) {
+    size_t rows = 0, pos = 0;
+    const std::string head = "\n| " + name + " | ";
+    while ((pos = md.find(head, pos)) != std::string::npos) {
+      const std::string line = md.substr(pos + 1, md.find('\n', pos + 1) - pos - 1);
+      if (line.find(".yaml") == std::string::npos) {  // not the list of variants
+        ++rows;
+        EXPECT_TRUE(std::any_of(line.begin() + long(head.size()), line.end(), ::isdigit)) << line;
+      }
+      pos += head.size();
+    }
+    EXPECT_EQ(rows, 2u) << name << " in:\n" << md;
+  }
+  EXPECT_NE(md.find("the single limit that moves the frame time most is `"), std::string::npos) << md;
+
+  // JSON: one entry per variant with both culling settings' metrics.
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "out/ablation.json"));
+  EXPECT_EQ(j["schema"], "rtsim-ablation/1");
+  EXPECT_EQ(j["missing_points"], 0);
+  // Which variants tni-paper.yaml (the `all` variant's hardware) already holds.
+  std::map<std::string, nlohmann::json> in_all;
+  for (const auto& v : j["variants"]) in_all[v["name"]] = v["in_all"];
+  for (const char* v : {"l1-ports", "l2-banks", "links", "memory-link", "culling-rate", "frame-writes"}) EXPECT_EQ(in_all[v], true) << v;
+  for (const char* v : {"l2-fill-port-separate", "l2-private", "dram-cycles"}) EXPECT_EQ(in_all[v], false) << v;
+  EXPECT_TRUE(in_all["ideal"].is_null());
+  ASSERT_EQ(j["scenes"].size(), 1u);
+  const nlohmann::json& sc = j["scenes"][0];
+  ASSERT_EQ(sc["variants"].size(), variants.size());
+  std::map<std::string, nlohmann::json> by_name;
+  for (size_t i = 0; i < variants.size(); ++i) {
+    const nlohmann::json& v = sc["variants"][i];
+    EXPECT_EQ(v["name"], variants[i].first);
+    for (const char* lvb : {"off", "on"}) {
+      EXPECT_TRUE(v[lvb]["frame_ms_all"].is_number()) << v.dump();
+      EXPECT_GT(v[lvb]["cycles_total"].get<uint64_t>(), 0u);
+    }
+    EXPECT_TRUE(v["reduction_pct"].is_number());
+    by_name[v["name"]] = v;
+  }
+  EXPECT_EQ(by_name["ideal"]["change_vs_ideal_off_pct"].get<double>(), 0.0);
+  EXPECT_TRUE(by_name["ideal"]["off"]["stats.trv.l2.bank.stall_cycles"].is_null()) << "ideal L2s have no banks";
+  EXPECT_GT(by_name["l2-banks"]["off"]["stats.trv.l2.bank.stall_cycles"].get<uint64_t>(), 0u);
+  EXPECT_EQ(by_name["ideal"]["off"]["stats.dram.bytes_written"], 0);
+  EXPECT_GT(by_name["frame-writes"]["off"]["stats.dram.bytes_written"].get<uint64_t>(), 0u);
+  EXPECT_EQ(sc["facts"]["largest_single_limit_off"]["variant"].is_string(), true);
+  EXPECT_TRUE(sc["facts"]["all_off_pct"].is_number());
+
+  // The ideal and all rows are plain runs on ideal.yaml and tni-paper.yaml.
+  for (const auto& [variant, hw] : {std::pair<std::string, std::string>{"ideal", "ideal.yaml"}, {"all", "tni-paper.yaml"}})
+    for (const char* lvb : {"off", "on"}) {
+      const fs::path out = dir / ("plain-" + variant + "-" + lvb);
+      const RunResult p = run("run " + scene + " --hw " + (src / "configs/hw" / hw).string() +
+                              " --width 32 --height 18 --no-plots --quiet --lvb " + lvb + " --out " + out.string());
+      ASSERT_EQ(p.code, 0) << p.err;
+      const nlohmann::json rep = nlohmann::json::parse(slurp(out / "report.json"));
+      EXPECT_EQ(by_name[variant][lvb]["cycles_total"], rep["cycles_total"]) << variant << ", culling " << lvb;
+    }
+
+  // A rerun runs no point again and writes the same report.
+  const RunResult again = run(cmd);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.out.find("22 points, 22 already done, running 0"), std::string::npos) << again.out;
+  EXPECT_EQ(slurp(dir / "out/ablation.md"), md);
+
+  // Bad ablation sweeps: a variant's missing hardware file; no run.lvb axis.
+  write(dir / "nohw.yaml", "scenes: [" + scene + "]\nhw: " + (src / "configs/hw/ideal.yaml").string() +
+                               "\nvariants:\n  all: {hw: nowhere.yaml}\naxes:\n  run.lvb: [off, on]\n");
+  expect_input_error("reproduce --ablation --sweep " + (dir / "nohw.yaml").string() + " --out " + (dir / "o").string(),
+                     {"nohw.yaml", "nowhere.yaml", "not found"});
+  write(dir / "noaxis.yaml", "scenes: [" + scene + "]\nhw: " + (src / "configs/hw/ideal.yaml").string() +
+                                 "\nvariants:\n  ideal: {}\n");
+  expect_input_error("reproduce --ablation --sweep " + (dir / "noaxis.yaml").string() + " --out " + (dir / "o").string(),
+                     {"noaxis.yaml", "run.lvb"});
+  EXPECT_FALSE(fs::exists(dir / "o"));
   fs::remove_all(dir);
 }
 
