@@ -103,6 +103,14 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   HitRecordRegion records;
   records.base = (image.bytes().size() + 4095) / 4096 * 4096;
   records.stride = std::max(kHitRecordBytes, dram_cfg.request_bytes);
+  records.pixels = uint32_t(width) * uint32_t(height);
+  {
+    auto pixel_at = std::make_shared<std::vector<uint32_t>>(issue_order(width, height, cfg.order, cfg.tile));
+    auto slot_of = std::make_shared<std::vector<uint32_t>>(pixel_at->size());
+    for (uint32_t k = 0; k < pixel_at->size(); ++k) (*slot_of)[(*pixel_at)[k]] = k;
+    records.pixel_at = std::move(pixel_at);
+    records.slot_of = std::move(slot_of);
+  }
   Dram dram("dram", dram_cfg, &image.bytes(), ctx.clock, records.base - image.bytes().size() + entries * records.stride);
   MemorySystem memory(cfg, &dram, ctx.clock);
   Cache& culling_l1 = memory.l1(MemorySystem::kShading, 0);  // the culling unit reads lights through it
@@ -225,7 +233,9 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
   Watchdog watchdog(
       "watchdog", ctx.clock, cfg.watchdog_cycles,
       [&] {
-        uint64_t n = primaries_retired + shadows_retired + generator.unit_stats().operations + culling.unit_stats().operations;
+        // A DRAM draining its queues (a backlog of posted writes) is progress too.
+        uint64_t n = primaries_retired + shadows_retired + generator.unit_stats().operations +
+                     culling.unit_stats().operations + dram.stats().reads + dram.stats().writes;
         for (const auto& [name, u] : ray_units) n += u->unit_stats().operations;
         return n;
       },
@@ -237,7 +247,7 @@ AcceleratorResult simulate_frame(const AcceleratorConfig& cfg, const MemoryImage
         s += "; units holding rays:";
         for (const auto& [name, u] : ray_units)
           if (u->held() > 0) s += " " + name + " (" + std::to_string(u->held()) + ")";
-        return s;
+        return s + "; " + culling.state() + "; " + dram.engine().state();
       });
   std::unique_ptr<PeriodicProbe> progress;
   if (hooks.progress) {

@@ -207,6 +207,18 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
   }
 }
 
+std::string DramController::state() const {
+  std::string s = "DRAM at " + std::to_string(now_) + " ps: " + std::to_string(completions_.size()) + " completions due";
+  for (size_t i = 0; i < channels_.size(); ++i) {
+    const Channel& ch = channels_[i];
+    if (ch.queue.empty() && ch.overflow.empty()) continue;
+    s += "; ch" + std::to_string(i) + " " + std::to_string(ch.queue.size()) + " queued + " +
+         std::to_string(ch.overflow.size()) + " waiting, next command at cycle " +
+         (ch.next_cycle == kNever ? std::string("never") : std::to_string(ch.next_cycle));
+  }
+  return s;
+}
+
 Tick DramController::next_event_time() const {
   Tick t = completions_.empty() ? kUnknown : completions_.top().time;
   for (const Channel& ch : channels_)

@@ -132,6 +132,8 @@ class DramController {
   // in (time, enqueue order).
   void advance(Tick now, std::vector<Completion>& done);
   bool idle() const { return next_event_time() == kUnknown; }
+  // Requests waiting per channel, and the next command's cycle (for the watchdog's report).
+  std::string state() const;
 
   const DramConfig& config() const { return config_; }
   const AddressMapping& mapping() const { return mapping_; }

@@ -13,16 +13,33 @@
 #include "model/frame_buffer.h"
 
 #include <cstring>
+#include <memory>
+#include <vector>
 
 namespace rtsim::model {
 
 inline constexpr uint32_t kHitRecordBytes = 64;
 
-// Records are one per memory line (stride: the line size, at least a record).
+// One record per memory line (stride: the line size, at least a record), level by level, and
+// within a level in the order primary rays are issued (tiles): the records of a tile's pixels are
+// neighbours in memory, so the writes and the reads of a tile hit open DRAM rows. (Pixel-linear,
+// the rows of a tile lay 123 KB apart at full HD: every write opened a DRAM row, and the write
+// backlog outgrew the frame.) Without a pixel order, slot = entry.
 struct HitRecordRegion {
-  uint64_t base = 0;     // line-aligned, after the image
+  uint64_t base = 0;  // line-aligned, after the image
   uint32_t stride = kHitRecordBytes;
-  uint64_t address(uint32_t entry) const { return base + uint64_t(entry) * stride; }
+  uint32_t pixels = 0;                                     // per level
+  std::shared_ptr<const std::vector<uint32_t>> pixel_at;  // slot within a level -> pixel
+  std::shared_ptr<const std::vector<uint32_t>> slot_of;   // pixel -> slot within a level
+
+  uint32_t slot(uint32_t entry) const {
+    return slot_of ? entry / pixels * pixels + (*slot_of)[entry % pixels] : entry;
+  }
+  uint32_t entry(uint32_t slot) const {
+    return pixel_at ? slot / pixels * pixels + (*pixel_at)[slot % pixels] : slot;
+  }
+  uint64_t slot_address(uint32_t slot) const { return base + uint64_t(slot) * stride; }
+  uint64_t address(uint32_t entry) const { return slot_address(slot(entry)); }
 };
 
 struct HitRecord {

@@ -2,24 +2,26 @@
 
 namespace rtsim::model {
 
+std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int tile) {
+  std::vector<uint32_t> pixels;
+  pixels.reserve(size_t(width) * size_t(height));
+  if (order == RayOrder::kScanline) {
+    for (uint32_t p = 0; p < uint32_t(width * height); ++p) pixels.push_back(p);
+    return pixels;
+  }
+  for (int ty = 0; ty < height; ty += tile)
+    for (int tx = 0; tx < width; tx += tile)
+      for (int y = ty; y < std::min(ty + tile, height); ++y)
+        for (int x = tx; x < std::min(tx + tile, width); ++x) pixels.push_back(uint32_t(y * width + x));
+  return pixels;
+}
+
 RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width,
                            int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs,
                            uint32_t rays_per_cycle)
     : Unit(name, ctx.clock), ctx_(ctx), camera_(camera, width, height), width_(width), height_(height),
-      order_(order), tile_(tile), inputs_(std::move(trv_inputs)), rays_per_cycle_(rays_per_cycle),
-      total_(uint64_t(width) * height) {
-  if (order_ == RayOrder::kTiles) {
-    // Square tiles row by row, pixels row by row inside a tile; partial tiles at the edges.
-    tiled_.reserve(total_);
-    for (int ty = 0; ty < height; ty += tile)
-      for (int tx = 0; tx < width; tx += tile)
-        for (int y = ty; y < std::min(ty + tile, height); ++y)
-          for (int x = tx; x < std::min(tx + tile, width); ++x) tiled_.push_back(uint32_t(y * width + x));
-  }
-}
-
-// The k-th pixel in issue order.
-uint32_t RayGenerator::pixel_of(uint64_t k) const { return order_ == RayOrder::kScanline ? uint32_t(k) : tiled_[k]; }
+      inputs_(std::move(trv_inputs)), rays_per_cycle_(rays_per_cycle), total_(uint64_t(width) * height),
+      order_(issue_order(width, height, order, tile)) {}
 
 bool RayGenerator::cycle(Tick now) {
   uint32_t issued = 0;

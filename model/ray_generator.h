@@ -14,6 +14,10 @@ namespace rtsim::model {
 
 enum class RayOrder { kScanline, kTiles };
 
+// The pixels in issue order: row by row, or square tiles row by row with pixels row by row inside
+// a tile (partial tiles at the edges).
+std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int tile);
+
 class RayGenerator : public Unit {
  public:
   RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width, int height,
@@ -27,17 +31,15 @@ class RayGenerator : public Unit {
   bool holds_work() const override { return !finished(); }
 
  private:
-  uint32_t pixel_of(uint64_t k) const;
+  uint32_t pixel_of(uint64_t k) const { return order_[k]; }
 
   const ModelContext& ctx_;
   PinholeCamera camera_;
   int width_, height_;
-  RayOrder order_;
-  int tile_;
   RoundRobin inputs_;  // the TRV units' input FIFOs
   uint32_t rays_per_cycle_;
   uint64_t next_ = 0, total_ = 0;
-  std::vector<uint32_t> tiled_;  // issue order for RayOrder::kTiles
+  std::vector<uint32_t> order_;  // pixels in issue order
 };
 
 }  // namespace rtsim::model

@@ -131,9 +131,9 @@ bool ShadowCullingUnit::cycle_unlimited(Tick now) {
 bool ShadowCullingUnit::request_records(Tick now) {
   bool any = false;
   for (uint32_t k = 0; k < rate_ && can_request(); ++k) {
-    const uint32_t entry = uint32_t(requested_++);
+    const uint32_t entry = uint32_t(requested_++);  // a record slot
     ++record_reads_;
-    const Tick t = reader_->fetch_line(region_.address(entry), now, this, uint64_t(entry) + 1);
+    const Tick t = reader_->fetch_line(region_.slot_address(entry), now, this, uint64_t(entry) + 1);
     arrival_[entry % prefetch_] = t;
     any = true;
   }
@@ -150,7 +150,7 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
       ++records_taken_;
       record_open_ = true;
       if (from_memory()) {
-        record_ = decode_hit_record(reader_->line_data(region_.address(current())));
+        record_ = decode_hit_record(reader_->line_data(region_.slot_address(uint32_t(entry_))));
       } else {
         const PixelState& px = frame_->pixels[current()];
         record_ = {px.surface, px.lvb, px.hit.tri != kNoHit};
@@ -179,6 +179,17 @@ Tick ShadowCullingUnit::next_ready(Tick from) const {
   if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
   const Tick ready = current_ready();
   return ready == kUnknown ? kUnknown : std::max(from, ready);
+}
+
+std::string ShadowCullingUnit::state() const {
+  std::string s = "culling unit: " + std::to_string(done_) + " of " + std::to_string(added_) + " hits decided";
+  if (!has_work()) return s + (closed_ ? ", done" : ", waiting for hits");
+  s += ", at entry " + std::to_string(current()) + " light " + std::to_string(light_);
+  if (waiting_) s += ", waiting for a light record";
+  const Tick ready = current_ready();
+  s += ready == kUnknown ? ", its record not arrived" : ", its record ready at " + std::to_string(ready) + " ps";
+  if (from_memory()) s += ", " + std::to_string(requested_) + " records asked for";
+  return s;
 }
 
 uint64_t ShadowCullingUnit::generated() const {

@@ -11,8 +11,8 @@
 // Its rate: it takes at most `records_per_cycle` hit records per cycle (a record with several
 // lights to shoot holds it one cycle per ray). In two phases with read_records_from(), it reads
 // every entry's record from the frame buffer in memory (model/hit_record.h), up to `prefetch`
-// lines ahead, and builds the rays from the fetched bytes; an entry without a hit costs its read
-// and a record slot too. `records_per_cycle == 0` is the ideal unit: any number of records per
+// lines ahead in the order they lie in memory (model/hit_record.h), and builds the rays from the
+// fetched bytes; an entry without a hit costs its read and a record slot too. `records_per_cycle == 0` is the ideal unit: any number of records per
 // cycle, taken from the host-side frame without memory traffic, and entries without a hit skipped
 // for free.
 #pragma once
@@ -62,6 +62,8 @@ class ShadowCullingUnit : public Unit, public FillListener {
   void on_fill(uint64_t, uint64_t cookie, Tick when) override;
   const std::vector<LightStats>& per_light() const { return lights_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  // Where it stands (for the watchdog's report).
+  std::string state() const;
 
  protected:
   bool cycle(Tick now) override;
@@ -70,7 +72,11 @@ class ShadowCullingUnit : public Unit, public FillListener {
 
  private:
   bool has_work() const { return scanning_ ? entry_ < frame_->pixels.size() : !queue_.empty(); }
-  uint32_t current() const { return scanning_ ? uint32_t(entry_) : queue_.front().entry; }
+  // The frame entry being decided (reading memory, the cursor runs over record slots).
+  uint32_t current() const {
+    if (!scanning_) return queue_.front().entry;
+    return from_memory() ? region_.entry(uint32_t(entry_)) : uint32_t(entry_);
+  }
   Tick current_ready() const;
   bool from_memory() const { return scanning_ && rate_ > 0 && reader_; }
   void advance();      // the next (hit, light) pair
