@@ -49,16 +49,26 @@ class PortSchedule {
   const PortStats& stats() const { return stats_; }
 
  private:
-  size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & (full_.size() - 1); }
+  // The ring: 256 cycles inside the object (most ports never need more, and a reservation then
+  // touches one cache line), on the heap once it has grown.
+  uint64_t* full() { return heap_.empty() ? inline_ : heap_.data(); }
+  size_t words() const { return heap_.empty() ? kInlineWords : heap_.size(); }
+  size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & (words() - 1); }
   // Makes the ring hold every cycle up to `cycle` (sliding past the cycles that are over, or
   // growing).
-  void hold(uint64_t cycle);
+  void hold(uint64_t cycle) {
+    if (cycle >= base_ + uint64_t(words()) * 64) slide_or_grow(cycle);
+  }
+  void slide_or_grow(uint64_t cycle);
   void grow();
 
   Clock clock_;
   uint32_t ports_;
+  static constexpr size_t kInlineWords = 4;
   uint64_t base_ = 0;           // first cycle held, a multiple of 64; the ring holds 64 * words
-  std::vector<uint64_t> full_;  // bit c % 64 of word c / 64: cycle c has no slot left
+  // Bit c % 64 of word c / 64: cycle c has no slot left.
+  uint64_t inline_[kInlineWords] = {};
+  std::vector<uint64_t> heap_;
   std::vector<uint8_t> used_;   // ports > 1: slots taken per cycle (index c % cycles held)
   // The last request's asked and granted cycles: cycles in between were full and stay full, so a
   // pile-up on one cycle resumes the search where the previous request found room.
