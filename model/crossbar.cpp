@@ -77,10 +77,11 @@ CrossbarPort::CrossbarPort(Crossbar* crossbar, uint32_t first_source, const Line
 Tick CrossbarPort::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
   if (upstream_ && listener != upstream_) throw std::logic_error("crossbar port " + xbar_->name() + ": two requesters");
   upstream_ = listener;
-  const Tick arrived = xbar_->request(source(line), below_->port_of(line), 0, now);
+  const uint32_t src = source(line), dst = below_->port_of(line);  // a DRAM channel takes a decode
+  const Tick arrived = xbar_->request(src, dst, 0, now);
   const Tick delivered = below_->fetch_line(line, arrived, this, cookie);
   if (delivered == kUnknown) return kUnknown;
-  return xbar_->reply(below_->port_of(line), source(line), line_bytes_, delivered);
+  return xbar_->reply(dst, src, line_bytes_, delivered);
 }
 
 void CrossbarPort::on_fill(uint64_t line, uint64_t cookie, Tick when) {
