@@ -5,7 +5,7 @@
 // the tree statistics (single-threaded build).
 #include "bench/bench_util.h"
 #include "kernels/kdtree.h"
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include "scene_loader/aff_loader.h"
 #include "scene_loader/ply_loader.h"

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "kernels/ray.h"
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <cmath>
 

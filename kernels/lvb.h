@@ -4,7 +4,7 @@
 #pragma once
 
 #include "kernels/kdtree.h"
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <cstdint>
 #include <string>

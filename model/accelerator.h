@@ -1,75 +1,43 @@
-// The accelerator: ray generator -> TRV -> LIST -> IST -> shading -> shadow culling -> TRV, with
-// an L1 per unit, an L2 per unit type, one GDDR3 memory, all built from one plain config struct.
-// It runs a frame in two phases (all primary rays, then all shadow rays) or in one (shadow rays
-// as soon as their hit is shaded), and reports per-pixel results and named statistics.
+// The accelerator (rtsim::model::Accelerator), an sc_module: ray generator -> TRV -> LIST -> IST ->
+// shading -> shadow culling -> TRV, with an L1 per unit, L2s per unit type, the interconnect to
+// memory and one GDDR3 memory, all built from one plain config struct. It owns every block as a
+// named child, and its own calendar (`calendar`, model/scheduler.h), so several accelerators can
+// share one simulation. A block's hierarchical name below the accelerator is its statistics prefix
+// and its VCD scope: `<top>.trv3` is TRV unit 3 (statistics trv3.*), `<top>.trv3.l1` its L1,
+// `<top>.trv3.in` its input FIFO, `<top>.trv.l2` the TRV units' shared L2, `<top>.memory.icnt` the
+// crossbar to memory, `<top>.memory.port` its TLM-2.0 initiator (model/memory_port.h), `<top>.dram`
+// the GDDR3 memory, a TLM-2.0 target (or, built without it, whatever target the platform binds to
+// memory_socket()).
+//
+// It renders one frame: in two phases (all primary rays, then all shadow rays) or in one (shadow
+// rays as soon as their hit is shaded). It never sets the time resolution (it needs 1 ps), never
+// starts or stops the simulation: the frame starts with the simulation, and the accelerator goes
+// quiet when it is done (finished()). Errors are sc_reports of type rtsim/* (model/report.h).
 #pragma once
 
 #include "kernels/memory_image.h"
-#include "model/cache.h"
-#include "model/crossbar.h"
-#include "model/dram_config.h"
+#include "model/accelerator_config.h"
 #include "model/frame_buffer.h"
-#include "model/ray_generator.h"
-#include "model/shadow_culling_unit.h"
+#include "model/memory_port.h"
 #include "model/stats_registry.h"
 #include "model/vcd_trace.h"
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
+
+#include <systemc>
 
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace rtsim::model {
 
-// One L2 shared by all units of a type, or a private L2 per unit (model/memory_system.h).
-enum class L2Sharing { kType, kUnit };
-
-struct UnitTypeConfig {
-  uint32_t count = 1;
-  uint32_t latency = 1;       // pipeline latency in cycles (one operation issues per cycle)
-  uint32_t capacity = 16;     // rays held (TRV: rays owned, the ray accumulation buffer)
-  uint32_t fifo_depth = 16;   // input FIFO
-  CacheConfig l1, l2;
-  LinkConfig link;            // the crossbar between the type's L1s and its L2 (shading: the IST's)
-  L2Sharing l2_sharing = L2Sharing::kType;
-};
-
-// When shadow rays go: after every primary ray (two phases, the paper's Table 6), or as soon as
-// their hit is shaded (one phase: primary and shadow rays overlap).
-enum class Schedule { kTwoPhase, kOnePhase };
-
-struct AcceleratorConfig {
-  double clock_ghz = 1.0;
-  // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
-  // ports and links as configs/README.md gives them with their sources: single-ported L1s; L2s
-  // of 8 single-ported banks (GPGPU-Sim's GT200); 32-byte flits, 8-byte headers, 2 cycles a hop.
-  UnitTypeConfig trv{24, 8, 16, 16, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
-  UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
-  UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
-  UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16, 1, 1}, {}, {}};  // its L1 sits on the IST L2
-  DramConfig dram = dram_preset("gddr3-gt200-1ghz");
-  LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
-  uint32_t ray_pool = 2048;   // rays in flight, all units together
-  uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
-  CullingConfig culling;               // one hit record per cycle, read from memory in two phases
-  bool write_records = true;           // shading units write each hit's record to the frame buffer
-  bool lvb_culling = true;
-  RayOrder order = RayOrder::kTiles;
-  Schedule schedule = Schedule::kTwoPhase;
-  int tile = 8;
-  uint64_t watchdog_cycles = 100000;  // stop when nothing moved for this long
-  int reflection_depth = 0;           // mirror bounces for materials with reflectance > 0
-
-  // Throws std::invalid_argument naming the field.
-  void validate() const;
-};
-
+// The figures of a finished frame. The pixels' colours are composed on the host from `frame`.
 struct AcceleratorResult {
   FrameBuffer frame;
-  std::vector<uint8_t> rgb;
   uint64_t cycles_total = 0, cycles_primary = 0, cycles_shadow = 0;
   double clock_ghz = 1.0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
@@ -91,11 +59,43 @@ struct SimulationHooks {
   std::function<void(const Progress&)> progress;  // called every progress_cycles while the frame runs
   uint64_t progress_cycles = 20000;
   TraceRequest trace;                              // a VCD of FIFOs and unit busy signals
+  MemTraceRequest mem_trace;                       // a CSV of the memory transactions
 };
 
-// Simulates one frame of `camera` over `image` at width x height. SystemC elaborates once per
-// process: call this once.
-AcceleratorResult simulate_frame(const AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
-                                 int width, int height, const SimulationHooks& hooks = {});
+// The frame to render: `camera` at width x height.
+struct FrameJob {
+  Camera camera;
+  int width = 0, height = 0;
+};
+
+class Accelerator : public sc_core::sc_module {
+ public:
+  // Builds the netlist for `job` over `image` (which must outlive the accelerator; the memory
+  // holds it and, after it, the frame buffer of hit records). A configuration out of range is
+  // reported as rtsim/config.
+  // With `builtin_memory` false there is no `dram`: memory_socket() is left for the platform to
+  // bind to a TLM-2.0 target holding memory_bytes() bytes, the image's first.
+  Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, const MemoryImage& image,
+              const FrameJob& job, const SimulationHooks& hooks = {}, bool builtin_memory = true);
+  ~Accelerator() override;
+  const char* kind() const override { return "rtsim_accelerator"; }
+
+  // After the simulation: whether the frame completed, and its figures (rtsim/internal if it did
+  // not). Closes the statistics at the frame's end the first time it is called.
+  bool finished() const;
+  AcceleratorResult result();
+  const StatsRegistry& stats() const;
+
+  // The TLM-2.0 initiator socket towards memory (bound to the built-in GDDR3 unless told otherwise).
+  tlm_utils::simple_initiator_socket<MemoryPort>& memory_socket();
+  // The bytes the memory must hold: the image, then the frame buffer of hit records.
+  uint64_t memory_bytes() const;
+
+ private:
+  struct Netlist;
+  SC_HAS_PROCESS(Accelerator);
+  void start();  // at the start of the simulation: the frame begins
+  std::unique_ptr<Netlist> net_;
+};
 
 }  // namespace rtsim::model

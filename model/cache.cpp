@@ -1,5 +1,7 @@
 #include "model/cache.h"
 
+#include "model/report.h"
+
 #include <algorithm>
 #include <cstring>
 #include <stdexcept>
@@ -32,10 +34,14 @@ void CacheConfig::validate() const {
   if (ports > 64) bad("ports", "expected 0 (unlimited) .. 64");
 }
 
-Cache::Cache(std::string name, const CacheConfig& cfg, const Clock& clock, LineSource* below)
-    : name_(std::move(name)), cfg_(cfg), clock_(clock), below_(below) {
-  cfg_.validate();
-  if (!below_) throw std::invalid_argument("cache " + name_ + ": no level below");
+Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below)
+    : sc_core::sc_object(name), cfg_(cfg), clock_(clock), below_(below) {
+  try {
+    cfg_.validate();
+  } catch (const std::invalid_argument& e) {
+    report_error(kReportConfig, std::string(this->name()) + ": " + e.what());
+  }
+  if (!below_) report_error(kReportConfig, std::string(this->name()) + ": no level below");
   hit_ticks_ = clock_.cycles(cfg_.hit_latency);
   line_shift_ = 0;
   while ((1u << line_shift_) < cfg_.line_bytes) ++line_shift_;
@@ -90,7 +96,7 @@ uint32_t Cache::find_way(uint64_t line) const {
 
 Tick Cache::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
   if (line & (cfg_.line_bytes - 1))
-    throw std::logic_error("cache " + name_ + ": line address " + std::to_string(line) + " not line-aligned");
+    report_error(kReportInternal, std::string(name()) + ": line address " + std::to_string(line) + " not line-aligned");
   ++stats_.accesses;
   if (!banks_.empty()) now = lookup_slot(line, now, listener);
   return access(line, now, listener, cookie, now, false);
@@ -167,7 +173,7 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
 void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick when) {
   const uint32_t way = find_way(line);
   if (way == kNoWay || ready_[way] != kUnknown)
-    throw std::logic_error("cache " + name_ + ": fill for line " + std::to_string(line) + " that is not awaited");
+    report_error(kReportInternal, std::string(name()) + ": fill for line " + std::to_string(line) + " that is not awaited");
   when = fill_slot(line, when);
   std::memcpy(&data_[size_t(way) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
   ++stats_.fills;

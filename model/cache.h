@@ -1,6 +1,6 @@
 // A non-blocking, set-associative, LRU, read-only cache that models timing and holds data.
 //
-// It is a plain object driven by function calls (no SystemC process): towards the requester it
+// It is an sc_object driven by function calls (no SystemC process): towards the requester it
 // is a LineSource, towards the level below a FillListener (for fills whose time was unknown when
 // they were asked for, i.e. DRAM misses). Data are read-only, so a line's bytes are copied from
 // the level below as soon as they are known to be exact (at request time when the delivery time
@@ -52,6 +52,8 @@
 #include "model/port_schedule.h"
 #include "model/stats_registry.h"
 
+#include <systemc>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -89,14 +91,16 @@ struct CacheStats {
   uint64_t fill_stall_cycles = 0;  // fills that waited for a slot of their bank
 };
 
-class Cache : public LineSource, public FillListener {
+class Cache : public sc_core::sc_object, public LineSource, public FillListener {
  public:
-  // `below` must outlive the cache; the cache registers itself as below's listener.
-  Cache(std::string name, const CacheConfig& cfg, const Clock& clock, LineSource* below);
+  // `below` must outlive the cache; the cache registers itself as below's listener. A bad
+  // configuration is reported as rtsim/config.
+  Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below);
+  const char* kind() const override { return "rtsim_cache"; }
   Cache(const Cache&) = delete;  // the level below holds `this`
   Cache& operator=(const Cache&) = delete;
 
-  // `line_addr` must be line-aligned (std::logic_error otherwise). `listener` may be null when
+  // `line_addr` must be line-aligned (rtsim/internal otherwise). `listener` may be null when
   // the caller does not need a kUnknown completion.
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
   // The cache's own copy when it holds the line's bytes; otherwise (evicted since its delivery,
@@ -121,7 +125,6 @@ class Cache : public LineSource, public FillListener {
 
   const CacheStats& stats() const { return stats_; }
   const CacheConfig& config() const { return cfg_; }
-  const std::string& name() const { return name_; }
   // Probes without side effects (tests, debugging).
   bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
   size_t queued_requests() const { return queued_.size(); }
@@ -164,7 +167,6 @@ class Cache : public LineSource, public FillListener {
   // The time a fill of `line` arriving at `when` is written into the array.
   Tick fill_slot(uint64_t line, Tick when);
 
-  std::string name_;
   CacheConfig cfg_;
   Clock clock_;
   LineSource* below_;

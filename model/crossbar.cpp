@@ -1,5 +1,7 @@
 #include "model/crossbar.h"
 
+#include "model/report.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -11,9 +13,9 @@ void LinkConfig::validate() const {
   if (header_bytes > 4096) throw std::invalid_argument("LinkConfig.header_bytes: expected 0..4096");
 }
 
-Crossbar::Crossbar(std::string name, const LinkConfig& config, const Clock& clock, uint32_t sources,
+Crossbar::Crossbar(const char* name, const LinkConfig& config, const Clock& clock, uint32_t sources,
                    uint32_t destinations)
-    : name_(std::move(name)), cfg_(config), clock_(clock), latency_ticks_(clock.cycles(config.latency)) {
+    : sc_core::sc_object(name), cfg_(config), clock_(clock), latency_ticks_(clock.cycles(config.latency)) {
   cfg_.validate();
   const uint32_t ports = cfg_.ideal() ? 0 : 1;
   src_out_.assign(sources, PortSchedule(clock_.period(), ports));
@@ -75,7 +77,8 @@ CrossbarPort::CrossbarPort(Crossbar* crossbar, uint32_t first_source, const Line
     : xbar_(crossbar), first_(first_source), requester_(requester), below_(below), line_bytes_(line_bytes) {}
 
 Tick CrossbarPort::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
-  if (upstream_ && listener != upstream_) throw std::logic_error("crossbar port " + xbar_->name() + ": two requesters");
+  if (upstream_ && listener != upstream_)
+    report_error(kReportInternal, std::string(xbar_->name()) + ": two requesters on one port");
   upstream_ = listener;
   const uint32_t src = source(line), dst = below_->port_of(line);  // a DRAM channel takes a decode
   const Tick arrived = xbar_->request(src, dst, 0, now);

@@ -22,6 +22,8 @@
 #include "model/port_schedule.h"
 #include "model/stats_registry.h"
 
+#include <systemc>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -44,9 +46,10 @@ struct CrossbarStats {
   uint64_t queue_cycles = 0;  // sum over packets of (arrival - arrival on an idle crossbar)
 };
 
-class Crossbar {
+class Crossbar : public sc_core::sc_object {
  public:
-  Crossbar(std::string name, const LinkConfig& config, const Clock& clock, uint32_t sources, uint32_t destinations);
+  Crossbar(const char* name, const LinkConfig& config, const Clock& clock, uint32_t sources, uint32_t destinations);
+  const char* kind() const override { return "rtsim_crossbar"; }
 
   // A request packet with `payload` bytes from source `src` to destination `dst`, ready to leave
   // at `t`: the time it has arrived.
@@ -55,7 +58,6 @@ class Crossbar {
   Tick reply(uint32_t dst, uint32_t src, uint32_t payload, Tick t);
 
   const LinkConfig& config() const { return cfg_; }
-  const std::string& name() const { return name_; }
   uint32_t sources() const { return uint32_t(src_out_.size()); }
   uint32_t destinations() const { return uint32_t(dst_in_.size()); }
   // <prefix>.{request,reply}.{packets,flits,queue_cycles,avg_queue_cycles}, and the busiest
@@ -65,7 +67,6 @@ class Crossbar {
  private:
   Tick transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, Tick t, CrossbarStats& s);
 
-  std::string name_;
   LinkConfig cfg_;
   Clock clock_;
   Tick latency_ticks_;

@@ -1,5 +1,7 @@
 #include "model/dram.h"
 
+#include "model/report.h"
+
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
@@ -10,22 +12,22 @@ namespace rtsim::model {
 
 namespace {
 
-Tick sim_now_ps() { return Scheduler::instance().now(); }  // resolution is 1 ps
-
 constexpr uint64_t kMinPageBytes = 4096;  // copy-on-write granularity (at least one line)
 
 }  // namespace
 
 Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
-           const Clock& accel_clock, uint64_t extra_bytes)
+           const Clock& accel_clock, Scheduler& calendar, uint64_t extra_bytes)
     : sc_core::sc_module(name),
+      socket("socket"),
+      calendar_(calendar),
       engine_(config),
       memory_(memory),
       image_bytes_(memory ? memory->size() : 0),
       store_bytes_(image_bytes_ + extra_bytes),
       accel_clock_(accel_clock) {
   if (sc_core::sc_get_time_resolution() != sc_core::sc_time(1, sc_core::SC_PS))
-    throw std::logic_error("Dram needs sc_set_time_resolution(1, SC_PS)");
+    report_error(kReportConfig, std::string(this->name()) + ": needs a time resolution of 1 ps (sc_set_time_resolution(1, SC_PS) before any sc_time)");
   const uint64_t line = engine_.config().request_bytes;
   const uint64_t page = std::max<uint64_t>(kMinPageBytes, line);  // both powers of two
   while ((uint64_t(1) << page_shift_) < page) ++page_shift_;
@@ -34,55 +36,72 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::ve
   // A line across the image's end (an image whose size is not a multiple of request_bytes, with
   // extra space after it) is neither wholly image nor zeros: give its page a copy now.
   if (extra_bytes > 0 && image_bytes_ % line != 0) writable_line(image_bytes_ - image_bytes_ % line);
-  Scheduler::instance().add(this);
+  socket.register_nb_transport_fw(this, &Dram::nb_transport_fw);
+  socket.register_transport_dbg(this, &Dram::transport_dbg);
+  calendar_.add(this);
 }
 
-void Dram::check_line(uint64_t line_addr, const char* what, bool aligned, bool in_store) const {
+tlm::tlm_response_status Dram::check(const tlm::tlm_generic_payload& p) const {
   const uint64_t bytes = engine_.config().request_bytes;
-  if (aligned && line_addr % bytes != 0)
-    throw std::logic_error(std::string("DRAM ") + what + ": address " + std::to_string(line_addr) +
-                           " is not aligned to request_bytes (" + std::to_string(bytes) + ")");
-  if (in_store && (line_addr > store_bytes_ || store_bytes_ - line_addr < bytes)) {
-    char addr[24];
-    std::snprintf(addr, sizeof addr, "0x%llx", static_cast<unsigned long long>(line_addr));
-    std::string where = "the memory image (" + std::to_string(image_bytes_) + " bytes";
-    if (store_bytes_ > image_bytes_) where += " + " + std::to_string(store_bytes_ - image_bytes_) + " bytes after it";
-    throw std::out_of_range(std::string("DRAM line ") + addr + " (" + std::to_string(bytes) + " bytes) is outside " +
-                            where + ")");
-  }
+  if (p.get_data_length() != bytes || p.get_streaming_width() < bytes || p.get_byte_enable_ptr())
+    return tlm::TLM_BURST_ERROR_RESPONSE;
+  if (p.get_address() % bytes != 0 || (store_bytes_ > 0 && !in_store(p.get_address())))
+    return tlm::TLM_ADDRESS_ERROR_RESPONSE;
+  return tlm::TLM_OK_RESPONSE;
 }
 
-Tick Dram::fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) {
-  const Tick sim_now = sim_now_ps();
-  if (now < sim_now) now = sim_now;
-  // A request outside the store is a caller's bug: fail here (a timing-only model has no store).
-  check_line(line_addr, "fetch_line", true, store_bytes_ > 0);
+tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+  if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;  // END_RESP: nothing to do
+  const tlm::tlm_response_status status = check(p);
+  if (status != tlm::TLM_OK_RESPONSE) {
+    p.set_response_status(status);
+    return tlm::TLM_COMPLETED;
+  }
+  const uint64_t line = p.get_address();
+  const bool write = p.is_write();
+  if (write && store_bytes_ > 0) std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
   const uint64_t id = next_id_++;
-  requesters_.emplace(id, Requester{line_addr, listener, cookie});
-  engine_.enqueue(line_addr, now, id);
+  requesters_.emplace(id, Requester{line, &p});
+  engine_.enqueue(line, calendar_.now() + delay.value(), id, write);
   wake_for(engine_.next_event_time());
-  return kUnknown;
+  phase = tlm::END_REQ;
+  return tlm::TLM_UPDATED;
 }
 
-void Dram::write_line(uint64_t line_addr, const uint8_t* data, Tick now, FillListener* listener, uint64_t cookie) {
-  const Tick sim_now = sim_now_ps();
-  if (now < sim_now) now = sim_now;
-  check_line(line_addr, "write_line", true, store_bytes_ > 0);
-  if (store_bytes_ > 0) {
-    if (!data) throw std::invalid_argument("DRAM write_line: no data for line " + std::to_string(line_addr));
-    std::memcpy(writable_line(line_addr), data, engine_.config().request_bytes);
+unsigned Dram::transport_dbg(tlm::tlm_generic_payload& p) {
+  const uint64_t addr = p.get_address();
+  const unsigned n = p.get_data_length();
+  if (store_bytes_ == 0 || addr > store_bytes_ || store_bytes_ - addr < n) return 0;
+  const uint64_t bytes = engine_.config().request_bytes;
+  for (unsigned done = 0; done < n;) {  // line by line: a line never leaves its page
+    const uint64_t at = addr + done;
+    const unsigned k = unsigned(std::min<uint64_t>(n - done, bytes - at % bytes));
+    if (p.is_write()) std::memcpy(writable_line(at), p.get_data_ptr() + done, k);
+    else std::memcpy(p.get_data_ptr() + done, line_data(at), k);
+    done += k;
   }
-  const uint64_t id = next_id_++;
-  if (listener) requesters_.emplace(id, Requester{line_addr, listener, cookie});
-  engine_.enqueue(line_addr, now, id, /*write=*/true);
-  wake_for(engine_.next_event_time());
+  return n;
+}
+
+void Dram::respond(tlm::tlm_generic_payload& p, Tick delay) {
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+  tlm::tlm_phase phase = tlm::BEGIN_RESP;
+  sc_core::sc_time t = sc_core::sc_time::from_value(delay);
+  socket->nb_transport_bw(p, phase, t);  // TLM_ACCEPTED and a later END_RESP are fine too
 }
 
 // Callers may ask for a finer-aligned address (an L1 line inside a larger request): the bytes
 // from `line_addr` to the end of its request_bytes block are right, and that block never leaves
 // its page.
 const uint8_t* Dram::line_data(uint64_t line_addr) const {
-  check_line(line_addr, "line_data", false, true);
+  if (!in_store(line_addr)) {
+    char addr[24];
+    std::snprintf(addr, sizeof addr, "0x%llx", static_cast<unsigned long long>(line_addr));
+    std::string where = "the memory image (" + std::to_string(image_bytes_) + " bytes";
+    if (store_bytes_ > image_bytes_) where += " + " + std::to_string(store_bytes_ - image_bytes_) + " bytes after it";
+    report_error(kReportMemory, std::string(name()) + ": line " + addr + " (" +
+                                    std::to_string(engine_.config().request_bytes) + " bytes) is outside " + where + ")");
+  }
   const uint64_t bytes = engine_.config().request_bytes;
   if (const std::unique_ptr<uint8_t[]>& page = pages_[size_t(line_addr >> page_shift_)])
     return page.get() + (line_addr & ((uint64_t(1) << page_shift_) - 1));
@@ -110,11 +129,17 @@ uint64_t Dram::pages_written() const {
 }
 
 void Dram::activate() {
-  const Tick now = sim_now_ps();
+  const Tick now = calendar_.now();
   done_.clear();
   engine_.advance(now, done_);
   for (const DramController::Completion& c : done_) {
-    if (c.write && requesters_.find(c.id) == requesters_.end()) continue;  // posted, nobody to tell
+    if (c.write) {  // posted: the response goes now, annotated with the time the data are in
+      const auto it = requesters_.find(c.id);
+      tlm::tlm_generic_payload* p = it->second.payload;
+      requesters_.erase(it);
+      respond(*p, c.data_ready > now ? c.data_ready - now : 0);
+      continue;
+    }
     deliveries_.push(Delivery{accel_clock_.edge_at_or_after(c.data_ready), c.id});
   }
   while (!deliveries_.empty() && deliveries_.top().when <= now) {
@@ -123,8 +148,9 @@ void Dram::activate() {
     const auto it = requesters_.find(d.id);
     const Requester r = it->second;
     requesters_.erase(it);
-    // on_fill may call fetch_line again (it re-arms this module; the earliest time wins).
-    if (r.listener) r.listener->on_fill(r.line, r.cookie, d.when);
+    // The bytes as they are now (writes posted before this moment included).
+    if (store_bytes_ > 0) std::memcpy(r.payload->get_data_ptr(), line_data(r.line), engine_.config().request_bytes);
+    respond(*r.payload, 0);
   }
   Tick next = engine_.next_event_time();
   if (!deliveries_.empty()) next = std::min(next, deliveries_.top().when);
@@ -132,7 +158,7 @@ void Dram::activate() {
 }
 
 void Dram::wake_for(Tick t) {
-  if (t != kUnknown) Scheduler::instance().schedule(this, t);  // a pending earlier time stands
+  if (t != kUnknown) calendar_.schedule(this, t);  // a pending earlier time stands
 }
 
 }  // namespace rtsim::model

@@ -1,17 +1,22 @@
-// The DRAM as a SystemC module: a thin wrapper that drives the DramController engine in
-// simulated time and holds the simulated memory's bytes.
+// The GDDR3 memory as a SystemC module and a TLM-2.0 target (`socket`, approximately-timed base
+// protocol): a thin wrapper that drives the DramController engine in simulated time and holds the
+// simulated memory's bytes. Needs a time resolution of 1 ps.
 //
-// fetch_line enqueues a read and returns kUnknown (DRAM times are decided by the scheduler). An
-// activation on the scheduler's calendar advances the engine to the current time, and tells each
-// requester through FillListener::on_fill at the first accelerator-clock edge at or after the
+// A read (BEGIN_REQ, its delay annotation = when it reaches memory) is accepted at once
+// (TLM_UPDATED, END_REQ: the controller's queue takes every request) and enqueued in the engine.
+// An activation on the calendar advances the engine to the current time; a read's response
+// (BEGIN_RESP, with the line's bytes) goes at the first accelerator-clock edge at or after its
 // data are ready (the DRAM runs on its own command clock; the accelerator samples on its own).
-// Deliveries later than now wait in a small time-ordered queue. The module re-arms for the
-// earliest of the engine's next event and the next delivery, so it costs no activation while idle. Needs sc_set_time_resolution(1, SC_PS).
+// Responses later than now wait in a small time-ordered queue, sent in (time, request order). The
+// module re-arms for the earliest of the engine's next event and the next response, so it costs no
+// activation while idle.
 //
-// write_line is a posted write: the bytes are stored at once (functionally: a later line_data,
-// and a read that completes later, see them, even a read enqueued before the write), and the
-// write is queued in the engine for its timing only (it shares the FR-FCFS queue, the banks and
-// the data bus with the reads). Nobody is told unless a listener is given.
+// A write is posted: its bytes are stored at once (functionally: a later read sees them, even one
+// enqueued before the write) and the write is queued in the engine for its timing only (it shares
+// the FR-FCFS queue, the banks and the data bus with the reads); its response goes when the engine
+// reports it, annotated with the time its last data beat is in. A request that is not one whole
+// line inside the store completes at once with an address or burst error. transport_dbg reads and
+// writes the store without timing.
 //
 // Backing store: the memory image (not copied) followed by `extra_bytes` of zeroed space (e.g. a
 // frame buffer the accelerator writes after the image), addresses [0, image + extra_bytes).
@@ -33,6 +38,8 @@
 #include "model/stats_registry.h"
 
 #include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_target_socket.h>
 
 #include <cstdint>
 #include <memory>
@@ -43,33 +50,20 @@
 
 namespace rtsim::model {
 
-class Dram : public sc_core::sc_module, public LineSource, public Scheduler::Client {
+class Dram : public sc_core::sc_module, public Scheduler::Client {
  public:
-  // `memory` is the loaded memory image (may be null: with extra_bytes 0 that is a timing-only
-  // model, whose line_data throws and whose accesses are not range-checked). It must outlive the
-  // module and keep its size. `extra_bytes` of zeroed store follow the image.
-  Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
-       const Clock& accel_clock, uint64_t extra_bytes = 0);
+  tlm_utils::simple_target_socket<Dram> socket;
 
-  // Returns kUnknown; `listener->on_fill(line_addr, cookie, t)` follows at delivery time t
-  // (`listener` may be null). `now` earlier than the simulation time is taken as now; a later
-  // `now` (a requester's own latency already added) is honoured. `line_addr` must be
-  // request_bytes-aligned (std::logic_error) and inside the store (std::out_of_range).
-  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
-  // Posted write of the request_bytes at `data` to the line at `line_addr` (aligned and inside
-  // the store, as for fetch_line; `data` may be null only in a timing-only model). The bytes are
-  // stored before this returns; the write then costs DRAM time like a read. If `listener` is
-  // given, `listener->on_fill(line_addr, cookie, t)` is called at the first accelerator edge t at
-  // or after the write's last data beat is in (last WR + WL + BL/2; tWR delays only the bank).
-  void write_line(uint64_t line_addr, const uint8_t* data, Tick now, FillListener* listener = nullptr,
-                  uint64_t cookie = 0);
-  // The line's current bytes (written ones included); std::out_of_range if the line is not wholly
-  // inside the store. Read it before the next write_line: a page's first write moves its lines
-  // to the module's copy, and the old pointer then shows the image's bytes.
-  const uint8_t* line_data(uint64_t line_addr) const override;
-  // The channel a line maps to (a crossbar's destination port).
-  uint32_t port_of(uint64_t line_addr) const override { return engine_.mapping().decode(line_addr).channel; }
-  uint32_t port_count() const override { return engine_.config().channels; }
+  // `memory` is the loaded memory image (may be null: with extra_bytes 0 that is a timing-only
+  // model, whose line_data reports an error and whose accesses are not range-checked). It must
+  // outlive the module and keep its size. `extra_bytes` of zeroed store follow the image.
+  Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
+       const Clock& accel_clock, Scheduler& calendar, uint64_t extra_bytes = 0);
+
+  // The line's current bytes (written ones included); rtsim/memory if the line is not wholly
+  // inside the store. Read it before the next write: a page's first write moves its lines to the
+  // module's copy, and the old pointer then shows the image's bytes.
+  const uint8_t* line_data(uint64_t line_addr) const;
 
   uint64_t store_bytes() const { return store_bytes_; }  // image + extra_bytes
   uint64_t image_bytes() const { return image_bytes_; }
@@ -84,8 +78,7 @@ class Dram : public sc_core::sc_module, public LineSource, public Scheduler::Cli
  private:
   struct Requester {
     uint64_t line;
-    FillListener* listener;
-    uint64_t cookie;
+    tlm::tlm_generic_payload* payload;
   };
   struct Delivery {
     Tick when;
@@ -93,13 +86,19 @@ class Dram : public sc_core::sc_module, public LineSource, public Scheduler::Cli
     bool operator>(const Delivery& o) const { return when != o.when ? when > o.when : id > o.id; }
   };
 
+  tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  unsigned transport_dbg(tlm::tlm_generic_payload& p);
+  // A request's response status if it is not one request_bytes line inside the store.
+  tlm::tlm_response_status check(const tlm::tlm_generic_payload& p) const;
+  void respond(tlm::tlm_generic_payload& p, Tick delay);
   void activate() override;  // on the scheduler's calendar
   void wake_for(Tick t);
-  // If `aligned`, request_bytes-aligned (std::logic_error); if `in_store`, request_bytes from
-  // line_addr fit in the store (std::out_of_range).
-  void check_line(uint64_t line_addr, const char* what, bool aligned, bool in_store) const;
+  bool in_store(uint64_t line_addr) const {
+    return line_addr <= store_bytes_ && store_bytes_ - line_addr >= engine_.config().request_bytes;
+  }
   uint8_t* writable_line(uint64_t line_addr);                   // copies its page on first write
 
+  Scheduler& calendar_;
   DramController engine_;
   const std::vector<uint8_t>* memory_;
   uint64_t image_bytes_ = 0;

@@ -1,14 +1,12 @@
 #include "model/ist_unit.h"
 
 #include "model/record_fetch.h"
-#include "model/trv_unit.h"
 
 namespace rtsim::model {
 
-IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
-                 Cache* l1, RayFifo* in, const std::vector<TrvUnit*>* trv, const std::vector<RayFifo*>* done_by_trv,
-                 LvbUpdater* lvb)
-    : RayUnit(name, ctx, in, capacity), latency_(latency), l1_(l1), trv_(trv), done_(done_by_trv), lvb_(lvb) {}
+IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+                 MemorySystem& memory, uint32_t index, RayOwners* owners, LvbUpdater* lvb)
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kIst, index), latency_(cfg.latency), owners_(owners), lvb_(lvb) {}
 
 void IstUnit::process(uint32_t id, Tick now) {
   RayState& r = (*ctx_.pool)[id];
@@ -16,7 +14,7 @@ void IstUnit::process(uint32_t id, Tick now) {
   const uint32_t tri = r.tris[r.tests_issued];
   const uint64_t addr = ctx_.header.triangles.base + uint64_t(tri) * image::kTriangleBytes;
   uint8_t bytes[image::kTriangleBytes];
-  const Tick ready = load(*l1_, id, addr, image::kTriangleBytes, bytes, now);
+  const Tick ready = load(l1(), id, addr, image::kTriangleBytes, bytes, now);
   if (ready == kUnknown) return;
   const image::TriangleRecord t = image::decode_triangle(bytes);
   ++stats_.tests;
@@ -37,9 +35,9 @@ void IstUnit::process(uint32_t id, Tick now) {
   // The leaf is done when its last test completes.
   if (traversal_pop(r.trav) == TraversalStep::kFetchNode) {
     release();
-    (*trv_)[r.trv_unit]->return_ray(id, r.leaf_done_at);
+    owners_->return_ray(id, r.leaf_done_at);
   } else {
-    emit((*done_)[r.trv_unit], id, r.leaf_done_at, now);
+    emit(owners_->shading_input(id), id, r.leaf_done_at, now);
   }
 }
 

@@ -6,13 +6,12 @@
 
 #include "model/cache.h"
 #include "model/lvb_updater.h"
+#include "model/ray_owners.h"
 #include "model/ray_unit.h"
 
 #include <vector>
 
 namespace rtsim::model {
-
-class TrvUnit;
 
 struct IstStats {
   uint64_t tests = 0;
@@ -21,8 +20,9 @@ struct IstStats {
 
 class IstUnit : public RayUnit {
  public:
-  IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity, Cache* l1,
-          RayFifo* in, const std::vector<TrvUnit*>* trv, const std::vector<RayFifo*>* done_by_trv, LvbUpdater* lvb);
+  // Unit `index` of the IST units; rays go back through `owners`, closest hits through `lvb`.
+  IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg, MemorySystem& memory,
+          uint32_t index, RayOwners* owners, LvbUpdater* lvb);
   const IstStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
@@ -31,9 +31,7 @@ class IstUnit : public RayUnit {
 
  private:
   uint32_t latency_;
-  Cache* l1_;
-  const std::vector<TrvUnit*>* trv_;
-  const std::vector<RayFifo*>* done_;  // the shading input for the rays of each TRV unit
+  RayOwners* owners_;
   LvbUpdater* lvb_;
   IstStats stats_;
 };

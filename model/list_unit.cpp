@@ -4,9 +4,9 @@
 
 namespace rtsim::model {
 
-ListUnit::ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
-                   Cache* l1, RayFifo* in, RayFifo* to_ist)
-    : RayUnit(name, ctx, in, capacity), latency_(latency), l1_(l1), to_ist_(to_ist) {}
+ListUnit::ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+                   MemorySystem& memory, uint32_t index, RayFifo* to_ist)
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kList, index), latency_(cfg.latency), to_ist_(to_ist) {}
 
 void ListUnit::process(uint32_t id, Tick now) {
   RayState& r = (*ctx_.pool)[id];
@@ -14,7 +14,7 @@ void ListUnit::process(uint32_t id, Tick now) {
   if (r.prim_count == 0) {  // first the leaf record
     const uint64_t addr = h.leaves.base + uint64_t(r.trav.leaf) * image::kLeafBytes;
     uint8_t bytes[image::kLeafBytes];
-    const Tick ready = load(*l1_, id, addr, image::kLeafBytes, bytes, now);
+    const Tick ready = load(l1(), id, addr, image::kLeafBytes, bytes, now);
     if (ready == kUnknown) return;
     const image::LeafRecord leaf = image::decode_leaf(bytes);
     ++stats_.leaves;
@@ -26,16 +26,16 @@ void ListUnit::process(uint32_t id, Tick now) {
     return;
   }
   // Then the primitive list, one line at a time.
-  const uint64_t line_bytes = l1_->config().line_bytes;
+  const uint64_t line_bytes = l1().config().line_bytes;
   const uint64_t addr = h.prims.base + uint64_t(r.prim_offset + r.prims_fetched) * image::kPrimBytes;
   const uint64_t line = addr & ~(line_bytes - 1);
   const uint32_t in_line = uint32_t(std::min<uint64_t>((line + line_bytes - addr) / image::kPrimBytes,
                                                         r.prim_count - r.prims_fetched));
-  const RecordFetch f = fetch(*l1_, id, line, uint32_t(line_bytes), now);
+  const RecordFetch f = fetch(l1(), id, line, uint32_t(line_bytes), now);
   if (f.ready == kUnknown) return park(id, f.pending);
   const Tick t = f.ready;
   ++stats_.list_lines;
-  const uint8_t* data = l1_->line_data(line) + (addr - line);
+  const uint8_t* data = l1().line_data(line) + (addr - line);
   for (uint32_t k = 0; k < in_line; ++k) r.tris.push_back(image::load_u32(data + k * image::kPrimBytes));
   r.prims_fetched += in_line;
   stats_.prims += in_line;

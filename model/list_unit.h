@@ -16,8 +16,9 @@ struct ListStats {
 
 class ListUnit : public RayUnit {
  public:
-  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity, Cache* l1,
-           RayFifo* in, RayFifo* to_ist);
+  // Unit `index` of the LIST units; its rays go on to `to_ist`.
+  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg, MemorySystem& memory,
+           uint32_t index, RayFifo* to_ist);
   const ListStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
@@ -26,7 +27,6 @@ class ListUnit : public RayUnit {
 
  private:
   uint32_t latency_;
-  Cache* l1_;
   RayFifo* to_ist_;
   ListStats stats_;
 };

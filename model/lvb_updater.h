@@ -8,8 +8,10 @@
 
 namespace rtsim::model {
 
-class LvbUpdater {
+class LvbUpdater : public sc_core::sc_object {
  public:
+  explicit LvbUpdater(const char* name) : sc_core::sc_object(name) {}
+  const char* kind() const override { return "rtsim_lvb_updater"; }
   void on_closest_hit(RayState& r) {
     r.lvb = r.leaf_lvb;
     ++updates_;

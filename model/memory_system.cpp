@@ -1,69 +1,99 @@
 #include "model/memory_system.h"
 
-#include "model/accelerator.h"
-
 namespace rtsim::model {
 
-MemorySystem::MemorySystem(const AcceleratorConfig& cfg, Dram* dram, const Clock& clock) : dram_(dram) {
-  LineSource* memory = dram;
+// A unit type's shared level, named after the type: its children are the group's `l2` and `icnt`.
+class MemorySystem::TypeModule : public sc_core::sc_module {
+ public:
+  TypeModule(sc_core::sc_module_name name, MemorySystem& m, Type t, uint32_t l1_sources) : sc_core::sc_module(name) {
+    group = m.build_group(t, 0, l1_sources);
+  }
+  L2Group group;
+};
+
+const char* MemorySystem::type_name(Type t) {
+  static const char* names[kTypes] = {"trv", "list", "ist", "shading"};
+  return names[t];
+}
+
+MemorySystem::MemorySystem(const AcceleratorConfig& cfg, const DramConfig& dram, const Clock& clock, Scheduler& calendar)
+    : cfg_(cfg), clock_(clock) {
   const UnitTypeConfig* unit_cfg[kTypes] = {&cfg.trv, &cfg.list, &cfg.ist, &cfg.shading};
-  const char* names[kTypes] = {"trv", "list", "ist", "shading"};
   const bool ist_private = cfg.ist.l2_sharing == L2Sharing::kUnit;
   // The L2 configuration and the number of L2s of each type (the shading unit has its own L2 only
   // when the IST's are private; otherwise its L1 is one more source on the IST's crossbar).
-  auto l2_cfg = [&](int t) -> const UnitTypeConfig& { return t == kShading ? cfg.ist : *unit_cfg[t]; };
-  auto l2_count = [&](int t) -> uint32_t {
-    if (t == kShading) return ist_private ? 1 : 0;
-    return unit_cfg[t]->l2_sharing == L2Sharing::kUnit ? unit_cfg[t]->count : 1;
-  };
   uint32_t sources = 0;
-  for (int t = 0; t < kTypes; ++t) sources += l2_count(t) * l2_cfg(t).l2.banks;
-  first_writer_ = sources;
-  sources += cfg.shading.count + 1;
-  memory_icnt_ = std::make_unique<Crossbar>("memory.icnt", cfg.memory_link, clock, sources, memory->port_count());
-  record_reader_ = std::make_unique<CrossbarPort>(memory_icnt_.get(), sources - 1, nullptr, memory, dram->engine().config().request_bytes);
-
-  uint32_t first_source = 0;
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
-    m.name = names[t];
-    const UnitTypeConfig& u = *unit_cfg[t];
-    const UnitTypeConfig& lc = l2_cfg(t);
-    const uint32_t groups = l2_count(t);
-    for (uint32_t g = 0; g < groups; ++g) {
-      Group grp;
-      const std::string suffix = groups > 1 ? ".unit" + std::to_string(g) : "";
-      grp.to_memory = std::make_unique<CrossbarPort>(memory_icnt_.get(), first_source, nullptr, memory, lc.l2.line_bytes);
-      first_source += lc.l2.banks;
-      grp.l2 = std::make_unique<Cache>(m.name + ".l2" + suffix, lc.l2, clock, grp.to_memory.get());
-      grp.to_memory->set_requester(grp.l2.get());
-      const uint32_t l1s = groups > 1 ? 1 : u.count + (t == kIst && !ist_private ? cfg.shading.count : 0);
-      grp.icnt = std::make_unique<Crossbar>(m.name + ".icnt" + suffix, lc.link, clock, l1s, lc.l2.banks);
-      m.groups.push_back(std::move(grp));
-    }
+    m.l2_cfg = t == kShading ? &cfg.ist : unit_cfg[t];
+    m.private_l2 = t == kShading ? false : unit_cfg[t]->l2_sharing == L2Sharing::kUnit;
+    const uint32_t groups = t == kShading ? (ist_private ? 1 : 0) : (m.private_l2 ? unit_cfg[t]->count : 1);
+    m.first_source = sources;
+    sources += groups * m.l2_cfg->l2.banks;
   }
-  // Each L1's port on its L2's crossbar, then the L1 itself.
+  interconnect_ = std::make_unique<MemoryInterconnect>("memory", cfg.memory_link, dram, clock, calendar, sources,
+                                                       cfg.shading.count);
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
-    const UnitTypeConfig& u = *unit_cfg[t];
-    for (uint32_t i = 0; i < u.count; ++i) {
-      const bool shared_ist = t == kShading && !ist_private;
-      Group& g = shared_ist ? types_[kIst].groups[0] : m.groups[m.groups.size() > 1 ? i : 0];
-      const uint32_t source = shared_ist ? cfg.ist.count + i : (m.groups.size() > 1 ? 0 : i);
-      m.ports.push_back(std::make_unique<CrossbarPort>(g.icnt.get(), source, nullptr, g.l2.get(), g.l2->config().line_bytes));
-      g.l2->name_requester(m.ports.back().get(), m.name);
-      m.l1s.push_back(std::make_unique<Cache>(m.name + std::to_string(i) + ".l1", u.l1, clock, m.ports.back().get()));
-    }
+    if (m.private_l2 || (t == kShading && !ist_private)) continue;
+    const uint32_t l1s = unit_cfg[t]->count + (t == kIst && !ist_private ? cfg.shading.count : 0);
+    m.shared = std::make_unique<TypeModule>(type_name(Type(t)), *this, Type(t), l1s);
   }
 }
 
-void MemorySystem::write_line(uint32_t writer, uint64_t line, const uint8_t* data, Tick now) {
-  const uint32_t bytes = dram_->engine().config().request_bytes;
-  const Tick arrived = memory_icnt_->request(first_writer_ + writer, dram_->port_of(line), bytes, now);
-  dram_->write_line(line, data, arrived);
+MemorySystem::~MemorySystem() = default;
+
+L2Group MemorySystem::build_group(Type t, uint32_t group, uint32_t l1_sources) {
+  TypeMemory& m = types_[t];
+  const UnitTypeConfig& lc = *m.l2_cfg;
+  L2Group g;
+  const std::string owner = m.private_l2 ? type_name(t) + std::to_string(group) : type_name(t);
+  g.to_memory = interconnect_->l2_port(m.first_source + group * lc.l2.banks, owner + ".l2");
+  g.l2 = std::make_unique<Cache>("l2", lc.l2, clock_, g.to_memory.get());
+  g.to_memory->set_requester(g.l2.get());
+  g.icnt = std::make_unique<Crossbar>("icnt", lc.link, clock_, l1_sources, lc.l2.banks);
+  m.l2s.push_back(g.l2.get());
+  m.icnts.push_back(g.icnt.get());
+  return g;
 }
 
-void MemorySystem::register_stats(StatsRegistry& r, const Tick* end) const {
+std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, const FillListener* requester) {
+  TypeMemory& m = types_[t];
+  const UnitTypeConfig* unit_cfg[kTypes] = {&cfg_.trv, &cfg_.list, &cfg_.ist, &cfg_.shading};
+  auto u = std::make_unique<UnitMemory>();
+  // The L2 this L1 reaches, and its source port on that L2's crossbar.
+  L2Group* g = nullptr;
+  uint32_t source = index;
+  if (m.private_l2) {
+    u->private_l2 = build_group(t, index, 1);
+    g = &u->private_l2;
+    source = 0;
+  } else if (m.shared) {
+    g = &m.shared->group;
+  } else {  // shading on the IST's shared L2, after the IST units' ports
+    g = &types_[kIst].shared->group;
+    source = cfg_.ist.count + index;
+  }
+  u->port = std::make_unique<CrossbarPort>(g->icnt.get(), source, nullptr, g->l2.get(), g->l2->config().line_bytes);
+  g->l2->name_requester(u->port.get(), type_name(t));
+  u->l1 = std::make_unique<Cache>("l1", unit_cfg[t]->l1, clock_, u->port.get());
+  u->l1->name_requester(requester, type_name(t));
+  if (m.l1s.size() <= index) m.l1s.resize(index + 1, nullptr);
+  m.l1s[index] = u->l1.get();
+  return u;
+}
+
+namespace {
+
+// The name of `o` below `top` ("rtsim.trv3.l1" under "rtsim" is "trv3.l1"): its statistics prefix.
+std::string local_name(const sc_core::sc_object& o, const sc_core::sc_object& top) {
+  const std::string full = o.name(), prefix = std::string(top.name()) + ".";
+  return full.compare(0, prefix.size(), prefix) == 0 ? full.substr(prefix.size()) : full;
+}
+
+}  // namespace
+
+void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const {
   // Totals over a set of caches, beside the per-instance figures.
   auto totals = [&r](const std::string& prefix, std::vector<const Cache*> caches) {
     auto sum = [caches](uint64_t CacheStats::*field) {
@@ -80,27 +110,16 @@ void MemorySystem::register_stats(StatsRegistry& r, const Tick* end) const {
       return a() > 0 ? h() / a() : 0.0;
     }, "all of " + prefix + ": hits / accesses");
   };
-  for (const TypeMemory& m : types_) {
-    std::vector<const Cache*> l1s;
-    for (size_t i = 0; i < m.l1s.size(); ++i) {
-      m.l1s[i]->register_stats(r, m.name + ".l1.unit" + std::to_string(i));
-      l1s.push_back(m.l1s[i].get());
-    }
-    if (!l1s.empty()) totals(m.name + ".l1", l1s);
-    if (m.groups.size() == 1) {
-      m.groups[0].l2->register_stats(r, m.name + ".l2");
-      m.groups[0].icnt->register_stats(r, m.name + ".icnt", end);
-      continue;
-    }
-    std::vector<const Cache*> l2s;
-    for (size_t g = 0; g < m.groups.size(); ++g) {
-      m.groups[g].l2->register_stats(r, m.name + ".l2.unit" + std::to_string(g));
-      m.groups[g].icnt->register_stats(r, m.name + ".icnt.unit" + std::to_string(g), end);
-      l2s.push_back(m.groups[g].l2.get());
-    }
-    if (!l2s.empty()) totals(m.name + ".l2", l2s);
+  for (int t = 0; t < kTypes; ++t) {
+    const TypeMemory& m = types_[t];
+    const std::string type = type_name(Type(t));
+    for (const Cache* c : m.l1s) c->register_stats(r, local_name(*c, top));
+    if (!m.l1s.empty()) totals(type + ".l1", std::vector<const Cache*>(m.l1s.begin(), m.l1s.end()));
+    for (const Cache* c : m.l2s) c->register_stats(r, local_name(*c, top));
+    for (const Crossbar* x : m.icnts) x->register_stats(r, local_name(*x, top), end);
+    if (m.private_l2) totals(type + ".l2", m.l2s);
   }
-  memory_icnt_->register_stats(r, "memory.icnt", end);
+  interconnect_->register_stats(r, "memory", end);
 }
 
 }  // namespace rtsim::model

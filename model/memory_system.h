@@ -3,18 +3,24 @@
 // private L2 per unit (`unit`, the reading of its Section 4.1: "each unit includes L1 and L2
 // caches"); a crossbar between each L2 and the L1s it serves (the shading L1 shares the IST's L2,
 // or has its own with the IST's L2 configuration when those are private); and one crossbar between
-// every L2 bank and the DRAM channels, on which the shading units also write the frame buffer
+// every L2 bank and the memory channels, on which the shading units also write the frame buffer
 // and the shadow culling unit reads it back (model/hit_record.h).
 //
-// Statistics: <type>.l1.unit<i>.* and <type>.l1.* totals; a shared L2 as <type>.l2.* with its
-// crossbar <type>.icnt.*; private L2s as <type>.l2.unit<i>.* (and <type>.icnt.unit<i>.*) with
-// totals <type>.l2.{accesses,hits,misses,mshr_merges,hit_rate}; memory.icnt.*.
+// The blocks are sc_objects named where they sit: a shared L2 and its crossbar are `<type>.l2` and
+// `<type>.icnt` (children of a module per unit type); a unit's L1 is `<unit>.l1`, and private L2s
+// are `<unit>.l2` and `<unit>.icnt`; the memory crossbar is `memory.icnt`. Each unit builds its
+// own caches in its constructor (build_unit), so they are its children. Statistics use the same
+// names, plus totals per type: <type>.l1.* over the type's L1s and, with private L2s,
+// <type>.l2.{accesses,hits,misses,mshr_merges,hit_rate}; memory.icnt.* and memory.port.*.
 #pragma once
 
+#include "model/accelerator_config.h"
 #include "model/cache.h"
 #include "model/crossbar.h"
-#include "model/dram.h"
+#include "model/memory_interconnect.h"
 #include "model/stats_registry.h"
+
+#include <systemc>
 
 #include <array>
 #include <memory>
@@ -23,44 +29,58 @@
 
 namespace rtsim::model {
 
-struct AcceleratorConfig;
+// An L2 and what connects it: its port on the memory crossbar and the crossbar from its L1s.
+struct L2Group {
+  std::unique_ptr<CrossbarPort> to_memory;
+  std::unique_ptr<Cache> l2;
+  std::unique_ptr<Crossbar> icnt;
+};
+
+// What a unit owns of the hierarchy: its L1, its port towards the L2, and a private L2.
+struct UnitMemory {
+  L2Group private_l2;  // empty unless L2s are private
+  std::unique_ptr<CrossbarPort> port;
+  std::unique_ptr<Cache> l1;
+};
 
 class MemorySystem {
  public:
   enum Type { kTrv, kList, kIst, kShading, kTypes };
+  static const char* type_name(Type t);
 
-  // `dram` must outlive this.
-  MemorySystem(const AcceleratorConfig& cfg, Dram* dram, const Clock& clock);
+  // Builds, in the current module's scope, the memory interconnect (`memory`, whose port speaks
+  // TLM-2.0 to a memory with the configuration `dram`) and one module per unit type with a shared L2.
+  MemorySystem(const AcceleratorConfig& cfg, const DramConfig& dram, const Clock& clock, Scheduler& calendar);
   MemorySystem(const MemorySystem&) = delete;
   MemorySystem& operator=(const MemorySystem&) = delete;
+  ~MemorySystem();
 
-  Cache& l1(Type t, uint32_t unit) { return *types_[t].l1s[unit]; }
-  const std::vector<std::unique_ptr<Cache>>& l1s(Type t) const { return types_[t].l1s; }
-  // A posted write of a whole line by shading unit `writer`: it crosses the memory crossbar from
-  // the writer's port, then queues in the DRAM; the bytes are stored at once.
-  void write_line(uint32_t writer, uint64_t line, const uint8_t* data, Tick now);
-  // The shadow culling unit's way to read the frame buffer (no cache: records are streamed).
-  CrossbarPort& record_reader() { return *record_reader_; }
-  // Registers every cache and crossbar; `end` is the frame's end time (utilisations).
-  void register_stats(StatsRegistry& r, const Tick* end) const;
+  // Called from the constructor of unit `index` of type `t`, which owns the result: its L1 (`l1`)
+  // and, when the type's L2s are private, `l2` and `icnt`, as children of that unit.
+  std::unique_ptr<UnitMemory> build_unit(Type t, uint32_t index, const FillListener* requester);
+
+  Cache& l1(Type t, uint32_t unit) { return *types_[t].l1s.at(unit); }
+  MemoryInterconnect& interconnect() { return *interconnect_; }
+  // Registers every cache and crossbar under its name relative to `top`; `end` is the frame's end
+  // time (utilisations).
+  void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;
 
  private:
-  struct Group {  // one L2 and what connects it
-    std::unique_ptr<CrossbarPort> to_memory;
-    std::unique_ptr<Cache> l2;
-    std::unique_ptr<Crossbar> icnt;
-  };
+  class TypeModule;  // the sc_module `<type>` holding a shared L2 group
   struct TypeMemory {
-    std::string name;
-    std::vector<Group> groups;                         // one (shared) or one per unit (private)
-    std::vector<std::unique_ptr<CrossbarPort>> ports;  // each L1's way to its L2
-    std::vector<std::unique_ptr<Cache>> l1s;
+    const UnitTypeConfig* l2_cfg = nullptr;  // the configuration its L2s use (shading: the IST's)
+    bool private_l2 = false;
+    uint32_t first_source = 0;               // its first L2 bank on the memory crossbar
+    std::unique_ptr<TypeModule> shared;      // null with private L2s (or shading on the IST's L2)
+    std::vector<Cache*> l1s;                 // owned by the units
+    std::vector<const Cache*> l2s;           // owned by the units or `shared`
+    std::vector<const Crossbar*> icnts;
   };
+  L2Group build_group(Type t, uint32_t group, uint32_t l1_sources);
 
-  Dram* dram_;
-  std::unique_ptr<Crossbar> memory_icnt_;
-  uint32_t first_writer_ = 0;  // memory crossbar sources: L2 banks, then writers, then the reader
-  std::unique_ptr<CrossbarPort> record_reader_;
+  const AcceleratorConfig& cfg_;
+  Clock clock_;
+  std::unique_ptr<MemoryInterconnect> interconnect_;
   std::array<TypeMemory, kTypes> types_;
 };
 

@@ -1,4 +1,4 @@
-// What every unit of one accelerator instance shares: the ray pool, the memory image's layout,
+// What every unit of one accelerator instance shares: its calendar, the ray pool, the memory image's layout,
 // the clock and the numeric constants of the traversal (the reference tracer's).
 #pragma once
 
@@ -8,7 +8,10 @@
 
 namespace rtsim::model {
 
+class Scheduler;
+
 struct ModelContext {
+  Scheduler* calendar = nullptr;  // the accelerator's calendar
   RayPool* pool = nullptr;
   image::Header header;
   Clock clock;

@@ -1,6 +1,7 @@
 // A bounded FIFO of ray ids between two units. A push wakes the consumer at the entry's ready
 // time; a pop that frees a slot in a full FIFO wakes the producer (back-pressure). Occupancy is
-// integrated over time for the mean, and its maximum kept.
+// integrated over time for the mean, and its maximum kept. An sc_object (the consumer's child
+// `in`), so its name is its statistics prefix and its VCD scope.
 #pragma once
 
 #include "model/unit.h"
@@ -18,15 +19,15 @@ struct FifoStats {
   uint64_t occupancy_ps = 0;      // integral of occupancy over time (entries x ps)
 };
 
-class RayFifo {
+class RayFifo : public sc_core::sc_object {
  public:
-  RayFifo(std::string name, uint32_t depth) : name_(std::move(name)), depth_(depth) {}
+  RayFifo(const char* name, uint32_t depth) : sc_core::sc_object(name), depth_(depth) {}
+  const char* kind() const override { return "rtsim_ray_fifo"; }
 
   void connect(Unit* producer, Unit* consumer) {
     if (producer) producers_.push_back(producer);
     if (consumer) consumer_ = consumer;
   }
-  const std::string& name() const { return name_; }
   bool full() const { return entries_.size() >= depth_; }
   bool empty() const { return entries_.empty(); }
   size_t size() const { return entries_.size(); }
@@ -57,6 +58,8 @@ class RayFifo {
   }
   void finish_accounting(Tick end) { integrate(end); }
   const FifoStats& stats() const { return stats_; }
+  // <prefix>.pushes, .max_occupancy, .full_events and .mean_occupancy over [0, *end).
+  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const;
   uint32_t depth() const { return depth_; }
 
  private:
@@ -68,7 +71,6 @@ class RayFifo {
     uint32_t ray;
     Tick ready;
   };
-  std::string name_;
   uint32_t depth_;
   std::deque<Entry> entries_;
   std::vector<Unit*> producers_;  // woken when a full FIFO frees a slot

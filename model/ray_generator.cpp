@@ -19,7 +19,7 @@ std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int til
 RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width,
                            int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs,
                            uint32_t rays_per_cycle)
-    : Unit(name, ctx.clock), ctx_(ctx), camera_(camera, width, height), width_(width), height_(height),
+    : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), camera_(camera, width, height), width_(width), height_(height),
       inputs_(std::move(trv_inputs)), rays_per_cycle_(rays_per_cycle), total_(uint64_t(width) * height),
       order_(issue_order(width, height, order, tile)) {}
 

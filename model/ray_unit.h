@@ -1,9 +1,12 @@
 // The shape shared by the units that work on rays (TRV, LIST, IST, shading): rays enter from an
 // input FIFO, wait in a ready queue ordered by issue time, park while a line comes from DRAM
 // (on_fill puts them back: the T&I engine's ray accumulation buffer), and leave through an
-// output FIFO; a full output blocks the unit until the consumer frees a slot.
+// output FIFO; a full output blocks the unit until the consumer frees a slot. A unit's children
+// are its input FIFO `in` and its caches (`l1`, and `l2` and `icnt` when L2s are private).
 #pragma once
 
+#include "model/accelerator_config.h"
+#include "model/memory_system.h"
 #include "model/model_context.h"
 #include "model/record_fetch.h"
 #include "model/ray_fifo.h"
@@ -22,12 +25,19 @@ class RayUnit : public Unit, public FillListener {
     ready_.push(when, uint32_t(ray));
     wake(when);
   }
-  RayFifo* input() const { return in_; }
+  RayFifo* input() { return &in_; }
+  const RayFifo& input() const { return in_; }
+  Cache& l1() const { return *memory_->l1; }
   uint32_t held() const { return held_; }
 
  protected:
-  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, RayFifo* in, uint32_t capacity)
-      : Unit(name, ctx.clock), ctx_(ctx), in_(in), capacity_(capacity) {}
+  // Builds the unit's input FIFO and its caches (unit `index` of `type` in `memory`).
+  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg, MemorySystem& memory,
+          MemorySystem::Type type, uint32_t index)
+      : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), in_("in", cfg.fifo_depth), capacity_(cfg.capacity) {
+    memory_ = memory.build_unit(type, index, this);
+    in_.connect(nullptr, this);
+  }
 
   // Works on one ready ray at `now`.
   virtual void process(uint32_t ray, Tick now) = 0;
@@ -41,9 +51,9 @@ class RayUnit : public Unit, public FillListener {
       blocked_.fifo = nullptr;
       --held_;
     }
-    while (!in_->empty() && in_->head_ready() <= now && can_admit()) {
-      const Tick t = in_->head_ready();
-      const uint32_t ray = in_->pop(now);
+    while (!in_.empty() && in_.head_ready() <= now && can_admit()) {
+      const Tick t = in_.head_ready();
+      const uint32_t ray = in_.pop(now);
       ready_.push(t, ray);
       ++held_;
       admitted(ray);
@@ -55,10 +65,10 @@ class RayUnit : public Unit, public FillListener {
   Tick next_ready(Tick from) const override {
     if (blocked_.fifo) return kUnknown;  // the consumer wakes us when it frees a slot
     Tick t = ready_.next_time();
-    if (!in_->empty() && can_admit()) t = std::min(t, in_->head_ready());
+    if (!in_.empty() && can_admit()) t = std::min(t, in_.head_ready());
     return t == kUnknown ? kUnknown : std::max(t, from);
   }
-  bool holds_work() const override { return held_ > 0 || !in_->empty(); }
+  bool holds_work() const override { return held_ > 0 || !in_.empty(); }
 
   // The ray stays in this unit and may issue again at `when`.
   void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
@@ -102,9 +112,10 @@ class RayUnit : public Unit, public FillListener {
   }
 
   const ModelContext& ctx_;
-  RayFifo* in_;
+  RayFifo in_;
 
  private:
+  std::unique_ptr<UnitMemory> memory_;
   struct Blocked {
     RayFifo* fifo = nullptr;
     uint32_t ray = 0;

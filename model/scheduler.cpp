@@ -1,19 +1,16 @@
 #include "model/scheduler.h"
 
+#include "model/report.h"
+
 #include <algorithm>
 #include <climits>
-#include <stdexcept>
+#include <string>
 
 namespace rtsim::model {
 
 namespace {
 Tick now_ps() { return Tick(sc_core::sc_time_stamp().value()); }
 }  // namespace
-
-Scheduler& Scheduler::instance() {
-  static Scheduler* s = new Scheduler("scheduler");  // lives as long as the SystemC kernel
-  return *s;
-}
 
 Scheduler::Scheduler(sc_core::sc_module_name name) : sc_core::sc_module(name) {
   SC_METHOD(run);
@@ -24,7 +21,7 @@ Scheduler::Scheduler(sc_core::sc_module_name name) : sc_core::sc_module(name) {
 }
 
 void Scheduler::add(Client* c, Tick period) {
-  if (ring_entries_ > 0) throw std::logic_error("Scheduler: blocks must be added before any is scheduled");
+  if (ring_entries_ > 0) report_error(kReportInternal, std::string(name()) + ": blocks must be added before any is scheduled");
   c->id_ = uint32_t(clients_.size());
   c->period_ = period;
   clients_.push_back(c);

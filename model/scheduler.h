@@ -2,8 +2,8 @@
 // SystemC events of their own: one SC_METHOD, at each simulated time with work, runs every block
 // due then in a fixed order (registration order). Blocks that act in the same cycle therefore
 // always act in the same order, whatever observers (progress, traces) exist, and a cycle with N
-// active blocks costs one SystemC activation instead of N. One scheduler per process (SystemC
-// elaborates once per process); it is created by the first block.
+// active blocks costs one SystemC activation instead of N. Each accelerator owns its calendar (a
+// child named `calendar`), so several accelerators in one simulation keep their own order.
 //
 // Most activations are clock edges a few cycles ahead, so those live in a ring of per-cycle
 // bitsets (one bit per block); other times (the DRAM's own clock, far-off watchdog looks) go to a
@@ -35,7 +35,7 @@ class Scheduler : public sc_core::sc_module {
     Tick armed_at_ = kUnknown;
   };
 
-  static Scheduler& instance();
+  explicit Scheduler(sc_core::sc_module_name name);
   // `period`: the clock period of the block's activations (0 when they fall at any time).
   void add(Client* c, Tick period = 0);
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
@@ -46,7 +46,6 @@ class Scheduler : public sc_core::sc_module {
 
  private:
   SC_HAS_PROCESS(Scheduler);
-  explicit Scheduler(sc_core::sc_module_name name);
   void run();
   void notify_at(Tick at, Tick now);
   Tick next_time(Tick now);       // the earliest queued time at or after now; kUnknown if none

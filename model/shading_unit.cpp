@@ -1,13 +1,13 @@
 #include "model/shading_unit.h"
 
 #include "model/record_fetch.h"
-#include "model/trv_unit.h"
 
 namespace rtsim::model {
 
-ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
-                         Cache* l1, RayFifo* in, const std::vector<TrvUnit*>* trv, FrameBuffer* frame)
-    : RayUnit(name, ctx, in, capacity), latency_(latency), l1_(l1), trv_(trv), frame_(frame) {}
+ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+                         MemorySystem& memory, uint32_t index, RayOwners* owners, FrameBuffer* frame)
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kShading, index), latency_(cfg.latency), owners_(owners),
+      frame_(frame) {}
 
 void ShadingUnit::process(uint32_t id, Tick now) {
   RayState& r = (*ctx_.pool)[id];
@@ -30,7 +30,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   if (r.stage == 0) {
     const uint64_t addr = h.triangles.base + uint64_t(r.trav.hit.tri) * image::kTriangleBytes;
     uint8_t bytes[image::kTriangleBytes];
-    const Tick ready = load(*l1_, id, addr, image::kTriangleBytes, bytes, now);
+    const Tick ready = load(l1(), id, addr, image::kTriangleBytes, bytes, now);
     if (ready == kUnknown) return;
     const image::TriangleRecord tri = image::decode_triangle(bytes);
     r.surface = surface_point(r.trav.ray, r.trav.hit.t, tri.v0, tri.v1, tri.v2);
@@ -40,7 +40,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   }
   const uint64_t addr = h.materials.base + uint64_t(r.material) * image::kMaterialBytes;
   uint8_t bytes[image::kMaterialBytes];
-  const Tick ready = load(*l1_, id, addr, image::kMaterialBytes, bytes, now);
+  const Tick ready = load(l1(), id, addr, image::kMaterialBytes, bytes, now);
   if (ready == kUnknown) return;
   const image::MaterialRecord mat = image::decode_material(bytes);
   ++(r.type == RayType::kPrimary ? stats_.primary_rays : stats_.reflection_rays);
@@ -68,7 +68,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     r.lvb = r.leaf_lvb = 0;
     r.trav.ray = reflection_ray(r.surface, incoming.d, ctx_.shadow_offset);
     release();
-    (*trv_)[r.trv_unit]->return_ray(id, done_at);
+    owners_->return_ray(id, done_at);
     return;
   }
   retire(id, RayType::kPrimary, done_at);
@@ -76,7 +76,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
 
 void ShadingUnit::retire(uint32_t id, RayType type, Tick when) {
   RayState& r = (*ctx_.pool)[id];
-  (*trv_)[r.trv_unit]->retire(id);
+  owners_->retire(id);
   release();
   ctx_.pool->release(id);
   if (on_retire) on_retire(type, when);

@@ -8,14 +8,13 @@
 #include "model/cache.h"
 #include "model/frame_buffer.h"
 #include "model/hit_record.h"
+#include "model/ray_owners.h"
 #include "model/ray_unit.h"
 
 #include <functional>
 #include <vector>
 
 namespace rtsim::model {
-
-class TrvUnit;
 
 struct ShadingStats {
   uint64_t primary_rays = 0, primary_hits = 0;
@@ -25,8 +24,9 @@ struct ShadingStats {
 
 class ShadingUnit : public RayUnit {
  public:
-  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity, Cache* l1,
-              RayFifo* in, const std::vector<TrvUnit*>* trv, FrameBuffer* frame);
+  // Unit `index` of the shading units; rays go back or retire through `owners`; hits land in `frame`.
+  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg, MemorySystem& memory,
+              uint32_t index, RayOwners* owners, FrameBuffer* frame);
   // Called after every retirement (the accelerator's phase control listens).
   std::function<void(RayType, Tick)> on_retire;
   // Called when a hit (frame entry) is shaded, with the time its result is ready (one phase).
@@ -46,8 +46,7 @@ class ShadingUnit : public RayUnit {
 
   uint32_t latency_;
   std::vector<uint8_t> line_;  // the record line being written
-  Cache* l1_;
-  const std::vector<TrvUnit*>* trv_;
+  RayOwners* owners_;
   FrameBuffer* frame_;
   ShadingStats stats_;
 };

@@ -7,7 +7,7 @@ namespace rtsim::model {
 ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
                                      const CullingConfig& config, Cache* l1, FrameBuffer* frame,
                                      std::vector<RayFifo*> trv_inputs)
-    : Unit(name, ctx.clock), ctx_(ctx), culling_(culling), l1_(l1), frame_(frame), inputs_(std::move(trv_inputs)),
+    : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), culling_(culling), l1_(l1), frame_(frame), inputs_(std::move(trv_inputs)),
       lights_(ctx.header.light_count), rate_(config.records_per_cycle), prefetch_(std::max<uint32_t>(1, config.prefetch)) {}
 
 void ShadowCullingUnit::scan_all(Tick now) {
@@ -19,6 +19,7 @@ void ShadowCullingUnit::scan_all(Tick now) {
   if (ctx_.header.light_count == 0) entry_ = frame_->pixels.size();
   if (from_memory()) {
     arrival_.assign(prefetch_, kUnknown);
+    prefetched_.assign(prefetch_, HitRecord{});
     requested_ = entry_;
   } else if (rate_ == 0) {
     while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit) ++entry_;
@@ -42,8 +43,11 @@ void ShadowCullingUnit::on_fill(uint64_t, uint64_t cookie, Tick when) {
   if (cookie == 0) {
     waiting_ = false;
   } else {
-    arrival_[(cookie - 1) % prefetch_] = when;
-    if (cookie - 1 != entry_) return;
+    // The record's bytes as they arrive (the window keeps its slot until the entry is taken).
+    const uint32_t entry = uint32_t(cookie - 1);
+    arrival_[entry % prefetch_] = when;
+    prefetched_[entry % prefetch_] = decode_hit_record(reader_->line_data(region_.slot_address(entry)));
+    if (entry != entry_) return;
   }
   wake(when);
 }
@@ -135,6 +139,7 @@ bool ShadowCullingUnit::request_records(Tick now) {
     ++record_reads_;
     const Tick t = reader_->fetch_line(region_.slot_address(entry), now, this, uint64_t(entry) + 1);
     arrival_[entry % prefetch_] = t;
+    if (t != kUnknown) prefetched_[entry % prefetch_] = decode_hit_record(reader_->line_data(region_.slot_address(entry)));
     any = true;
   }
   return any;
@@ -150,7 +155,7 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
       ++records_taken_;
       record_open_ = true;
       if (from_memory()) {
-        record_ = decode_hit_record(reader_->line_data(region_.slot_address(uint32_t(entry_))));
+        record_ = prefetched_[entry_ % prefetch_];
       } else {
         const PixelState& px = frame_->pixels[current()];
         record_ = {px.surface, px.lvb, px.hit.tri != kNoHit};

@@ -113,6 +113,7 @@ class ShadowCullingUnit : public Unit, public FillListener {
   HitRecordRegion region_;
   size_t requested_ = 0;      // the next entry whose record is to be read
   std::vector<Tick> arrival_; // per entry in the window (entry % prefetch): when its record is in
+  std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came
   uint64_t record_reads_ = 0, records_taken_ = 0;
 };
 

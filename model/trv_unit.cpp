@@ -4,10 +4,10 @@
 
 namespace rtsim::model {
 
-TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
-                 Cache* l1, RayFifo* in, RayFifo* to_list, RayFifo* done)
-    : RayUnit(name, ctx, in, capacity), latency_(latency), capacity_(capacity), l1_(l1), to_list_(to_list),
-      done_(done) {}
+TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+                 MemorySystem& memory, uint32_t index, RayFifo* to_list, RayOwners* owners)
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kTrv, index), latency_(cfg.latency), capacity_(cfg.capacity),
+      index_(uint16_t(index)), to_list_(to_list), owners_(owners) {}
 
 void TrvUnit::admitted(uint32_t ray) {
   ++owned_;
@@ -22,14 +22,14 @@ void TrvUnit::process(uint32_t id, Tick now) {
     const bool any_hit = r.type == RayType::kShadow;
     if (!traversal_begin(r.trav, r.trav.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps)) {
       ++stats_.rays_done;
-      emit(done_, id, now + ctx_.clock.cycles(latency_), now);  // misses the scene
+      emit(owners_->shading_input(id), id, now + ctx_.clock.cycles(latency_), now);  // misses the scene
       return;
     }
   }
   const uint64_t addr = ctx_.header.nodes.base + uint64_t(r.trav.node) * image::kNodeBytes;
   ++stats_.node_fetches;
   uint8_t bytes[image::kNodeBytes];
-  const Tick ready = load(*l1_, id, addr, image::kNodeBytes, bytes, now);
+  const Tick ready = load(l1(), id, addr, image::kNodeBytes, bytes, now);
   if (ready == kUnknown) return;
   const TraversalStep step = traversal_node(r.trav, image::decode_node(bytes));
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
@@ -47,7 +47,7 @@ void TrvUnit::process(uint32_t id, Tick now) {
       break;
     case TraversalStep::kDone:
       ++stats_.rays_done;
-      emit(done_, id, done_at, now);
+      emit(owners_->shading_input(id), id, done_at, now);
       break;
   }
 }
@@ -56,6 +56,7 @@ void TrvUnit::register_stats(StatsRegistry& r, const std::string& prefix) const 
   register_unit_stats(r, prefix);
   r.counter(prefix + ".node_fetches", &stats_.node_fetches, "kd-tree nodes fetched");
   r.counter(prefix + ".rays_started", &stats_.rays_started, "rays that began traversal here");
+  r.counter(prefix + ".rays_done", &stats_.rays_done, "rays whose traversal ended here");
 }
 
 }  // namespace rtsim::model

@@ -6,6 +6,7 @@
 #pragma once
 
 #include "model/cache.h"
+#include "model/ray_owners.h"
 #include "model/ray_unit.h"
 
 namespace rtsim::model {
@@ -18,8 +19,9 @@ struct TrvStats {
 
 class TrvUnit : public RayUnit {
  public:
-  TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, uint32_t latency, uint32_t capacity,
-          Cache* l1, RayFifo* in, RayFifo* to_list, RayFifo* done);
+  // Unit `index` of the TRV units; its rays go to `to_list`, and to their shading unit via `owners`.
+  TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg, MemorySystem& memory,
+          uint32_t index, RayFifo* to_list, RayOwners* owners);
   // IST hands a ray back after its leaf: it continues at `when`.
   void return_ray(uint32_t ray, Tick when) { take_back(ray, when); }
   // The ray retired (shading took it): its slot frees.
@@ -39,14 +41,10 @@ class TrvUnit : public RayUnit {
  private:
   uint32_t latency_, capacity_;
   uint32_t owned_ = 0;
-  uint16_t index_ = 0;
-  Cache* l1_;
+  uint16_t index_;
   RayFifo* to_list_;
-  RayFifo* done_;
+  RayOwners* owners_;
   TrvStats stats_;
-
- public:
-  void set_index(uint16_t i) { index_ = i; }
 };
 
 }  // namespace rtsim::model

@@ -4,12 +4,13 @@
 
 namespace rtsim::model {
 
-Unit::Unit(sc_core::sc_module_name name, const Clock& clock) : sc_core::sc_module(name), clock_(clock) {
-  Scheduler::instance().add(this, clock.period());
+Unit::Unit(sc_core::sc_module_name name, Scheduler& calendar, const Clock& clock)
+    : sc_core::sc_module(name), calendar_(calendar), clock_(clock) {
+  calendar_.add(this, clock.period());
 }
 
 void Unit::wake(Tick at) {
-  Scheduler& s = Scheduler::instance();
+  Scheduler& s = calendar_;
   // Never twice in one cycle: the earliest next activation is the cycle after the last one.
   s.schedule(this, clock_.edge_at_or_after(std::max({at, s.now(), accounted_to_})));
 }

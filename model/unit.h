@@ -37,7 +37,7 @@ class Unit : public sc_core::sc_module, public Scheduler::Client {
   bool issued_at(Tick edge) const { return last_issue_ == edge; }
 
  protected:
-  Unit(sc_core::sc_module_name name, const Clock& clock);
+  Unit(sc_core::sc_module_name name, Scheduler& calendar, const Clock& clock);
 
   // One cycle at `now` (a clock edge). Returns true if an operation issued.
   virtual bool cycle(Tick now) = 0;
@@ -47,11 +47,13 @@ class Unit : public sc_core::sc_module, public Scheduler::Client {
   // True while the unit holds work (for stalled versus idle).
   virtual bool holds_work() const = 0;
 
-  static Tick now_ps() { return Scheduler::instance().now(); }
+  Tick now_ps() const { return calendar_.now(); }
+  Scheduler& calendar() const { return calendar_; }
 
  private:
   void activate() override;
 
+  Scheduler& calendar_;
   const Clock& clock_;
   Tick accounted_to_ = 0;      // cycles before this are classified
   bool held_work_ = false;     // state of the gap since the last activation

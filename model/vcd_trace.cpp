@@ -1,5 +1,7 @@
 #include "model/vcd_trace.h"
 
+#include "model/report.h"
+
 #include <cstdio>
 #include <stdexcept>
 
@@ -21,12 +23,12 @@ VcdTrace::~VcdTrace() {
 }
 
 void VcdTrace::add_fifo(const RayFifo* fifo) {
-  add_counter("fifo." + fifo->name(), [fifo] { return uint64_t(fifo->size()); });
+  add_counter(std::string(fifo->name()) + ".occupancy", [fifo] { return uint64_t(fifo->size()); });
 }
 
-void VcdTrace::add_unit(const std::string& name, const Unit* unit) {
+void VcdTrace::add_unit(const Unit* unit) {
   busy_.push_back({std::make_unique<sc_core::sc_signal<bool>>(sc_core::sc_gen_unique_name("busy")), unit});
-  sc_core::sc_trace(file_, *busy_.back().signal, "busy." + name);
+  sc_core::sc_trace(file_, *busy_.back().signal, std::string(unit->name()) + ".busy");
 }
 
 void VcdTrace::add_counter(const std::string& name, std::function<uint64_t()> value) {
@@ -53,7 +55,7 @@ void VcdTrace::close() {
   file_ = nullptr;
   if (std::rename((temp_base_ + ".vcd").c_str(), request_.file.c_str()) != 0) {
     std::remove((temp_base_ + ".vcd").c_str());
-    throw std::runtime_error("cannot move the trace to " + request_.file);
+    report_error(kReportTrace, "cannot move the trace to " + request_.file);
   }
 }
 

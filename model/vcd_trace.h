@@ -1,5 +1,7 @@
 // Not a hardware block: a VCD recording (sc_trace, viewable in GTKWave) of FIFO occupancies, unit
-// busy signals and counters over a window of cycles. Each traced value is an sc_signal that a
+// busy signals and counters over a window of cycles. Signals are named after their block's
+// hierarchical name (`<top>.trv3.in.occupancy`, `<top>.trv3.busy`), so the VCD's scopes are the
+// module tree. Each traced value is an sc_signal that a
 // probe writes once per cycle inside the window, half a cycle after the edge (after every unit
 // has acted), so outside the window the file holds no changes and the run pays little.
 #pragma once
@@ -30,7 +32,7 @@ class VcdTrace {
   VcdTrace(const TraceRequest& request, const Clock& clock);
   ~VcdTrace();
   void add_fifo(const RayFifo* fifo);
-  void add_unit(const std::string& name, const Unit* unit);  // 1 in cycles where an operation issued
+  void add_unit(const Unit* unit);  // 1 in cycles where an operation issued
   void add_counter(const std::string& name, std::function<uint64_t()> value);
   // Arms the sampling probe (before sc_start); it stops at the window's end or when nothing is pending.
   void start(std::function<bool()> pending);

@@ -1,8 +1,10 @@
 // Stops a run that makes no progress: every `interval` cycles while work is pending it compares a
-// progress count (operations issued, rays retired) with the last one; if nothing moved, it stops
-// the simulation and keeps a report naming the FIFOs and units that still hold rays.
+// progress count (operations issued, rays retired) with the last one; if nothing moved, it reports
+// an error of type rtsim/watchdog (model/report.h) naming the FIFOs and units that still hold rays
+// (the default sc_report action throws it out of sc_start; the testbench turns it into its message).
 #pragma once
 
+#include "model/report.h"
 #include "model/unit.h"
 
 #include <functional>
@@ -12,9 +14,9 @@ namespace rtsim::model {
 
 class Watchdog : public Unit {
  public:
-  Watchdog(sc_core::sc_module_name name, const Clock& clock, uint64_t interval_cycles,
+  Watchdog(sc_core::sc_module_name name, Scheduler& calendar, const Clock& clock, uint64_t interval_cycles,
            std::function<uint64_t()> progress, std::function<bool()> pending, std::function<std::string()> describe)
-      : Unit(name, clock), interval_(interval_cycles), progress_(std::move(progress)),
+      : Unit(name, calendar, clock), interval_(interval_cycles), progress_(std::move(progress)),
         pending_(std::move(pending)), describe_(std::move(describe)) {}
   void start() { wake(now_ps() + clock().cycles(interval_)); }
   bool fired() const { return !report_.empty(); }
@@ -27,8 +29,7 @@ class Watchdog : public Unit {
     if (p == last_) {
       report_ = "no progress for " + std::to_string(interval_) + " cycles at cycle " +
                 std::to_string(clock().to_cycles(now)) + "; " + describe_();
-      sc_core::sc_stop();
-      return false;
+      report_error(kReportWatchdog, report_);
     }
     last_ = p;
     wake(now + clock().cycles(interval_));

@@ -1,7 +1,7 @@
 // Loader for BART's AFF scenes (NFF plus includes, transforms, meshes and keyframe animation).
 #pragma once
 
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <string>
 

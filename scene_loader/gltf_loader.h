@@ -2,7 +2,7 @@
 // materials, point lights and camera (parsed by tinygltf).
 #pragma once
 
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <string>
 

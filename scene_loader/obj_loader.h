@@ -1,7 +1,7 @@
 // Wavefront OBJ meshes and their .mtl materials as scene triangles (parsed by tinyobjloader).
 #pragma once
 
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <string>
 

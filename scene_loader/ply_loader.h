@@ -1,7 +1,7 @@
 // Stanford PLY 1.0 meshes (ASCII, binary little- and big-endian) as scene triangles.
 #pragma once
 
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <cstdint>
 #include <string>

@@ -1,7 +1,7 @@
 // A procedural test scene: a small city that is the same, bit for bit, on every machine.
 #pragma once
 
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <cstdint>
 

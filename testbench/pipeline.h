@@ -4,7 +4,7 @@
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "kernels/ray.h"
-#include "scene_loader/scene_file.h"
+#include "testbench/scene_file.h"
 
 #include <nlohmann/json.hpp>
 

@@ -10,6 +10,7 @@
 #include "testbench/commands.h"
 #include "testbench/run_config.h"
 #include "testbench/sweep.h"
+#include "testbench/sweep_results.h"
 
 #include <fmt/format.h>
 

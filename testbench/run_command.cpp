@@ -10,6 +10,7 @@
 #include "testbench/commands.h"
 #include "testbench/hw_config.h"
 #include "testbench/progress.h"
+#include "testbench/simulate.h"
 
 #include <fmt/format.h>
 
@@ -26,7 +27,7 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // --check: the golden model over the same image; every pixel must match bit for bit.
-nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run, const model::AcceleratorResult& r,
+nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run, const SimulatedFrame& r,
                                uint64_t& mismatches) {
   TracerOptions opt;
   opt.width = p.scene.width;
@@ -98,7 +99,7 @@ int run_model(const RunArgs& args) {
   ProgressLine progress(p.scene.name, !args.quiet);
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
   const auto t_sim = std::chrono::steady_clock::now();
-  const model::AcceleratorResult r = model::simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width,
+  const SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width,
                                                            p.scene.height, hooks);
   const double sim_seconds = seconds_since(t_sim);
   progress.finish();

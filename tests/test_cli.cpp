@@ -207,12 +207,13 @@ TEST(Cli, PrivateL2sMatchTheReferenceAndReportEachL2) {
   const nlohmann::json j = nlohmann::json::parse(slurp(out / "report.json"));
   EXPECT_EQ(j["reference_check"]["mismatched_pixels"], 0);
   const nlohmann::json& s = j["stats"];
-  // small.yaml: 4 TRV units with an L2 each, and the shading unit gets its own (the IST's are private).
+  // small.yaml: 4 TRV units with an L2 each (trv<i>.l2), and the shading unit gets its own (the
+  // IST's are private).
   uint64_t accesses = 0;
-  for (int i = 0; i < 4; ++i) accesses += s["trv"]["l2"]["unit" + std::to_string(i)]["accesses"].get<uint64_t>();
+  for (int i = 0; i < 4; ++i) accesses += s["trv" + std::to_string(i)]["l2"]["accesses"].get<uint64_t>();
   EXPECT_GT(accesses, 0u);
   EXPECT_EQ(s["trv"]["l2"]["accesses"].get<double>(), double(accesses));
-  EXPECT_FALSE(s["trv"]["l2"].contains("unit4"));
+  EXPECT_FALSE(s.contains("trv4"));
   EXPECT_GT(s["shading"]["l2"]["accesses"].get<uint64_t>(), 0u);
   EXPECT_EQ(j["config"]["hw"]["ist"]["l2"]["sharing"], "unit");
   fs::remove_all(out);
@@ -226,15 +227,15 @@ TEST(Cli, SeveralShadingUnitsShareTheWorkAndMatchTheReference) {
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(out / "report.json"));
   EXPECT_EQ(j["reference_check"]["mismatched_pixels"], 0);
-  const nlohmann::json& s = j["stats"]["shading"];
+  const nlohmann::json& s = j["stats"];
   uint64_t ops = 0;
   for (int i = 0; i < 3; ++i) {
-    const uint64_t n = s["unit" + std::to_string(i)]["operations"].get<uint64_t>();
+    const uint64_t n = s["shading" + std::to_string(i)]["operations"].get<uint64_t>();
     EXPECT_GT(n, 0u) << "shading unit " << i << " got no work";
     ops += n;
   }
-  EXPECT_EQ(s["total"]["operations"].get<double>(), double(ops));
-  EXPECT_GT(s["l1"]["unit2"]["accesses"].get<uint64_t>(), 0u);
+  EXPECT_EQ(s["shading"]["total"]["operations"].get<double>(), double(ops));
+  EXPECT_GT(s["shading2"]["l1"]["accesses"].get<uint64_t>(), 0u);
   fs::remove_all(out);
 }
 
@@ -439,10 +440,13 @@ TEST(Cli, ObserversDoNotChangeSimulatedFigures) {
             without_host(nlohmann::json::parse(slurp(b / "report.json"))).dump());
   const std::string vcd = slurp(b / "t.vcd");
   EXPECT_NE(vcd.find("$enddefinitions"), std::string::npos);
-  // Dotted names become GTKWave scopes: fifo/trv0/in, busy/trv0.
-  EXPECT_NE(vcd.find("$scope module fifo $end"), std::string::npos);
-  EXPECT_NE(vcd.find("$scope module busy $end"), std::string::npos);
-  EXPECT_NE(vcd.find("trv0"), std::string::npos);
+  // Signals are named after the module tree, whose dots become GTKWave scopes:
+  // rtsim/trv0/in/occupancy, rtsim/trv0/busy.
+  EXPECT_NE(vcd.find("$scope module rtsim $end"), std::string::npos);
+  EXPECT_NE(vcd.find("$scope module trv0 $end"), std::string::npos);
+  EXPECT_NE(vcd.find("$scope module in $end"), std::string::npos);
+  EXPECT_NE(vcd.find(" occupancy ["), std::string::npos);
+  EXPECT_NE(vcd.find(" busy "), std::string::npos);
   // Samples half a cycle after each edge of the window, none outside it (the final time stamp aside).
   EXPECT_NE(vcd.find("\n#500500\n"), std::string::npos);
   EXPECT_NE(vcd.find("\n#799500\n"), std::string::npos);

@@ -3,8 +3,8 @@
 // equal bit for bit. (One SystemC simulation per executable.)
 #include "kernels/lvb.h"
 #include "kernels/reference_tracer.h"
-#include "model/accelerator.h"
-#include "scene_loader/scene_file.h"
+#include "testbench/simulate.h"
+#include "testbench/scene_file.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
@@ -34,7 +34,7 @@ TEST(ModelEquivalence, CityWithCullingMatchesTheReferenceBitForBit) {
   cfg.trv.count = 4;
   cfg.list.count = 2;
   cfg.ist.count = 2;
-  const model::AcceleratorResult sim = model::simulate_frame(cfg, image, scene.camera, kW, kH);
+  const SimulatedFrame sim = simulate_frame(cfg, image, scene.camera, kW, kH);
 
   int mismatches = 0;
   for (size_t i = 0; i < ref.pixels.size(); ++i) {

@@ -12,10 +12,12 @@ namespace {
 TEST(RayGenerator, IssuesAtMostItsRatePerCycle) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   RayPool pool(64);
+  Scheduler calendar("calendar");
   ModelContext ctx;
+  ctx.calendar = &calendar;
   ctx.pool = &pool;
   ctx.clock = Clock(1.0);
-  RayFifo a("trv0.in", 64), b("trv1.in", 64);
+  RayFifo a("trv0_in", 64), b("trv1_in", 64);
   constexpr int kWidth = 4, kHeight = 4;  // one 4x4 tile, 16 rays
   constexpr uint32_t kRate = 3;
   RayGenerator gen("raygen", ctx, Camera{}, kWidth, kHeight, RayOrder::kTiles, 4, {&a, &b}, kRate);

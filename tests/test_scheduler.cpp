@@ -14,12 +14,13 @@ namespace rtsim::model {
 namespace {
 
 std::vector<std::pair<Tick, int>> activations;
+Scheduler* calendar = nullptr;
 
 class Probe : public Scheduler::Client {
  public:
   explicit Probe(int id) : id_(id) {}
   void activate() override {
-    activations.push_back({Scheduler::instance().now(), id_});
+    activations.push_back({calendar->now(), id_});
     if (on_activate) on_activate();
   }
   std::function<void()> on_activate;
@@ -31,7 +32,8 @@ class Probe : public Scheduler::Client {
 TEST(Scheduler, RunsTheLowestIdFirstAndHonoursEarlierArmings) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   constexpr Tick kCycle = 1000;
-  Scheduler& s = Scheduler::instance();
+  Scheduler s("calendar");
+  calendar = &s;
   Probe c0(0), c1(1), c2(2), c3(3), c4(4);
   for (Probe* p : {&c0, &c1, &c2, &c3}) s.add(p, kCycle);
   s.add(&c4, 0);  // no clock: always the heap

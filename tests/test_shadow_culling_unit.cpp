@@ -39,7 +39,9 @@ class FixedMemory : public LineSource {
 
 struct Scenario {
   Scenario(const char* name, uint32_t rate, uint32_t lvb, size_t hits, size_t misses, bool from_memory)
-      : pool(4096), memory(), l1(std::string(name) + ".l1", cache_config(), Clock(), &memory) {
+      : calendar((std::string(name) + "_calendar").c_str()), pool(4096), memory(),
+        l1((std::string(name) + "_l1").c_str(), cache_config(), Clock(), &memory) {
+    ctx.calendar = &calendar;
     ctx.pool = &pool;
     ctx.clock = Clock();
     ctx.header.light_count = kLights;
@@ -59,7 +61,7 @@ struct Scenario {
       stored.surface.p.y = 1000.f;
       encode_hit_record(stored, &memory.bytes[region.address(uint32_t(i))]);
     }
-    for (auto& f : fifos) f = std::make_unique<RayFifo>("f", 4096);
+    for (auto& f : fifos) f = std::make_unique<RayFifo>(sc_core::sc_gen_unique_name("fifo"), 4096);
     CullingConfig cfg;
     cfg.records_per_cycle = rate;
     cfg.prefetch = 8;
@@ -80,6 +82,7 @@ struct Scenario {
     return out;
   }
 
+  Scheduler calendar;
   RayPool pool;
   ModelContext ctx;
   FixedMemory memory;

@@ -3,7 +3,7 @@
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "kernels/reference_tracer.h"
-#include "scene_loader/scene_file.h"
+#include "testbench/scene_file.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

@@ -13,8 +13,8 @@ namespace {
 // Issues one operation per cycle from `fifo_in` (all ready at t = 0), completing after `latency`.
 class PipeUnit : public Unit {
  public:
-  PipeUnit(sc_core::sc_module_name n, const Clock& c, RayFifo* in, RayFifo* out, int latency)
-      : Unit(n, c), in_(in), out_(out), latency_(latency) {}
+  PipeUnit(sc_core::sc_module_name n, Scheduler& s, const Clock& c, RayFifo* in, RayFifo* out, int latency)
+      : Unit(n, s, c), in_(in), out_(out), latency_(latency) {}
   std::vector<Tick> done;
 
  protected:
@@ -46,7 +46,8 @@ class PipeUnit : public Unit {
 // Takes one entry every `period` cycles.
 class SlowSink : public Unit {
  public:
-  SlowSink(sc_core::sc_module_name n, const Clock& c, RayFifo* in, int every) : Unit(n, c), in_(in), every_(every) {}
+  SlowSink(sc_core::sc_module_name n, Scheduler& s, const Clock& c, RayFifo* in, int every)
+      : Unit(n, s, c), in_(in), every_(every) {}
   uint64_t taken = 0;
 
  protected:
@@ -73,8 +74,9 @@ TEST(UnitPipeline, FullPipelineRetiresOnePerCycleAndBackPressureStalls) {
   const Clock clock(1.0);
   constexpr int kOps = 100, kLatency = 8;
   RayFifo input("in", kOps), mid("mid", 4);
-  PipeUnit pipe("pipe", clock, &input, &mid, kLatency);
-  SlowSink sink("sink", clock, &mid, 3);
+  Scheduler calendar("calendar");
+  PipeUnit pipe("pipe", calendar, clock, &input, &mid, kLatency);
+  SlowSink sink("sink", calendar, clock, &mid, 3);
   input.connect(nullptr, &pipe);
   mid.connect(&pipe, &sink);
   for (int i = 0; i < kOps; ++i) input.push(uint32_t(i), 0, 0);

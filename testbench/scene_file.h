@@ -1,10 +1,12 @@
 // The scene description file (YAML): which geometry to load, at what time, seen by which camera,
 // lit by which lights. Format: docs/scene-files.md.
+// It composes the loaders and the kd-tree parameters, so it lives in the testbench: the one folder
+// that may include both scene_loader/ and kernels/.
 #pragma once
 
 #include "common/yaml_reader.h"
 #include "kernels/kdtree.h"
-#include "scene_loader/scene.h"
+#include "scene/scene.h"
 
 #include <string>
 #include <vector>

@@ -1,4 +1,5 @@
 // The one scene type every loader produces: world-space triangles, materials, lights, camera.
+// Data the loaders produce and the kernels consume: a folder of its own, so neither includes the other.
 #pragma once
 
 #include "common/geometry.h"

@@ -1,0 +1,59 @@
+// The accelerator's configuration: one plain struct per block, validated at the edge
+// (AcceleratorConfig::validate), with the paper's and GPGPU-Sim's figures as defaults
+// (configs/README.md gives each default's source).
+#pragma once
+
+#include "model/cache.h"
+#include "model/crossbar.h"
+#include "model/dram_config.h"
+#include "model/ray_generator.h"
+#include "model/shadow_culling_unit.h"
+
+#include <cstdint>
+
+namespace rtsim::model {
+
+// One L2 shared by all units of a type, or a private L2 per unit (model/memory_system.h).
+enum class L2Sharing { kType, kUnit };
+
+struct UnitTypeConfig {
+  uint32_t count = 1;
+  uint32_t latency = 1;       // pipeline latency in cycles (one operation issues per cycle)
+  uint32_t capacity = 16;     // rays held (TRV: rays owned, the ray accumulation buffer)
+  uint32_t fifo_depth = 16;   // input FIFO
+  CacheConfig l1, l2;
+  LinkConfig link;            // the crossbar between the type's L1s and its L2 (shading: the IST's)
+  L2Sharing l2_sharing = L2Sharing::kType;
+};
+
+// When shadow rays go: after every primary ray (two phases, the paper's Table 6), or as soon as
+// their hit is shaded (one phase: primary and shadow rays overlap).
+enum class Schedule { kTwoPhase, kOnePhase };
+
+struct AcceleratorConfig {
+  double clock_ghz = 1.0;
+  // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
+  // ports and links as configs/README.md gives them with their sources: single-ported L1s; L2s
+  // of 8 single-ported banks (GPGPU-Sim's GT200); 32-byte flits, 8-byte headers, 2 cycles a hop.
+  UnitTypeConfig trv{24, 8, 16, 16, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
+  UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
+  UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
+  UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16, 1, 1}, {}, {}};  // its L1 sits on the IST L2
+  DramConfig dram = dram_preset("gddr3-gt200-1ghz");
+  LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
+  uint32_t ray_pool = 2048;   // rays in flight, all units together
+  uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
+  CullingConfig culling;               // one hit record per cycle, read from memory in two phases
+  bool write_records = true;           // shading units write each hit's record to the frame buffer
+  bool lvb_culling = true;
+  RayOrder order = RayOrder::kTiles;
+  Schedule schedule = Schedule::kTwoPhase;
+  int tile = 8;
+  uint64_t watchdog_cycles = 100000;  // stop when nothing moved for this long
+  int reflection_depth = 0;           // mirror bounces for materials with reflectance > 0
+
+  // Throws std::invalid_argument naming the field.
+  void validate() const;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,20 @@
+// How the model reports errors: through sc_report (SC_REPORT_ERROR) with message types of ours,
+// so a virtual platform that embeds the model sees them like any other SystemC block's, and the
+// testbench maps each type to its own message and exit code (testbench/simulate.cpp).
+#pragma once
+
+#include <string>
+
+namespace rtsim::model {
+
+inline constexpr const char* kReportConfig = "rtsim/config";        // a configuration out of range
+inline constexpr const char* kReportWatchdog = "rtsim/watchdog";    // a run that stopped moving
+inline constexpr const char* kReportMemory = "rtsim/memory";        // an access outside the memory
+inline constexpr const char* kReportTrace = "rtsim/trace";          // a trace that cannot be written
+inline constexpr const char* kReportInternal = "rtsim/internal";    // a broken invariant: a bug
+
+// SC_REPORT_ERROR(type, message). The default action throws the sc_report; a handler that returns
+// instead cannot let the model continue, so this then throws std::runtime_error.
+[[noreturn]] void report_error(const char* type, const std::string& message);
+
+}  // namespace rtsim::model

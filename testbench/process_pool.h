@@ -1,0 +1,27 @@
+// Child processes of this binary: work that cannot share this process (SystemC elaborates once
+// per process) runs as a fresh `rtsim ...` whose output goes to a log file and which dies with
+// this process, at most a given number at once.
+#pragma once
+
+#include <sys/types.h>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace rtsim {
+
+// Starts this very binary (argv[0] "rtsim") with `args`, its stdout and stderr into `log`; the
+// child gets SIGTERM when this process dies, so none runs on orphaned.
+pid_t spawn_self(const std::vector<std::string>& args, const std::string& log);
+
+// A waitpid status as "exit code N" or "killed by signal N".
+std::string describe_exit(int status);
+
+// Runs tasks 0..count-1, at most `jobs` at once: start(i) spawns task i's process, done(i, status,
+// seconds) follows as each one ends, in the order they end. Returns when all have ended.
+void run_pool(size_t count, int jobs, const std::function<pid_t(size_t)>& start,
+              const std::function<void(size_t, int, double)>& done);
+
+}  // namespace rtsim

@@ -1,0 +1,74 @@
+#include "testbench/simulate.h"
+
+#include "common/error.h"
+#include "kernels/shading.h"
+#include "model/report.h"
+
+#include <systemc>
+
+#include <stdexcept>
+#include <string>
+
+namespace rtsim {
+
+namespace {
+
+// The model's report types as this program's errors.
+[[noreturn]] void rethrow(const sc_core::sc_report& r) {
+  const std::string type = r.get_msg_type(), msg = r.get_msg();
+  if (type == model::kReportWatchdog) throw std::runtime_error("the accelerator model stopped: " + msg);
+  if (type == model::kReportConfig) throw InputError(msg);
+  throw std::runtime_error(type + ": " + msg);
+}
+
+}  // namespace
+
+void run_simulation() {
+  try {
+    sc_core::sc_start();
+  } catch (const sc_core::sc_report& r) {
+    rethrow(r);
+  }
+}
+
+SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
+                              int width, int height, const model::SimulationHooks& hooks) {
+  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+  SimulatedFrame out;
+  try {
+    model::Accelerator accelerator("rtsim", config, image, model::FrameJob{camera, width, height}, hooks);
+    run_simulation();
+    static_cast<model::AcceleratorResult&>(out) = accelerator.result();
+  } catch (const sc_core::sc_report& r) {
+    rethrow(r);
+  }
+  out.rgb = compose_pixels(out.frame, image);
+  return out;
+}
+
+std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const MemoryImage& image) {
+  const image::Header& h = image.header();
+  std::vector<uint8_t> rgb(frame.pixel_count() * 3, 0);
+  for (uint32_t i = 0; i < frame.pixel_count(); ++i) {
+    Vec3 reflected = kBackground;
+    for (int level = frame.levels - 1; level >= 0; --level) {
+      const model::PixelState& px = frame.at(i, level);
+      if (px.hit.tri == kNoHit) {
+        reflected = kBackground;
+        continue;
+      }
+      Vec3 c = kAmbient * px.diffuse;
+      for (uint32_t l = 0; l < h.light_count; ++l) {
+        if ((px.occluded >> l) & 1u) continue;
+        const image::LightRecord light = image.light(l);
+        c += light_contribution(px.surface, px.diffuse, light.position, light.color);
+      }
+      if (px.reflectance > 0.f && level + 1 < frame.levels) c = (1.f - px.reflectance) * c + px.reflectance * reflected;
+      reflected = c;
+    }
+    for (int k = 0; k < 3; ++k) rgb[3 * size_t(i) + k] = to_display(reflected[k]);
+  }
+  return rgb;
+}
+
+}  // namespace rtsim

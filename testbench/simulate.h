@@ -1,0 +1,31 @@
+// The testbench's side of the model: it sets SystemC's time resolution, builds one Accelerator
+// (model/accelerator.h), runs the simulation, maps the model's sc_reports to this program's errors,
+// and composes the pixels' colours on the host from what the model computed.
+#pragma once
+
+#include "kernels/memory_image.h"
+#include "model/accelerator.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsim {
+
+struct SimulatedFrame : model::AcceleratorResult {
+  std::vector<uint8_t> rgb;  // composed on the host (compose_pixels)
+};
+
+// Simulates one frame of `camera` over `image` at width x height. SystemC elaborates once per
+// process: call this once. A watchdog stop or another model error becomes std::runtime_error, a
+// configuration out of range InputError.
+SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
+                              int width, int height, const model::SimulationHooks& hooks = {});
+
+// Runs the simulation until it ends (sc_start), mapping the model's sc_reports as simulate_frame does.
+void run_simulation();
+
+// The pixels, composed exactly as the reference tracer composes them: the local colour of each
+// hit, blended with its reflection's from the deepest bounce up; 8-bit sRGB, row by row.
+std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const MemoryImage& image);
+
+}  // namespace rtsim

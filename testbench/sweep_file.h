@@ -1,0 +1,36 @@
+// Sweep files: a sweep file names scenes, a base hardware file, fixed overrides, named variants and
+// axes; its points are the cross product scenes x variants x axes (last axis fastest). Reading one
+// checks every point's settings, so a typo fails before the first of many runs starts.
+// Format: configs/README.md.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsim {
+
+struct SweepPoint {
+  uint32_t index = 0;
+  std::string id;                  // "p0007"
+  std::string scene_file;
+  std::string hw_file;             // the variant's own hardware file ("hw:" in a variant), else empty
+  nlohmann::json values;           // column -> value ("variant", axis names)
+  std::vector<std::string> set;    // the point's overrides, "--set" syntax
+};
+
+struct SweepSpec {
+  std::string file, name, hw_file;
+  std::vector<std::string> scenes;
+  std::vector<std::string> columns;  // "variant" (when there are variants) and the axis names
+  std::vector<std::string> metrics;  // names of row metrics (see sweep_metric)
+  std::vector<SweepPoint> points;
+  const std::string& hw_of(const SweepPoint& p) const { return p.hw_file.empty() ? hw_file : p.hw_file; }
+};
+
+// `extra_set` ("--set" syntax) applies to every point, after the file's own `set`.
+SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set = {});
+
+}  // namespace rtsim

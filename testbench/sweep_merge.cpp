@@ -1,0 +1,26 @@
+#include "testbench/sweep_merge.h"
+
+#include "reports/plots.h"
+#include "testbench/sweep_results.h"
+
+#include <fmt/format.h>
+
+namespace rtsim {
+
+int merge_sweep(const std::string& dir, bool plots) {
+  const std::string file = sweep_manifest_file(dir);
+  const SweepSpec s = spec_from_manifest(read_json(file), file);
+  const size_t rows = write_sweep_results(s, dir);
+  std::string missing;
+  for (const SweepPoint& p : s.points)
+    if (!sweep_point_done(dir, p)) missing += " " + p.id;
+  if (plots) {
+    const std::string note = make_plots("sweep", dir);
+    if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);
+  }
+  fmt::print("merged {} of {} points into {}/results.csv\n", rows, s.points.size(), dir);
+  if (!missing.empty()) fmt::print(stderr, "missing points:{}\n", missing);
+  return missing.empty() ? 0 : 1;
+}
+
+}  // namespace rtsim

@@ -1,0 +1,80 @@
+#include "testbench/sweep_metrics.h"
+
+#include "reports/run_report.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+
+namespace rtsim {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+}  // namespace
+
+double sweep_metric(const std::string& name, const nlohmann::json& r) {
+  auto share = [&](const std::string& p) {
+    const double b = json_number(r, p + ".busy_cycles"), s = json_number(r, p + ".stalled_cycles"),
+                 i = json_number(r, p + ".idle_cycles");
+    return b + s + i > 0 ? b / (b + s + i) : kNaN;
+  };
+  auto sum = [&](const char* list, const char* field) {
+    double n = 0;
+    if (!r.contains(list) || !r[list].is_array()) return kNaN;
+    for (const auto& e : r[list]) n += e.value(field, 0.0);
+    return n;
+  };
+  if (name == "frame_ms_all") return json_number(r, "frame_ms.all");
+  if (name == "frame_ms_shadow") return json_number(r, "frame_ms.shadow");
+  if (name == "rays_primary") return json_number(r, "rays.primary");
+  if (name == "rays_shadow") return json_number(r, "rays.shadow");
+  if (name == "shadow_culled") return sum("per_light", "culled");
+  if (name == "shadow_culled_rate") {
+    const double all = sum("per_light", "shadow_rays");
+    return all > 0 ? sum("per_light", "culled") / all : kNaN;
+  }
+  if (name == "leaves_culled_rate") {
+    if (!r.contains("lvb") || r["lvb"].is_null()) return kNaN;
+    double c = 0, n = 0;
+    for (const auto& e : r["lvb"]["per_light"]) {
+      c += e.value("culled_leaves", 0.0);
+      n += e.value("nonempty_leaves", 0.0);
+    }
+    return n > 0 ? c / n : kNaN;
+  }
+  if (name == "dram_row_hit_rate") return json_number(r, "stats.dram.row_hit_rate");
+  if (name == "dram_bandwidth_gbps") return json_number(r, "stats.dram.bandwidth_gbps");
+  if (name == "dram_reads") return json_number(r, "stats.dram.reads");
+  for (const char* type : {"trv", "list", "ist", "shading"}) {
+    for (const char* level : {"l1", "l2"})
+      if (name == fmt::format("{}_{}_hit_rate", type, level)) return json_number(r, fmt::format("stats.{}.{}.hit_rate", type, level));
+    if (name == fmt::format("{}_busy", type))
+      return share(std::string("stats.") + type + ".total");
+  }
+  return json_number(r, name);  // any numeric field of report.json by its dotted path
+}
+
+bool is_sweep_metric(const std::string& name) {
+  static const std::vector<std::string> named = [] {
+    std::vector<std::string> v{"frame_ms_all", "frame_ms_shadow", "rays_primary", "rays_shadow", "shadow_culled",
+                               "shadow_culled_rate", "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
+                               "dram_reads"};
+    for (const char* type : {"trv", "list", "ist", "shading"}) {
+      v.push_back(fmt::format("{}_busy", type));
+      for (const char* level : {"l1", "l2"}) v.push_back(fmt::format("{}_{}_hit_rate", type, level));
+    }
+    return v;
+  }();
+  if (std::find(named.begin(), named.end(), name) != named.end()) return true;
+  const std::string head = name.substr(0, name.find('.'));
+  for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz"})
+    if (name == key) return true;
+  for (const char* key : {"frame_ms", "rays", "per_light", "lvb", "kdtree", "scene", "stats"})
+    if (head == key && name.size() > head.size() + 1) return true;
+  return false;
+}
+
+}  // namespace rtsim

@@ -1,0 +1,166 @@
+#include "testbench/sweep_results.h"
+
+#include "common/error.h"
+#include "reports/output_files.h"
+#include "testbench/sweep_metrics.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace fs = std::filesystem;
+
+namespace rtsim {
+
+namespace {
+
+constexpr const char* kManifestSchema = "rtsim-sweep-manifest/1";
+constexpr const char* kResultsSchema = "rtsim-sweep/1";
+
+// FNV-1a over a file's bytes: the manifest remembers what the inputs were.
+std::string file_digest(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint64_t h = 1469598103934665603ull;
+  char buf[65536];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ uint8_t(buf[i])) * 1099511628211ull;
+  }
+  return fmt::format("{:016x}", h);
+}
+
+}  // namespace
+
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: not valid JSON: {}", path, e.what()));
+  }
+}
+
+SweepSpec spec_from_manifest(const nlohmann::json& m, const std::string& path) {
+  if (!m.is_object() || m.value("schema", "") != kManifestSchema)
+    throw InputError(fmt::format("{}: expected a manifest with schema {}", path, kManifestSchema));
+  try {
+    SweepSpec s;
+    s.file = m.at("sweep_file").get<std::string>();
+    s.name = m.at("name").get<std::string>();
+    s.hw_file = m.at("hw_file").get<std::string>();
+    s.scenes = m.at("scenes").get<std::vector<std::string>>();
+    s.columns = m.at("columns").get<std::vector<std::string>>();
+    s.metrics = m.at("metrics").get<std::vector<std::string>>();
+    for (const auto& p : m.at("points")) {
+      SweepPoint q;
+      q.index = p.at("index").get<uint32_t>();
+      q.id = p.at("id").get<std::string>();
+      q.scene_file = p.at("scene_file").get<std::string>();
+      q.hw_file = p.value("hw_file", std::string());
+      q.values = p.at("values");
+      q.set = p.at("set").get<std::vector<std::string>>();
+      s.points.push_back(std::move(q));
+    }
+    return s;
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: malformed manifest: {}", path, e.what()));
+  }
+}
+
+std::string sweep_manifest_file(const std::string& dir) { return (fs::path(dir) / "manifest.json").string(); }
+
+nlohmann::json sweep_manifest(const SweepSpec& s) {
+  nlohmann::json points = nlohmann::json::array();
+  nlohmann::json inputs = {{s.hw_file, file_digest(s.hw_file)}};
+  for (const SweepPoint& p : s.points) {
+    nlohmann::json q = {{"index", p.index}, {"id", p.id}, {"scene_file", p.scene_file}, {"values", p.values}, {"set", p.set}};
+    if (!p.hw_file.empty()) {  // only then: manifests of sweeps without one are unchanged
+      q["hw_file"] = p.hw_file;
+      inputs[p.hw_file] = file_digest(p.hw_file);
+    }
+    points.push_back(q);
+  }
+  for (const std::string& scene : s.scenes) inputs[scene] = file_digest(scene);
+  return {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},     {"hw_file", s.hw_file},
+          {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points},
+          {"inputs", inputs}};
+}
+
+void claim_sweep_directory(const SweepSpec& s, const std::string& dir) {
+  const std::string file = sweep_manifest_file(dir);
+  nlohmann::json mine = sweep_manifest(s);
+  if (fs::exists(file)) {
+    nlohmann::json theirs = read_json(file);
+    // Everything but where the sweep file lives: the points, the metrics and the inputs' contents.
+    if (theirs.is_object()) theirs.erase("sweep_file");
+    mine.erase("sweep_file");
+    if (theirs != mine)
+      throw InputError(fmt::format("{}: holds the manifest of another sweep (its points, metrics or input files "
+                                   "differ); use another --out",
+                                   file));
+    return;
+  }
+  write_json(file, mine);
+}
+
+void check_sweep_inputs(const nlohmann::json& manifest, const std::string& dir) {
+  const nlohmann::json inputs = manifest.value("inputs", nlohmann::json::object());
+  for (const auto& [input, digest] : inputs.items())
+    if (file_digest(input) != digest.get<std::string>())
+      throw InputError(fmt::format("{}: changed since the sweep in {} began (its points would mix inputs)", input, dir));
+}
+
+std::string sweep_point_dir(const std::string& dir, const SweepPoint& p) { return (fs::path(dir) / "points" / p.id).string(); }
+
+// A point is finished when its row is written (the last thing its run does).
+std::string sweep_row_file(const std::string& dir, const SweepPoint& p) {
+  return (fs::path(sweep_point_dir(dir, p)) / "row.json").string();
+}
+bool sweep_point_done(const std::string& dir, const SweepPoint& p) { return fs::exists(sweep_row_file(dir, p)); }
+
+nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann::json& report) {
+  nlohmann::json row = {{"point", p.index}, {"id", p.id}, {"scene", report["scene"]["name"]}};
+  for (const std::string& c : s.columns) row[c] = p.values[c];
+  for (const std::string& m : s.metrics) {
+    const double v = sweep_metric(m, report);
+    if (std::isnan(v)) row[m] = nullptr;
+    else if (v == std::floor(v) && std::fabs(v) < 9e15) row[m] = int64_t(v);  // counts stay integers
+    else row[m] = v;
+  }
+  return row;
+}
+
+size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<std::string> header{"point", "id", "scene"};
+  header.insert(header.end(), s.columns.begin(), s.columns.end());
+  header.insert(header.end(), s.metrics.begin(), s.metrics.end());
+  std::string csv;
+  for (size_t i = 0; i < header.size(); ++i) csv += (i ? "," : "") + header[i];
+  csv += "\n";
+  for (const SweepPoint& p : s.points) {
+    if (!sweep_point_done(dir, p)) continue;
+    const nlohmann::json row = read_json(sweep_row_file(dir, p));
+    rows.push_back(row);
+    for (size_t i = 0; i < header.size(); ++i) {
+      const nlohmann::json& v = row.contains(header[i]) ? row[header[i]] : nlohmann::json(nullptr);
+      std::string cell = v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump();
+      if (cell.find_first_of(",\"\n") != std::string::npos) {
+        std::string quoted = "\"";
+        for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+        cell = quoted + "\"";
+      }
+      csv += (i ? "," : "") + cell;
+    }
+    csv += "\n";
+  }
+  write_file_atomic((fs::path(dir) / "results.csv").string(), csv);
+  write_json((fs::path(dir) / "results.json").string(),
+             {{"schema", kResultsSchema}, {"name", s.name}, {"axes", s.columns}, {"metrics", s.metrics},
+              {"points", s.points.size()}, {"rows", rows}});
+  return rows.size();
+}
+
+}  // namespace rtsim

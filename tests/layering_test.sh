@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# The host folders lean one way (README.md, "Layout"): a file may not include, and a folder's
+# CMakeLists.txt may not link, a folder its rule forbids. Fails naming every file and line that does.
+# Usage: layering_test.sh SOURCE_DIR
+set -euo pipefail
+src=$1
+cd "$src"
+
+# Project folders: the source tree's top-level folders (an include "X/..." of any other X is a
+# system or third-party header).
+folders=$(find . -mindepth 1 -maxdepth 1 -type d ! -name '.*' ! -name 'build*' -printf '%f\n' | sort)
+# The library each folder's CMakeLists.txt builds.
+declare -A library=([scene]=rtsim_scene_types [scene_loader]=rtsim_scene [kernels]=rtsim_kernels
+                    [model]=rtsim_model [testbench]=rtsim_cli)
+
+# What a folder may not include: the whole project but common/ and scene/ for the two data folders.
+forbidden() {
+  case $1 in
+    common | scene) grep -vxE 'common|scene' <<< "$folders" ;;
+    scene_loader) echo kernels model testbench ;;
+    kernels) echo scene_loader model testbench ;;
+    model) echo scene_loader testbench ;;
+  esac
+}
+
+status=0
+violation() {
+  echo "FAIL: $1: $2"
+  status=1
+}
+for dir in common scene scene_loader kernels model; do
+  [ -d "$dir" ] || continue
+  for bad in $(forbidden "$dir"); do
+    while IFS= read -r hit; do
+      violation "$hit" "$dir/ may not include $bad/"
+    done < <(grep -rnE --include='*.h' --include='*.hpp' --include='*.cpp' \
+               "^[[:space:]]*#[[:space:]]*include[[:space:]]*[\"<]$bad/" "$dir")
+    lib=${library[$bad]:-}
+    [ -n "$lib" ] && [ -f "$dir/CMakeLists.txt" ] || continue
+    while IFS= read -r hit; do
+      violation "$dir/CMakeLists.txt:$hit" "$dir/ may not link $lib, the library of $bad/"
+    done < <(grep -nw "$lib" "$dir/CMakeLists.txt")
+  done
+done
+[ $status -eq 0 ] && echo "layering: ok"
+exit $status
