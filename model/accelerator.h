@@ -59,7 +59,7 @@ struct SimulationHooks {
   std::function<void(const Progress&)> progress;  // called every progress_cycles while the frame runs
   uint64_t progress_cycles = 20000;
   TraceRequest trace;                              // a VCD of FIFOs and unit busy signals
-  MemTraceRequest mem_trace;                       // a CSV of the memory transactions
+  TraceRequest mem_trace;                       // a CSV of the memory transactions
 };
 
 // The frame to render: `camera` at width x height.

@@ -132,8 +132,23 @@ void MemoryPort::response(Transaction* t, Tick at) {
     return;
   }
   const Tick edge = clock_.edge_at_or_after(at);
+  if (edge == calendar_.now() && calendar_.running() && responses_.empty()) {
+    deliver(t);  // from a block on this calendar (our GDDR3), at an edge: already in the fixed order
+    return;
+  }
   responses_.push({edge, seq_++, t});
   calendar_.schedule(this, edge);
+}
+
+void MemoryPort::deliver(Transaction* t) {
+  const Tick now = calendar_.now();
+  stats_.latency_cycles += clock_.ceil_cycles(now - t->requested);
+  trace(*t, now);
+  const Transaction* outer = delivering_;
+  delivering_ = t;
+  if (t->listener) t->listener->on_fill(t->line, t->cookie, now);
+  delivering_ = outer;
+  t->release();
 }
 
 void MemoryPort::activate() {
@@ -141,12 +156,7 @@ void MemoryPort::activate() {
   while (!responses_.empty() && responses_.top().when <= now) {
     Transaction* t = responses_.top().t;
     responses_.pop();
-    stats_.latency_cycles += clock_.ceil_cycles(now - t->requested);
-    trace(*t, now);
-    delivering_ = t;
-    if (t->listener) t->listener->on_fill(t->line, t->cookie, now);
-    delivering_ = nullptr;
-    t->release();
+    deliver(t);
   }
   while (!open_ && !held_.empty()) {
     Transaction* t = held_.front();
@@ -184,7 +194,7 @@ void MemoryPort::failed(const Transaction& t) const {
                                   t.get_response_string());
 }
 
-void MemoryPort::open_trace(const MemTraceRequest& request) {
+void MemoryPort::open_trace(const TraceRequest& request) {
   trace_request_ = request;
   trace_ = std::make_unique<std::ofstream>(request.file + ".part");
   if (!*trace_) report_error(kReportTrace, "cannot write " + request.file);

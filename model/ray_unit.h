@@ -27,7 +27,7 @@ class RayUnit : public Unit, public FillListener {
   }
   RayFifo* input() { return &in_; }
   const RayFifo& input() const { return in_; }
-  Cache& l1() const { return *memory_->l1; }
+  Cache& l1() const { return *l1_; }
   uint32_t held() const { return held_; }
 
  protected:
@@ -36,6 +36,7 @@ class RayUnit : public Unit, public FillListener {
           MemorySystem::Type type, uint32_t index)
       : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), in_("in", cfg.fifo_depth), capacity_(cfg.capacity) {
     memory_ = memory.build_unit(type, index, this);
+    l1_ = memory_->l1.get();
     in_.connect(nullptr, this);
   }
 
@@ -116,6 +117,7 @@ class RayUnit : public Unit, public FillListener {
 
  private:
   std::unique_ptr<UnitMemory> memory_;
+  Cache* l1_ = nullptr;
   struct Blocked {
     RayFifo* fifo = nullptr;
     uint32_t ray = 0;

@@ -41,6 +41,8 @@ class Scheduler : public sc_core::sc_module {
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
   // the past) stands; a later one is replaced.
   void schedule(Client* c, Tick at);
+  // Whether the calendar is running its blocks (an activation is on the stack).
+  bool running() const { return running_; }
   // The simulated time (cached while the calendar runs: blocks ask often).
   Tick now() const { return running_ ? now_ : Tick(sc_core::sc_time_stamp().value()); }
 

@@ -9,6 +9,7 @@
 #include "model/model_time.h"
 #include "model/periodic_probe.h"
 #include "model/ray_fifo.h"
+#include "model/trace_request.h"
 #include "model/unit.h"
 
 #include <systemc>
@@ -20,12 +21,6 @@
 #include <vector>
 
 namespace rtsim::model {
-
-struct TraceRequest {
-  std::string file;             // empty = no trace
-  uint64_t start_cycle = 0;     // the window [start_cycle, end_cycle)
-  uint64_t end_cycle = 0;
-};
 
 class VcdTrace {
  public:

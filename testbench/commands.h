@@ -39,7 +39,7 @@ struct RunArgs {
   RunSources sources;  // scene, hardware, flags and overrides: resolved into a RunConfig
   std::string out;
   bool quiet = false;  // no progress line, no summary
-  std::string trace_file, trace_window;
+  std::string trace_file, mem_trace_file, trace_window;
 };
 int run_model(const RunArgs& args);
 

@@ -84,8 +84,12 @@ extern "C" int sc_main(int argc, char** argv) {
   run_cmd->add_option("--scene-root", run.sources.scene_root, "Directory that relative geometry paths resolve against")
       ->envname("RTSIM_SCENE_ROOT");
   run_cmd->add_flag("--quiet", run.quiet, "No progress line and no summary");
-  CLI::Option* trace_opt = run_cmd->add_option("--trace", run.trace_file, "Write a VCD of FIFO occupancies and unit busy signals");
-  run_cmd->add_option("--trace-window", run.trace_window, "Cycles START:END to trace (default 0:100000)")->needs(trace_opt);
+  run_cmd->add_option("--trace", run.trace_file, "Write a VCD of FIFO occupancies and unit busy signals");
+  run_cmd->add_option("--mem-trace", run.mem_trace_file,
+                      "Write a CSV of the memory transactions at the TLM-2.0 boundary (cycle, initiator, address, "
+                      "bytes, op, latency)");
+  run_cmd->add_option("--trace-window", run.trace_window,
+                      "Cycles START:END to trace with --trace and --mem-trace (default 0:100000)");
 
   rtsim::SweepArgs sweep;
   bool sweep_no_plots = false;

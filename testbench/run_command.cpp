@@ -70,7 +70,11 @@ int run_model(const RunArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   RunConfig c = resolve_run_config(args.sources);
   model::SimulationHooks hooks;
-  if (!args.trace_file.empty()) hooks.trace = parse_trace_request(args.trace_file, args.trace_window);
+  if (!args.trace_window.empty() && args.trace_file.empty() && args.mem_trace_file.empty())
+    throw InputError("--trace-window needs --trace or --mem-trace");
+  if (!args.trace_file.empty()) hooks.trace = parse_trace_request("--trace", args.trace_file, args.trace_window);
+  if (!args.mem_trace_file.empty())
+    hooks.mem_trace = parse_trace_request("--mem-trace", args.mem_trace_file, args.trace_window);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that ran.
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
 

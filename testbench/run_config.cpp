@@ -99,25 +99,39 @@ RunConfig resolve_run_config(const RunSources& src) {
   return c;
 }
 
-model::TraceRequest parse_trace_request(const std::string& file, const std::string& window) {
-  model::TraceRequest t;
-  t.file = file;
-  t.end_cycle = 100000;
-  // SystemC opens the file only when the simulation starts: check now that it can be written.
-  const std::string probe = file + ".part.vcd";
+namespace {
+
+// `probe` (a name beside the file) can be created: the file will be writable at the end of the run.
+void check_writable(const char* flag, const std::string& file, const std::string& probe) {
   if (std::FILE* f = std::fopen(probe.c_str(), "w")) {
     std::fclose(f);
     std::remove(probe.c_str());
-  } else {
-    throw InputError(fmt::format("--trace {}: cannot write there", file));
+    return;
   }
-  if (window.empty()) return t;
+  throw InputError(fmt::format("{} {}: cannot write there", flag, file));
+}
+
+}  // namespace
+
+TraceWindow parse_trace_window(const std::string& window) {
+  TraceWindow w;
+  if (window.empty()) return w;
   unsigned long long a = 0, b = 0;
   char tail = 0;
   if (std::sscanf(window.c_str(), "%llu:%llu%c", &a, &b, &tail) != 2 || window.find('-') != std::string::npos || b <= a)
     throw InputError(fmt::format("--trace-window {}: expected START:END in cycles with START < END", window));
-  t.start_cycle = a;
-  t.end_cycle = b;
+  return {a, b};
+}
+
+model::TraceRequest parse_trace_request(const char* flag, const std::string& file, const std::string& window) {
+  // The file is written at the end of the run (a VCD: SystemC opens it only when the simulation
+  // starts): check now that it can be.
+  check_writable(flag, file, file + ".part.probe");
+  const TraceWindow w = parse_trace_window(window);
+  model::TraceRequest t;
+  t.file = file;
+  t.start_cycle = w.start;
+  t.end_cycle = w.end;
   return t;
 }
 

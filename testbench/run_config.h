@@ -49,7 +49,12 @@ RunConfig resolve_run_config(const RunSources& sources);
 nlohmann::json run_config_json(const RunConfig& c);
 nlohmann::json run_settings_json(const RunSettings& r);
 
-// --trace FILE --trace-window START:END (cycles, END exclusive); bad input is an InputError.
-model::TraceRequest parse_trace_request(const std::string& file, const std::string& window);
+// --trace-window START:END (cycles, END exclusive; default 0:100000); bad input is an InputError.
+struct TraceWindow {
+  uint64_t start = 0, end = 100000;
+};
+TraceWindow parse_trace_window(const std::string& window);
+// `flag` FILE (--trace: a VCD; --mem-trace: a CSV of memory transactions) over the window.
+model::TraceRequest parse_trace_request(const char* flag, const std::string& file, const std::string& window);
 
 }  // namespace rtsim

@@ -2,6 +2,8 @@
 // alone. (One SystemC simulation per executable.)
 #include "model/watchdog.h"
 
+#include "tests/test_util.h"
+
 #include <gtest/gtest.h>
 
 namespace rtsim::model {
@@ -24,6 +26,7 @@ TEST(Watchdog, FiresAfterAnIntervalWithoutProgressAndDescribesTheState) {
   dog.start();
   // The watchdog reports an error of type rtsim/watchdog, which the default action throws.
   std::string type;
+  test::ExpectReports expected({kReportWatchdog});
   try {
     sc_core::sc_start();
   } catch (const sc_core::sc_report& r) {

@@ -1,5 +1,7 @@
 #include "model/cache.h"
 
+#include "tests/test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -104,6 +106,7 @@ TEST(CacheConfig, ValidatesEveryField) {
   EXPECT_NO_THROW(tiny(256, 4).validate());           // fully associative
   FakeMemory mem;
   // A cache built with a bad configuration reports rtsim/config (model/report.h).
+  test::ExpectReports expected({"rtsim/config"});
   EXPECT_THROW(Cache("c", tiny(128, 4), Clock(), &mem), sc_core::sc_report);
   EXPECT_THROW(Cache("c", tiny(256, 2), Clock(), nullptr), sc_core::sc_report);
 }
@@ -193,6 +196,7 @@ TEST(CacheBanks, BanksAreCheckedAgainstTheSets) {
 TEST(Cache, RejectsUnalignedLineAddress) {
   FakeMemory mem;
   Cache c("c", tiny(256, 2), Clock(), &mem);
+  test::ExpectReports expected({"rtsim/internal"});
   EXPECT_THROW(c.fetch_line(65, 0, nullptr, 0), sc_core::sc_report);
   EXPECT_THROW(c.on_fill(128, 128, 0), sc_core::sc_report);  // a fill nobody asked for
 }

@@ -4,6 +4,8 @@
 // the same order. (One SystemC simulation per executable.)
 #include "model/scheduler.h"
 
+#include "tests/test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <functional>
@@ -57,7 +59,7 @@ TEST(Scheduler, RunsTheLowestIdFirstAndHonoursEarlierArmings) {
     if (first) s.schedule(&c4, 4 * kCycle);  // the heap, at the same time as c1: by id
     first = false;
   };
-  sc_core::sc_start();
+  test::simulate();
 
   const std::vector<std::pair<Tick, int>> expected = {
       {0, 0}, {0, 1}, {0, 2}, {kCycle, 2}, {2500, 4}, {4 * kCycle, 1}, {4 * kCycle, 4}, {300 * kCycle, 3}};

@@ -3,6 +3,8 @@
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <set>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -18,32 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct RunResult {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+using test::RunResult;
+using test::slurp;
 
 std::string fmt_shape(int h, int w) { return "'shape': (" + std::to_string(h) + ", " + std::to_string(w) + ")"; }
 
-RunResult run(const std::string& args) {
-  const fs::path dir = test::temp_dir("cli_run");
-  const std::string cmd = std::string(RTSIM_BINARY) + " " + args + " >" + (dir / "out").string() + " 2>" +
-                          (dir / "err").string();
-  const int status = std::system(cmd.c_str());
-  RunResult r;
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  r.out = slurp(dir / "out");
-  r.err = slurp(dir / "err");
-  fs::remove_all(dir);
-  return r;
-}
+RunResult run(const std::string& args) { return test::run_command(std::string(RTSIM_BINARY) + " " + args); }
 
 void write(const fs::path& p, const std::string& s) {
   std::ofstream(p, std::ios::binary) << s;
@@ -429,6 +411,52 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
     EXPECT_EQ(bytes.substr(1, 3), "PNG") << png;
   }
   fs::remove_all(out);
+}
+
+// --mem-trace: one CSV row per memory transaction whose request reaches memory in the window, as
+// the TLM-2.0 boundary saw it; the reads and writes of the whole frame add up to memory.port's.
+TEST(Cli, MemoryTraceListsTheTransactionsOfTheWindow) {
+  const fs::path out = test::temp_dir("cli_memtrace");
+  const RunResult r = run(city_run(out, "--mem-trace " + (out / "m.csv").string() + " --trace-window 0:100000000"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json port = nlohmann::json::parse(slurp(out / "report.json"))["stats"]["memory"]["port"];
+  std::istringstream csv(slurp(out / "m.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line, "cycle,initiator,address,bytes,op,latency_cycles");
+  uint64_t reads = 0, writes = 0;
+  std::set<std::string> initiators;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    ASSERT_EQ(f.size(), 6u) << line;
+    initiators.insert(f[1]);
+    EXPECT_EQ(f[2].substr(0, 2), "0x");
+    EXPECT_EQ(f[3], "64");
+    (f[4] == "R" ? reads : writes) += 1;
+    if (f[4] == "R") EXPECT_GT(std::stoull(f[5]), 0u) << line;
+  }
+  EXPECT_EQ(reads, port["reads"].get<uint64_t>());
+  EXPECT_EQ(writes, port["writes"].get<uint64_t>());
+  for (const char* who : {"trv.l2", "list.l2", "ist.l2", "shading0", "culling"})
+    EXPECT_EQ(initiators.count(who), 1u) << who;
+  // A window keeps only the requests inside it; a window without a trace is an input error.
+  const fs::path out2 = test::temp_dir("cli_memtrace_window");
+  ASSERT_EQ(run(city_run(out2, "--mem-trace " + (out2 / "m.csv").string() + " --trace-window 1000:1300")).code, 0);
+  std::istringstream part(slurp(out2 / "m.csv"));
+  std::getline(part, line);
+  size_t rows = 0;
+  while (std::getline(part, line)) {
+    const uint64_t cycle = std::stoull(line.substr(0, line.find(',')));
+    EXPECT_TRUE(cycle >= 1000 && cycle < 1300) << line;
+    ++rows;
+  }
+  EXPECT_GT(rows, 0u);
+  EXPECT_LT(rows, reads + writes);
+  expect_input_error(city_run(out2, "--trace-window 1:2"), {"--trace-window needs --trace or --mem-trace"});
+  fs::remove_all(out);
+  fs::remove_all(out2);
 }
 
 TEST(Cli, ObserversDoNotChangeSimulatedFigures) {

@@ -3,6 +3,8 @@
 #include "model/ray_fifo.h"
 #include "model/unit.h"
 
+#include "tests/test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -81,7 +83,7 @@ TEST(UnitPipeline, FullPipelineRetiresOnePerCycleAndBackPressureStalls) {
   mid.connect(&pipe, &sink);
   for (int i = 0; i < kOps; ++i) input.push(uint32_t(i), 0, 0);
   pipe.wake(0);
-  sc_core::sc_start();
+  test::simulate();
   const Tick end = Tick(sc_core::sc_time_stamp().value());
   pipe.finish_accounting(end);
   sink.finish_accounting(end);

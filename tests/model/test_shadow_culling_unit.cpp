@@ -3,6 +3,8 @@
 // SystemC elaborates once per process: the scenarios run side by side in one simulation.
 #include "model/shadow_culling_unit.h"
 
+#include "tests/test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -105,7 +107,7 @@ TEST(ShadowCullingUnit, TakesAtMostItsRateOfRecordsPerCycleAndOneRayPerCycle) {
     s->unit->close(0);
   }
   mem.unit->scan_all(0);
-  sc_core::sc_start();
+  test::simulate();
 
   EXPECT_EQ(one.unit->unit_stats().busy_cycles, 12u);
   EXPECT_EQ(four.unit->unit_stats().busy_cycles, 3u);

@@ -2,6 +2,8 @@
 // ray pool and the TRV inputs have room. (SystemC elaborates once per process: one scenario.)
 #include "model/ray_generator.h"
 
+#include "tests/test_util.h"
+
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -24,7 +26,7 @@ TEST(RayGenerator, IssuesAtMostItsRatePerCycle) {
   a.connect(&gen, nullptr);
   b.connect(&gen, nullptr);
   gen.wake(0);
-  sc_core::sc_start();
+  test::simulate();
   ASSERT_TRUE(gen.finished());
   // Dealt in turn to the two FIFOs; ray k was issued in cycle k / 3 and is visible one cycle later.
   std::vector<Tick> ready;
