@@ -223,9 +223,9 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 uint64_t Accelerator::Netlist::progress_count() const {
   // A DRAM draining its queues (a backlog of posted writes) is progress too.
   const MemoryPortStats& port = memory->interconnect().port().stats();
-  uint64_t n = phases->primaries_retired() + phases->shadows_retired() + generator->unit_stats().operations +
-               culling->unit_stats().operations + (dram ? dram->stats().reads + dram->stats().writes : port.responses);
-  for (const RayUnit* u : ray_units) n += u->unit_stats().operations;
+  uint64_t n = phases->primaries_retired() + phases->shadows_retired() + generator->unit_stats().busy_cycles +
+               culling->unit_stats().busy_cycles + (dram ? dram->stats().reads + dram->stats().writes : port.responses);
+  for (const RayUnit* u : ray_units) n += u->unit_stats().busy_cycles;
   return n;
 }
 
@@ -260,13 +260,12 @@ void Accelerator::Netlist::register_stats() {
   auto add_totals = [this](const std::string& type, std::vector<const Unit*> units) {
     for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
                                std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
-                               std::pair{"idle_cycles", &UnitStats::idle_cycles},
-                               std::pair{"operations", &UnitStats::operations}})
+                               std::pair{"idle_cycles", &UnitStats::idle_cycles}})
       stats.formula(type + ".total." + name, [units, field = field] {
         uint64_t n = 0;
         for (const Unit* u : units) n += u->unit_stats().*field;
         return double(n);
-      }, std::string("all ") + type + " units: " + name);
+      }, "cycles", std::string("all ") + type + " units: " + name);
   };
   add_totals("trv", raw(trv));
   add_totals("list", raw(list));
@@ -345,6 +344,7 @@ AcceleratorResult Accelerator::result() {
     out.shadow_culled.push_back(l.culled);
   }
   out.stats = n.stats.values();
+  out.glossary = n.stats.glossary();
   out.frame = n.frame;
   return out;
 }

@@ -43,6 +43,7 @@ struct AcceleratorResult {
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
   nlohmann::json stats;  // every named statistic
+  std::map<std::string, StatsRegistry::Glossary> glossary;  // ... with its unit and meaning
 };
 
 // Where a running frame stands, for progress reports.

@@ -20,10 +20,11 @@ bool is_pow2(uint64_t v) { return v != 0 && (v & (v - 1)) == 0; }
 }  // namespace
 
 void CacheConfig::validate() const {
+  // The ranges of describe(); a cache built in code may be smaller than the files' 1 KB.
   if (size_bytes == 0) bad("size_bytes", "must be positive");
-  if (ways == 0) bad("ways", "must be positive");
-  if (line_bytes < 4 || !is_pow2(line_bytes)) bad("line_bytes", "must be a power of two >= 4");
-  if (mshrs == 0) bad("mshrs", "must be positive");
+  RangeCheck check("CacheConfig");
+  describe(check, *this);
+  if (!is_pow2(line_bytes)) bad("line_bytes", "must be a power of two >= 4");
   if (size_bytes % line_bytes != 0) bad("size_bytes", "must be a multiple of line_bytes");
   const uint64_t lines = size_bytes / line_bytes;
   if (ways > lines) bad("ways", "exceeds the number of lines (" + std::to_string(lines) + ")");
@@ -31,7 +32,6 @@ void CacheConfig::validate() const {
   if (!is_pow2(lines / ways)) bad("size_bytes", "sets (" + std::to_string(lines / ways) + ") must be a power of two");
   if (!is_pow2(banks) || banks > lines / ways)
     bad("banks", "must be a power of two of at most the number of sets (" + std::to_string(lines / ways) + ")");
-  if (ports > 64) bad("ports", "expected 0 (unlimited) .. 64");
 }
 
 Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below)
@@ -217,24 +217,24 @@ const uint8_t* Cache::line_data(uint64_t line) const {
 }
 
 void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".accesses", &stats_.accesses, "line requests received");
-  r.counter(prefix + ".hits", &stats_.hits, "requests finding their line present and delivered");
-  r.counter(prefix + ".misses", &stats_.misses, "requests that allocated a line and asked the level below");
-  r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "requests merged into a line already in flight");
-  r.counter(prefix + ".mshr_stall_events", &stats_.mshr_stall_events,
+  r.counter(prefix + ".accesses", &stats_.accesses, "count", "line requests received");
+  r.counter(prefix + ".hits", &stats_.hits, "count", "requests finding their line present and delivered");
+  r.counter(prefix + ".misses", &stats_.misses, "count", "requests that allocated a line and asked the level below");
+  r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "count", "requests merged into a line already in flight");
+  r.counter(prefix + ".mshr_stall_events", &stats_.mshr_stall_events, "count",
             "misses that waited for a free MSHR or a way not in flight");
-  r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles misses waited for an MSHR or a way");
-  r.counter(prefix + ".fills", &stats_.fills, "lines written into the data array");
-  r.counter(prefix + ".evictions", &stats_.evictions, "valid lines replaced");
+  r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles", "cycles misses waited for an MSHR or a way");
+  r.counter(prefix + ".fills", &stats_.fills, "count", "lines written into the data array");
+  r.counter(prefix + ".evictions", &stats_.evictions, "count", "valid lines replaced");
   const CacheStats* s = &stats_;
-  r.formula(prefix + ".hit_rate", [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; },
+  r.formula(prefix + ".hit_rate", [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; }, "ratio",
             "hits / accesses");
   if (banks_.empty()) return;
-  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "lookups that waited for a slot of their bank");
-  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles lookups waited for a bank slot");
-  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles fills waited for a bank slot");
+  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "count", "lookups that waited for a slot of their bank");
+  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles", "cycles lookups waited for a bank slot");
+  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles", "cycles fills waited for a bank slot");
   for (size_t t = 0; t < type_names_.size(); ++t)
-    r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t],
+    r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t], "cycles",
               "cycles lookups from " + type_names_[t] + " waited for a bank slot");
 }
 

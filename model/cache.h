@@ -47,6 +47,7 @@
 // are made only after the cache's state is consistent, so a listener may call back into it.
 #pragma once
 
+#include "model/config_description.h"
 #include "model/memory_interface.h"
 #include "model/model_time.h"
 #include "model/port_schedule.h"
@@ -76,6 +77,20 @@ struct CacheConfig {
   void validate() const;
   uint32_t sets() const { return size_bytes / (ways * line_bytes); }
 };
+
+// Every CacheConfig field, once (model/config_description.h).
+template <class V, class C>
+DescribeOf<C, CacheConfig> describe(V& v, C& c) {
+  v.kib("size_kb", c.size_bytes, 1, 1 << 20, "capacity");
+  v.number("ways", c.ways, 1, 1024, "", "associativity (LRU replacement)");
+  v.number("line_bytes", c.line_bytes, 4, 4096, "bytes", "line size, a power of two");
+  v.number("hit_latency", c.hit_latency, 0, 10000, "cycles", "a hit's latency; a miss adds the level below's");
+  v.number("mshrs", c.mshrs, 1, 65536, "lines", "misses in flight (distinct lines)");
+  v.number("banks", c.banks, 1, 1024, "banks", "by line number mod banks; a power of two, at most the sets");
+  v.number("ports", c.ports, 0, 64, "per bank and cycle", "lookups a bank serves per cycle; 0: unlimited (ideal)");
+  v.choice("fill_port", c.fill_port, {{"shared", FillPort::kShared}, {"separate", FillPort::kSeparate}},
+           "a fill takes one of its bank's slots (shared) or has a port of its own (separate)");
+}
 
 struct CacheStats {
   uint64_t accesses = 0;

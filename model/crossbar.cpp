@@ -8,9 +8,8 @@
 namespace rtsim::model {
 
 void LinkConfig::validate() const {
-  if (latency > 10000) throw std::invalid_argument("LinkConfig.latency: expected 0..10000 cycles");
-  if (bytes_per_cycle > 4096) throw std::invalid_argument("LinkConfig.bytes_per_cycle: expected 0 (ideal) .. 4096");
-  if (header_bytes > 4096) throw std::invalid_argument("LinkConfig.header_bytes: expected 0..4096");
+  RangeCheck check("LinkConfig");
+  describe(check, *this);
 }
 
 Crossbar::Crossbar(const char* name, const LinkConfig& config, const Clock& clock, uint32_t sources,
@@ -53,10 +52,10 @@ void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const
   auto network = [&](const std::string& dir, const CrossbarStats& s, const std::vector<PortSchedule>* a,
                      const std::vector<PortSchedule>* b) {
     const std::string p = prefix + "." + dir;
-    r.counter(p + ".packets", &s.packets, dir + " packets");
-    r.counter(p + ".flits", &s.flits, dir + " flits");
-    r.counter(p + ".queue_cycles", &s.queue_cycles, dir + " cycles packets waited for a port, summed");
-    r.formula(p + ".avg_queue_cycles", [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; },
+    r.counter(p + ".packets", &s.packets, "count", dir + " packets");
+    r.counter(p + ".flits", &s.flits, "count", dir + " flits");
+    r.counter(p + ".queue_cycles", &s.queue_cycles, "cycles", dir + " cycles packets waited for a port, summed");
+    r.formula(p + ".avg_queue_cycles", [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; }, "cycles",
               "queue_cycles / packets");
     r.formula(p + ".max_port_utilization",
               [a, b, end, period] {
@@ -65,7 +64,7 @@ void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const
                 for (const auto* ports : {a, b})
                   for (const PortSchedule& q : *ports) most = std::max(most, q.stats().requests);
                 return cycles > 0 && !a->empty() && !a->front().ideal() ? double(most) / cycles : 0.0;
-              },
+              }, "ratio",
               "the busiest port's flits / cycles");
   };
   network("request", request_, &src_out_, &dst_in_);

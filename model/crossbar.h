@@ -17,6 +17,7 @@
 // sees it as the level below.
 #pragma once
 
+#include "model/config_description.h"
 #include "model/memory_interface.h"
 #include "model/model_time.h"
 #include "model/port_schedule.h"
@@ -39,6 +40,15 @@ struct LinkConfig {
   void validate() const;
   bool ideal() const { return bytes_per_cycle == 0; }
 };
+
+// Every LinkConfig field, once (model/config_description.h).
+template <class V, class L>
+DescribeOf<L, LinkConfig> describe(V& v, L& l) {
+  v.number("latency", l.latency, 0, 10000, "cycles", "from a flit's departure to its arrival");
+  v.number("bytes_per_cycle", l.bytes_per_cycle, 0, 4096, "bytes",
+           "flit size; one flit per cycle per port and direction; 0: an ideal wire");
+  v.number("header_bytes", l.header_bytes, 0, 4096, "bytes", "added to every packet");
+}
 
 struct CrossbarStats {
   uint64_t packets = 0;

@@ -114,6 +114,8 @@ DramConfig gddr3_gt200_1ghz_cycles() {
 }  // namespace
 
 void DramConfig::validate() const {
+  RangeCheck check("DramConfig");
+  describe(check, *this);
   require_at_least("channels", channels, 1);
   require_pow2("channels", channels);
   require_at_least("banks", banks, 1);

@@ -20,6 +20,7 @@
 //   holds 64 bursts = 2 KB per channel, and 16 KB of addresses cover one row in every channel.
 #pragma once
 
+#include "model/config_description.h"
 #include "model/memory_interface.h"
 
 #include <array>
@@ -93,6 +94,29 @@ struct DramConfig {
   // Throws std::invalid_argument naming the offending field.
   void validate() const;
 };
+
+// The DramConfig fields a hardware file may set, once (model/config_description.h); a file's
+// `preset` is applied first, then these override its values. request_bytes is the L2 line size.
+template <class V, class C>
+DescribeOf<C, DramConfig> describe(V& v, C& c) {
+  v.number("channels", c.channels, 1, 64, "channels", "independent controllers, each with its own command and data bus");
+  v.number("banks", c.banks, 1, 64, "banks", "banks per channel");
+  v.number("tCK_ps", c.tCK_ps, 1, 100000, "ps", "command-clock period");
+  v.number("tRCD", c.tRCD, 1, 1000, "tCK", "ACT -> RD, same bank");
+  v.number("CL", c.CL, 1, 1000, "tCK", "RD -> first data beat");
+  v.number("tRP", c.tRP, 1, 1000, "tCK", "PRE -> ACT, same bank");
+  v.number("tRAS", c.tRAS, 1, 1000, "tCK", "ACT -> PRE, same bank");
+  v.number("tRC", c.tRC, 1, 1000, "tCK", "ACT -> ACT, same bank");
+  v.number("tCCD", c.tCCD, 1, 1000, "tCK", "column command -> column command, same channel");
+  v.number("tRRD", c.tRRD, 1, 1000, "tCK", "ACT -> ACT, other banks of the channel");
+  v.number("WL", c.WL, 1, 1000, "tCK", "WR -> first data beat in");
+  v.number("tCDLR", c.tCDLR, 1, 1000, "tCK", "last data in -> RD");
+  v.number("tWR", c.tWR, 1, 1000, "tCK", "last data in -> PRE, same bank (write recovery)");
+  v.number("burst_length", c.burst_length, 2, 64, "beats", "beats per burst (DDR: BL/2 cycles of data bus)");
+  v.number("bus_bytes", c.bus_bytes, 1, 256, "bytes", "data-bus width of one channel");
+  v.number("queue_size", c.queue_size, 1, 4096, "requests", "FR-FCFS scheduler queue per channel");
+  v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");
+}
 
 // The preset called `name`; unknown names throw std::invalid_argument listing the known ones.
 DramConfig dram_preset(const std::string& name);

@@ -17,7 +17,7 @@ class LvbUpdater : public sc_core::sc_object {
     ++updates_;
   }
   void register_stats(StatsRegistry& reg, const std::string& prefix) const {
-    reg.counter(prefix + ".updates", &updates_, "closest-hit updates that took a leaf's LVB word");
+    reg.counter(prefix + ".updates", &updates_, "count", "closest-hit updates that took a leaf's LVB word");
   }
 
  private:

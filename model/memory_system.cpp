@@ -105,10 +105,10 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
     };
     for (auto [name, field] : {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
                                std::pair{"misses", &CacheStats::misses}, std::pair{"mshr_merges", &CacheStats::mshr_merges}})
-      r.formula(prefix + "." + name, sum(field), "all of " + prefix + ": " + name);
+      r.formula(prefix + "." + name, sum(field), "count", "all of " + prefix + ": " + name);
     r.formula(prefix + ".hit_rate", [h = sum(&CacheStats::hits), a = sum(&CacheStats::accesses)] {
       return a() > 0 ? h() / a() : 0.0;
-    }, "all of " + prefix + ": hits / accesses");
+    }, "ratio", "all of " + prefix + ": hits / accesses");
   };
   for (int t = 0; t < kTypes; ++t) {
     const TypeMemory& m = types_[t];

@@ -205,13 +205,13 @@ uint64_t ShadowCullingUnit::generated() const {
 
 void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".records_taken", &records_taken_, "hit records taken (limited rate only)");
-  r.counter(prefix + ".record_reads", &record_reads_, "hit-record lines read from the frame buffer");
+  r.counter(prefix + ".records_taken", &records_taken_, "count", "hit records taken (limited rate only)");
+  r.counter(prefix + ".record_reads", &record_reads_, "count", "hit-record lines read from the frame buffer");
   for (size_t i = 0; i < lights_.size(); ++i) {
     const std::string p = prefix + ".light" + std::to_string(i);
-    r.counter(p + ".decisions", &lights_[i].decisions, "hit pixels considered");
-    r.counter(p + ".generated", &lights_[i].generated, "shadow rays emitted");
-    r.counter(p + ".culled", &lights_[i].culled, "shadow rays culled by the LVB");
+    r.counter(p + ".decisions", &lights_[i].decisions, "count", "hit pixels considered");
+    r.counter(p + ".generated", &lights_[i].generated, "count", "shadow rays emitted");
+    r.counter(p + ".culled", &lights_[i].culled, "count", "shadow rays culled by the LVB");
   }
 }
 

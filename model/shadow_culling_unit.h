@@ -40,6 +40,15 @@ struct CullingConfig {
   uint32_t prefetch = 128;         // record lines in flight when reading the frame buffer
 };
 
+// Every CullingConfig field, once (model/config_description.h).
+template <class V, class C>
+DescribeOf<C, CullingConfig> describe(V& v, C& c) {
+  v.number("records_per_cycle", c.records_per_cycle, 0, 64, "records",
+           "hit records taken per cycle, read back from the frame buffer in two phases; 0: unlimited, from the "
+           "host-side frame (ideal)");
+  v.number("prefetch", c.prefetch, 1, 65536, "lines", "record lines in flight when reading the frame buffer");
+}
+
 class ShadowCullingUnit : public Unit, public FillListener {
  public:
   ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, const CullingConfig& config,

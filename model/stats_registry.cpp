@@ -8,12 +8,14 @@ void StatsRegistry::add(const std::string& name, Entry e) {
   if (!entries_.emplace(name, std::move(e)).second) throw std::logic_error("statistic registered twice: " + name);
 }
 
-void StatsRegistry::counter(const std::string& name, const uint64_t* value, const std::string& description) {
-  add(name, Entry{value, {}, description});
+void StatsRegistry::counter(const std::string& name, const uint64_t* value, const std::string& unit,
+                            const std::string& description) {
+  add(name, Entry{value, {}, unit, description});
 }
 
-void StatsRegistry::formula(const std::string& name, std::function<double()> value, const std::string& description) {
-  add(name, Entry{nullptr, std::move(value), description});
+void StatsRegistry::formula(const std::string& name, std::function<double()> value, const std::string& unit,
+                            const std::string& description) {
+  add(name, Entry{nullptr, std::move(value), unit, description});
 }
 
 double StatsRegistry::value(const std::string& name) const {
@@ -37,9 +39,9 @@ nlohmann::json StatsRegistry::values() const {
   return root;
 }
 
-std::map<std::string, std::string> StatsRegistry::descriptions() const {
-  std::map<std::string, std::string> out;
-  for (const auto& [name, e] : entries_) out[name] = e.description;
+std::map<std::string, StatsRegistry::Glossary> StatsRegistry::glossary() const {
+  std::map<std::string, Glossary> out;
+  for (const auto& [name, e] : entries_) out[name] = {e.unit, e.description};
   return out;
 }
 

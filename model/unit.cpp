@@ -26,7 +26,6 @@ void Unit::activate() {
   if (issued) {
     last_issue_ = now;
     ++stats_.busy_cycles;
-    ++stats_.operations;
   } else {
     (holds_work() ? stats_.stalled_cycles : stats_.idle_cycles) += 1;
   }
@@ -45,10 +44,9 @@ void Unit::finish_accounting(Tick end) {
 }
 
 void Unit::register_unit_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".busy_cycles", &stats_.busy_cycles, "cycles in which an operation issued");
-  r.counter(prefix + ".stalled_cycles", &stats_.stalled_cycles, "cycles holding work that could not issue");
-  r.counter(prefix + ".idle_cycles", &stats_.idle_cycles, "cycles without work");
-  r.counter(prefix + ".operations", &stats_.operations, "operations issued");
+  r.counter(prefix + ".busy_cycles", &stats_.busy_cycles, "cycles", "cycles in which an operation issued");
+  r.counter(prefix + ".stalled_cycles", &stats_.stalled_cycles, "cycles", "cycles holding work that could not issue");
+  r.counter(prefix + ".idle_cycles", &stats_.idle_cycles, "cycles", "cycles without work");
 }
 
 }  // namespace rtsim::model

@@ -21,7 +21,6 @@ struct UnitStats {
   uint64_t busy_cycles = 0;
   uint64_t stalled_cycles = 0;
   uint64_t idle_cycles = 0;
-  uint64_t operations = 0;
 };
 
 class Unit : public sc_core::sc_module, public Scheduler::Client {

@@ -124,7 +124,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
                     num(r["rays"]["primary_hits"].get<double>()), num(r["rays"]["reflection"].get<double>()),
                     num(r["rays"]["shadow"].get<double>()));
 
-  md << "## Units\n\n| unit | count | busy | stalled | idle | operations |\n|---|---|---|---|---|---|\n";
+  md << "## Units\n\n| unit | count | busy | stalled | idle | busy cycles |\n|---|---|---|---|---|---|\n";
   for (const auto& [label, path, count] : std::vector<std::tuple<std::string, std::string, double>>{
            {"ray generator", "stats.raygen", 1}, {"TRV", "stats.trv.total", hw["trv"]["count"].get<double>()},
            {"LIST", "stats.list.total", hw["list"]["count"].get<double>()},
@@ -133,7 +133,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
     const double b = json_number(r, path + ".busy_cycles"), s = json_number(r, path + ".stalled_cycles"),
                  i = json_number(r, path + ".idle_cycles");
     md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", label, count, pct(b, b + s + i), pct(s, b + s + i),
-                      pct(i, b + s + i), num(json_number(r, path + ".operations")));
+                      pct(i, b + s + i), num(b));
   }
   md << "\nShares of the unit cycles (summed over the units of a type).\n\n";
 

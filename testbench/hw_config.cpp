@@ -2,61 +2,180 @@
 
 #include "common/yaml_reader.h"
 
+#include <fmt/format.h>
+
 #include <stdexcept>
+#include <type_traits>
 
 namespace rtsim {
 
 namespace {
 
-// Integers are read as int64 so that a negative value is reported as out of range.
-uint32_t get_u32(YamlMap& m, const std::string& key, uint32_t fallback, int64_t lo, int64_t hi) {
-  return uint32_t(m.get_in_range<int64_t>(key, fallback, lo, hi));
+template <class E>
+std::string choice_names(model::Choices<E> choices) {
+  std::vector<std::string> names;
+  for (const auto& [name, value] : choices) names.push_back(fmt::format("'{}'", name));
+  std::string s = names.back();
+  if (names.size() > 1) s = fmt::format("{} or {}", fmt::join(names.begin(), names.end() - 1, ", "), names.back());
+  return s;
 }
 
-// `sharing`: where the cache is an L2, its sharing key (null for L1s, where the key is unknown).
-model::CacheConfig read_cache(YamlMap m, model::CacheConfig c, model::L2Sharing* sharing = nullptr) {
-  if (sharing) {
-    const std::string v = m.get<std::string>("sharing", *sharing == model::L2Sharing::kType ? "type" : "unit");
-    if (v != "type" && v != "unit") m.fail("sharing", "expected 'type' (one L2 per unit type) or 'unit' (a private L2 per unit)");
-    *sharing = v == "type" ? model::L2Sharing::kType : model::L2Sharing::kUnit;
+template <class E>
+const char* name_of(const E& value, model::Choices<E> choices) {
+  for (const auto& [name, v] : choices)
+    if (v == value) return name;
+  return "?";
+}
+
+// Reads a hardware file's maps into the config the description names (model/config_description.h);
+// absent keys keep their defaults, unknown keys are errors (YamlMap::finish).
+class YamlReader {
+ public:
+  explicit YamlReader(YamlMap top) { maps_.push_back(std::move(top)); }
+  void finish() { maps_.back().finish(); }
+
+  template <class T>
+  void number(const char* key, T& field, double lo, double hi, const char*, const char*) {
+    YamlMap& m = at(key);
+    // Integers are read as int64 so that a negative value is reported as out of range.
+    if constexpr (std::is_integral_v<T>) field = T(m.get_in_range<int64_t>(key, int64_t(field), int64_t(lo), int64_t(hi)));
+    else field = T(m.get_in_range<double>(key, double(field), lo, hi));
   }
-  c.size_bytes = get_u32(m, "size_kb", c.size_bytes / 1024, 1, 1 << 20) * 1024;
-  c.ways = get_u32(m, "ways", c.ways, 1, 1024);
-  c.line_bytes = get_u32(m, "line_bytes", c.line_bytes, 4, 4096);
-  c.hit_latency = get_u32(m, "hit_latency", c.hit_latency, 0, 10000);
-  c.mshrs = get_u32(m, "mshrs", c.mshrs, 1, 65536);
-  c.banks = get_u32(m, "banks", c.banks, 1, 1024);
-  c.ports = get_u32(m, "ports", c.ports, 0, 64);
-  const std::string fill = m.get<std::string>("fill_port", c.fill_port == model::FillPort::kShared ? "shared" : "separate");
-  if (fill != "shared" && fill != "separate") m.fail("fill_port", "expected 'shared' or 'separate'");
-  c.fill_port = fill == "shared" ? model::FillPort::kShared : model::FillPort::kSeparate;
-  m.finish();
-  try {
-    c.validate();
-  } catch (const std::invalid_argument& e) {
-    m.fail("size_kb", e.what());
+  void kib(const char* key, uint32_t& bytes, double lo, double hi, const char*) {
+    bytes = uint32_t(at(key).get_in_range<int64_t>(key, bytes / 1024, int64_t(lo), int64_t(hi))) * 1024;
   }
-  return c;
-}
+  void flag(const char* key, bool& field, const char*) { field = at(key).get<bool>(key, field); }
+  void text(const char* key, std::string& field, const char*) { field = at(key).get<std::string>(key, field); }
+  template <class E>
+  void choice(const char* key, E& field, model::Choices<E> choices, const char*) {
+    YamlMap& m = at(key);
+    const std::string v = m.get<std::string>(key, name_of(field, choices));
+    for (const auto& [name, value] : choices)
+      if (v == name) {
+        field = value;
+        return;
+      }
+    m.fail(key, "expected " + choice_names(choices));
+  }
+  void preset(const char* key, model::DramConfig& dram, const char*) {
+    YamlMap& m = at(key);
+    if (!m.has(key)) return (void)m.get<std::string>(key, "");
+    try {
+      dram = model::dram_preset(m.get<std::string>(key, ""));
+    } catch (const std::invalid_argument& e) {
+      m.fail(key, e.what());
+    }
+  }
+  template <class F>
+  void section(const char* key, const char* meaning, F&& body) {
+    section(key, meaning, body, [] {});
+  }
+  // A section whose fields do not fit together is reported at its first key.
+  template <class F, class G>
+  void section(const char* key, const char*, F&& body, G&& check) {
+    if (!maps_.back().has(key)) return;
+    maps_.push_back(maps_.back().map(key));
+    first_.push_back("");
+    body();
+    maps_.back().finish();
+    try {
+      check();
+    } catch (const std::invalid_argument& e) {
+      maps_.back().fail(first_.back(), e.what());
+    }
+    maps_.pop_back();
+    first_.pop_back();
+  }
 
-model::LinkConfig read_link(YamlMap m, model::LinkConfig l) {
-  l.latency = get_u32(m, "latency", l.latency, 0, 10000);
-  l.bytes_per_cycle = get_u32(m, "bytes_per_cycle", l.bytes_per_cycle, 0, 4096);
-  l.header_bytes = get_u32(m, "header_bytes", l.header_bytes, 0, 4096);
-  m.finish();
-  return l;
-}
+ private:
+  YamlMap& at(const char* key) {
+    if (!first_.empty() && first_.back().empty()) first_.back() = key;
+    return maps_.back();
+  }
+  std::vector<YamlMap> maps_;
+  std::vector<std::string> first_;
+};
 
-void read_unit(YamlMap m, model::UnitTypeConfig& u, bool has_l2) {
-  u.count = get_u32(m, "count", u.count, 1, 1024);
-  u.latency = get_u32(m, "latency", u.latency, 1, 10000);
-  u.capacity = get_u32(m, "capacity", u.capacity, 1, 65536);
-  u.fifo_depth = get_u32(m, "fifo_depth", u.fifo_depth, 1, 65536);
-  if (m.has("l1")) u.l1 = read_cache(m.map("l1"), u.l1);
-  if (has_l2 && m.has("l2")) u.l2 = read_cache(m.map("l2"), u.l2, &u.l2_sharing);
-  if (has_l2 && m.has("link")) u.link = read_link(m.map("link"), u.link);
-  m.finish();
-}
+// The config as JSON, key for key (config.json).
+class JsonWriter {
+ public:
+  nlohmann::json out = nlohmann::json::object();
+
+  template <class T>
+  void number(const char* key, const T& field, double, double, const char*, const char*) { at()[key] = field; }
+  void kib(const char* key, uint32_t bytes, double, double, const char*) { at()[key] = bytes / 1024; }
+  void flag(const char* key, bool field, const char*) { at()[key] = field; }
+  void text(const char* key, const std::string& field, const char*) { at()[key] = field; }
+  template <class E>
+  void choice(const char* key, const E& field, model::Choices<E> choices, const char*) {
+    at()[key] = name_of(field, choices);
+  }
+  void preset(const char* key, const model::DramConfig& dram, const char*) { at()[key] = dram.preset; }
+  template <class F, class G>
+  void section(const char* key, const char* meaning, F&& body, G&&) {
+    section(key, meaning, body);
+  }
+  template <class F>
+  void section(const char* key, const char*, F&& body) {
+    stack_.push_back(key);
+    at() = nlohmann::json::object();
+    body();
+    stack_.pop_back();
+  }
+
+ private:
+  nlohmann::json& at() {
+    nlohmann::json* j = &out;
+    for (const char* k : stack_) j = &(*j)[k];
+    return *j;
+  }
+  std::vector<const char*> stack_;
+};
+
+// One markdown row per key: path, default, range, unit, meaning.
+class DocTable {
+ public:
+  std::string rows;
+
+  template <class T>
+  void number(const char* key, const T& field, double lo, double hi, const char* unit, const char* meaning) {
+    row(key, fmt::format("{}", field), fmt::format("{} .. {}", lo, hi), unit, meaning);
+  }
+  void kib(const char* key, uint32_t bytes, double lo, double hi, const char* meaning) {
+    row(key, fmt::format("{}", bytes / 1024), fmt::format("{} .. {}", lo, hi), "KB", meaning);
+  }
+  void flag(const char* key, bool field, const char* meaning) { row(key, field ? "true" : "false", "true, false", "", meaning); }
+  void text(const char* key, const std::string& field, const char* meaning) {
+    row(key, field.size() > 24 ? field.substr(0, 21) + "..." : field, "text", "", meaning);
+  }
+  template <class E>
+  void choice(const char* key, const E& field, model::Choices<E> choices, const char* meaning) {
+    std::vector<std::string> names;
+    for (const auto& [name, v] : choices) names.push_back(name);
+    row(key, name_of(field, choices), fmt::format("{}", fmt::join(names, ", ")), "", meaning);
+  }
+  void preset(const char* key, const model::DramConfig& dram, const char* meaning) {
+    row(key, dram.preset, fmt::format("{}", fmt::join(model::dram_preset_names(), ", ")), "", meaning);
+  }
+  template <class F, class G>
+  void section(const char* key, const char* meaning, F&& body, G&&) {
+    section(key, meaning, body);
+  }
+  template <class F>
+  void section(const char* key, const char*, F&& body) {
+    prefix_.push_back(key);
+    body();
+    prefix_.pop_back();
+  }
+
+ private:
+  void row(const char* key, const std::string& value, const std::string& range, const char* unit, const char* meaning) {
+    std::string path;
+    for (const char* p : prefix_) path += std::string(p) + ".";
+    rows += fmt::format("| `{}{}` | {} | {} | {} | {} |\n", path, key, value.empty() ? "\"\"" : value, range, unit, meaning);
+  }
+  std::vector<const char*> prefix_;
+};
 
 }  // namespace
 
@@ -65,102 +184,30 @@ model::AcceleratorConfig load_hw_config(const std::string& path, const std::vect
 }
 
 model::AcceleratorConfig read_hw_config(YamlMap top) {
+  const std::string file = top.file();
   model::AcceleratorConfig c;
-  c.clock_ghz = top.get_in_range("clock_ghz", c.clock_ghz, 0.01, 100.0);
-  c.ray_pool = get_u32(top, "ray_pool", c.ray_pool, 1, 1 << 24);
-  const std::string order = top.get<std::string>("order", "tiles");
-  if (order != "tiles" && order != "scanline") top.fail("order", "expected 'tiles' or 'scanline'");
-  c.order = order == "tiles" ? model::RayOrder::kTiles : model::RayOrder::kScanline;
-  const std::string schedule = top.get<std::string>("schedule", "two-phase");
-  if (schedule != "two-phase" && schedule != "one-phase") top.fail("schedule", "expected 'two-phase' or 'one-phase'");
-  c.schedule = schedule == "two-phase" ? model::Schedule::kTwoPhase : model::Schedule::kOnePhase;
-  c.tile = top.get_in_range("tile", c.tile, 1, 4096);
-  c.watchdog_cycles = uint64_t(top.get_in_range<int64_t>("watchdog_cycles", int64_t(c.watchdog_cycles), 1000, int64_t(1) << 40));
-  if (top.has("trv")) read_unit(top.map("trv"), c.trv, true);
-  if (top.has("list")) read_unit(top.map("list"), c.list, true);
-  if (top.has("ist")) read_unit(top.map("ist"), c.ist, true);
-  if (top.has("shading")) {
-    YamlMap m = top.map("shading");
-    c.write_records = m.get<bool>("write_records", c.write_records);
-    read_unit(m, c.shading, false);
-  }
-  if (top.has("culling")) {
-    YamlMap m = top.map("culling");
-    c.culling.records_per_cycle = get_u32(m, "records_per_cycle", c.culling.records_per_cycle, 0, 64);
-    c.culling.prefetch = get_u32(m, "prefetch", c.culling.prefetch, 1, 65536);
-    m.finish();
-  }
-  if (top.has("raygen")) {
-    YamlMap g = top.map("raygen");
-    c.raygen_rays_per_cycle = get_u32(g, "rays_per_cycle", c.raygen_rays_per_cycle, 1, 64);
-    g.finish();
-  }
-  if (top.has("memory_link")) c.memory_link = read_link(top.map("memory_link"), c.memory_link);
-  if (top.has("dram")) {
-    YamlMap d = top.map("dram");
-    const std::string preset = d.get<std::string>("preset", "gddr3-gt200-1ghz");
-    try {
-      c.dram = model::dram_preset(preset);
-    } catch (const std::invalid_argument& e) {
-      d.fail("preset", e.what());
-    }
-    c.dram.channels = get_u32(d, "channels", c.dram.channels, 1, 64);
-    c.dram.queue_size = get_u32(d, "queue_size", c.dram.queue_size, 1, 4096);
-    c.dram.address_mapping = d.get<std::string>("address_mapping", c.dram.address_mapping);
-    d.finish();
-  }
-  top.finish();
+  YamlReader reader(std::move(top));
+  model::describe(reader, c);
+  reader.finish();
   try {
     c.validate();
   } catch (const std::invalid_argument& e) {
-    throw InputError(top.file() + ": " + e.what());
+    throw InputError(file + ": " + e.what());
   }
   return c;
 }
 
 nlohmann::json hw_config_json(const model::AcceleratorConfig& c) {
-  auto cache = [](const model::CacheConfig& k) {
-    return nlohmann::json{{"size_kb", k.size_bytes / 1024}, {"ways", k.ways}, {"line_bytes", k.line_bytes},
-                          {"hit_latency", k.hit_latency}, {"mshrs", k.mshrs}, {"banks", k.banks},
-                          {"ports", k.ports},
-                          {"fill_port", k.fill_port == model::FillPort::kShared ? "shared" : "separate"}};
-  };
-  auto link = [](const model::LinkConfig& l) {
-    return nlohmann::json{
-        {"latency", l.latency}, {"bytes_per_cycle", l.bytes_per_cycle}, {"header_bytes", l.header_bytes}};
-  };
-  auto unit = [&](const model::UnitTypeConfig& u, bool l2) {
-    nlohmann::json j = {{"count", u.count}, {"latency", u.latency}, {"capacity", u.capacity},
-                        {"fifo_depth", u.fifo_depth}, {"l1", cache(u.l1)}};
-    if (l2) {
-      j["l2"] = cache(u.l2);
-      j["l2"]["sharing"] = u.l2_sharing == model::L2Sharing::kType ? "type" : "unit";
-      j["link"] = link(u.link);
-    }
-    return j;
-  };
-  return {{"clock_ghz", c.clock_ghz},
-          {"ray_pool", c.ray_pool},
-          {"order", c.order == model::RayOrder::kTiles ? "tiles" : "scanline"},
-          {"schedule", c.schedule == model::Schedule::kTwoPhase ? "two-phase" : "one-phase"},
-          {"tile", c.tile},
-          {"watchdog_cycles", c.watchdog_cycles},
-          {"trv", unit(c.trv, true)},
-          {"list", unit(c.list, true)},
-          {"ist", unit(c.ist, true)},
-          {"shading", [&] {
-             nlohmann::json j = unit(c.shading, false);
-             j["write_records"] = c.write_records;
-             return j;
-           }()},
-          {"culling", {{"records_per_cycle", c.culling.records_per_cycle}, {"prefetch", c.culling.prefetch}}},
-          {"raygen", {{"rays_per_cycle", c.raygen_rays_per_cycle}}},
-          {"memory_link", link(c.memory_link)},
-          {"dram",
-           {{"preset", c.dram.preset},
-            {"channels", c.dram.channels},
-            {"queue_size", c.dram.queue_size},
-            {"address_mapping", c.dram.address_mapping}}}};
+  JsonWriter w;
+  model::describe(w, c);
+  return w.out;
+}
+
+std::string hw_params_markdown() {
+  DocTable t;
+  const model::AcceleratorConfig defaults;
+  model::describe(t, defaults);
+  return "| key | default | range | unit | meaning |\n|---|---|---|---|---|\n" + t.rows;
 }
 
 }  // namespace rtsim

@@ -17,7 +17,11 @@ namespace rtsim {
 model::AcceleratorConfig load_hw_config(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
 // The same from a map (a file's top level, or the "hw" section of a config.json).
 model::AcceleratorConfig read_hw_config(YamlMap top);
-// The resolved configuration, as written beside every report.
+// The resolved configuration, as written beside every report: every key of the hardware file,
+// the DRAM's timings included (not only its preset's name).
 nlohmann::json hw_config_json(const model::AcceleratorConfig& c);
+// Every key of a hardware file with its default (the paper's T&I engine), range, unit and meaning:
+// a markdown table (rtsim params; docs/hw-params.md).
+std::string hw_params_markdown();
 
 }  // namespace rtsim

@@ -1,6 +1,7 @@
 // rtsim: the command-line front end. Input errors print one line and exit with code 2.
 #include "common/error.h"
 #include "testbench/commands.h"
+#include "testbench/hw_config.h"
 #include "testbench/sweep.h"
 
 #include <CLI/CLI.hpp>
@@ -106,6 +107,9 @@ extern "C" int sc_main(int argc, char** argv) {
   sweep_cmd->add_option("--point", sweep.point, "Run one point of DIR/manifest.json (array tasks)")->check(CLI::Range(0, 1 << 30));
   sweep_cmd->add_flag("--no-plots", sweep_no_plots, "Skip the figures");
 
+  CLI::App* params_cmd = app.add_subcommand(
+      "params", "Print every key of a hardware file: default (the paper's T&I engine), range, unit, meaning (markdown)");
+
   rtsim::ReproduceArgs reproduce;
   CLI::App* reproduce_cmd =
       app.add_subcommand("reproduce", "Run the paper's three setups with culling off, paper-style and exact; compare with the paper");
@@ -134,6 +138,10 @@ extern "C" int sc_main(int argc, char** argv) {
   try {
     if (*render_cmd) return rtsim::run_render(render);
     if (*info_cmd) return rtsim::run_info(info);
+    if (*params_cmd) {
+      fmt::print("{}", rtsim::hw_params_markdown());
+      return 0;
+    }
     if (*lvb_cmd) return rtsim::run_lvb(lvb);
     if (*sweep_cmd) {
       sweep.plots = !sweep_no_plots;

@@ -64,6 +64,13 @@ std::vector<ConfigOverride> scene_overrides(const std::vector<std::string>& scen
   return out;
 }
 
+// Every model statistic's unit and meaning: name,unit,description.
+std::string glossary_csv(const std::map<std::string, model::StatsRegistry::Glossary>& glossary) {
+  std::string csv = "name,unit,description\n";
+  for (const auto& [name, g] : glossary) csv += fmt::format("{},{},\"{}\"\n", name, g.unit, g.description);
+  return csv;
+}
+
 }  // namespace
 
 int run_model(const RunArgs& args) {
@@ -163,6 +170,7 @@ int run_model(const RunArgs& args) {
   write_npy_u16((out / "mask.npy").string(), mask, p.scene.height, p.scene.width);
   write_npy_u16((out / "culled.npy").string(), culled, p.scene.height, p.scene.width);
   write_file_atomic((out / "stats.csv").string(), stats_csv(report));
+  write_file_atomic((out / "glossary.csv").string(), glossary_csv(r.glossary));
   write_file_atomic((out / "report.md").string(), run_report_markdown(report));
   write_json((out / "report.json").string(), report);  // last: its presence marks a finished run
   std::string plots_note;
