@@ -20,12 +20,6 @@ namespace rtsim::model {
 
 namespace {
 
-// The name of `o` below `top`: its statistics prefix ("top.trv3.l1" -> "trv3.l1").
-std::string local_name(const sc_core::sc_object& o, const sc_core::sc_object& top) {
-  const std::string full = o.name(), prefix = std::string(top.name()) + ".";
-  return full.compare(0, prefix.size(), prefix) == 0 ? full.substr(prefix.size()) : full;
-}
-
 template <typename T>
 std::vector<std::unique_ptr<T>> reserve(uint32_t n) {
   std::vector<std::unique_ptr<T>> v;
@@ -59,8 +53,9 @@ HitRecordRegion record_region(const AcceleratorConfig& cfg, const MemoryImage& i
 }  // namespace
 
 // Every block of one accelerator, built in the accelerator's scope (so each is its child) and in
-// the calendar's fixed order: the DRAM, then the IST, LIST, TRV and shading units, the ray
-// generator, the culling unit and the watchdog (a block's calendar id is its construction rank).
+// the calendar's fixed order: the DRAM, the memory port, then the IST, LIST, TRV and shading
+// units, the ray generator, the culling unit and the watchdog (a block's calendar id is its
+// construction rank).
 struct Accelerator::Netlist : RayOwners {
   Netlist(Accelerator& top, const AcceleratorConfig& cfg, const MemoryImage& image, const FrameJob& job,
           const SimulationHooks& hooks, bool builtin_memory);
@@ -232,10 +227,10 @@ uint64_t Accelerator::Netlist::progress_count() const {
 std::string Accelerator::Netlist::describe_stall() const {
   std::string s = std::to_string(pool.in_flight()) + " rays in flight; non-empty FIFOs:";
   for (const RayFifo* f : fifos)
-    if (!f->empty()) s += " " + local_name(*f, top) + " (" + std::to_string(f->size()) + ")";
+    if (!f->empty()) s += " " + stat_prefix(*f, top) + " (" + std::to_string(f->size()) + ")";
   s += "; units holding rays:";
   for (const RayUnit* u : ray_units)
-    if (u->held() > 0) s += " " + local_name(*u, top) + " (" + std::to_string(u->held()) + ")";
+    if (u->held() > 0) s += " " + stat_prefix(*u, top) + " (" + std::to_string(u->held()) + ")";
   return s + "; " + culling->state() + (dram ? "; " + dram->engine().state() : "");
 }
 
@@ -252,10 +247,10 @@ void Accelerator::Netlist::report_progress(Tick now) const {
 }
 
 void Accelerator::Netlist::register_stats() {
-  for (auto& u : trv) u->register_stats(stats, local_name(*u, top));
-  for (auto& u : list) u->register_stats(stats, local_name(*u, top));
-  for (auto& u : ist) u->register_stats(stats, local_name(*u, top));
-  for (auto& u : shading) u->register_stats(stats, local_name(*u, top));
+  for (auto& u : trv) u->register_stats(stats, stat_prefix(*u, top));
+  for (auto& u : list) u->register_stats(stats, stat_prefix(*u, top));
+  for (auto& u : ist) u->register_stats(stats, stat_prefix(*u, top));
+  for (auto& u : shading) u->register_stats(stats, stat_prefix(*u, top));
   // Unit totals per type, beside the per-instance figures.
   auto add_totals = [this](const std::string& type, std::vector<const Unit*> units) {
     for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
@@ -272,11 +267,11 @@ void Accelerator::Netlist::register_stats() {
   add_totals("ist", raw(ist));
   add_totals("shading", raw(shading));
   memory->register_stats(stats, top, &end);
-  generator->register_unit_stats(stats, local_name(*generator, top));
-  culling->register_stats(stats, local_name(*culling, top));
-  lvb.register_stats(stats, local_name(lvb, top));
-  if (dram) dram->register_stats(stats, local_name(*dram, top));
-  for (RayFifo* f : fifos) f->register_stats(stats, local_name(*f, top), &end);
+  generator->register_unit_stats(stats, stat_prefix(*generator, top));
+  culling->register_stats(stats, stat_prefix(*culling, top));
+  lvb.register_stats(stats, stat_prefix(lvb, top));
+  if (dram) dram->register_stats(stats, stat_prefix(*dram, top));
+  for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &end);
 }
 
 Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, const MemoryImage& image,

@@ -83,16 +83,6 @@ std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, con
   return u;
 }
 
-namespace {
-
-// The name of `o` below `top` ("rtsim.trv3.l1" under "rtsim" is "trv3.l1"): its statistics prefix.
-std::string local_name(const sc_core::sc_object& o, const sc_core::sc_object& top) {
-  const std::string full = o.name(), prefix = std::string(top.name()) + ".";
-  return full.compare(0, prefix.size(), prefix) == 0 ? full.substr(prefix.size()) : full;
-}
-
-}  // namespace
-
 void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const {
   // Totals over a set of caches, beside the per-instance figures.
   auto totals = [&r](const std::string& prefix, std::vector<const Cache*> caches) {
@@ -113,10 +103,10 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
   for (int t = 0; t < kTypes; ++t) {
     const TypeMemory& m = types_[t];
     const std::string type = type_name(Type(t));
-    for (const Cache* c : m.l1s) c->register_stats(r, local_name(*c, top));
+    for (const Cache* c : m.l1s) c->register_stats(r, stat_prefix(*c, top));
     if (!m.l1s.empty()) totals(type + ".l1", std::vector<const Cache*>(m.l1s.begin(), m.l1s.end()));
-    for (const Cache* c : m.l2s) c->register_stats(r, local_name(*c, top));
-    for (const Crossbar* x : m.icnts) x->register_stats(r, local_name(*x, top), end);
+    for (const Cache* c : m.l2s) c->register_stats(r, stat_prefix(*c, top));
+    for (const Crossbar* x : m.icnts) x->register_stats(r, stat_prefix(*x, top), end);
     if (m.private_l2) totals(type + ".l2", m.l2s);
   }
   interconnect_->register_stats(r, "memory", end);

@@ -75,7 +75,6 @@ void ShadingUnit::process(uint32_t id, Tick now) {
 }
 
 void ShadingUnit::retire(uint32_t id, RayType type, Tick when) {
-  RayState& r = (*ctx_.pool)[id];
   owners_->retire(id);
   release();
   ctx_.pool->release(id);

@@ -1,8 +1,15 @@
 #include "model/stats_registry.h"
 
+#include <systemc>
+
 #include <stdexcept>
 
 namespace rtsim::model {
+
+std::string stat_prefix(const sc_core::sc_object& block, const sc_core::sc_object& top) {
+  const std::string full = block.name(), prefix = std::string(top.name()) + ".";
+  return full.compare(0, prefix.size(), prefix) == 0 ? full.substr(prefix.size()) : full;
+}
 
 void StatsRegistry::add(const std::string& name, Entry e) {
   if (!entries_.emplace(name, std::move(e)).second) throw std::logic_error("statistic registered twice: " + name);

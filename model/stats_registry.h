@@ -11,7 +11,14 @@
 #include <map>
 #include <string>
 
+namespace sc_core {
+class sc_object;
+}
+
 namespace rtsim::model {
+
+// A block's statistics prefix: its hierarchical name below `top` ("top.trv3.l1" -> "trv3.l1").
+std::string stat_prefix(const sc_core::sc_object& block, const sc_core::sc_object& top);
 
 class StatsRegistry {
  public:

@@ -180,7 +180,7 @@ int run_model(const RunArgs& args) {
   if (!args.quiet) {
     fmt::print("{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
                "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, stats.csv, "
-               "config.json, render.png, mask.npy, culled.npy{}\n",
+               "glossary.csv, config.json, render.png, mask.npy, culled.npy{}\n",
                p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
                double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
                c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
