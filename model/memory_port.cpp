@@ -99,12 +99,13 @@ void MemoryPort::send_now(Transaction* t) {
     case tlm::TLM_ACCEPTED:
       open_ = t;  // END_REQ comes later
       break;
+    // Answered within the request: queued, never delivered inside the requester's fetch_line.
     case tlm::TLM_UPDATED:
-      if (phase == tlm::BEGIN_RESP) response(t, now + delay.value());
+      if (phase == tlm::BEGIN_RESP) response(t, now + delay.value(), false);
       else if (phase != tlm::END_REQ) open_ = t;
       break;
     case tlm::TLM_COMPLETED:
-      response(t, now + delay.value());
+      response(t, now + delay.value(), false);
       break;
   }
 }
@@ -119,11 +120,11 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
     if (!held_.empty()) calendar_.schedule(this, clock_.edge_at_or_after(at));
   }
   if (phase != tlm::BEGIN_RESP) return tlm::TLM_ACCEPTED;
-  response(static_cast<Transaction*>(&p), at);
+  response(static_cast<Transaction*>(&p), at, true);
   return tlm::TLM_COMPLETED;
 }
 
-void MemoryPort::response(Transaction* t, Tick at) {
+void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
   if (!t->is_response_ok()) failed(*t);
   ++stats_.responses;
   if (t->write) {  // posted: nobody waits
@@ -132,7 +133,7 @@ void MemoryPort::response(Transaction* t, Tick at) {
     return;
   }
   const Tick edge = clock_.edge_at_or_after(at);
-  if (edge == calendar_.now() && calendar_.running() && responses_.empty()) {
+  if (may_deliver_now && edge == calendar_.now() && calendar_.running() && responses_.empty()) {
     deliver(t);  // from a block on this calendar (our GDDR3), at an edge: already in the fixed order
     return;
   }

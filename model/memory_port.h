@@ -93,7 +93,9 @@ class MemoryPort : public sc_core::sc_module,
   void send(Transaction* t);                 // BEGIN_REQ, or queued behind a pending END_REQ
   void send_now(Transaction* t);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay);
-  void response(Transaction* t, Tick at);    // a response arrived (at `at`)
+  // A response arrived (at `at`); from the target's own call (nb_transport_bw), it may be handed
+  // over at once (above).
+  void response(Transaction* t, Tick at, bool may_deliver_now);
   void deliver(Transaction* t);              // tells its requester, now
   void activate() override;                  // on the calendar: deliver due responses, send held requests
   void free(tlm::tlm_generic_payload* p) override;  // the memory manager: back to the pool
