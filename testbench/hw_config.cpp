@@ -59,7 +59,7 @@ class YamlReader {
   }
   void preset(const char* key, model::DramConfig& dram, const char*) {
     YamlMap& m = at(key);
-    if (!m.has(key)) return (void)m.get<std::string>(key, "");
+    if (!m.has(key)) return;  // the defaults' preset stands
     try {
       dram = model::dram_preset(m.get<std::string>(key, ""));
     } catch (const std::invalid_argument& e) {
