@@ -130,16 +130,19 @@ glm::dquat quat_slerp(const glm::dquat& p, const glm::dquat& q, double s) {
   return len > 0.0 ? r / len : p;
 }
 
-KbQuatSpline::KbQuatSpline(const std::vector<KbKey<glm::dquat>>& keys) {
+KbQuatSpline::KbQuatSpline(const std::vector<KbKey<glm::dquat>>& keys, Flip flip) {
   if (keys.size() < 4) throw std::invalid_argument("KbQuatSpline needs at least 4 keys");
+  // q and -q are the same rotation; keeping neighbours within 90 degrees of each other (in
+  // quaternion space) makes a segment take the short way round.
   std::vector<glm::dquat> q(keys.size());
   for (std::size_t i = 0; i < keys.size(); ++i) {
     q[i] = glm::normalize(keys[i].value);
-    // q and -q are the same rotation; keeping neighbours within 90 degrees of each other
-    // (in quaternion space) makes every segment and tangent take the short way round.
-    if (i > 0 && glm::dot(q[i - 1], q[i]) < 0.0) q[i] = -q[i];
+    if (flip == Flip::kAll && i > 0 && glm::dot(q[i - 1], q[i]) < 0.0) q[i] = -q[i];
   }
   for (std::size_t i = 0; i + 3 < keys.size(); ++i) {
+    // BART's kbsplrot.c: each segment flips its end key to its start key's side, for good (a
+    // later segment sees the flipped key), but takes the key after it as written.
+    if (flip == Flip::kBart && glm::dot(q[i + 1], q[i + 2]) < 0.0) q[i + 2] = -q[i + 2];
     const glm::dquat &q0 = q[i], &q1 = q[i + 1], &q2 = q[i + 2], &q3 = q[i + 3];
     kb_detail::SegmentWeights w = kb_detail::segment_weights(
         keys[i].time, keys[i + 1].time, keys[i + 2].time, keys[i + 3].time, keys[i + 1].tcb,

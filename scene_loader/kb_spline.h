@@ -74,9 +74,13 @@ extern template class KbSpline<glm::dvec3>;
 class KbQuatSpline {
  public:
   KbQuatSpline() = default;
-  // Keys need not be in one hemisphere: each key is flipped to the side of its predecessor
-  // so that every segment takes the short way round. Throws for fewer than 4 keys.
-  explicit KbQuatSpline(const std::vector<KbKey<glm::dquat>>& keys);
+  // Which keys are flipped to the hemisphere of their predecessor (q and -q are one rotation):
+  // kBart as BART's kbsplrot.c does, segment by segment (keys 2 .. n-2, each when it ends a
+  // segment; a segment's tangent takes the key after it unflipped), so frames match BART's; kAll
+  // flips every key first, so that every segment and tangent takes the short way round.
+  enum class Flip { kBart, kAll };
+  // Throws for fewer than 4 keys.
+  explicit KbQuatSpline(const std::vector<KbKey<glm::dquat>>& keys, Flip flip = Flip::kBart);
 
   bool empty() const { return segments_.empty(); }
   glm::dquat evaluate(double t) const;  // always unit length
