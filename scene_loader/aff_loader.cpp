@@ -16,6 +16,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat4x4.hpp>
 
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdio>
@@ -198,6 +199,16 @@ struct AnimNode {
   std::vector<std::size_t> lights;
 };
 
+// An `la NAME` light: its position in the frame of the keyframes NAME, and where that frame sits.
+struct AnimatedLight {
+  std::size_t index;  // in scene.lights
+  int node;           // enclosing animated node, -1 for none
+  dmat4 matrix;       // static transforms between that node's frame and the light's
+  dvec3 position;
+  std::string name, file;
+  long line;
+};
+
 // An open '{': what to restore at its '}'.
 struct Frame {
   dmat4 matrix;
@@ -239,9 +250,11 @@ class AffLoader {
       else if (kw == "pp") parse_polygon(tk, true);
       else if (kw == "tt") parse_textured_triangle(tk, false);
       else if (kw == "ttp") parse_textured_triangle(tk, true);
+      else if (kw == "tpa") parse_animated_triangle(tk);
       else if (kw == "s") parse_sphere(tk);
       else if (kw == "c") parse_cone(tk);
       else if (kw == "l") parse_light(tk);
+      else if (kw == "la") parse_animated_light(tk);
       else if (kw == "v") parse_view(tk);
       else if (kw == "b") tk.vec3("background colour");  // no background in Scene
       else if (kw == "am") tk.vec3("ambient light colour");  // no ambient term in Scene
@@ -250,7 +263,7 @@ class AffLoader {
       else if (kw == "{") tk.fail(kw, "a keyword ('{' only follows 'xs ...' or 'x NAME')");
       else
         tk.error("found unknown keyword '" + std::string(kw) +
-                 "', expected one of the AFF keywords v b l f fm am a c s p pp tt ttp m i d xs "
+                 "', expected one of the AFF keywords v b l la f fm am a c s p pp tt ttp tpa m i d xs "
                  "x k }");
     }
     // Braces must balance within each file, so a truncated include cannot close its parent.
@@ -436,6 +449,23 @@ class AffLoader {
     scene_.lights.push_back(l);
   }
 
+  // la NAME x y z [r g b]: a light placed by the keyframes `k NAME` (which may come later), as
+  // `x NAME { l x y z }` would be; resolved with the animated transforms.
+  void parse_animated_light(Tokenizer& tk) {
+    AnimatedLight a;
+    a.name = std::string(tk.word("an animated light's name after 'la'"));
+    a.position = tk.vec3("light position");
+    PointLight l;
+    if (tk.next_is_number()) l.color = Vec3(tk.vec3("light colour"));
+    a.index = scene_.lights.size();
+    a.node = node_;
+    a.matrix = matrix_;
+    a.file = tk.path();
+    a.line = tk.line();
+    animated_lights_.push_back(std::move(a));
+    scene_.lights.push_back(l);
+  }
+
   void parse_view(Tokenizer& tk) {
     Camera c;
     tk.expect("from", "in 'v' block");
@@ -542,6 +572,34 @@ class AffLoader {
     add_triangle(v[0], v[1], v[2]);
   }
 
+  // tpa N, then N samples "time (x y z nx ny nz) x3" in increasing time: the triangle at the load
+  // time is the linear interpolation of the two samples around it, clamped to the first and the
+  // last sample (BART's format description).
+  void parse_animated_triangle(Tokenizer& tk) {
+    const long n = tk.count("number of tpa time samples");
+    if (n < 1) tk.fail(std::to_string(n), "at least 1 tpa time sample");
+    std::vector<double> times(static_cast<std::size_t>(n));
+    std::vector<std::array<dvec3, 3>> verts(times.size());
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      times[k] = tk.number("tpa sample time");
+      if (k > 0 && !(times[k] > times[k - 1]))
+        tk.error("found tpa sample time " + std::to_string(times[k]) + " after " + std::to_string(times[k - 1]) +
+                 ", expected increasing times");
+      for (dvec3& v : verts[k]) {
+        v = tk.vec3("tpa vertex x y z");
+        tk.vec3("tpa normal");
+      }
+    }
+    std::size_t k = 0;
+    while (k + 1 < times.size() && times[k + 1] <= time_) ++k;
+    std::array<dvec3, 3> v = verts[k];
+    if (k + 1 < times.size() && time_ > times[k]) {
+      const double s = (time_ - times[k]) / (times[k + 1] - times[k]);
+      for (int j = 0; j < 3; ++j) v[j] = (1.0 - s) * verts[k][j] + s * verts[k + 1][j];
+    }
+    add_triangle(to_frame(v[0]), to_frame(v[1]), to_frame(v[2]));
+  }
+
   // s x y z r. A negative radius (inside visible) gives the same surface.
   void parse_sphere(Tokenizer& tk) {
     dvec3 center = tk.vec3("sphere centre");
@@ -629,6 +687,17 @@ class AffLoader {
       for (std::size_t l : n.lights)
         scene_.lights[l].position = Vec3(transform_point(m, dvec3(scene_.lights[l].position)));
     }
+    for (const AnimatedLight& a : animated_lights_) {
+      auto it = animations_.find(a.name);
+      if (it == animations_.end())
+        throw_at_line(a.file, a.line, "found 'la " + a.name + "', expected keyframes 'k " + a.name + "' in the scene");
+      const dmat4 m = (a.node < 0 ? dmat4(1.0) : world[a.node]) * a.matrix * it->second.matrix();
+      scene_.lights[a.index].position = Vec3(transform_point(m, a.position));
+      if (a.node >= 0 && !visible[a.node]) {
+        if (keep_light.empty()) keep_light.assign(scene_.lights.size() - first_light_, 1);
+        keep_light[a.index - first_light_] = 0;
+      }
+    }
     compact(scene_.triangles, first_triangle_, keep_tri);
     compact(scene_.lights, first_light_, keep_light);
 
@@ -666,6 +735,7 @@ class AffLoader {
   std::vector<Frame> frames_;
   std::vector<AnimNode> nodes_;
   std::unordered_map<std::string, Animation> animations_;
+  std::vector<AnimatedLight> animated_lights_;
 
   int material_ = -1;  // current material (global, in parse order), -1 until set or needed
   long detail_level_ = 0;

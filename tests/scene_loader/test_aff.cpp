@@ -360,6 +360,56 @@ TEST(AffLoader, AnimatedTransformUsesLaterKeysAndVisibility) {
   EXPECT_EQ(load_text(text, 4.9).triangles.size(), 1u);
 }
 
+// tpa: each triangle is the linear interpolation of its two samples around the load time,
+// clamped to the first and last; a thousand of them, five samples each, load as BART files hold them.
+TEST(AffLoader, AnimatedTrianglesInterpolateTheirSamplesLinearly) {
+  constexpr int kTris = 1000, kSamples = 5;
+  const double times[kSamples] = {0.0, 1.0, 2.5, 3.0, 6.0};
+  // Vertex j of triangle i at sample k: (i + k * k, j, 10 * i + times[k]).
+  auto vertex = [&](int i, int j, int k) { return glm::dvec3(i + k * k, j, 10.0 * i + times[k]); };
+  std::string text;
+  for (int i = 0; i < kTris; ++i) {
+    text += "tpa " + std::to_string(kSamples) + "\n";
+    for (int k = 0; k < kSamples; ++k) {
+      text += std::to_string(times[k]) + "\n";
+      for (int j = 0; j < 3; ++j) {
+        const glm::dvec3 v = vertex(i, j, k);
+        text += std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "  0 0 1\n";
+      }
+    }
+  }
+  for (double t : {-1.0, 0.5, 3.7, 9.0}) {
+    const Scene s = load_text(text, t);
+    ASSERT_EQ(s.triangles.size(), size_t(kTris)) << t;
+    int k = 0;
+    while (k + 1 < kSamples && times[k + 1] <= t) ++k;
+    const double w = k + 1 < kSamples && t > times[k] ? (t - times[k]) / (times[k + 1] - times[k]) : 0.0;
+    for (int i : {0, 417, 999}) {
+      const Vec3* got[3] = {&s.triangles[i].v0, &s.triangles[i].v1, &s.triangles[i].v2};
+      for (int j = 0; j < 3; ++j) {
+        const glm::dvec3 want = k + 1 < kSamples ? (1 - w) * vertex(i, j, k) + w * vertex(i, j, k + 1) : vertex(i, j, k);
+        expect_vec(*got[j], want.x, want.y, want.z, 1e-3);
+      }
+    }
+  }
+  // Bad input: a missing vertex, a time out of order.
+  expect_text_error("tpa 2\n0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n", 8,
+                    "end of file");
+  expect_text_error("tpa 2\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0.5\n", 6, "expected increasing times");
+}
+
+// la NAME: a light placed by the keyframes NAME, given before or after it; none is an error.
+TEST(AffLoader, AnimatedLightsFollowTheirKeyframes) {
+  const std::string keys = "k lamp {\n  transl 4\n  -1 0 0 0 0 0 0\n  0 0 0 0 0 0 0\n  2 4 0 0 0 0 0\n  3 4 0 0 0 0 0\n}\n";
+  const Scene s = load_text("la lamp 1 2 3 0.5 0.5 0.5\n" + keys, 2.0);
+  ASSERT_EQ(s.lights.size(), 1u);
+  expect_vec(s.lights[0].position, 5, 2, 3, 1e-6);  // (1, 2, 3) moved by (4, 0, 0)
+  expect_vec(s.lights[0].color, 0.5, 0.5, 0.5, 1e-6);
+  const Scene inside = load_text("xs 1 1 1  0 1 0 0  0 10 0 {\nla lamp 1 2 3\n}\n" + keys, 0.0);
+  expect_vec(inside.lights.at(0).position, 1, 12, 3, 1e-6);  // the enclosing static transform too
+  expect_text_error("l 0 0 0\nla nowhere 1 2 3\n", 2, "expected keyframes 'k nowhere'");
+}
+
 TEST(AffLoader, InvisibleParentHidesChildrenButNotSiblings) {
   std::string text = std::string("x outer {\n x inner {\n") + kOneTriangle + " }\n" +
                      kOneTriangle + "}\n" + kOneTriangle +
