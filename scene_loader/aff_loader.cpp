@@ -218,8 +218,8 @@ struct Frame {
 
 class AffLoader {
  public:
-  AffLoader(Scene& scene, double time)
-      : scene_(scene), time_(time), first_triangle_(scene.triangles.size()),
+  AffLoader(Scene& scene, double time, KbQuatSpline::Flip rotation_flip)
+      : scene_(scene), time_(time), rotation_flip_(rotation_flip), first_triangle_(scene.triangles.size()),
         first_light_(scene.lights.size()) {}
 
   void load(const std::string& path) {
@@ -319,7 +319,7 @@ class AffLoader {
         (is_transl ? anim.translation : anim.scale) = spline.evaluate(time_);
         if (is_transl) anim.has_translation = true;
       } else if (kind == "rot") {
-        anim.rotation = KbQuatSpline(read_rotation_keys(tk)).evaluate(time_);
+        anim.rotation = KbQuatSpline(read_rotation_keys(tk), rotation_flip_).evaluate(time_);
         anim.has_rotation = true;
       } else if (kind == "visibility") {
         // Visible until the first key; from each key's time on, that key's flag holds.
@@ -728,6 +728,7 @@ class AffLoader {
 
   Scene& scene_;
   double time_;
+  KbQuatSpline::Flip rotation_flip_;
   std::size_t first_triangle_, first_light_;  // where this load started appending
 
   dmat4 matrix_{1.0};  // static transforms from the current node's frame to here
@@ -744,8 +745,8 @@ class AffLoader {
 
 }  // namespace
 
-void load_aff(const std::string& path, double time, Scene& scene) {
-  AffLoader(scene, time).load(path);
+void load_aff(const std::string& path, double time, Scene& scene, KbQuatSpline::Flip rotation_flip) {
+  AffLoader(scene, time, rotation_flip).load(path);
 }
 
 }  // namespace rtsim

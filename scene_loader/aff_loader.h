@@ -2,6 +2,7 @@
 #pragma once
 
 #include "scene/scene.h"
+#include "scene_loader/kb_spline.h"
 
 #include <string>
 
@@ -12,6 +13,9 @@ namespace rtsim {
 // sets its camera, resolution and time. Spheres and cones are tessellated; textures are
 // ignored (texture files are never opened). Throws InputError ("FILE:LINE: ...") for
 // malformed input, unknown keywords and missing include files.
-void load_aff(const std::string& path, double time, Scene& scene);
+// `rotation_flip`: which rotation keys are flipped to their neighbour's hemisphere (kBart: as
+// BART's own code, so frames match BART's; kAll: every key, each segment the short way).
+void load_aff(const std::string& path, double time, Scene& scene,
+              KbQuatSpline::Flip rotation_flip = KbQuatSpline::Flip::kBart);
 
 }  // namespace rtsim

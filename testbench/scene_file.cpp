@@ -42,9 +42,14 @@ void load_geometry_file(YamlMap& g, const fs::path& root, double time, Scene& sc
                                path.string(), root.string()));
   const std::string ext = lower_extension(path);
   const bool has_material = g.has("material");
+  if (g.has("rotation_keys") && ext != ".aff" && ext != ".nff")
+    g.fail("rotation_keys", "only AFF/NFF files have rotation keys");
   if (ext == ".aff" || ext == ".nff") {
     if (has_material) g.fail("material", "AFF/NFF files carry their own materials");
-    load_aff(path.string(), time, scene);
+    const std::string flip = g.get<std::string>("rotation_keys", "bart");
+    if (flip != "bart" && flip != "all")
+      g.fail("rotation_keys", "expected 'bart' (flipped as BART's code does) or 'all' (every key the short way)");
+    load_aff(path.string(), time, scene, flip == "bart" ? KbQuatSpline::Flip::kBart : KbQuatSpline::Flip::kAll);
   } else if (ext == ".ply") {
     const Material mat = has_material ? read_material(g.map("material")) : Material{};
     load_ply(path.string(), scene.add_material(mat), scene);

@@ -261,6 +261,9 @@ TEST(AffScenes, RobotsCameraAtTimeTenIsBarts) {
   Scene s;
   load_aff((test::shared_scenes() / "bart/robots/Robot.aff").string(), 10.0, s);
   expect_vec(s.camera.dir, -0.5153, -0.2569, -0.8176, 5e-4);
+  Scene all;  // the other rule, a scene file's `rotation_keys: all`
+  load_aff((test::shared_scenes() / "bart/robots/Robot.aff").string(), 10.0, all, KbQuatSpline::Flip::kAll);
+  expect_vec(all.camera.dir, -0.350, -0.236, -0.906, 5e-4);
 }
 
 TEST(AffScenes, KitchenCameraFollowsKeysOverTime) {
@@ -408,6 +411,25 @@ TEST(AffLoader, AnimatedLightsFollowTheirKeyframes) {
   const Scene inside = load_text("xs 1 1 1  0 1 0 0  0 10 0 {\nla lamp 1 2 3\n}\n" + keys, 0.0);
   expect_vec(inside.lights.at(0).position, 1, 12, 3, 1e-6);  // the enclosing static transform too
   expect_text_error("l 0 0 0\nla nowhere 1 2 3\n", 2, "expected keyframes 'k nowhere'");
+}
+
+// d LEVEL sets the detail level; an include `i LEVEL FILE` above it is skipped (BART's rule), so
+// one file can hold a coarse and a fine version of an object. ttp is a textured triangle patch.
+TEST(AffLoader, DetailLevelsChooseIncludesAndTexturedPatchesLoad) {
+  const fs::path dir = test::temp_dir("aff_detail");
+  write_file(dir / "coarse.aff", kOneTriangle);
+  write_file(dir / "fine.aff", std::string(kOneTriangle) + kOneTriangle);
+  auto triangles_at = [&](const std::string& d) {
+    write_file(dir / "top.aff", d + "i 0 coarse.aff\ni 1 fine.aff\n");
+    Scene s;
+    load_aff((dir / "top.aff").string(), 0.0, s);
+    return s.triangles.size();
+  };
+  EXPECT_EQ(triangles_at(""), 1u);       // default level 0: the level-1 include is skipped
+  EXPECT_EQ(triangles_at("d 1\n"), 3u);  // both
+  const Scene t = load_text("ttp tex.ppm  0 0 0 0 0 1 0 0  1 0 0 0 0 1 1 0  0 1 0 0 0 1 0 1\n");
+  ASSERT_EQ(t.triangles.size(), 1u);
+  expect_vec(t.triangles[0].v1, 1, 0, 0, 0);
 }
 
 TEST(AffLoader, InvisibleParentHidesChildrenButNotSiblings) {

@@ -320,6 +320,14 @@ TEST(Cli, MalformedGeometryFilesAreInputErrors) {
   write(dir / "unknown.aff", "l 0 5 0\nzz 1 2 3\n");
   write(dir / "aff.yaml", "geometry:\n  - file: unknown.aff\n" + cam);
   expect_input_error("info " + (dir / "aff.yaml").string() + " --scene-root " + dir.string(), {"unknown.aff:2", "zz"});
+  // rotation_keys: bart or all, and only for AFF/NFF.
+  write(dir / "ok.aff", "l 0 5 0\np 3\n0 0 0\n1 0 0\n0 1 0\n");
+  write(dir / "rot.yaml", "geometry:\n  - file: ok.aff\n    rotation_keys: sideways\n" + cam);
+  expect_input_error("info " + (dir / "rot.yaml").string() + " --scene-root " + dir.string(),
+                     {"rot.yaml:3", "rotation_keys", "'bart'"});
+  write(dir / "rotobj.yaml", "geometry:\n  - file: bad.obj\n    rotation_keys: all\n" + cam);
+  expect_input_error("info " + (dir / "rotobj.yaml").string() + " --scene-root " + dir.string(),
+                     {"rotobj.yaml:3", "rotation_keys", "only AFF/NFF"});
   write(dir / "short.aff", "l 0 5 0\np 3\n0 0 0\n1 0 0\n");
   write(dir / "short.yaml", "geometry:\n  - file: short.aff\n" + cam);
   expect_input_error("info " + (dir / "short.yaml").string() + " --scene-root " + dir.string(), {"short.aff"});
