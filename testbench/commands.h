@@ -35,6 +35,16 @@ struct LvbArgs {
 };
 int run_lvb(const LvbArgs& args);
 
+// rtsim animate: the frames of an animated scene as a sweep (testbench/animate_command.cpp).
+struct AnimateArgs {
+  std::string scene, hw, times, out, emit;
+  std::string lvb = "both";  // on, off or both
+  int width = 0, height = 0, jobs = 1;
+};
+int run_animate(const AnimateArgs& args);
+// --times START:END:STEP, END included; an empty or decreasing range is an InputError.
+std::vector<double> parse_times(const std::string& text);
+
 struct RunArgs {
   RunSources sources;  // scene, hardware, flags and overrides: resolved into a RunConfig
   std::string out;

@@ -107,6 +107,21 @@ extern "C" int sc_main(int argc, char** argv) {
   sweep_cmd->add_option("--point", sweep.point, "Run one point of DIR/manifest.json (array tasks)")->check(CLI::Range(0, 1 << 30));
   sweep_cmd->add_flag("--no-plots", sweep_no_plots, "Skip the figures");
 
+  rtsim::AnimateArgs animate;
+  CLI::App* animate_cmd = app.add_subcommand(
+      "animate", "Simulate the frames of an animated scene (kd-tree and LVB rebuilt per frame), as a resumable sweep");
+  animate_cmd->add_option("scene", animate.scene, "Scene description (YAML)")->required();
+  animate_cmd->add_option("--hw", animate.hw, "Hardware configuration (YAML)")->required();
+  animate_cmd->add_option("--times", animate.times, "START:END:STEP in the scene's animation time (END included)")
+      ->required();
+  animate_cmd->add_option("--out", animate.out, "Output directory")->required();
+  animate_cmd->add_option("--lvb", animate.lvb, "Culling on, off or both")->check(CLI::IsMember({"on", "off", "both"}));
+  animate_cmd->add_option("--width", animate.width, "Image width")->check(CLI::Range(1, 16384));
+  animate_cmd->add_option("--height", animate.height, "Image height")->check(CLI::Range(1, 16384));
+  animate_cmd->add_option("--jobs", animate.jobs, "Frames at once")->check(CLI::Range(1, 1024));
+  animate_cmd->add_option("--emit", animate.emit, "Write a job script and manifest instead of running")
+      ->check(CLI::IsMember({"slurm"}));
+
   CLI::App* params_cmd = app.add_subcommand(
       "params", "Print every key of a hardware file: default (the paper's T&I engine), range, unit, meaning (markdown)");
 
@@ -138,6 +153,7 @@ extern "C" int sc_main(int argc, char** argv) {
   try {
     if (*render_cmd) return rtsim::run_render(render);
     if (*info_cmd) return rtsim::run_info(info);
+    if (*animate_cmd) return rtsim::run_animate(animate);
     if (*params_cmd) {
       fmt::print("{}", rtsim::hw_params_markdown());
       return 0;

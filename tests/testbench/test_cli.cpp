@@ -472,6 +472,47 @@ TEST(Cli, ParamsTableInConfigsReadmeIsCurrent) {
   fs::remove_all(out);
 }
 
+// rtsim animate: the frames of BART's robots as a sweep; frames.csv pairs culling off and on per
+// time, the robots move so the frames differ, a rerun runs nothing again, and a bad --times is an
+// input error.
+TEST(Cli, AnimateRunsTheFramesAsAResumableSweep) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  const fs::path out = test::temp_dir("cli_animate");
+  const std::string args = "animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
+                           (test::source_dir() / "configs/hw/small.yaml").string() +
+                           " --times 0:1:1 --width 32 --height 18 --lvb both --jobs 2 --out " + out.string();
+  RunResult r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream csv(slurp(out / "frames.csv"));
+  std::string line;
+  std::getline(csv, line);
+  EXPECT_EQ(line.substr(0, 36), "time,triangles,cycles_off,cycles_on,");
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    rows.push_back(f);
+  }
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0][0], "0");
+  EXPECT_EQ(rows[1][0], "1");
+  for (const auto& f : rows) {
+    EXPECT_EQ(f[1], "71708");
+    EXPECT_FALSE(f[2].empty());
+    EXPECT_FALSE(f[3].empty());
+  }
+  EXPECT_NE(rows[0][3], rows[1][3]) << "the robots walk: another frame, other cycles";
+  EXPECT_TRUE(fs::exists(out / "host.csv"));
+  r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 already done, running 0"), std::string::npos) << r.out;
+  expect_input_error("animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
+                         (test::source_dir() / "configs/hw/small.yaml").string() + " --times 2:1:1 --out " + out.string(),
+                     {"--times 2:1:1", "increasing"});
+  fs::remove_all(out);
+}
+
 // --mem-trace: one CSV row per memory transaction whose request reaches memory in the window, as
 // the TLM-2.0 boundary saw it; the reads and writes of the whole frame add up to memory.port's.
 TEST(Cli, MemoryTraceListsTheTransactionsOfTheWindow) {
