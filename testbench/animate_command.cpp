@@ -72,6 +72,7 @@ nlohmann::json read_report(const std::string& dir) {
 void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   struct Frame {
     nlohmann::json on, off;
+    std::string image;  // the culling-on point's render.png when there is one
   };
   std::map<double, Frame> frames;
   for (const SweepPoint& p : spec.points) {
@@ -79,6 +80,7 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
     const nlohmann::json& lvb = p.values["run.lvb"];
     const bool on = lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
     (on ? frames[t].on : frames[t].off) = read_report(sweep_point_dir(out, p));
+    if (on || frames[t].image.empty()) frames[t].image = (fs::path(sweep_point_dir(out, p)) / "render.png").string();
   }
   auto number = [](const nlohmann::json& r, const nlohmann::json::json_pointer& at) -> std::string {
     return r.is_null() || !r.contains(at) ? "" : fmt::format("{}", r.at(at).get<double>());
@@ -101,6 +103,12 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
                         number(f.on, ptr("/host/seconds/lvb")), number(f.off, ptr("/host/seconds/simulate")),
                         number(f.on, ptr("/host/seconds/simulate")));
   }
+  // frames/frame_NNNN.png in time order: the sequence as images.
+  fs::create_directories(fs::path(out) / "frames");
+  int k = 0;
+  for (const auto& [t, f] : frames)
+    fs::copy_file(f.image, fs::path(out) / "frames" / fmt::format("frame_{:04d}.png", k++),
+                  fs::copy_options::overwrite_existing);
   write_file_atomic((fs::path(out) / "frames.csv").string(), csv);
   write_file_atomic((fs::path(out) / "host.csv").string(), host);
 }

@@ -504,6 +504,8 @@ TEST(Cli, AnimateRunsTheFramesAsAResumableSweep) {
   }
   EXPECT_NE(rows[0][3], rows[1][3]) << "the robots walk: another frame, other cycles";
   EXPECT_TRUE(fs::exists(out / "host.csv"));
+  EXPECT_TRUE(fs::exists(out / "frames/frame_0000.png"));
+  EXPECT_TRUE(fs::exists(out / "frames/frame_0001.png"));
   r = run(args);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("4 already done, running 0"), std::string::npos) << r.out;
