@@ -93,7 +93,7 @@ struct Accelerator::Netlist : RayOwners {
   std::unique_ptr<Watchdog> watchdog;
   std::unique_ptr<PeriodicProbe> progress;
   std::unique_ptr<VcdTrace> trace;
-  std::vector<const RayUnit*> ray_units;  // TRV, LIST, IST, shading
+  std::vector<RayUnit*> ray_units;  // TRV, LIST, IST, shading
   std::vector<RayFifo*> fifos;            // shading, TRV, LIST, IST inputs
   StatsRegistry stats;
   Tick end = 0;
@@ -314,12 +314,9 @@ AcceleratorResult Accelerator::result() {
     n.memory->interconnect().port().close_trace();
     // The frame ends with the last retirement (the watchdog's last look may come later).
     n.end = n.phases->end();
-    std::vector<Unit*> units{n.generator.get(), n.culling.get()};
-    for (auto& u : n.shading) units.push_back(u.get());
-    for (auto& u : n.trv) units.push_back(u.get());
-    for (auto& u : n.list) units.push_back(u.get());
-    for (auto& u : n.ist) units.push_back(u.get());
-    for (Unit* u : units) u->finish_accounting(n.end);
+    n.generator->finish_accounting(n.end);
+    n.culling->finish_accounting(n.end);
+    for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
     for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
     n.collected = true;
   }

@@ -23,10 +23,6 @@ uint32_t log2u(uint64_t v) {
   throw std::invalid_argument("DramConfig." + field + ": " + what);
 }
 
-void require_at_least(const std::string& field, uint64_t value, uint64_t min) {
-  if (value < min) fail(field, "must be >= " + std::to_string(min) + " (got " + std::to_string(value) + ")");
-}
-
 void require_pow2(const std::string& field, uint64_t value) {
   if (!is_pow2(value)) fail(field, "must be a power of two (got " + std::to_string(value) + ")");
 }
@@ -114,25 +110,13 @@ DramConfig gddr3_gt200_1ghz_cycles() {
 }  // namespace
 
 void DramConfig::validate() const {
+  // The ranges of describe() (every count and timing at least 1, bursts at least 2); then what
+  // the fields must satisfy together.
   RangeCheck check("DramConfig");
   describe(check, *this);
-  require_at_least("channels", channels, 1);
   require_pow2("channels", channels);
-  require_at_least("banks", banks, 1);
   require_pow2("banks", banks);
-  require_at_least("tCK_ps", tCK_ps, 1);
-  require_at_least("tRCD", tRCD, 1);
-  require_at_least("CL", CL, 1);
-  require_at_least("tRP", tRP, 1);
-  require_at_least("tRAS", tRAS, 1);
-  require_at_least("tRC", tRC, 1);
-  require_at_least("tCCD", tCCD, 1);
-  require_at_least("tRRD", tRRD, 1);
   if (tRC < tRAS) fail("tRC", "must be >= tRAS (" + std::to_string(tRAS) + "), got " + std::to_string(tRC));
-  require_at_least("WL", WL, 1);
-  require_at_least("tCDLR", tCDLR, 1);
-  require_at_least("tWR", tWR, 1);
-  require_at_least("burst_length", burst_length, 2);
   require_pow2("burst_length", burst_length);
   // GPGPU-Sim's derived write turnarounds subtract WL (gpu-sim.h memory_config::init()); both
   // must stay >= 1 cycle.
@@ -142,9 +126,7 @@ void DramConfig::validate() const {
   if (WL >= CL + burst_cycles() + kReadToWriteTurnaround)
     fail("WL", "must be < CL + BL/2 + 2 (" + std::to_string(CL + burst_cycles() + kReadToWriteTurnaround) +
                    ") for a read-to-write delay >= 1, got " + std::to_string(WL));
-  require_at_least("bus_bytes", bus_bytes, 1);
   require_pow2("bus_bytes", bus_bytes);
-  require_at_least("queue_size", queue_size, 1);
   require_pow2("request_bytes", request_bytes);
   if (request_bytes < burst_bytes())
     fail("request_bytes", "must be at least one burst (" + std::to_string(burst_bytes()) + " bytes), got " +

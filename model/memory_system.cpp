@@ -17,7 +17,7 @@ const char* MemorySystem::type_name(Type t) {
 }
 
 MemorySystem::MemorySystem(const AcceleratorConfig& cfg, const DramConfig& dram, const Clock& clock, Scheduler& calendar)
-    : cfg_(cfg), clock_(clock) {
+    : clock_(clock) {
   const UnitTypeConfig* unit_cfg[kTypes] = {&cfg.trv, &cfg.list, &cfg.ist, &cfg.shading};
   const bool ist_private = cfg.ist.l2_sharing == L2Sharing::kUnit;
   // The L2 configuration and the number of L2s of each type (the shading unit has its own L2 only
@@ -25,9 +25,10 @@ MemorySystem::MemorySystem(const AcceleratorConfig& cfg, const DramConfig& dram,
   uint32_t sources = 0;
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
-    m.l2_cfg = t == kShading ? &cfg.ist : unit_cfg[t];
-    m.private_l2 = t == kShading ? false : unit_cfg[t]->l2_sharing == L2Sharing::kUnit;
-    const uint32_t groups = t == kShading ? (ist_private ? 1 : 0) : (m.private_l2 ? unit_cfg[t]->count : 1);
+    m.cfg = unit_cfg[t];
+    m.l2_cfg = t == kShading ? &cfg.ist : m.cfg;
+    m.private_l2 = t == kShading ? false : m.cfg->l2_sharing == L2Sharing::kUnit;
+    const uint32_t groups = t == kShading ? (ist_private ? 1 : 0) : (m.private_l2 ? m.cfg->count : 1);
     m.first_source = sources;
     sources += groups * m.l2_cfg->l2.banks;
   }
@@ -36,7 +37,7 @@ MemorySystem::MemorySystem(const AcceleratorConfig& cfg, const DramConfig& dram,
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
     if (m.private_l2 || (t == kShading && !ist_private)) continue;
-    const uint32_t l1s = unit_cfg[t]->count + (t == kIst && !ist_private ? cfg.shading.count : 0);
+    const uint32_t l1s = m.cfg->count + (t == kIst && !ist_private ? cfg.shading.count : 0);
     m.shared = std::make_unique<TypeModule>(type_name(Type(t)), *this, Type(t), l1s);
   }
 }
@@ -59,7 +60,6 @@ L2Group MemorySystem::build_group(Type t, uint32_t group, uint32_t l1_sources) {
 
 std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, const FillListener* requester) {
   TypeMemory& m = types_[t];
-  const UnitTypeConfig* unit_cfg[kTypes] = {&cfg_.trv, &cfg_.list, &cfg_.ist, &cfg_.shading};
   auto u = std::make_unique<UnitMemory>();
   // The L2 this L1 reaches, and its source port on that L2's crossbar.
   L2Group* g = nullptr;
@@ -72,11 +72,11 @@ std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, con
     g = &m.shared->group;
   } else {  // shading on the IST's shared L2, after the IST units' ports
     g = &types_[kIst].shared->group;
-    source = cfg_.ist.count + index;
+    source = types_[kIst].cfg->count + index;
   }
   u->port = std::make_unique<CrossbarPort>(g->icnt.get(), source, nullptr, g->l2.get(), g->l2->config().line_bytes);
   g->l2->name_requester(u->port.get(), type_name(t));
-  u->l1 = std::make_unique<Cache>("l1", unit_cfg[t]->l1, clock_, u->port.get());
+  u->l1 = std::make_unique<Cache>("l1", m.cfg->l1, clock_, u->port.get());
   u->l1->name_requester(requester, type_name(t));
   if (m.l1s.size() <= index) m.l1s.resize(index + 1, nullptr);
   m.l1s[index] = u->l1.get();

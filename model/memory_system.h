@@ -59,7 +59,6 @@ class MemorySystem {
   // and, when the type's L2s are private, `l2` and `icnt`, as children of that unit.
   std::unique_ptr<UnitMemory> build_unit(Type t, uint32_t index, const FillListener* requester);
 
-  Cache& l1(Type t, uint32_t unit) { return *types_[t].l1s.at(unit); }
   MemoryInterconnect& interconnect() { return *interconnect_; }
   // Registers every cache and crossbar under its name relative to `top`; `end` is the frame's end
   // time (utilisations).
@@ -68,6 +67,7 @@ class MemorySystem {
  private:
   class TypeModule;  // the sc_module `<type>` holding a shared L2 group
   struct TypeMemory {
+    const UnitTypeConfig* cfg = nullptr;     // the type's own configuration (its L1s, counts)
     const UnitTypeConfig* l2_cfg = nullptr;  // the configuration its L2s use (shading: the IST's)
     bool private_l2 = false;
     uint32_t first_source = 0;               // its first L2 bank on the memory crossbar
@@ -78,7 +78,6 @@ class MemorySystem {
   };
   L2Group build_group(Type t, uint32_t group, uint32_t l1_sources);
 
-  const AcceleratorConfig& cfg_;
   Clock clock_;
   std::unique_ptr<MemoryInterconnect> interconnect_;
   std::array<TypeMemory, kTypes> types_;

@@ -26,7 +26,6 @@ class RayUnit : public Unit, public FillListener {
     wake(when);
   }
   RayFifo* input() { return &in_; }
-  const RayFifo& input() const { return in_; }
   Cache& l1() const { return *l1_; }
   uint32_t held() const { return held_; }
 

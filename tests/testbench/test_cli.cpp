@@ -537,7 +537,9 @@ TEST(Cli, MemoryTraceListsTheTransactionsOfTheWindow) {
     EXPECT_EQ(f[2].substr(0, 2), "0x");
     EXPECT_EQ(f[3], "64");
     (f[4] == "R" ? reads : writes) += 1;
-    if (f[4] == "R") EXPECT_GT(std::stoull(f[5]), 0u) << line;
+    if (f[4] == "R") {
+      EXPECT_GT(std::stoull(f[5]), 0u) << line;
+    }
   }
   EXPECT_EQ(reads, port["reads"].get<uint64_t>());
   EXPECT_EQ(writes, port["writes"].get<uint64_t>());
