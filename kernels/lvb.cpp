@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <thread>
 
 namespace rtsim {
@@ -46,7 +47,81 @@ struct TriangleInfo {
 };
 
 struct Counters {
-  uint64_t region_tests = 0, pair_tests = 0;
+  uint64_t nodes_visited = 0, region_tests = 0, pair_tests = 0;
+};
+
+struct LazyCounters {
+  uint64_t pairs = 0, dirty_pairs = 0, dirty_tests = 0;
+  Counters work;
+};
+
+bool boxes_overlap_closed(const DBox& a, const DBox& b) {
+  for (int i = 0; i < 3; ++i)
+    if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
+  return true;
+}
+
+// A bounding-volume hierarchy over the moved boxes, so a dirty test costs a walk, not a scan.
+class MovedBoxes {
+ public:
+  explicit MovedBoxes(const std::vector<AABB>& boxes) {
+    for (const AABB& b : boxes)
+      if (!b.empty()) boxes_.push_back(DBox(b));
+    if (!boxes_.empty()) build(0, uint32_t(boxes_.size()));
+  }
+
+  // Does `hit` accept a box of the hierarchy (a node's bounds, or a moved box)?
+  template <class Hit>
+  bool any(Hit hit) const {
+    if (nodes_.empty()) return false;
+    uint32_t stack[64];
+    int sp = 0;
+    stack[sp++] = 0;
+    while (sp > 0) {
+      const Node& n = nodes_[stack[--sp]];
+      if (!hit(n.box)) continue;
+      if (n.count > 0) {
+        for (uint32_t k = n.first; k < n.first + n.count; ++k)
+          if (hit(boxes_[k])) return true;
+      } else {
+        stack[sp++] = n.first;  // left child
+        stack[sp++] = n.right;
+      }
+    }
+    return false;
+  }
+
+ private:
+  struct Node {
+    DBox box;
+    uint32_t first = 0, count = 0, right = 0;  // leaf: boxes [first, first+count); inner: children
+  };
+  static constexpr uint32_t kLeafSize = 4;
+
+  uint32_t build(uint32_t lo, uint32_t hi) {
+    const uint32_t id = uint32_t(nodes_.size());
+    nodes_.emplace_back();
+    DBox box = boxes_[lo];
+    for (uint32_t k = lo + 1; k < hi; ++k) extend(box, boxes_[k]);
+    nodes_[id].box = box;
+    if (hi - lo <= kLeafSize) {
+      nodes_[id].first = lo;
+      nodes_[id].count = hi - lo;
+      return id;
+    }
+    // Median split on the longest axis (depth about log2(n / 4), within the walk's stack).
+    const DVec3 ext = box.hi - box.lo;
+    const int a = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
+    const uint32_t mid = lo + (hi - lo) / 2;
+    std::nth_element(boxes_.begin() + lo, boxes_.begin() + mid, boxes_.begin() + hi,
+                     [a](const DBox& x, const DBox& y) { return x.lo[a] + x.hi[a] < y.lo[a] + y.hi[a]; });
+    nodes_[id].first = build(lo, mid);
+    nodes_[id].right = build(mid, hi);
+    return id;
+  }
+
+  std::vector<DBox> boxes_;
+  std::vector<Node> nodes_;
 };
 
 // Which boxes may hold an occluder: the paper's frusta (open) or the exact hull (closed).
@@ -122,11 +197,27 @@ class Preprocessor {
     }
   }
 
-  uint32_t word(uint32_t leaf, Counters& c) const {
+  // With `lazy`, also counts which bits a lazy rebuild would redo and that work.
+  uint32_t word(uint32_t leaf, Counters& c, LazyCounters* lazy) const {
     uint32_t w = 0;
-    for (size_t i = 0; i < scene_.lights.size(); ++i)
-      if (bit(leaf, DVec3(scene_.lights[i].position), c)) w |= 1u << i;
+    for (size_t i = 0; i < scene_.lights.size(); ++i) {
+      const Counters before = c;
+      bool dirty = false;
+      if (bit(leaf, i, c, lazy ? &dirty : nullptr, lazy)) w |= 1u << i;
+      if (!lazy) continue;
+      ++lazy->pairs;
+      if (!dirty) continue;
+      ++lazy->dirty_pairs;
+      lazy->work.nodes_visited += c.nodes_visited - before.nodes_visited;
+      lazy->work.region_tests += c.region_tests - before.region_tests;
+      lazy->work.pair_tests += c.pair_tests - before.pair_tests;
+    }
     return w;
+  }
+
+  void set_change(const LvbChange* change) {
+    change_ = change;
+    if (change) moved_ = std::make_unique<MovedBoxes>(change->moved);
   }
 
   const DBox& box(uint32_t leaf) const { return p_.bounds == LvbBounds::kCell ? cell_[leaf] : geom_[leaf]; }
@@ -152,7 +243,9 @@ class Preprocessor {
     bool own_done = false;  // the leaf's own triangles were tested (exact mode)
   };
 
-  bool bit(uint32_t b, const DVec3& light, Counters& c) const {
+  bool bit(uint32_t b, size_t light_index, Counters& c, bool* dirty, LazyCounters* lazy) const {
+    const DVec3 light(scene_.lights[light_index].position);
+    if (dirty) *dirty = change_->light_moved[light_index] != 0;
     Query q;
     q.b = b;
     q.light = light;
@@ -167,11 +260,21 @@ class Preprocessor {
       if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
       r.enclosing = enclosing_box(box(b), light);
     }
+    if (dirty && !*dirty) {
+      // Moved geometry in the leaf's own cell, or somewhere the region reaches.
+      Counters scratch;
+      *dirty = moved_->any([&](const DBox& m) {
+        ++lazy->dirty_tests;
+        return boxes_overlap_closed(cell_[b], m) || r.may_hold(m, scratch);
+      });
+    }
     // The leaf's own triangles are the likeliest blockers and need no search (exact mode).
     if (exact_ && candidate_blocks(q, b, c)) return true;
     if (p_.method == LvbMethod::kPaper) {
-      for (uint32_t l = 0; l < tree_.leaves.size(); ++l)
+      for (uint32_t l = 0; l < tree_.leaves.size(); ++l) {
+        ++c.nodes_visited;
         if (candidate_blocks(q, l, c)) return true;
+      }
       return false;
     }
     return walk(q, c);
@@ -196,6 +299,7 @@ class Preprocessor {
     stack[sp++] = {0, DBox(tree_.bounds)};
     while (sp > 0) {
       const Entry e = stack[--sp];
+      ++c.nodes_visited;
       const KdNode& n = tree_.nodes[e.node];
       if (n.is_leaf()) {
         if (candidate_blocks(q, n.leaf_index(), c)) return true;
@@ -268,6 +372,8 @@ class Preprocessor {
   const Scene& scene_;
   const KdTree& tree_;
   LvbParams p_;
+  const LvbChange* change_ = nullptr;
+  std::unique_ptr<MovedBoxes> moved_;
   bool exact_;
   double tolerance_ = 0, point_error_ = 0, cell_growth_ = 0;
   bool halfspace_ok_ = false;
@@ -296,20 +402,48 @@ double lvb_origin_margin(const Scene& scene, const KdTree& tree, float relative_
   return lvb_shadow_offset(tree, relative_offset) + 2.0 * (1e-5 * t_max + 1e-6 * diag);
 }
 
-LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params) {
+LvbChange lvb_change(const Scene& before, const Scene& now) {
+  LvbChange c;
+  const size_t n = now.triangles.size();
+  if (before.triangles.size() != n) {
+    AABB all = before.bounds();
+    all.extend(now.bounds());
+    c.moved.push_back(all);
+  } else {
+    for (size_t i = 0; i < n; ++i) {
+      const Triangle& a = before.triangles[i];
+      const Triangle& b = now.triangles[i];
+      if (a.v0 == b.v0 && a.v1 == b.v1 && a.v2 == b.v2) continue;
+      AABB box;
+      for (const Vec3& v : {a.v0, a.v1, a.v2, b.v0, b.v1, b.v2}) box.extend(v);
+      c.moved.push_back(box);
+    }
+  }
+  c.light_moved.assign(now.lights.size(), 1);
+  for (size_t i = 0; i < std::min(now.lights.size(), before.lights.size()); ++i)
+    c.light_moved[i] = before.lights[i].position != now.lights[i].position;
+  return c;
+}
+
+namespace {
+
+LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& params, const LvbChange* change,
+                  LvbLazyStats* lazy_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   LvbResult out;
   const uint32_t all = scene.lights.size() >= 32 ? ~0u : (1u << scene.lights.size()) - 1u;
   out.words.assign(tree.leaves.size(), all);
-  const Preprocessor pre(scene, tree, params);
+  Preprocessor pre(scene, tree, params);
+  pre.set_change(change);
   const int threads = std::max(1, params.threads);
   std::vector<Counters> counters(threads);
+  std::vector<LazyCounters> lazy(threads);
   auto body = [&](int w) {
     // Interleaved blocks of leaves: every leaf's word is computed independently of the others.
     constexpr uint32_t kBlock = 64;
     for (uint32_t start = w * kBlock; start < tree.leaves.size(); start += threads * kBlock)
       for (uint32_t l = start; l < std::min<uint32_t>(start + kBlock, tree.leaves.size()); ++l)
-        if (tree.leaves[l].count > 0) out.words[l] = pre.word(l, counters[w]);
+        if (tree.leaves[l].count > 0) out.words[l] = pre.word(l, counters[w], change ? &lazy[w] : nullptr);
   };
   std::vector<std::thread> pool;
   for (int w = 1; w < threads; ++w) pool.emplace_back(body, w);
@@ -324,12 +458,38 @@ LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& p
       if (!((out.words[l] >> i) & 1u)) ++out.stats.per_light[i].culled_leaves;
     }
   }
+  if (change) {
+    LvbLazyStats& z = *lazy_stats;
+    z.moved_triangles = change->moved.size();
+    z.moved_lights = uint64_t(std::count(change->light_moved.begin(), change->light_moved.end(), 1));
+    for (const LazyCounters& c : lazy) {
+      z.pairs += c.pairs;
+      z.dirty_pairs += c.dirty_pairs;
+      z.dirty_tests += c.dirty_tests;
+      z.nodes_visited += c.work.nodes_visited;
+      z.region_tests += c.work.region_tests;
+      z.pair_tests += c.work.pair_tests;
+    }
+  }
   for (const Counters& c : counters) {
+    out.stats.nodes_visited += c.nodes_visited;
     out.stats.region_tests += c.region_tests;
     out.stats.pair_tests += c.pair_tests;
   }
   out.stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;
+}
+
+}  // namespace
+
+LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params) {
+  return compute(scene, tree, params, nullptr, nullptr);
+}
+
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params, const LvbChange& change) {
+  LvbLazyStats z;
+  compute(scene, tree, params, &change, &z);
+  return z;
 }
 
 }  // namespace rtsim

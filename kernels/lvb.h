@@ -36,9 +36,22 @@ struct LvbLightStats {
   uint64_t nonempty_leaves = 0;
 };
 
+// What a lazy rebuild would redo (docs/animation.md): given what moved since the previous frame,
+// only the (leaf, light) bits it can change: the light moved, or moved geometry lies in the leaf's
+// cell or in the region between the leaf and the light. Measured on this frame's tree.
+struct LvbLazyStats {
+  uint64_t moved_triangles = 0, moved_lights = 0;
+  uint64_t pairs = 0, dirty_pairs = 0;  // (non-empty leaf, light) pairs; those to recompute
+  uint64_t dirty_tests = 0;             // box tests that found the dirty pairs
+  uint64_t nodes_visited = 0, region_tests = 0, pair_tests = 0;  // recomputing the dirty pairs
+};
+
 struct LvbStats {
   std::vector<LvbLightStats> per_light;
-  uint64_t region_tests = 0;  // box-versus-region tests (leaves and, hierarchical, inner cells)
+  // The search's work, what a hardware LVB builder would do: kd-tree nodes read (all leaves for
+  // the paper's scan), box-versus-region tests (cells and, exact mode, triangle bounds).
+  uint64_t nodes_visited = 0;
+  uint64_t region_tests = 0;
   uint64_t pair_tests = 0;    // triangle-pair tests (exact mode)
   double seconds = 0;
 };
@@ -54,6 +67,17 @@ struct LvbResult {
 double lvb_shadow_offset(const KdTree& tree, float relative_offset = 1e-5f);
 double lvb_origin_margin(const Scene& scene, const KdTree& tree, float relative_offset = 1e-5f);
 
+// What moved between two frames of one scene: triangles by index (bounds over both times; all of
+// them when the counts differ) and lights by index.
+struct LvbChange {
+  std::vector<AABB> moved;
+  std::vector<uint8_t> light_moved;
+};
+LvbChange lvb_change(const Scene& before, const Scene& now);
+
 LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params);
+// The same computation once more, counting which bits a lazy rebuild would redo after `change`
+// and that work (a pass of its own, so compute_lvb's seconds stay those of the full rebuild).
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params, const LvbChange& change);
 
 }  // namespace rtsim

@@ -5,6 +5,7 @@ Usage:
     plots.py run DIR [--verbose]
     plots.py sweep DIR [--verbose]
     plots.py reproduce DIR [--verbose]
+    plots.py animate DIR [--verbose]
 
 run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
   culled.png                where shadow rays were culled: one panel per light (fraction of pixels culled
@@ -31,11 +32,19 @@ reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written 
                             for the shadow rays, paper vs ours; the absolute times are in the captions only.
 A scene without the paper's figures, or without one of our runs, shows n/a in those places.
 
+animate DIR reads DIR/frames.csv and DIR/host.csv (written by `rtsim animate`) and writes, over the scene's time:
+  plots/animate_cycles.png         cycles per frame with culling off and on.
+  plots/animate_culled.png         % of shadow rays culled and % of (non-empty leaf, light) bits that are 0.
+  plots/animate_preprocessing.png  host seconds of the kd-tree and the LVB per frame, and the LVB's work counts
+                                   (kd-tree nodes visited, region tests, pair tests).
+  frames.gif                       DIR/frames/frame_NNNN.png as an animated GIF (Pillow), at the scene's pace.
+
 Exit status 0 on success (silent unless --verbose, which lists the files written); on bad input one line
 "plots.py: error: ..." on stderr and exit status 2. Needs only numpy and matplotlib.
 """
 
 import argparse
+import csv
 import json
 import math
 import os
@@ -788,13 +797,125 @@ class _Parser(argparse.ArgumentParser):
         raise InputError(message)
 
 
+# ----------------------------------------------------------------------------------------- animate
+
+def read_csv(folder, name):
+    """Rows of folder/name as dicts of floats (None for an empty cell)."""
+    path = os.path.join(folder, name)
+    try:
+        with open(path, encoding="utf-8", newline="") as f:
+            rows = list(csv.DictReader(f))
+    except FileNotFoundError:
+        raise InputError(f"{path}: not found") from None
+    out = []
+    for i, row in enumerate(rows, start=2):
+        parsed = {}
+        for k, v in row.items():
+            try:
+                parsed[k] = float(v) if v not in ("", None) else None
+            except ValueError:
+                raise InputError(f"{path}:{i}: column '{k}' is not a number: {v!r}") from None
+        if parsed.get("time") is None:
+            raise InputError(f"{path}:{i}: missing time")
+        out.append(parsed)
+    return out
+
+
+def series(rows, key):
+    return [r.get(key) if r.get(key) is not None else math.nan for r in rows]
+
+
+def time_axis(ax, title):
+    ax.set_xlabel("scene time (s)")
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+
+
+def write_gif(folder, times, written):
+    from PIL import Image  # Debian's python3-pil, which matplotlib depends on
+
+    frames_dir = os.path.join(folder, "frames")
+    names = sorted(n for n in os.listdir(frames_dir) if re.fullmatch(r"frame_\d{4}\.png", n)) \
+        if os.path.isdir(frames_dir) else []
+    if not names:
+        return
+    images = [Image.open(os.path.join(frames_dir, n)).convert("RGB") for n in names]
+    # One frame per sample at the scene's pace (its time step in seconds), at least 50 ms.
+    step = (times[-1] - times[0]) / (len(times) - 1) if len(times) > 1 else 0.1
+    duration = max(50, int(round(step * 1000)))
+    path = os.path.join(folder, "frames.gif")
+    tmp = os.path.join(folder, ".frames.gif.tmp")
+    try:
+        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=duration, loop=0)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    written.append(path)
+
+
+def animate(folder, written):
+    rows = read_csv(folder, "frames.csv")
+    host = {r["time"]: r for r in read_csv(folder, "host.csv")}
+    if not rows:
+        raise InputError(os.path.join(folder, "frames.csv") + ": no frames")
+    t = [r["time"] for r in rows]
+    out = os.path.join(folder, "plots")
+    os.makedirs(out, exist_ok=True)
+
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for key, label, colour in (("cycles_off", "culling off", "tab:gray"), ("cycles_on", "culling on", "tab:blue")):
+        ax.plot(t, series(rows, key), marker="o", ms=3, label=label, color=colour)
+    ax.set_ylabel("cycles per frame")
+    ax.set_ylim(bottom=0)
+    ax.legend()
+    time_axis(ax, "Simulated cycles per frame")
+    save(fig, os.path.join(out, "animate_cycles.png"), written)
+
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.plot(t, [100 * v for v in series(rows, "culled_share")], marker="o", ms=3, label="shadow rays culled")
+    lights = sorted(k for k in rows[0] if re.fullmatch(r"culled_leaves_l\d+", k))
+    leaf_share = []
+    for r in rows:
+        culled = [r[k] for k in lights if r.get(k) is not None]
+        bits = (r.get("nonempty_leaves") or 0) * len(culled)
+        leaf_share.append(100 * sum(culled) / bits if bits else math.nan)
+    ax.plot(t, leaf_share, marker="s", ms=3, label="(leaf, light) bits 0")
+    ax.set_ylabel("%")
+    ax.set_ylim(0, 100)
+    ax.legend()
+    time_axis(ax, "What the LVB culls, per frame")
+    save(fig, os.path.join(out, "animate_culled.png"), written)
+
+    fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4))
+    for key, label in (("kdtree_seconds", "kd-tree build"), ("lvb_seconds", "LVB (hierarchical)")):
+        a.plot(t, [host.get(x, {}).get(key) or math.nan for x in t], marker="o", ms=3, label=label)
+    a.set_ylabel("host seconds")
+    a.set_ylim(bottom=0)
+    a.legend()
+    time_axis(a, "Rebuild time on the host, per frame")
+    for key, label in (("lvb_nodes_visited", "kd-tree nodes visited"), ("lvb_region_tests", "region (box) tests"),
+                       ("lvb_pair_tests", "triangle-pair tests")):
+        b.plot(t, series(rows, key), marker="o", ms=3, label=label)
+    b.set_yscale("log")
+    b.set_ylabel("count per frame")
+    b.legend()
+    time_axis(b, "LVB work per frame")
+    fig.tight_layout()
+    save(fig, os.path.join(out, "animate_preprocessing.png"), written)
+
+    write_gif(folder, t, written)
+
+
 def main(argv=None):
     parser = _Parser(prog="plots.py", description="PNG figures for an rtsim run, sweep or reproduce directory.")
     parser.add_argument("--verbose", action="store_true", help="list the files written")
-    sub = parser.add_subparsers(dest="mode", required=True, metavar="{run,sweep,reproduce}")
+    sub = parser.add_subparsers(dest="mode", required=True, metavar="{run,sweep,reproduce,animate}")
     for mode, text in (("run", "figures for a run directory (report.json, culled.npy)"),
                        ("sweep", "figures for a sweep directory (results.json)"),
-                       ("reproduce", "paper-vs-ours figures for an rtsim reproduce directory (reproduction.json)")):
+                       ("reproduce", "paper-vs-ours figures for an rtsim reproduce directory (reproduction.json)"),
+                       ("animate", "figures over time and frames.gif for an rtsim animate directory (frames.csv)")):
         p = sub.add_parser(mode, help=text)
         p.add_argument("dir", metavar="DIR")
         p.add_argument("--verbose", action="store_true", default=argparse.SUPPRESS, help="list the files written")
@@ -803,7 +924,7 @@ def main(argv=None):
         args = parser.parse_args(argv)
         if not os.path.isdir(args.dir):
             raise InputError(f"{args.dir}: not a directory")
-        {"run": run, "sweep": sweep, "reproduce": reproduce}[args.mode](args.dir, written)
+        {"run": run, "sweep": sweep, "reproduce": reproduce, "animate": animate}[args.mode](args.dir, written)
     except (InputError, OSError) as e:
         print("plots.py: error: " + " ".join(str(e).split()), file=sys.stderr)
         return 2

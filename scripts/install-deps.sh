@@ -10,7 +10,7 @@ PKGS=(
   libsystemc-dev libglm-dev libtinygltf-dev libstb-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
   libtinyobjloader-dev libgtest-dev
-  procps python3 python3-numpy python3-matplotlib
+  procps python3 python3-numpy python3-matplotlib python3-pil
 )
 missing=()
 for p in "${PKGS[@]}"; do

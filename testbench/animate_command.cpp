@@ -6,13 +6,16 @@
 // so frames.csv is deterministic) and the LVB's work counts.
 #include "common/error.h"
 #include "reports/output_files.h"
+#include "reports/plots.h"
 #include "testbench/commands.h"
+#include "testbench/slurm.h"
 #include "testbench/sweep.h"
 #include "testbench/sweep_results.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -75,30 +78,66 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
     std::string image;  // the culling-on point's render.png when there is one
   };
   std::map<double, Frame> frames;
+  size_t lights = 0;
   for (const SweepPoint& p : spec.points) {
     const double t = p.values["scene.time"].get<double>();
     const nlohmann::json& lvb = p.values["run.lvb"];
     const bool on = lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
-    (on ? frames[t].on : frames[t].off) = read_report(sweep_point_dir(out, p));
+    nlohmann::json& report = on ? frames[t].on : frames[t].off;
+    report = read_report(sweep_point_dir(out, p));
+    lights = std::max(lights, report["per_light"].size());
     if (on || frames[t].image.empty()) frames[t].image = (fs::path(sweep_point_dir(out, p)) / "render.png").string();
   }
-  auto number = [](const nlohmann::json& r, const nlohmann::json::json_pointer& at) -> std::string {
-    return r.is_null() || !r.contains(at) ? "" : fmt::format("{}", r.at(at).get<double>());
-  };
   using ptr = nlohmann::json::json_pointer;
-  std::string csv = "time,triangles,cycles_off,cycles_on,frame_ms_off,frame_ms_on,shadow_rays_culled,"
-                    "lvb_region_tests,lvb_pair_tests\n";
+  auto number = [](const nlohmann::json& r, const ptr& at) -> std::string {
+    return r.is_null() || !r.contains(at) || r.at(at).is_null() ? "" : fmt::format("{}", r.at(at).get<double>());
+  };
+  std::string csv = "time,triangles,cycles_off,cycles_on,frame_ms_off,frame_ms_on,saved_ms,shadow_rays,"
+                    "shadow_rays_culled,culled_share,nonempty_leaves";
+  for (size_t l = 0; l < lights; ++l) csv += fmt::format(",culled_leaves_l{}", l);
+  for (size_t l = 0; l < lights; ++l) csv += fmt::format(",culled_rays_l{}", l);
+  csv += ",lvb_nodes_visited,lvb_region_tests,lvb_pair_tests,moved_triangles,lazy_dirty_pairs,lazy_pairs,"
+         "lazy_dirty_tests,lazy_nodes_visited,lazy_region_tests,lazy_pair_tests,check_mismatched_pixels\n";
   std::string host = "time,kdtree_seconds,lvb_seconds,simulate_seconds_off,simulate_seconds_on\n";
   for (const auto& [t, f] : frames) {
     const nlohmann::json& any = f.on.is_null() ? f.off : f.on;
-    uint64_t culled = 0;
-    if (!f.on.is_null())
-      for (const auto& l : f.on["per_light"]) culled += l["culled"].get<uint64_t>();
-    csv += fmt::format("{:.9g},{},{},{},{},{},{},{},{}\n", t, number(any, ptr("/scene/triangles")),
+    std::string saved, rays, culled, share, nonempty, leaves, rays_l;
+    if (!f.on.is_null()) {
+      uint64_t all = 0, cut = 0;
+      for (const auto& l : f.on["per_light"]) {
+        all += l["shadow_rays"].get<uint64_t>();
+        cut += l["culled"].get<uint64_t>();
+        rays_l += fmt::format(",{}", l["culled"].get<uint64_t>());
+      }
+      rays = std::to_string(all);
+      culled = std::to_string(cut);
+      share = all ? fmt::format("{:.6f}", double(cut) / double(all)) : "";
+      const nlohmann::json& lvb_lights = f.on["lvb"]["per_light"];
+      if (!lvb_lights.empty()) nonempty = std::to_string(lvb_lights[0]["nonempty_leaves"].get<uint64_t>());
+      for (const auto& l : lvb_lights) leaves += fmt::format(",{}", l["culled_leaves"].get<uint64_t>());
+    }
+    if (!f.on.is_null() && !f.off.is_null())
+      saved = fmt::format("{:.6f}", f.off["frame_ms"]["all"].get<double>() - f.on["frame_ms"]["all"].get<double>());
+    // Columns for lights this frame lacks (or a run it lacks) stay empty.
+    auto pad = [&](std::string cells) {
+      while (size_t(std::count(cells.begin(), cells.end(), ',')) < lights) cells += ",";
+      return cells;
+    };
+    // A frame checked in both runs counts the mismatches of both.
+    std::string check;
+    for (const nlohmann::json* r : {&f.off, &f.on})
+      if (!r->is_null() && r->contains("reference_check") && !(*r)["reference_check"].is_null())
+        check = std::to_string((check.empty() ? 0 : std::stoull(check)) +
+                               (*r)["reference_check"]["mismatched_pixels"].get<uint64_t>());
+    csv += fmt::format("{:.9g},{},{},{},{},{},{},{},{},{},{}{}{}", t, number(any, ptr("/scene/triangles")),
                        number(f.off, ptr("/cycles_total")), number(f.on, ptr("/cycles_total")),
-                       number(f.off, ptr("/frame_ms/all")), number(f.on, ptr("/frame_ms/all")),
-                       f.on.is_null() ? "" : std::to_string(culled), number(f.on, ptr("/lvb/region_tests")),
-                       number(f.on, ptr("/lvb/pair_tests")));
+                       number(f.off, ptr("/frame_ms/all")), number(f.on, ptr("/frame_ms/all")), saved, rays, culled,
+                       share, nonempty, pad(leaves), pad(rays_l));
+    for (const char* key : {"/lvb/nodes_visited", "/lvb/region_tests", "/lvb/pair_tests", "/lvb/lazy/moved_triangles",
+                            "/lvb/lazy/dirty_pairs", "/lvb/lazy/pairs", "/lvb/lazy/dirty_tests",
+                            "/lvb/lazy/nodes_visited", "/lvb/lazy/region_tests", "/lvb/lazy/pair_tests"})
+      csv += "," + number(f.on, ptr(key));
+    csv += "," + check + "\n";
     host += fmt::format("{:.9g},{},{},{},{}\n", t, number(any, ptr("/host/seconds/kdtree")),
                         number(f.on, ptr("/host/seconds/lvb")), number(f.off, ptr("/host/seconds/simulate")),
                         number(f.on, ptr("/host/seconds/simulate")));
@@ -122,17 +161,33 @@ int run_animate(const AnimateArgs& a) {
   fs::create_directories(a.out);
   const std::string file = (fs::path(a.out) / "animate.yaml").string();
   write_file_atomic(file, sweep_yaml(a, times));
-  SweepArgs s;
-  s.file = file;
-  s.out = a.out;
-  s.jobs = a.jobs;
-  s.emit = a.emit;
-  s.plots = false;
-  const int code = run_sweep_command(s);
-  if (code != 0 || !a.emit.empty()) return code;
-  write_frame_tables(a.out, load_sweep(file));
+  SweepSpec spec = load_sweep(file);
+  // Per-point settings (so the manifest, and a resumed run, knows them): the reference check on
+  // every K-th frame, both runs of it; with culling, what a lazy rebuild after the previous frame
+  // would redo.
+  for (SweepPoint& p : spec.points) {
+    const double t = p.values["scene.time"].get<double>();
+    // The file holds the times to 9 digits: the frame is the nearest of ours.
+    const auto nearest = std::min_element(times.begin(), times.end(), [t](double x, double y) {
+      return std::abs(x - t) < std::abs(y - t);
+    });
+    const size_t k = size_t(nearest - times.begin());
+    if (a.check_every > 0 && k % size_t(a.check_every) == 0) p.set.push_back("run.check=true");
+    const nlohmann::json& lvb = p.values["run.lvb"];
+    const bool on = lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
+    if (on && k > 0) p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
+  }
+  if (a.emit == "slurm") return emit_slurm(spec, a.out);
+  const int code = run_sweep_points(spec, a.out, a.jobs, false);
+  if (code != 0) return code;
+  write_frame_tables(a.out, spec);
   fmt::print("{} frames: {}/frames.csv (cycles, culled rays, LVB work per frame), host.csv (host seconds)\n",
              times.size(), a.out);
+  const std::string note = make_plots("animate", a.out);
+  if (note.empty())
+    fmt::print("figures in {}/plots/, the frames as {}/frames.gif\n", a.out, a.out);
+  else
+    fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);
   return 0;
 }
 

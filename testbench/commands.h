@@ -40,6 +40,7 @@ struct AnimateArgs {
   std::string scene, hw, times, out, emit;
   std::string lvb = "both";  // on, off or both
   int width = 0, height = 0, jobs = 1;
+  int check_every = 0;  // the reference check on frames 0, K, 2K, ... (0: none)
 };
 int run_animate(const AnimateArgs& args);
 // --times START:END:STEP, END included; an empty or decreasing range is an InputError.

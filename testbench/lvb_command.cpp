@@ -93,6 +93,7 @@ int run_lvb(const LvbArgs& args) {
                             {"origin_margin", lp.origin_margin},
                             {"preprocess_seconds", lvb.stats.seconds},
                             {"preprocess_threads", lp.threads},
+                            {"nodes_visited", lvb.stats.nodes_visited},
                             {"region_tests", lvb.stats.region_tests},
                             {"pair_tests", lvb.stats.pair_tests},
                             {"scene", scene_json(p)},

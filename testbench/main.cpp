@@ -119,6 +119,9 @@ extern "C" int sc_main(int argc, char** argv) {
   animate_cmd->add_option("--width", animate.width, "Image width")->check(CLI::Range(1, 16384));
   animate_cmd->add_option("--height", animate.height, "Image height")->check(CLI::Range(1, 16384));
   animate_cmd->add_option("--jobs", animate.jobs, "Frames at once")->check(CLI::Range(1, 1024));
+  animate_cmd->add_option("--check-every", animate.check_every,
+                          "Compare frames 0, K, 2K, ... with the reference tracer (both runs); a mismatch fails the frame")
+      ->check(CLI::Range(1, 100000));
   animate_cmd->add_option("--emit", animate.emit, "Write a job script and manifest instead of running")
       ->check(CLI::IsMember({"slurm"}));
 

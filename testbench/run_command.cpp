@@ -10,6 +10,7 @@
 #include "testbench/commands.h"
 #include "testbench/hw_config.h"
 #include "testbench/progress.h"
+#include "testbench/scene_file.h"
 #include "testbench/simulate.h"
 
 #include <fmt/format.h>
@@ -100,9 +101,22 @@ int run_model(const RunArgs& args) {
     lvb_json = {{"method", to_string(lp.method)},
                 {"bounds", to_string(lp.bounds)},
                 {"self_occlusion", to_string(lp.self_occlusion)},
+                {"nodes_visited", lvb.stats.nodes_visited},
                 {"region_tests", lvb.stats.region_tests},
                 {"pair_tests", lvb.stats.pair_tests},
                 {"per_light", per_light}};
+    if (c.run.lvb_lazy_since) {
+      // The earlier frame's scene (its triangles and lights) against this one.
+      std::vector<ConfigOverride> at = scene_overrides(c.scene_set);
+      at.push_back({{"time"}, YAML::Node(*c.run.lvb_lazy_since), "run.lvb_lazy_since"});
+      const Scene before = load_scene_file(c.scene_file, SceneFileOptions{c.scene_root, at}).scene;
+      const LvbLazyStats z = lvb_lazy_stats(p.scene, p.tree, lp, lvb_change(before, p.scene));
+      lvb_json["lazy"] = {{"since", *c.run.lvb_lazy_since},       {"moved_triangles", z.moved_triangles},
+                          {"moved_lights", z.moved_lights},         {"pairs", z.pairs},
+                          {"dirty_pairs", z.dirty_pairs},           {"dirty_tests", z.dirty_tests},
+                          {"nodes_visited", z.nodes_visited},       {"region_tests", z.region_tests},
+                          {"pair_tests", z.pair_tests}};
+    }
   }
 
   const std::filesystem::path out(args.out);

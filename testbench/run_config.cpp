@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <cstdio>
 
 namespace rtsim {
@@ -56,6 +57,7 @@ RunSettings read_run_settings(YamlMap m) {
   r.height = m.get_in_range("height", r.height, 0, 16384);
   r.check = m.get<bool>("check", r.check);
   r.plots = m.get<bool>("plots", r.plots);
+  if (const double since = m.get<double>("lvb_lazy_since", std::nan("")); !std::isnan(since)) r.lvb_lazy_since = since;
   m.finish();
   return r;
 }
@@ -136,15 +138,17 @@ model::TraceRequest parse_trace_request(const char* flag, const std::string& fil
 }
 
 nlohmann::json run_settings_json(const RunSettings& r) {
-  return {{"lvb", r.lvb},
-          {"lvb_method", to_string(r.lvb_params.method)},
-          {"lvb_bounds", to_string(r.lvb_params.bounds)},
-          {"lvb_self_occlusion", to_string(r.lvb_params.self_occlusion)},
-          {"reflections", r.reflections},
-          {"width", r.width},
-          {"height", r.height},
-          {"check", r.check},
-          {"plots", r.plots}};
+  nlohmann::json j = {{"lvb", r.lvb},
+                      {"lvb_method", to_string(r.lvb_params.method)},
+                      {"lvb_bounds", to_string(r.lvb_params.bounds)},
+                      {"lvb_self_occlusion", to_string(r.lvb_params.self_occlusion)},
+                      {"reflections", r.reflections},
+                      {"width", r.width},
+                      {"height", r.height},
+                      {"check", r.check},
+                      {"plots", r.plots}};
+  if (r.lvb_lazy_since) j["lvb_lazy_since"] = *r.lvb_lazy_since;
+  return j;
 }
 
 nlohmann::json run_config_json(const RunConfig& c) {

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ struct RunSettings {
   int width = 0, height = 0;     // 0 = the scene file's resolution (which --set scene.resolution changes)
   bool check = false;            // compare every pixel with the reference tracer
   bool plots = true;             // the PNG figures (python3 + matplotlib)
+  // The time of an earlier frame: the report's lvb.lazy counts what a lazy rebuild would redo
+  // after it (rtsim animate sets the previous frame's; docs/animation.md).
+  std::optional<double> lvb_lazy_since;
 };
 
 struct RunConfig {

@@ -162,9 +162,9 @@ TEST(Lvb, InternalLightSetsTheBitInThePapersMethod) {
   EXPECT_EQ(e.words[0], 0u);
 }
 
-TEST(Lvb, OccluderBetweenLeafAndLightSetsTheBit) {
-  // A floor, a small roof above its centre, a light above the roof: floor leaves under the roof
-  // must keep bit 1, floor leaves far from it may be culled.
+// An 8x8 floor, a 2x2 roof above its centre (from x = roof_x), a light above the roof and one
+// at the side.
+Scene floor_and_roof(float roof_x) {
   Scene s;
   s.add_material(Material{});
   for (int i = 0; i < 8; ++i)
@@ -173,10 +173,18 @@ TEST(Lvb, OccluderBetweenLeafAndLightSetsTheBit) {
       s.triangles.push_back({a, b, c, 0});
       s.triangles.push_back({a, c, d, 0});
     }
-  s.triangles.push_back({Vec3(3, 2, 3), Vec3(5, 2, 3), Vec3(5, 2, 5), 0});
-  s.triangles.push_back({Vec3(3, 2, 3), Vec3(5, 2, 5), Vec3(3, 2, 5), 0});
+  s.triangles.push_back({Vec3(roof_x, 2, 3), Vec3(roof_x + 2, 2, 3), Vec3(roof_x + 2, 2, 5), 0});
+  s.triangles.push_back({Vec3(roof_x, 2, 3), Vec3(roof_x + 2, 2, 5), Vec3(roof_x, 2, 5), 0});
   s.lights.push_back({Vec3(4, 6, 4), Vec3(1)});
+  s.lights.push_back({Vec3(-20, 3, 4), Vec3(1)});
   s.camera.eye = Vec3(4, 10, -10);
+  return s;
+}
+
+TEST(Lvb, OccluderBetweenLeafAndLightSetsTheBit) {
+  // A floor, a small roof above its centre, a light above the roof: floor leaves under the roof
+  // must keep bit 1, floor leaves far from it may be culled.
+  const Scene s = floor_and_roof(3.f);
   const KdTree t = build_kdtree(s.triangles);
   for (LvbSelfOcclusion so : {LvbSelfOcclusion::kTest, LvbSelfOcclusion::kIgnore}) {
     const LvbResult r = run(s, t, LvbMethod::kHierarchical, LvbBounds::kGeometry, so);
@@ -192,6 +200,65 @@ TEST(Lvb, OccluderBetweenLeafAndLightSetsTheBit) {
     }
     EXPECT_GT(culled_far, 0) << to_string(so);
   }
+}
+
+LvbParams exact_params(const Scene& s, const KdTree& t) {
+  LvbParams p;
+  p.shadow_offset = lvb_shadow_offset(t);
+  p.origin_margin = lvb_origin_margin(s, t);
+  return p;
+}
+
+TEST(Lvb, LazyRebuildRedoesOnlyThePairsAMoveCanReach) {
+  const Scene before = floor_and_roof(3.f);
+  const Scene now = floor_and_roof(3.5f);
+  const KdTree t = build_kdtree(now.triangles);
+  const LvbParams p = exact_params(now, t);
+  const LvbResult full = compute_lvb(now, t, p);
+  uint64_t nonempty = 0;
+  for (const KdLeaf& l : t.leaves) nonempty += l.count > 0;
+
+  // Nothing moved: nothing to redo.
+  const LvbLazyStats still = lvb_lazy_stats(now, t, p, lvb_change(now, now));
+  EXPECT_EQ(still.moved_triangles, 0u);
+  EXPECT_EQ(still.moved_lights, 0u);
+  EXPECT_EQ(still.pairs, nonempty * 2);
+  EXPECT_EQ(still.dirty_pairs, 0u);
+  EXPECT_EQ(still.region_tests + still.pair_tests + still.nodes_visited, 0u);
+
+  // The roof moved: every leaf whose cell meets its swept bounds is dirty for both lights, and
+  // leaves far from it and from its shadow towards either light are not.
+  const LvbLazyStats roof = lvb_lazy_stats(now, t, p, lvb_change(before, now));
+  EXPECT_EQ(roof.moved_triangles, 2u);
+  AABB swept;
+  for (const Scene* sc : {&before, &now})
+    for (size_t i = sc->triangles.size() - 2; i < sc->triangles.size(); ++i)
+      for (const Vec3& v : {sc->triangles[i].v0, sc->triangles[i].v1, sc->triangles[i].v2}) swept.extend(v);
+  uint64_t touching = 0;
+  for (const KdLeaf& l : t.leaves) touching += l.count > 0 && !l.cell.intersect(swept).empty();
+  EXPECT_GE(roof.dirty_pairs, 2 * touching);
+  EXPECT_GT(touching, 0u);
+  EXPECT_LT(roof.dirty_pairs, roof.pairs);
+  EXPECT_GT(roof.dirty_tests, 0u);
+  EXPECT_LE(roof.region_tests, full.stats.region_tests);
+  EXPECT_LE(roof.pair_tests, full.stats.pair_tests);
+  EXPECT_LT(roof.nodes_visited, full.stats.nodes_visited);
+
+  // A light moved: all of its pairs (and only they, nothing else moved).
+  Scene lit = now;
+  lit.lights[1].position.y += 1;
+  const LvbLazyStats light = lvb_lazy_stats(lit, t, p, lvb_change(now, lit));
+  EXPECT_EQ(light.moved_lights, 1u);
+  EXPECT_EQ(light.dirty_pairs, nonempty);
+
+  // Other triangle counts: no correspondence, everything is redone, as a full rebuild.
+  Scene fewer = now;
+  fewer.triangles.pop_back();
+  const LvbLazyStats all = lvb_lazy_stats(now, t, p, lvb_change(fewer, now));
+  EXPECT_EQ(all.dirty_pairs, all.pairs);
+  EXPECT_EQ(all.nodes_visited, full.stats.nodes_visited);
+  EXPECT_EQ(all.region_tests, full.stats.region_tests);
+  EXPECT_EQ(all.pair_tests, full.stats.pair_tests);
 }
 
 }  // namespace

@@ -480,35 +480,71 @@ TEST(Cli, AnimateRunsTheFramesAsAResumableSweep) {
   const fs::path out = test::temp_dir("cli_animate");
   const std::string args = "animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
                            (test::source_dir() / "configs/hw/small.yaml").string() +
-                           " --times 0:1:1 --width 32 --height 18 --lvb both --jobs 2 --out " + out.string();
+                           " --times 0:1:1 --width 32 --height 18 --lvb both --jobs 2 --check-every 1 --out " +
+                           out.string();
   RunResult r = run(args);
   ASSERT_EQ(r.code, 0) << r.err;
+  // frames.csv by column name: one row per time.
   std::istringstream csv(slurp(out / "frames.csv"));
-  std::string line;
-  std::getline(csv, line);
-  EXPECT_EQ(line.substr(0, 36), "time,triangles,cycles_off,cycles_on,");
-  std::vector<std::vector<std::string>> rows;
-  while (std::getline(csv, line)) {
+  auto split = [](const std::string& line) {
     std::vector<std::string> f;
     std::stringstream ss(line);
     for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    rows.push_back(f);
+    if (!line.empty() && line.back() == ',') f.push_back("");
+    return f;
+  };
+  std::string line;
+  std::getline(csv, line);
+  const std::vector<std::string> header = split(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = split(line);
+    ASSERT_EQ(f.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < f.size(); ++i) row[header[i]] = f[i];
+    rows.push_back(row);
   }
   ASSERT_EQ(rows.size(), 2u);
-  EXPECT_EQ(rows[0][0], "0");
-  EXPECT_EQ(rows[1][0], "1");
-  for (const auto& f : rows) {
-    EXPECT_EQ(f[1], "71708");
-    EXPECT_FALSE(f[2].empty());
-    EXPECT_FALSE(f[3].empty());
+  EXPECT_EQ(rows[0]["time"], "0");
+  EXPECT_EQ(rows[1]["time"], "1");
+  for (auto& f : rows) {
+    EXPECT_EQ(f["triangles"], "71708");
+    const double off = std::stod(f["frame_ms_off"]), on = std::stod(f["frame_ms_on"]);
+    EXPECT_NEAR(std::stod(f["saved_ms"]), off - on, 1e-6);
+    const double rays = std::stod(f["shadow_rays"]), culled = std::stod(f["shadow_rays_culled"]);
+    EXPECT_NEAR(std::stod(f["culled_share"]), culled / rays, 1e-6);
+    double per_light = 0;
+    for (int l = 0; l < 6; ++l) per_light += std::stod(f["culled_rays_l" + std::to_string(l)]);
+    EXPECT_EQ(per_light, culled);
+    EXPECT_LE(std::stod(f["culled_leaves_l1"]), std::stod(f["nonempty_leaves"]));
+    EXPECT_GT(std::stod(f["lvb_nodes_visited"]), 0);
+    EXPECT_GT(std::stod(f["lvb_region_tests"]), 0);
+    EXPECT_EQ(f["check_mismatched_pixels"], "0") << "both runs of every frame checked against the reference";
   }
-  EXPECT_NE(rows[0][3], rows[1][3]) << "the robots walk: another frame, other cycles";
+  EXPECT_NE(rows[0]["cycles_on"], rows[1]["cycles_on"]) << "the robots walk: another frame, other cycles";
+  // A lazy rebuild's share: after the first frame only, against the frame before.
+  EXPECT_EQ(rows[0]["lazy_pairs"], "");
+  EXPECT_GT(std::stod(rows[1]["moved_triangles"]), 0);
+  EXPECT_GT(std::stod(rows[1]["lazy_dirty_pairs"]), 0);
+  EXPECT_LT(std::stod(rows[1]["lazy_dirty_pairs"]), std::stod(rows[1]["lazy_pairs"]));
+  EXPECT_LT(std::stod(rows[1]["lazy_region_tests"]), std::stod(rows[1]["lvb_region_tests"]));
   EXPECT_TRUE(fs::exists(out / "host.csv"));
   EXPECT_TRUE(fs::exists(out / "frames/frame_0000.png"));
   EXPECT_TRUE(fs::exists(out / "frames/frame_0001.png"));
+  for (const char* f : {"plots/animate_cycles.png", "plots/animate_culled.png", "plots/animate_preprocessing.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const std::string gif = slurp(out / "frames.gif");
+  EXPECT_EQ(gif.substr(0, 6), "GIF89a");
+  const std::string first = slurp(out / "frames.csv");
   r = run(args);
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("4 already done, running 0"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(out / "frames.csv"), first) << "frames.csv is deterministic";
+  // Another --check-every is another set of points: the directory is not reused for it.
+  expect_input_error("animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
+                         (test::source_dir() / "configs/hw/small.yaml").string() +
+                         " --times 0:1:1 --width 32 --height 18 --out " + out.string(),
+                     {"manifest", "another --out"});
   expect_input_error("animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
                          (test::source_dir() / "configs/hw/small.yaml").string() + " --times 2:1:1 --out " + out.string(),
                      {"--times 2:1:1", "increasing"});
