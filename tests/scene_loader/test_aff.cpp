@@ -598,6 +598,43 @@ TEST(AffErrors, OtherMalformedInputs) {
   EXPECT_THROW(load_aff("/nonexistent/dir/none.aff", 0.0, s), InputError);
 }
 
+TEST(AffErrors, EveryKeywordMalformedNamesItsLineAndField) {
+  // One row per keyword of BART's format: its last field spoiled, on line 2 of the file (or the
+  // line of the spoiled field).
+  struct Case {
+    const char* text;
+    long line;
+    const char* what;
+  };
+  const Case cases[] = {
+      {"v\nfrom 0 0 0\nat 0 0 -1\nup 0 1 0\nangle 45\nhither x\nresolution 4 4\n", 7, "v hither"},
+      {"b 0 0 x\n", 2, "background colour"},
+      {"l 1 2 x\n", 2, "a number"},
+      {"la car 1 2 x\n", 2, "a number"},
+      {"f 1 1 1 0.5 0.5 8 0 x\n", 2, "f index of refraction"},
+      {"fm 0 0 0 1 1 1 0 0 0 8 0 x\n", 2, "fm index of refraction"},
+      {"am 1 1 x\n", 2, "ambient light colour"},
+      {"a 0 10 x\n", 2, "animation frame count"},
+      {"c 0 0 0 1 0 1 0 x\n", 2, "cone apex radius"},
+      {"s 0 0 0 x\n", 2, "a number"},
+      {"p 3 0 0 0 1 0 0 0 1 x\n", 2, "polygon vertex"},
+      {"pp 3 0 0 0 0 0 1 1 0 0 0 0 1 0 1 0 0 0 x\n", 2, "polygon patch normal"},
+      {"tt t.ppm 0 0 0 0 0 1 0 0 1 0 0 1 0 0 x\n", 2, "texture coordinate v"},
+      {"ttp t.ppm 0 0 0 0 0 1 0 0  1 0 0 0 0 1 1 0  0 1 0 0 0 1 0 x\n", 2, "texture coordinate v"},
+      {"tpa 1\n0  0 0 0 0 0 1  1 0 0 0 0 1  0 1 0 0 0 x\n", 3, "a number"},
+      {"m vertices 3 0 0 0 1 0 0 0 1 0 triangles 1 0 1 x\n", 2, "an integer"},
+      {"d x\n", 2, "detail level"},
+      {"i x child.aff\n", 2, "include detail level"},
+      {"xs 1 1 1 0 1 0 90 0 0 x {\n}\n", 2, "a number"},
+      {"x car\n}\n", 3, "'{'"},
+      {"k car {\n transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 2 0 0 0 0 0 0\n 3 0 0 0 0 0 x\n}\n", 7, "a number"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.text);
+    expect_text_error(std::string("# one keyword\n") + c.text, c.line, c.what);
+  }
+}
+
 TEST(AffErrors, MissingTextureFileDoesNotThrow) {
   EXPECT_NO_THROW(load_text("m vertices 3 0 0 0 1 0 0 0 1 0\n"
                             "texturecoords 3 /no/such/texture.ppm 0 0 1 0 0 1\n"
