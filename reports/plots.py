@@ -38,6 +38,9 @@ animate DIR reads DIR/frames.csv and DIR/host.csv (written by `rtsim animate`) a
   plots/animate_preprocessing.png  host seconds of the kd-tree and the LVB per frame, and the LVB's work counts
                                    (kd-tree nodes visited, region tests, pair tests).
   frames.gif                       DIR/frames/frame_NNNN.png as an animated GIF (Pillow), at the scene's pace.
+  summary.md                       per frame and as medians: cycles culling saves, what rebuilding the LVB costs
+                                   (host seconds; tests, as a hardware builder's cycles at one test per cycle) and
+                                   what a lazy rebuild would redo (docs/animation.md).
 
 Exit status 0 on success (silent unless --verbose, which lists the files written); on bad input one line
 "plots.py: error: ..." on stderr and exit status 2. Needs only numpy and matplotlib.
@@ -906,6 +909,56 @@ def animate(folder, written):
     save(fig, os.path.join(out, "animate_preprocessing.png"), written)
 
     write_gif(folder, t, written)
+    write_text(os.path.join(folder, "summary.md"), animate_summary(rows, host), written)
+
+
+def median(values):
+    v = sorted(x for x in values if x is not None and not math.isnan(x))
+    if not v:
+        return math.nan
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def animate_summary(rows, host):
+    """Markdown: a row per frame, then the medians. Builder cycles assume one test (region or pair) per cycle."""
+    def cell(v, fmt="{:,.0f}"):
+        return "" if v is None or (isinstance(v, float) and math.isnan(v)) else fmt.format(v)
+
+    def ratio(a, b):
+        return a / b if a is not None and b else None
+
+    table = []
+    for r in rows:
+        h = host.get(r["time"], {})
+        saved = (r["cycles_off"] - r["cycles_on"]) if r.get("cycles_off") is not None and r.get("cycles_on") is not None else None
+        build = (r["lvb_region_tests"] + r["lvb_pair_tests"]) if r.get("lvb_region_tests") is not None else None
+        lazy = (r["lazy_region_tests"] + r["lazy_pair_tests"] + r["lazy_dirty_tests"]) \
+            if r.get("lazy_region_tests") is not None else None
+        table.append({"time": r["time"], "saved": saved, "share": r.get("culled_share"), "build": build,
+                      "pays": ratio(saved, build), "lvb_s": h.get("lvb_seconds"), "kd_s": h.get("kdtree_seconds"),
+                      "dirty": ratio(r.get("lazy_dirty_pairs"), r.get("lazy_pairs")), "lazy": lazy,
+                      "lazy_share": ratio(lazy, build), "lazy_pays": ratio(saved, lazy),
+                      "off": r.get("cycles_off"), "on": r.get("cycles_on")})
+    head = ("| time | cycles off | cycles on | saved cycles | shadow rays culled | LVB tests (builder cycles) "
+            "| saved / LVB tests | LVB s | kd-tree s | lazy: dirty pairs | lazy: tests | lazy / full "
+            "| saved / lazy tests |")
+    lines = ["# Culling against its recomputation, per frame", "",
+             "Builder cycles: the LVB's region and pair tests at one test per cycle; lazy tests add the "
+             "dirty tests that find the pairs to redo. Host seconds vary from run to run (host.csv).", "",
+             head, "|" + "---|" * 13]
+    pct = "{:.1%}"
+    for x in table:
+        lines.append("| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
+            f"{x['time']:g}", cell(x["off"]), cell(x["on"]), cell(x["saved"]), cell(x["share"], pct),
+            cell(x["build"]), cell(x["pays"], "{:.4f}"), cell(x["lvb_s"], "{:.2f}"), cell(x["kd_s"], "{:.2f}"),
+            cell(x["dirty"], pct), cell(x["lazy"]), cell(x["lazy_share"], pct), cell(x["lazy_pays"], "{:.4f}")))
+    m = {k: median([x[k] for x in table]) for k in table[0] if k != "time"}
+    lines.append("| **median** | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
+        cell(m["off"]), cell(m["on"]), cell(m["saved"]), cell(m["share"], pct), cell(m["build"]),
+        cell(m["pays"], "{:.4f}"), cell(m["lvb_s"], "{:.2f}"), cell(m["kd_s"], "{:.2f}"), cell(m["dirty"], pct),
+        cell(m["lazy"]), cell(m["lazy_share"], pct), cell(m["lazy_pays"], "{:.4f}")))
+    return "\n".join(lines) + "\n"
 
 
 def main(argv=None):

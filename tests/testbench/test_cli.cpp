@@ -533,6 +533,7 @@ TEST(Cli, AnimateRunsTheFramesAsAResumableSweep) {
   EXPECT_TRUE(fs::exists(out / "frames/frame_0001.png"));
   for (const char* f : {"plots/animate_cycles.png", "plots/animate_culled.png", "plots/animate_preprocessing.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_TRUE(fs::exists(out / "summary.md"));
   const std::string gif = slurp(out / "frames.gif");
   EXPECT_EQ(gif.substr(0, 6), "GIF89a");
   const std::string first = slurp(out / "frames.csv");
