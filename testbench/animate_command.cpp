@@ -3,7 +3,8 @@
 // t, the kd-tree, memory image and LVB (hierarchical) rebuilt, the frame simulated with culling on,
 // off, or both. The per-frame table (frames.csv) then pairs the on and off runs of each time and adds
 // what the rebuild cost: host seconds of the kd-tree and the LVB (host.csv keeps host figures apart,
-// so frames.csv is deterministic) and the LVB's work counts.
+// so frames.csv is deterministic), the LVB's work counts and what a lazy rebuild after the previous
+// frame would redo; plots.py adds the figures, frames.gif and summary.md. docs/animation.md.
 #include "common/error.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
@@ -21,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 
 namespace rtsim {
@@ -66,6 +68,12 @@ std::string sweep_yaml(const AnimateArgs& a, const std::vector<double>& times) {
   return y;
 }
 
+// The run.lvb axis holds on/off (YAML may read them as booleans).
+bool culling_on(const SweepPoint& p) {
+  const nlohmann::json& lvb = p.values["run.lvb"];
+  return lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
+}
+
 nlohmann::json read_report(const std::string& dir) {
   std::ifstream in(fs::path(dir) / "report.json");
   return nlohmann::json::parse(in);
@@ -81,8 +89,7 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   size_t lights = 0;
   for (const SweepPoint& p : spec.points) {
     const double t = p.values["scene.time"].get<double>();
-    const nlohmann::json& lvb = p.values["run.lvb"];
-    const bool on = lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
+    const bool on = culling_on(p);
     nlohmann::json& report = on ? frames[t].on : frames[t].off;
     report = read_report(sweep_point_dir(out, p));
     lights = std::max(lights, report["per_light"].size());
@@ -124,11 +131,10 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
       return cells;
     };
     // A frame checked in both runs counts the mismatches of both.
-    std::string check;
+    std::optional<uint64_t> mismatched;
     for (const nlohmann::json* r : {&f.off, &f.on})
       if (!r->is_null() && r->contains("reference_check") && !(*r)["reference_check"].is_null())
-        check = std::to_string((check.empty() ? 0 : std::stoull(check)) +
-                               (*r)["reference_check"]["mismatched_pixels"].get<uint64_t>());
+        mismatched = mismatched.value_or(0) + (*r)["reference_check"]["mismatched_pixels"].get<uint64_t>();
     csv += fmt::format("{:.9g},{},{},{},{},{},{},{},{},{},{}{}{}", t, number(any, ptr("/scene/triangles")),
                        number(f.off, ptr("/cycles_total")), number(f.on, ptr("/cycles_total")),
                        number(f.off, ptr("/frame_ms/all")), number(f.on, ptr("/frame_ms/all")), saved, rays, culled,
@@ -137,7 +143,7 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
                             "/lvb/lazy/dirty_pairs", "/lvb/lazy/pairs", "/lvb/lazy/dirty_tests",
                             "/lvb/lazy/nodes_visited", "/lvb/lazy/region_tests", "/lvb/lazy/pair_tests"})
       csv += "," + number(f.on, ptr(key));
-    csv += "," + check + "\n";
+    csv += "," + (mismatched ? std::to_string(*mismatched) : std::string()) + "\n";
     host += fmt::format("{:.9g},{},{},{},{}\n", t, number(any, ptr("/host/seconds/kdtree")),
                         number(f.on, ptr("/host/seconds/lvb")), number(f.off, ptr("/host/seconds/simulate")),
                         number(f.on, ptr("/host/seconds/simulate")));
@@ -173,9 +179,7 @@ int run_animate(const AnimateArgs& a) {
     });
     const size_t k = size_t(nearest - times.begin());
     if (a.check_every > 0 && k % size_t(a.check_every) == 0) p.set.push_back("run.check=true");
-    const nlohmann::json& lvb = p.values["run.lvb"];
-    const bool on = lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
-    if (on && k > 0) p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
+    if (culling_on(p) && k > 0) p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
   }
   if (a.emit == "slurm") return emit_slurm(spec, a.out);
   const int code = run_sweep_points(spec, a.out, a.jobs, false);
