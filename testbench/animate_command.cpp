@@ -181,7 +181,11 @@ int run_animate(const AnimateArgs& a) {
     if (a.check_every > 0 && k % size_t(a.check_every) == 0) p.set.push_back("run.check=true");
     if (culling_on(p) && k > 0) p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
   }
-  if (a.emit == "slurm") return emit_slurm(spec, a.out);
+  if (a.emit == "slurm") {
+    const int code = emit_slurm(spec, a.out);
+    if (code == 0) fmt::print("after the job, this command again (without --emit) writes frames.csv and the figures\n");
+    return code;
+  }
   const int code = run_sweep_points(spec, a.out, a.jobs, false);
   if (code != 0) return code;
   write_frame_tables(a.out, spec);

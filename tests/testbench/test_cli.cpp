@@ -541,6 +541,22 @@ TEST(Cli, AnimateRunsTheFramesAsAResumableSweep) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("4 already done, running 0"), std::string::npos) << r.out;
   EXPECT_EQ(slurp(out / "frames.csv"), first) << "frames.csv is deterministic";
+  // On a cluster: --emit slurm writes the job; its array tasks run the points; the command again
+  // writes the tables.
+  const fs::path cluster = test::temp_dir("cli_animate_slurm");
+  const std::string emit = "animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
+                           (test::source_dir() / "configs/hw/small.yaml").string() +
+                           " --times 0:1:1 --width 32 --height 18 --lvb on --out " + cluster.string();
+  r = run(emit + " --emit slurm");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(cluster / "sweep.sbatch"));
+  EXPECT_FALSE(fs::exists(cluster / "frames.csv"));
+  for (int i = 0; i < 2; ++i) ASSERT_EQ(run("sweep --out " + cluster.string() + " --point " + std::to_string(i)).code, 0);
+  r = run(emit);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 already done, running 0"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(cluster / "frames.csv"));
+  fs::remove_all(cluster);
   // Another --check-every is another set of points: the directory is not reused for it.
   expect_input_error("animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
                          (test::source_dir() / "configs/hw/small.yaml").string() +
