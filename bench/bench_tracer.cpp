@@ -44,7 +44,7 @@ int main(int argc, char** argv) {
     if (h.tri == kNoHit) continue;
     const Triangle& t = p.scene.triangles[h.tri];
     const SurfacePoint sp = surface_point(r, h.t, t.v0, t.v1, t.v2);
-    for (const PointLight& l : p.scene.lights) {
+    for (const Light& l : p.scene.lights) {
       const Ray s = shadow_ray(sp, l.position, offset);
       shadow.push_back(s);
     }

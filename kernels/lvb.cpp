@@ -203,7 +203,8 @@ class Preprocessor {
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const Counters before = c;
       bool dirty = false;
-      if (bit(leaf, i, c, lazy ? &dirty : nullptr, lazy)) w |= 1u << i;
+      // Area lights keep their bits at 1 (no culling, never wrong) until their region is built.
+      if (scene_.lights[i].is_area() || bit(leaf, i, c, lazy ? &dirty : nullptr, lazy)) w |= 1u << i;
       if (!lazy) continue;
       ++lazy->pairs;
       if (!dirty) continue;

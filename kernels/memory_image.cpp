@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <limits>
 
 namespace rtsim {
@@ -62,7 +63,10 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   place(h.prims, tree.prims.size(), kPrimBytes);
   place(h.triangles, scene.triangles.size(), kTriangleBytes);
   place(h.materials, scene.materials.size(), kMaterialBytes);
-  place(h.lights, scene.lights.size(), kLightBytes);
+  // With an area light, a second block of records holds the lights' edges (point-only scenes keep
+  // the one block, byte for byte as before).
+  const bool any_area = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.is_area(); });
+  place(h.lights, scene.lights.size() * (any_area ? 2 : 1), kLightBytes);
   h.image_bytes = static_cast<uint32_t>(align_up(cursor));
   h.light_count = static_cast<uint32_t>(scene.lights.size());
   h.bounds = tree.bounds;
@@ -111,9 +115,16 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
     store_f32(p + 28, m.shininess);
   }
   for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const Light& l = scene.lights[i];
     uint8_t* p = b + light_addr(static_cast<uint32_t>(i));
-    store_vec3(p, scene.lights[i].position);
-    store_vec3(p + 16, scene.lights[i].color);
+    store_vec3(p, l.position);
+    store_vec3(p + 16, l.color);
+    if (l.samples != 1) store_u32(p + 12, l.samples);
+    if (!l.is_area()) continue;
+    store_u32(p + 28, kLightArea | (l.two_sided ? kLightTwoSided : 0u));
+    uint8_t* a = b + light_area_addr(static_cast<uint32_t>(i));
+    store_vec3(a, l.edge1);
+    store_vec3(a + 16, l.edge2);
   }
 }
 

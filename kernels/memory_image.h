@@ -6,6 +6,7 @@
 #include "kernels/kdtree.h"
 #include "scene/scene.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <vector>
@@ -35,7 +36,7 @@ struct Header {
   uint32_t version = kVersion;
   Section nodes, leaves, prims, triangles, materials, lights;
   uint32_t image_bytes = 0;
-  uint32_t light_count = 0;  // == lights.count; kept for the LVB word's width
+  uint32_t light_count = 0;  // lights (the section holds twice as many records with area lights)
   AABB bounds;               // root cell of the kd-tree
 };
 
@@ -58,10 +59,17 @@ struct MaterialRecord {
   float shininess = 0;
 };
 
+// A light: a point, or an area light (position is its corner; edges from its second record).
 struct LightRecord {
   Vec3 position;
   Vec3 color;
+  uint32_t samples = 1;  // shadow rays per hit (1 for a point light)
+  bool area = false;
+  bool two_sided = true;
+  Vec3 edge1{0.f}, edge2{0.f};
 };
+// Flags word of a light record (offset 28).
+inline constexpr uint32_t kLightArea = 1u, kLightTwoSided = 2u;
 
 // Decoders: each reads one record from the bytes at p (as fetched from memory).
 inline uint32_t load_u32(const uint8_t* p) {
@@ -89,7 +97,21 @@ inline TriangleRecord decode_triangle(const uint8_t* p) {
 inline MaterialRecord decode_material(const uint8_t* p) {
   return {load_vec3(p), load_f32(p + 12), load_vec3(p + 16), load_f32(p + 28)};
 }
-inline LightRecord decode_light(const uint8_t* p) { return {load_vec3(p), load_vec3(p + 16)}; }
+// A light's first record; an area light's edges are in its second record (decode_light_area).
+inline LightRecord decode_light(const uint8_t* p) {
+  LightRecord l;
+  l.position = load_vec3(p);
+  l.samples = std::max<uint32_t>(1, load_u32(p + 12));
+  l.color = load_vec3(p + 16);
+  const uint32_t flags = load_u32(p + 28);
+  l.area = flags & kLightArea;
+  l.two_sided = !l.area || (flags & kLightTwoSided);
+  return l;
+}
+inline void decode_light_area(const uint8_t* p, LightRecord& l) {
+  l.edge1 = load_vec3(p);
+  l.edge2 = load_vec3(p + 16);
+}
 Header decode_header(const uint8_t* p);
 
 }  // namespace image
@@ -108,6 +130,8 @@ class MemoryImage {
   uint32_t triangle_addr(uint32_t i) const { return header_.triangles.base + i * image::kTriangleBytes; }
   uint32_t material_addr(uint32_t i) const { return header_.materials.base + i * image::kMaterialBytes; }
   uint32_t light_addr(uint32_t i) const { return header_.lights.base + i * image::kLightBytes; }
+  // An area light's second record: after every light's first one.
+  uint32_t light_area_addr(uint32_t i) const { return light_addr(header_.light_count + i); }
 
   // Host-side decoding of the same bytes (the reference tracer's path into memory).
   KdNode node(uint32_t i) const { return image::decode_node(&bytes_[node_addr(i)]); }
@@ -115,7 +139,11 @@ class MemoryImage {
   uint32_t prim(uint32_t i) const { return image::load_u32(&bytes_[prim_addr(i)]); }
   image::TriangleRecord triangle(uint32_t i) const { return image::decode_triangle(&bytes_[triangle_addr(i)]); }
   image::MaterialRecord material(uint32_t i) const { return image::decode_material(&bytes_[material_addr(i)]); }
-  image::LightRecord light(uint32_t i) const { return image::decode_light(&bytes_[light_addr(i)]); }
+  image::LightRecord light(uint32_t i) const {
+    image::LightRecord l = image::decode_light(&bytes_[light_addr(i)]);
+    if (l.area) image::decode_light_area(&bytes_[light_area_addr(i)], l);
+    return l;
+  }
 
   // The LVB preprocessor writes each leaf's word here.
   void set_leaf_lvb(uint32_t leaf, uint32_t lvb);

@@ -1,5 +1,7 @@
 #include "kernels/reference_tracer.h"
 
+#include "kernels/light_samples.h"
+
 #include "common/error.h"
 
 #include <fmt/format.h>
@@ -79,8 +81,9 @@ struct Worker {
   float offset;
   TraceStats stats;
 
-  // Shades a hit: shadow rays to every light (unless culled), then an optional mirror bounce.
-  Vec3 shade(const Ray& ray, const Hit& hit, int depth, PixelRecord* rec) {
+  // Shades a hit: shadow rays to every sample of every light (unless culled), then an optional
+  // mirror bounce. `pixel` and `depth` place the area lights' samples (kernels/light_samples.h).
+  Vec3 shade(const Ray& ray, const Hit& hit, uint32_t pixel, int depth, PixelRecord* rec) {
     const image::TriangleRecord tri = image.triangle(hit.tri);
     const image::MaterialRecord mat = image.material(tri.material);
     const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
@@ -89,28 +92,39 @@ struct Worker {
     Vec3 color = kAmbient * mat.diffuse;
     for (uint32_t i = 0; i < image.header().light_count; ++i) {
       const image::LightRecord light = image.light(i);
-      const Ray shadow = shadow_ray(sp, light.position, offset);
       LightCounters& lc = stats.per_light[i];
-      ++lc.shadow_rays;
-      bool blocked = false;
-      if (opt.cull_with_lvb && !((lvb >> i) & 1u)) {
-        ++lc.culled;
-        if (rec) rec->culled |= uint16_t(1u << i);
-        if (opt.verify_culls && tracer.occluded(shadow)) {
-          ++lc.wrong_culls;
-          if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
+      const bool culled = opt.cull_with_lvb && !((lvb >> i) & 1u);
+      if (culled && rec) rec->culled |= uint16_t(1u << i);
+      uint32_t blocked_samples = 0;
+      Vec3 lit(0.f);
+      for (uint32_t k = 0; k < light.samples; ++k) {
+        const Vec3 point = light_sample_point(light, pixel, uint32_t(depth), i, k);
+        const Ray shadow = shadow_ray(sp, point, offset);
+        ++lc.shadow_rays;
+        bool blocked = false;
+        if (culled) {
+          ++lc.culled;
+          if (opt.verify_culls && tracer.occluded(shadow)) {
+            ++lc.wrong_culls;
+            if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
+          }
+        } else {
+          ++lc.traced;
+          ++stats.shadow_rays_traced;
+          blocked = tracer.occluded(shadow, &stats.any);
         }
-      } else {
-        ++lc.traced;
-        ++stats.shadow_rays_traced;
-        blocked = tracer.occluded(shadow, &stats.any);
+        if (blocked) {
+          ++lc.occluded;
+          ++blocked_samples;
+        } else if (light_faces(light, point, sp.p)) {
+          lit += light_contribution(sp, mat.diffuse, point, light.color);
+        }
       }
-      if (blocked) {
-        ++lc.occluded;
-        if (rec) rec->occluded |= uint16_t(1u << i);
-        continue;
+      if (rec) {
+        rec->occluded_samples[i] = uint16_t(blocked_samples);
+        if (blocked_samples == light.samples) rec->occluded |= uint16_t(1u << i);
       }
-      color += light_contribution(sp, mat.diffuse, light.position, light.color);
+      color += light.samples == 1 ? lit : lit / float(light.samples);
     }
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
       const Ray refl = reflection_ray(sp, ray.d, offset);
@@ -119,7 +133,7 @@ struct Worker {
       Vec3 rc = kBackground;
       if (rh.tri != kNoHit) {
         ++stats.reflection_hits;
-        rc = shade(refl, rh, depth + 1, nullptr);
+        rc = shade(refl, rh, pixel, depth + 1, nullptr);
       }
       color = (1.f - mat.reflectance) * color + mat.reflectance * rc;
     }
@@ -137,7 +151,7 @@ struct Worker {
         Vec3 c = kBackground;
         if (rec.hit.tri != kNoHit) {
           ++stats.primary_hits;
-          c = shade(ray, rec.hit, 0, &rec);
+          c = shade(ray, rec.hit, uint32_t(idx), 0, &rec);
         }
         for (int k = 0; k < 3; ++k) out.rgb[3 * idx + k] = to_display(c[k]);
       }

@@ -27,8 +27,9 @@ struct TracerOptions {
 struct PixelRecord {
   Hit hit;
   uint32_t lvb = 0;        // LVB word of hit.leaf
-  uint16_t occluded = 0;   // bit i: shadow ray to light i is blocked (or was culled: never)
-  uint16_t culled = 0;     // bit i: shadow ray to light i was culled by the LVB
+  uint16_t occluded = 0;   // bit i: every shadow ray to light i is blocked (culled ones never are)
+  uint16_t culled = 0;     // bit i: the shadow rays to light i were culled by the LVB
+  std::array<uint16_t, kMaxLights> occluded_samples{};  // per light: blocked shadow rays (samples)
 };
 
 struct TraversalCounters {

@@ -35,7 +35,14 @@ void write_file_atomic(const std::string& path, const std::string& contents) {
 void write_json(const std::string& path, const nlohmann::json& j) { write_file_atomic(path, j.dump(2) + "\n"); }
 
 void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height, int width) {
-  std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}, {}), }}", height, width);
+  write_npy_u16(path, data, std::vector<size_t>{size_t(height), size_t(width)});
+}
+
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, const std::vector<size_t>& shape) {
+  std::string dims;
+  for (size_t d : shape) dims += fmt::format("{}, ", d);
+  std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}), }}",
+                                   shape.size() == 1 ? dims.substr(0, dims.size() - 1) : dims.substr(0, dims.size() - 2));
   // The magic, version and length take 10 bytes; pad so the data starts 64-byte aligned.
   const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
   header.append(total - 10 - header.size() - 1, ' ');

@@ -19,9 +19,17 @@ struct Material {
   float ior = 1.f;
 };
 
-struct PointLight {
-  Vec3 position{0.f};
+// A point light, or a parallelogram area light: the points position + u edge1 + v edge2 for u, v
+// in [0, 1], sampled by `samples` shadow rays per hit (kernels/light_samples.h). A one-sided area
+// light emits towards edge1 x edge2 only. AFF and glTF lights are points.
+struct Light {
+  Vec3 position{0.f};  // the point, or the area light's corner
   Vec3 color{1.f};
+  Vec3 edge1{0.f}, edge2{0.f};  // zero for a point light
+  bool two_sided = true;
+  uint32_t samples = 1;
+  bool is_area() const { return edge1 != Vec3(0.f) || edge2 != Vec3(0.f); }
+  Vec3 center() const { return position + 0.5f * (edge1 + edge2); }
 };
 
 // Pinhole camera. `up` is kept as given by the file (not orthogonalised against `dir`).
@@ -37,7 +45,7 @@ struct Scene {
   std::string name;
   std::vector<Triangle> triangles;
   std::vector<Material> materials;  // Triangle::material indexes this
-  std::vector<PointLight> lights;
+  std::vector<Light> lights;
   Camera camera;
   bool has_camera = false;
   int width = 0, height = 0;  // 0 = not given by the file

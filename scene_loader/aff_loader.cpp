@@ -442,7 +442,7 @@ class AffLoader {
 
   // l x y z [r g b]. Lights move with their enclosing transforms, like geometry.
   void parse_light(Tokenizer& tk) {
-    PointLight l;
+    Light l;
     l.position = Vec3(transform_point(matrix_, tk.vec3("light position")));
     if (tk.next_is_number()) l.color = Vec3(tk.vec3("light colour"));
     if (node_ >= 0) nodes_[node_].lights.push_back(scene_.lights.size());
@@ -455,7 +455,7 @@ class AffLoader {
     AnimatedLight a;
     a.name = std::string(tk.word("an animated light's name after 'la'"));
     a.position = tk.vec3("light position");
-    PointLight l;
+    Light l;
     if (tk.next_is_number()) l.color = Vec3(tk.vec3("light colour"));
     a.index = scene_.lights.size();
     a.node = node_;

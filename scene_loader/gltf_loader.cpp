@@ -150,7 +150,7 @@ class GltfReader {
       ++skipped_lights_;
       return;
     }
-    PointLight p;
+    Light p;
     p.position = transform_point(world, Vec3(0.f));
     if (l.color.size() == 3) p.color = Vec3(l.color[0], l.color[1], l.color[2]);
     scene_.lights.push_back(p);

@@ -181,7 +181,7 @@ void make_city(const CityParams& params, Scene& scene) {
     double s, c;
     sincos_exact(2.0 * kPi * i / params.lights - kPi, s, c);
     const double radius = 0.35 * w * rng.range(0.8, 1.0);
-    PointLight light;
+    Light light;
     light.position = to_vec3(0.5 * w + radius * c, 30.0 + 0.2 * w, 0.5 * w + radius * s);
     light.color = Vec3(intensity);
     scene.lights.push_back(light);

@@ -22,9 +22,14 @@ int run_info(const InfoArgs& args) {
              s.materials.size(), s.width, s.height, s.time);
   fmt::print("camera       eye ({:.7g}, {:.7g}, {:.7g})  dir ({:.7g}, {:.7g}, {:.7g})  up ({:.7g}, {:.7g}, {:.7g})  vfov {:.6g} deg\n",
              c.eye.x, c.eye.y, c.eye.z, c.dir.x, c.dir.y, c.dir.z, c.up.x, c.up.y, c.up.z, c.vfov_deg);
-  for (size_t i = 0; i < s.lights.size(); ++i)
-    fmt::print("light {:<6} ({:.7g}, {:.7g}, {:.7g})\n", i, s.lights[i].position.x, s.lights[i].position.y,
-               s.lights[i].position.z);
+  for (size_t i = 0; i < s.lights.size(); ++i) {
+    const Light& l = s.lights[i];
+    fmt::print("light {:<6} ({:.7g}, {:.7g}, {:.7g})", i, l.position.x, l.position.y, l.position.z);
+    if (l.is_area())
+      fmt::print(" + u ({:.7g}, {:.7g}, {:.7g}) + v ({:.7g}, {:.7g}, {:.7g}), {}-sided, {} samples", l.edge1.x,
+                 l.edge1.y, l.edge1.z, l.edge2.x, l.edge2.y, l.edge2.z, l.two_sided ? "two" : "one", l.samples);
+    fmt::print("\n");
+  }
   fmt::print("kd-tree      {} nodes, {} leaves ({} empty), {} references, {:.2f} mean / {} max per non-empty leaf\n",
              k.nodes, k.leaves, k.empty_leaves, k.prim_refs, k.mean_prims_per_leaf, k.max_prims_per_leaf);
   fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n", k.max_depth, k.depth_limit,

@@ -35,7 +35,12 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
 nlohmann::json scene_json(const PreparedScene& p) {
   const Scene& s = p.scene;
   nlohmann::json lights = nlohmann::json::array();
-  for (const PointLight& l : s.lights) lights.push_back({{"position", vec(l.position)}, {"color", vec(l.color)}});
+  for (const Light& l : s.lights) {
+    nlohmann::json j = {{"position", vec(l.position)}, {"color", vec(l.color)}};
+    if (l.is_area())
+      j["area"] = {{"edge1", vec(l.edge1)}, {"edge2", vec(l.edge2)}, {"two_sided", l.two_sided}, {"samples", l.samples}};
+    lights.push_back(j);
+  }
   const AABB b = s.bounds();
   return {{"name", s.name},
           {"file", p.file},

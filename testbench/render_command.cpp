@@ -24,6 +24,11 @@ int run_render(const RenderArgs& args) {
   std::vector<uint16_t> mask(r.pixels.size());
   for (size_t i = 0; i < r.pixels.size(); ++i)
     mask[i] = mask_value(r.pixels[i].hit.tri, r.pixels[i].occluded);
+  // Per pixel and light: the occluded shadow rays (samples) of the primary hit.
+  const size_t lights = p.scene.lights.size();
+  std::vector<uint16_t> visibility(r.pixels.size() * lights);
+  for (size_t i = 0; i < r.pixels.size(); ++i)
+    for (size_t l = 0; l < lights; ++l) visibility[i * lights + l] = r.pixels[i].occluded_samples[l];
 
   const TraceStats& s = r.stats;
   uint64_t shadow = 0;
@@ -55,9 +60,10 @@ int run_render(const RenderArgs& args) {
   std::filesystem::create_directories(out);
   write_png_rgb((out / "render.png").string(), r.rgb, r.width, r.height);
   write_npy_u16((out / "mask.npy").string(), mask, r.height, r.width);
+  write_npy_u16((out / "visibility.npy").string(), visibility, {size_t(r.height), size_t(r.width), lights});
   write_json((out / "render.json").string(), j);
   fmt::print("{}: {} triangles, {} lights, {}x{}: {} primary ({} hit), {} shadow, {} reflection rays in {:.2f} s "
-             "({} threads)\n  wrote {}/render.png, mask.npy, render.json\n",
+             "({} threads)\n  wrote {}/render.png, mask.npy, visibility.npy, render.json\n",
              p.scene.name, p.scene.triangles.size(), p.scene.lights.size(), r.width, r.height, s.primary_rays,
              s.primary_hits, shadow, s.reflection_rays, s.seconds, s.threads, out.string());
   return 0;

@@ -85,6 +85,9 @@ int run_model(const RunArgs& args) {
     hooks.mem_trace = parse_trace_request("--mem-trace", args.mem_trace_file, args.trace_window);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that ran.
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
+  for (const Light& l : p.scene.lights)
+    if (l.is_area())
+      throw InputError(c.scene_file + ": area lights are not in the SystemC model yet (issue 12); rtsim render traces them");
 
   nlohmann::json lvb_json = nullptr;
   double lvb_seconds = 0;

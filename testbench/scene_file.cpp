@@ -152,6 +152,66 @@ KdTreeParams read_kdtree(YamlMap k) {
   return p;
 }
 
+// A light of `lights.add`: a point (`position`) or a parallelogram (`area: {corner, edge1, edge2,
+// two_sided}` with `samples`).
+Light read_light(YamlMap& a) {
+  Light light;
+  light.color = a.get_vec3("color", light.color);
+  if (a.has("position") == a.has("area")) a.fail("position", "expected either 'position' (a point light) or 'area'");
+  if (a.has("position")) {
+    light.position = a.require_vec3("position");
+    if (a.has("samples")) a.fail("samples", "a point light has one sample; 'samples' needs an 'area' light");
+  } else {
+    YamlMap area = a.map("area");
+    light.position = area.require_vec3("corner");
+    light.edge1 = area.require_vec3("edge1");
+    light.edge2 = area.require_vec3("edge2");
+    light.two_sided = area.get<bool>("two_sided", false);
+    const float span = glm::length(glm::cross(light.edge1, light.edge2));
+    if (!(span > 0.f) || !std::isfinite(span))
+      area.fail("edge2", "expected edges that span an area (edge1 x edge2 is zero)");
+    area.finish();
+    light.samples = uint32_t(a.get_in_range("samples", 16, 1, 256));
+  }
+  a.finish();
+  return light;
+}
+
+// `lights.area_from_points`: every point light becomes a horizontal square area light centred on
+// it, of side `side_fraction` of the scene's diagonal, two-sided unless stated (docs/area-lights.md).
+void area_from_points(YamlMap m, Scene& scene) {
+  const double fraction = m.get_in_range("side_fraction", 0.05, 1e-6, 1.0);
+  const int samples = m.get_in_range("samples", 16, 1, 256);
+  const bool two_sided = m.get<bool>("two_sided", true);
+  m.finish();
+  const float side = float(fraction * scene.bounds().diagonal());
+  if (!(side > 0.f)) m.fail("side_fraction", "the scene has no extent to take a fraction of");
+  for (Light& l : scene.lights) {
+    if (l.is_area()) continue;
+    l.edge1 = Vec3(side, 0.f, 0.f);
+    l.edge2 = Vec3(0.f, 0.f, side);
+    l.position -= 0.5f * (l.edge1 + l.edge2);
+    l.two_sided = two_sided;
+    l.samples = uint32_t(samples);
+  }
+}
+
+// `base: FILE` (relative to this file): the base file, with this file's top-level keys in place of
+// its own (whole values), so a variant of a setup states only what differs. One level deep.
+YamlMap load_with_base(const std::string& path, const std::vector<ConfigOverride>& overrides) {
+  YamlMap derived = YamlMap::load_file(path, overrides);
+  if (!derived.has("base")) return derived;
+  const fs::path base = fs::path(path).parent_path() / derived.require<std::string>("base");
+  if (!fs::exists(base)) derived.fail("base", fmt::format("{}: file not found", base.string()));
+  std::vector<ConfigOverride> own;
+  for (const std::string& key : derived.keys())
+    if (key != "base") own.push_back({{key}, derived.raw(key), fmt::format("{}: {}", path, key)});
+  own.insert(own.end(), overrides.begin(), overrides.end());
+  YamlMap top = YamlMap::load_file(base.string(), own);
+  if (top.has("base")) top.fail("base", "a base file has no base of its own (one level only)");
+  return top;
+}
+
 }  // namespace
 
 std::string default_scene_root() {
@@ -162,7 +222,7 @@ std::string default_scene_root() {
 }
 
 SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& options) {
-  YamlMap top = YamlMap::load_file(path, options.overrides);
+  YamlMap top = load_with_base(path, options.overrides);
   const fs::path root = options.scene_root.empty() ? default_scene_root() : options.scene_root;
   SceneSetup setup;
   Scene& scene = setup.scene;
@@ -188,15 +248,9 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
   if (top.has("lights")) {
     YamlMap l = top.map("lights");
     if (!l.get<bool>("from_files", true)) scene.lights.clear();
-    if (l.has("add")) {
-      for (YamlMap& a : l.list_of_maps("add")) {
-        PointLight light;
-        light.position = a.require_vec3("position");
-        light.color = a.get_vec3("color", light.color);
-        a.finish();
-        scene.lights.push_back(light);
-      }
-    }
+    if (l.has("add"))
+      for (YamlMap& a : l.list_of_maps("add")) scene.lights.push_back(read_light(a));
+    if (l.has("area_from_points")) area_from_points(l.map("area_from_points"), scene);
     l.finish();
   }
   if (scene.lights.empty()) top.fail("lights", "the scene has no light");

@@ -1,6 +1,7 @@
 // The reference tracer against brute force, on the memory image it reads.
 #include "kernels/clip.h"
 #include "kernels/kdtree.h"
+#include "kernels/light_samples.h"
 #include "kernels/memory_image.h"
 #include "kernels/reference_tracer.h"
 #include "testbench/scene_file.h"
@@ -219,6 +220,64 @@ TEST(ReferenceTracer, LvbCullingSkipsOnlyRaysWithBitZero) {
   EXPECT_EQ(r.stats.per_light[0].traced, 0u);
   EXPECT_GT(r.stats.per_light[0].wrong_culls, 0u) << "some culled rays are occluded in the city";
   EXPECT_EQ(r.stats.per_light[1].culled, 0u);
+}
+
+// An area light over a floor with a square blocker between: the tracer's count of occluded samples
+// per pixel equals a brute-force count over the same sample rays, and the floor has umbra,
+// penumbra and light.
+TEST(ReferenceTracer, AreaLightSamplesCastPenumbraeCountedPerPixel) {
+  Scene scene;
+  scene.add_material(Material{});
+  auto quad = [&](Vec3 a, Vec3 b, Vec3 c, Vec3 d) {
+    scene.triangles.push_back({a, b, c, 0});
+    scene.triangles.push_back({a, c, d, 0});
+  };
+  quad({-4, 0, -4}, {4, 0, -4}, {4, 0, 4}, {-4, 0, 4});
+  // Blocker half-width 0.5 at height 2, light half-width 0.25 at 3: the umbra reaches |x| = 1 on
+  // the floor, beyond the blocker's own cover (|x| < 0.75 seen from the camera at height 6).
+  quad({-0.5f, 2, -0.5f}, {0.5f, 2, -0.5f}, {0.5f, 2, 0.5f}, {-0.5f, 2, 0.5f});
+  Light light;
+  light.position = Vec3(-0.25f, 3, -0.25f);
+  light.edge1 = Vec3(0.5f, 0, 0);
+  light.edge2 = Vec3(0, 0, 0.5f);
+  light.samples = 16;
+  scene.lights.push_back(light);
+  scene.camera.eye = Vec3(0, 6, 0.01f);
+  scene.camera.dir = glm::normalize(Vec3(0, -1, -0.002f));
+  scene.camera.vfov_deg = 60;
+  const KdTree tree = build_kdtree(scene.triangles);
+  const MemoryImage image(scene, tree);
+  ASSERT_TRUE(image.light(0).area);
+  ASSERT_EQ(image.light(0).samples, 16u);
+  const ReferenceTracer tracer(image);
+  TracerOptions opt;
+  opt.width = 48;
+  opt.height = 48;
+  const TraceResult r = tracer.trace_frame(scene.camera, opt);
+  const PinholeCamera cam(scene.camera, opt.width, opt.height);
+  const float offset = opt.shadow_offset * tree.bounds.diagonal();
+  int umbra = 0, penumbra = 0, lit = 0;
+  for (int y = 0; y < opt.height; ++y)
+    for (int x = 0; x < opt.width; ++x) {
+      const uint32_t idx = uint32_t(y * opt.width + x);
+      const PixelRecord& px = r.pixels[idx];
+      if (px.hit.tri != 0 && px.hit.tri != 1) continue;  // the floor only
+      const Ray ray = cam.ray(x, y);
+      const Triangle& t = scene.triangles[px.hit.tri];
+      const SurfacePoint sp = surface_point(ray, px.hit.t, t.v0, t.v1, t.v2);
+      uint16_t blocked = 0;
+      for (uint32_t k = 0; k < 16; ++k)
+        blocked += brute_occluded(scene.triangles, shadow_ray(sp, light_sample_point(image.light(0), idx, 0, 0, k), offset));
+      ASSERT_EQ(px.occluded_samples[0], blocked) << x << "," << y;
+      EXPECT_EQ(px.occluded & 1u, blocked == 16 ? 1u : 0u);
+      umbra += blocked == 16;
+      penumbra += blocked > 0 && blocked < 16;
+      lit += blocked == 0;
+    }
+  EXPECT_GT(umbra, 0);
+  EXPECT_GT(penumbra, 0);
+  EXPECT_GT(lit, 0);
+  EXPECT_EQ(r.stats.per_light[0].shadow_rays, 16 * r.stats.primary_hits);
 }
 
 }  // namespace

@@ -739,7 +739,7 @@ TEST(Procedural, DefaultCityHashIsStable) {
     mix(&t.v2, 12);
     mix(&t.material, 4);
   }
-  for (const PointLight& l : s.lights) mix(&l.position, 12);
+  for (const Light& l : s.lights) mix(&l.position, 12);
   mix(&s.camera.eye, 12);
   mix(&s.camera.dir, 12);
   std::printf("default city hash: 0x%016llx\n", static_cast<unsigned long long>(h));
@@ -766,7 +766,7 @@ TEST(Procedural, TriangleCountFollowsParams) {
       EXPECT_GE(b.lo.z, 0.f);
       EXPECT_LE(b.hi.x, w);
       EXPECT_LE(b.hi.z, w);
-      for (const PointLight& l : s.lights) EXPECT_GT(l.position.y, b.hi.y);
+      for (const Light& l : s.lights) EXPECT_GT(l.position.y, b.hi.y);
     }
 }
 
