@@ -98,16 +98,54 @@ HullTest::HullTest(const DBox& box, const DVec3& light, double tolerance) {
   }
 }
 
+HullTest::HullTest(const DBox& box, const LightPolygon& light, double tolerance) {
+  std::array<DVec3, 12> points;
+  for (int i = 0; i < 8; ++i) points[i] = box.corner(i);
+  for (int i = 0; i < 4; ++i) points[8 + i] = light.corners[i];
+  enclosing_ = DBox(points[0], points[0]);
+  for (const DVec3& p : points) {
+    enclosing_.lo = glm::min(enclosing_.lo, p);
+    enclosing_.hi = glm::max(enclosing_.hi, p);
+  }
+  enclosing_ = enclosing_.grown(tolerance);
+  auto add = [&](const DVec3& u) {
+    const double len = glm::length(u);
+    if (!(len > 0)) return;
+    double lo = INFINITY, hi = -INFINITY;
+    for (const DVec3& p : points) {
+      const double d = glm::dot(u, p);
+      lo = std::min(lo, d);
+      hi = std::max(hi, d);
+    }
+    area_axes_.push_back({u, lo - tolerance * len, hi + tolerance * len});
+  };
+  add(glm::cross(light.edge1, light.edge2));
+  const DVec3 dirs[5] = {DVec3(1, 0, 0), DVec3(0, 1, 0), DVec3(0, 0, 1), light.edge1, light.edge2};
+  for (int d = 0; d < 5; ++d) {
+    if (d < 3) {
+      add(glm::cross(dirs[d], light.edge1));
+      add(glm::cross(dirs[d], light.edge2));
+    }
+    // e_d x (V - P) depends only on V's other two coordinates: the corners with bit d clear do.
+    for (int v = 0; v < 8; ++v)
+      if (d >= 3 || !((v >> d) & 1))
+        for (int l = 0; l < 4; ++l) add(glm::cross(dirs[d], points[v] - light.corners[l]));
+  }
+}
+
 bool HullTest::intersects(const DBox& c) const {
   for (int k = 0; k < 3; ++k)
     if (enclosing_.hi[k] < c.lo[k] || c.hi[k] < enclosing_.lo[k]) return false;
   const DVec3 cc = 0.5 * (c.lo + c.hi), ch = 0.5 * (c.hi - c.lo);
-  for (int i = 0; i < count_; ++i) {
-    const Axis& a = axes_[i];
+  auto separates = [&](const Axis& a) {
     const double center = a.u.x * cc.x + a.u.y * cc.y + a.u.z * cc.z;
     const double radius = std::abs(a.u.x) * ch.x + std::abs(a.u.y) * ch.y + std::abs(a.u.z) * ch.z;
-    if (a.hi < center - radius || center + radius < a.lo) return false;
-  }
+    return a.hi < center - radius || center + radius < a.lo;
+  };
+  for (int i = 0; i < count_; ++i)
+    if (separates(axes_[i])) return false;
+  for (const Axis& a : area_axes_)
+    if (separates(a)) return false;
   return true;
 }
 

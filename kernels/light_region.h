@@ -8,6 +8,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <vector>
 
 namespace rtsim {
 
@@ -67,11 +68,22 @@ DBox enclosing_box(const DBox& box, const DVec3& light);
 // counts as touching, so rounding can only make it report an intersection.
 bool hull_intersects_box(const DBox& box, const DVec3& light, const DBox& c, double tolerance);
 
-// The same test with the hull's axes and extents computed once, for testing many boxes.
+// The points an area light spans: the parallelogram's four corners.
+struct LightPolygon {
+  std::array<DVec3, 4> corners;
+  DVec3 edge1{0.0}, edge2{0.0};
+};
+
+// The same test with the hull's axes and extents computed once, for testing many boxes. With an
+// area light, the hull of the box and the light's parallelogram: the separating axes are the
+// coordinate axes, the light's normal and the products of a coordinate axis or a light edge with
+// a light edge or a corner-to-corner edge (all the hull's face normals and edge products with the
+// box's edges); each extent is the projection of the box's and the light's corners.
 class HullTest {
  public:
   HullTest() = default;
   HullTest(const DBox& box, const DVec3& light, double tolerance);
+  HullTest(const DBox& box, const LightPolygon& light, double tolerance);
   bool intersects(const DBox& c) const;
 
  private:
@@ -82,6 +94,7 @@ class HullTest {
   DBox enclosing_;  // widened by the tolerance
   std::array<Axis, 12> axes_;
   int count_ = 0;
+  std::vector<Axis> area_axes_;  // an area light's axes (empty for a point light)
 };
 
 }  // namespace rtsim

@@ -4,11 +4,13 @@
 #include "kernels/light_region.h"
 
 #include <glm/geometric.hpp>
+#include <glm/gtx/component_wise.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <thread>
 
 namespace rtsim {
@@ -48,6 +50,13 @@ struct TriangleInfo {
 
 struct Counters {
   uint64_t nodes_visited = 0, region_tests = 0, pair_tests = 0;
+};
+
+// An area light as the search sees it: its corners, and how far a sample point computed in float
+// (corner + u edge1 + v edge2) may stray from the exact parallelogram.
+struct AreaLight {
+  LightPolygon polygon;
+  double error = 0;
 };
 
 struct LazyCounters {
@@ -153,6 +162,20 @@ class Preprocessor {
     halfspace_ok_ = p.shadow_offset > 4 * point_error;
     point_error_ = point_error;
 
+    areas_.resize(scene.lights.size());
+    for (size_t i = 0; i < scene.lights.size(); ++i) {
+      const Light& l = scene.lights[i];
+      if (!l.is_area()) continue;
+      AreaLight a;
+      const DVec3 p(l.position), e1(l.edge1), e2(l.edge2);
+      a.polygon.corners = {p, p + e1, p + e1 + e2, p + e2};
+      a.polygon.edge1 = e1;
+      a.polygon.edge2 = e2;
+      // Each of the two products and sums rounds once: a few ulps of the largest magnitude.
+      const double m = std::max({glm::compMax(glm::abs(p)), glm::compMax(glm::abs(e1)), glm::compMax(glm::abs(e2))});
+      a.error = 8.0 * std::ldexp(m, -23);
+      areas_[i] = a;
+    }
     tris_.resize(scene.triangles.size());
     for (size_t i = 0; i < scene.triangles.size(); ++i) {
       const Triangle& t = scene.triangles[i];
@@ -203,8 +226,7 @@ class Preprocessor {
     for (size_t i = 0; i < scene_.lights.size(); ++i) {
       const Counters before = c;
       bool dirty = false;
-      // Area lights keep their bits at 1 (no culling, never wrong) until their region is built.
-      if (scene_.lights[i].is_area() || bit(leaf, i, c, lazy ? &dirty : nullptr, lazy)) w |= 1u << i;
+      if (bit(leaf, i, c, lazy ? &dirty : nullptr, lazy)) w |= 1u << i;
       if (!lazy) continue;
       ++lazy->pairs;
       if (!dirty) continue;
@@ -237,7 +259,8 @@ class Preprocessor {
   // One (leaf, light) decision.
   struct Query {
     uint32_t b;
-    DVec3 light;
+    DVec3 light;                      // a point light, or an area light's centre
+    const AreaLight* area = nullptr;  // an area light's polygon
     Region region;
     std::vector<Origin> origins;  // built on the first candidate (exact mode)
     bool origins_ready = false;
@@ -245,14 +268,21 @@ class Preprocessor {
   };
 
   bool bit(uint32_t b, size_t light_index, Counters& c, bool* dirty, LazyCounters* lazy) const {
-    const DVec3 light(scene_.lights[light_index].position);
+    const AreaLight* area = areas_[light_index].has_value() ? &*areas_[light_index] : nullptr;
+    const DVec3 light = area ? DVec3(scene_.lights[light_index].center()) : DVec3(scene_.lights[light_index].position);
     if (dirty) *dirty = change_->light_moved[light_index] != 0;
     Query q;
     q.b = b;
     q.light = light;
+    q.area = area;
     Region& r = q.region;
-    r.exact = exact_;
-    if (exact_) {
+    // An area light's region is always the hull (the paper's frusta are for a point).
+    r.exact = exact_ || area;
+    if (area) {
+      r.hull = HullTest(exact_ ? (p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b])
+                               : box(b),
+                        area->polygon, tolerance_ + area->error);
+    } else if (exact_) {
       // Every shadow ray credited to b starts in this box (origins of all of b's triangles).
       r.hull = HullTest(p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b], light,
                         tolerance_);
@@ -330,12 +360,23 @@ class Preprocessor {
       // The shadow ray starts `offset` off A's plane on the light's side and ends at the light, so
       // every point of it is at least min(offset, light distance) into that side: a blocker
       // must reach that far.
-      const double dl = glm::dot(ta.n, q.light) - ta.c;
+      // An area light: its samples lie between its corners, so the nearest corner bounds them,
+      // when all four are on one side (up to the samples' rounding).
+      double dl = glm::dot(ta.n, q.light) - ta.c, slack = 0;
+      if (q.area) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (const DVec3& corner : q.area->polygon.corners) {
+          lo = std::min(lo, glm::dot(ta.n, corner) - ta.c);
+          hi = std::max(hi, glm::dot(ta.n, corner) - ta.c);
+        }
+        dl = lo > 0 ? lo : (hi < 0 ? hi : 0.0);
+        slack = q.area->error;
+      }
       Origin o;
       o.tri = tree_.prims[ka];
-      o.use_halfspace = halfspace_ok_ && std::abs(dl) > 4 * point_error_;
+      o.use_halfspace = halfspace_ok_ && std::abs(dl) > 4 * point_error_ + slack;
       o.side = dl > 0 ? 1.0 : -1.0;
-      o.need = 0.5 * std::min(p_.shadow_offset - 2 * point_error_, std::abs(dl) - 2 * point_error_);
+      o.need = 0.5 * std::min(p_.shadow_offset - 2 * point_error_, std::abs(dl) - 2 * point_error_ - slack);
       o.origin_box = &origin_[ka];
       q.origins.push_back(o);
     }
@@ -361,7 +402,8 @@ class Preprocessor {
           if (reach <= o.need) continue;
         }
         if (!o.hull_ready) {
-          o.hull = HullTest(*o.origin_box, q.light, tolerance_);
+          o.hull = q.area ? HullTest(*o.origin_box, q.area->polygon, tolerance_ + q.area->error)
+                          : HullTest(*o.origin_box, q.light, tolerance_);
           o.hull_ready = true;
         }
         if (o.hull.intersects(in_cell_[kt])) return true;
@@ -378,6 +420,7 @@ class Preprocessor {
   bool exact_;
   double tolerance_ = 0, point_error_ = 0, cell_growth_ = 0;
   bool halfspace_ok_ = false;
+  std::vector<std::optional<AreaLight>> areas_;  // per light; empty for a point light
   std::vector<TriangleInfo> tris_;
   std::vector<DBox> cell_, geom_;
   std::vector<DBox> in_cell_;  // per reference: the triangle clipped to its leaf's cell
@@ -422,7 +465,8 @@ LvbChange lvb_change(const Scene& before, const Scene& now) {
   }
   c.light_moved.assign(now.lights.size(), 1);
   for (size_t i = 0; i < std::min(now.lights.size(), before.lights.size()); ++i)
-    c.light_moved[i] = before.lights[i].position != now.lights[i].position;
+    c.light_moved[i] = before.lights[i].position != now.lights[i].position ||
+                       before.lights[i].edge1 != now.lights[i].edge1 || before.lights[i].edge2 != now.lights[i].edge2;
   return c;
 }
 

@@ -149,5 +149,30 @@ TEST(LightRegion, HullTestAgreesWithSampledPoints) {
   }
 }
 
+TEST(LightRegion, AreaHullTestAgreesWithSampledPoints) {
+  // conv(box, parallelogram): every point on a segment from a box point to a light point is in it;
+  // a point beyond the light's plane, on the side away from the box, is not.
+  std::mt19937 rng(12);
+  std::uniform_real_distribution<double> u(-3, 3), v(0, 1);
+  for (int i = 0; i < 2000; ++i) {
+    LightPolygon light;
+    const DVec3 corner(u(rng), 5 + v(rng), u(rng));
+    light.edge1 = DVec3(0.5 + v(rng), 0.2 * (v(rng) - 0.5), 0);
+    light.edge2 = DVec3(0.1 * v(rng), 0, 0.5 + v(rng));
+    light.corners = {corner, corner + light.edge1, corner + light.edge1 + light.edge2, corner + light.edge2};
+    const HullTest hull(kBox, light, 1e-12);
+    const DVec3 p = kBox.lo + DVec3(v(rng), v(rng), v(rng)) * (kBox.hi - kBox.lo);
+    const DVec3 l = corner + v(rng) * light.edge1 + v(rng) * light.edge2;
+    const DVec3 q = glm::mix(p, l, v(rng));
+    EXPECT_TRUE(hull.intersects(DBox(q, q)));
+    // Above every corner of the light (the box lies below y = 2 < 5): outside the hull.
+    const DVec3 w(l.x, 7.5 + v(rng), l.z);
+    EXPECT_FALSE(hull.intersects(DBox(w, w)));
+    // Beside the light, beyond its edges at its own height: outside too (the slanted axes).
+    const DVec3 side = corner - 0.3 * light.edge1 - 0.3 * light.edge2 + DVec3(0, 0.01, 0);
+    EXPECT_FALSE(hull.intersects(DBox(side, side))) << i;
+  }
+}
+
 }  // namespace
 }  // namespace rtsim
