@@ -6,6 +6,7 @@
 #pragma once
 
 #include "kernels/memory_image.h"
+#include "kernels/shading.h"
 
 #include <cstdint>
 
@@ -54,6 +55,22 @@ inline Vec3 light_sample_point(const image::LightRecord& l, uint32_t pixel, uint
 // Does a one-sided area light emit towards p from `point`? (Two-sided and point lights always do.)
 inline bool light_faces(const image::LightRecord& l, const Vec3& point, const Vec3& p) {
   return l.two_sided || glm::dot(glm::cross(l.edge1, l.edge2), p - point) > 0.f;
+}
+
+// The Lambert term of light `index` at a hit: the terms of its unoccluded samples summed in sample
+// order, over the number of samples (a point light: its one term). `occluded(k, point)` says whether
+// sample k was blocked: the reference tracer traces it there, the model's composition looks it up,
+// so both add the same floats in the same order.
+template <class Occluded>
+Vec3 light_term(const SurfacePoint& s, const Vec3& diffuse, const image::LightRecord& light, uint32_t pixel,
+                uint32_t bounce, uint32_t index, Occluded&& occluded) {
+  Vec3 lit(0.f);
+  for (uint32_t k = 0; k < light.samples; ++k) {
+    const Vec3 point = light_sample_point(light, pixel, bounce, index, k);
+    if (occluded(k, point) || !light_faces(light, point, s.p)) continue;
+    lit += light_contribution(s, diffuse, point, light.color);
+  }
+  return light.samples == 1 ? lit : lit / float(light.samples);
 }
 
 }  // namespace rtsim

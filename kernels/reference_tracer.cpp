@@ -96,35 +96,28 @@ struct Worker {
       const bool culled = opt.cull_with_lvb && !((lvb >> i) & 1u);
       if (culled && rec) rec->culled |= uint16_t(1u << i);
       uint32_t blocked_samples = 0;
-      Vec3 lit(0.f);
-      for (uint32_t k = 0; k < light.samples; ++k) {
-        const Vec3 point = light_sample_point(light, pixel, uint32_t(depth), i, k);
+      color += light_term(sp, mat.diffuse, light, pixel, uint32_t(depth), i, [&](uint32_t, const Vec3& point) {
         const Ray shadow = shadow_ray(sp, point, offset);
         ++lc.shadow_rays;
-        bool blocked = false;
         if (culled) {
           ++lc.culled;
           if (opt.verify_culls && tracer.occluded(shadow)) {
             ++lc.wrong_culls;
             if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
           }
-        } else {
-          ++lc.traced;
-          ++stats.shadow_rays_traced;
-          blocked = tracer.occluded(shadow, &stats.any);
+          return false;
         }
-        if (blocked) {
-          ++lc.occluded;
-          ++blocked_samples;
-        } else if (light_faces(light, point, sp.p)) {
-          lit += light_contribution(sp, mat.diffuse, point, light.color);
-        }
-      }
+        ++lc.traced;
+        ++stats.shadow_rays_traced;
+        const bool blocked = tracer.occluded(shadow, &stats.any);
+        lc.occluded += blocked;
+        blocked_samples += blocked;
+        return blocked;
+      });
       if (rec) {
         rec->occluded_samples[i] = uint16_t(blocked_samples);
         if (blocked_samples == light.samples) rec->occluded |= uint16_t(1u << i);
       }
-      color += light.samples == 1 ? lit : lit / float(light.samples);
     }
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
       const Ray refl = reflection_ray(sp, ray.d, offset);

@@ -112,6 +112,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   // The reference tracer's constants (reference_tracer.cpp), computed the same way.
   ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
   ctx.shadow_offset = 1e-5f * h.bounds.diagonal();
+  for (uint32_t l = 0; l < h.light_count; ++l) ctx.light_samples.push_back(image.light(l).samples);
 
   DramConfig dram_cfg = cfg.dram;
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
@@ -129,7 +130,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   frame.width = job.width;
   frame.height = job.height;
   frame.levels = cfg.reflection_depth + 1;
-  frame.pixels.assign(frame.pixel_count() * frame.levels, PixelState{});
+  frame.allocate(ctx.light_samples);
 
   ist = reserve<IstUnit>(cfg.ist.count);
   for (uint32_t k = 0; k < cfg.ist.count; ++k)
@@ -318,6 +319,7 @@ AcceleratorResult Accelerator::result() {
     n.culling->finish_accounting(n.end);
     for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
     for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
+    n.frame.close_samples();
     n.collected = true;
   }
   AcceleratorResult out;

@@ -17,6 +17,9 @@ struct ModelContext {
   Clock clock;
   float abs_eps = 0.f;        // the traversal's absolute slack (1e-6 of the scene diagonal)
   float shadow_offset = 0.f;  // shadow-ray origin offset (1e-5 of the scene diagonal)
+  // Per light: shadow rays per hit (1 for a point light). The light table's sample counts, read
+  // once with the header, as a culling unit would hold them in registers.
+  std::vector<uint32_t> light_samples;
 };
 
 }  // namespace rtsim::model

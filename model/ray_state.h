@@ -20,6 +20,7 @@ struct RayState {
   uint32_t pixel = 0;      // primary and reflection rays: the pixel; shadow rays: the frame entry
   uint8_t depth = 0;       // reflection bounces so far
   uint8_t light = 0;       // shadow rays: which light
+  uint16_t sample = 0;     // shadow rays: which of the light's samples
   uint16_t trv_unit = 0;   // the TRV unit that owns the ray (it returns there after each leaf)
   bool started = false;    // traversal_begin done
   // LVB updater: the LVB word of the leaf being tested, and the word of the leaf holding the

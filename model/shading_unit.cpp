@@ -15,7 +15,8 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     PixelState& px = frame_->pixels[r.pixel];
     ++stats_.shadow_rays;
     if (r.trav.found) {
-      px.occluded |= uint16_t(1u << r.light);
+      if (ctx_.light_samples[r.light] > 1) frame_->set_sample_occluded(r.pixel, r.light, r.sample);
+      else px.occluded |= uint16_t(1u << r.light);
       ++stats_.shadow_occluded;
     }
     return retire(id, RayType::kShadow, now);

@@ -1,5 +1,6 @@
 #include "model/shadow_culling_unit.h"
 
+#include "kernels/light_samples.h"
 #include "model/record_fetch.h"
 
 namespace rtsim::model {
@@ -63,6 +64,7 @@ Tick ShadowCullingUnit::current_ready() const {
 
 void ShadowCullingUnit::next_entry() {
   light_ = 0;
+  sample_ = 0;
   record_open_ = false;
   if (!scanning_) {
     ++done_;
@@ -85,7 +87,22 @@ void ShadowCullingUnit::next_entry() {
 }
 
 void ShadowCullingUnit::advance() {
+  if (++sample_ < ctx_.light_samples[light_]) return;
+  next_light();
+}
+
+void ShadowCullingUnit::next_light() {
+  sample_ = 0;
   if (++light_ == ctx_.header.light_count) next_entry();
+}
+
+void ShadowCullingUnit::cull_light() {
+  // Every sample of the light: none is generated, all count as unoccluded.
+  const uint32_t n = ctx_.light_samples[light_];
+  lights_[light_].decisions += n;
+  lights_[light_].culled += n;
+  frame_->pixels[current()].culled |= uint16_t(1u << light_);
+  next_light();
 }
 
 bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
@@ -100,14 +117,31 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   }
   uint8_t bytes[image::kLightBytes];
   read_record(*l1_, addr, image::kLightBytes, bytes);
-  const image::LightRecord light = image::decode_light(bytes);
+  image::LightRecord light = image::decode_light(bytes);
+  Tick ready = fl.ready;
+  if (light.area) {
+    // Its edges are in its second record (docs/memory-image.md).
+    const uint64_t area_addr = ctx_.header.lights.base + uint64_t(ctx_.header.light_count + light_) * image::kLightBytes;
+    const RecordFetch fa = fetch_record(*l1_, area_addr, image::kLightBytes, now, this, 0);
+    if (fa.ready == kUnknown) {
+      waiting_ = true;
+      return true;
+    }
+    read_record(*l1_, area_addr, image::kLightBytes, bytes);
+    image::decode_light_area(bytes, light);
+    ready = std::max(ready, fa.ready);
+  }
+  const uint32_t entry = current();  // the frame entry (pixel and bounce)
+  const uint32_t pixels = uint32_t(frame_->pixel_count());
   const uint32_t id = ctx_.pool->allocate();
   RayState& r = (*ctx_.pool)[id];
   r.type = RayType::kShadow;
-  r.pixel = current();  // the frame entry (pixel and bounce)
+  r.pixel = entry;
   r.light = uint8_t(light_);
-  r.trav.ray = shadow_ray(surface, light.position, ctx_.shadow_offset);
-  f->push(id, std::max(fl.ready, now + clock().period()), now);
+  r.sample = uint16_t(sample_);
+  r.trav.ray = shadow_ray(surface, light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
+                          ctx_.shadow_offset);
+  f->push(id, std::max(ready, now + clock().period()), now);
   ++lights_[light_].decisions;
   ++lights_[light_].generated;
   advance();
@@ -122,11 +156,8 @@ bool ShadowCullingUnit::cycle_unlimited(Tick now) {
   // unit emits the next shadow ray that is not culled.
   bool culled_any = false;
   while (culling_ && has_work() && current_ready() <= now && !((frame_->pixels[current()].lvb >> light_) & 1u)) {
-    ++lights_[light_].decisions;
-    ++lights_[light_].culled;
-    frame_->pixels[current()].culled |= uint16_t(1u << light_);
+    cull_light();
     culled_any = true;
-    advance();
   }
   if (!has_work() || current_ready() > now) return culled_any;
   return emit(frame_->pixels[current()].surface, now) || culled_any;
@@ -166,10 +197,7 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
       continue;
     }
     if (culling_ && !((record_.lvb >> light_) & 1u)) {
-      ++lights_[light_].decisions;
-      ++lights_[light_].culled;
-      frame_->pixels[current()].culled |= uint16_t(1u << light_);
-      advance();
+      cull_light();
       continue;
     }
     return emit(record_.surface, now) || requested || taken > 0;  // one ray per cycle
@@ -190,6 +218,7 @@ std::string ShadowCullingUnit::state() const {
   std::string s = "culling unit: " + std::to_string(done_) + " of " + std::to_string(added_) + " hits decided";
   if (!has_work()) return s + (closed_ ? ", done" : ", waiting for hits");
   s += ", at entry " + std::to_string(current()) + " light " + std::to_string(light_);
+  if (ctx_.light_samples[light_] > 1) s += " sample " + std::to_string(sample_);
   if (waiting_) s += ", waiting for a light record";
   const Tick ready = current_ready();
   s += ready == kUnknown ? ", its record not arrived" : ", its record ready at " + std::to_string(ready) + " ps";
@@ -209,7 +238,7 @@ void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& pref
   r.counter(prefix + ".record_reads", &record_reads_, "count", "hit-record lines read from the frame buffer");
   for (size_t i = 0; i < lights_.size(); ++i) {
     const std::string p = prefix + ".light" + std::to_string(i);
-    r.counter(p + ".decisions", &lights_[i].decisions, "count", "hit pixels considered");
+    r.counter(p + ".decisions", &lights_[i].decisions, "count", "shadow rays decided (a hit's samples of the light)");
     r.counter(p + ".generated", &lights_[i].generated, "count", "shadow rays emitted");
     r.counter(p + ".culled", &lights_[i].culled, "count", "shadow rays culled by the LVB");
   }

@@ -1,6 +1,7 @@
 // Shadow culling unit (the paper's Fig. 5): for every hit (a frame entry: pixel and bounce) and
-// every light, it emits the shadow ray only when the hit leaf's LVB bit for that light is 1; a
-// culled ray counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on
+// every light, it emits the light's shadow rays (one, or an area light's N samples,
+// kernels/light_samples.h) only when the hit leaf's LVB bit for that light is 1; a culled ray
+// counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on
 // the hit's whole word, so culled lights are skipped within the cycle. Light records are read
 // through its L1.
 //
@@ -30,7 +31,7 @@
 namespace rtsim::model {
 
 struct LightStats {
-  uint64_t decisions = 0;  // hit pixels considered for this light
+  uint64_t decisions = 0;  // shadow rays decided: per hit, the light's samples (1 for a point light)
   uint64_t generated = 0;  // shadow rays emitted
   uint64_t culled = 0;     // shadow rays culled by the LVB
 };
@@ -88,7 +89,9 @@ class ShadowCullingUnit : public Unit, public FillListener {
   }
   Tick current_ready() const;
   bool from_memory() const { return scanning_ && rate_ > 0 && reader_; }
-  void advance();      // the next (hit, light) pair
+  void advance();      // the next (hit, light, sample)
+  void next_light();   // the next (hit, light) pair
+  void cull_light();   // the current light's bit is 0: all its samples culled
   void next_entry();   // the next hit
   bool cycle_unlimited(Tick now);
   bool cycle_limited(Tick now);
@@ -113,6 +116,7 @@ class ShadowCullingUnit : public Unit, public FillListener {
   std::deque<Pending> queue_;  // one phase: hits in the order they were shaded
   uint64_t added_ = 0, done_ = 0;
   uint32_t light_ = 0;
+  uint32_t sample_ = 0;  // of the current light (area lights have several)
   std::vector<LightStats> lights_;
   // The limited rate.
   uint32_t rate_, prefetch_;

@@ -1,6 +1,6 @@
 // rtsim run: one testbench run of the SystemC model over a scene. Writes, in the output
 // directory: config.json (the resolved configuration), report.json, report.md, stats.csv,
-// render.png, mask.npy, culled.npy and the figures (reports/plots.py).
+// render.png, mask.npy, culled.npy, visibility.npy and the figures (reports/plots.py).
 #include "kernels/lvb.h"
 #include "kernels/reference_tracer.h"
 #include "model/accelerator.h"
@@ -39,9 +39,13 @@ nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run, c
   for (size_t i = 0; i < ref.pixels.size(); ++i) {
     const PixelRecord& a = ref.pixels[i];
     const model::PixelState& b = r.frame.pixels[i];
+    // Per light, the occluded samples too (visibility.npy).
+    bool same_counts = true;
+    for (uint32_t l = 0; l < r.frame.samples.size(); ++l)
+      same_counts &= a.occluded_samples[l] == r.frame.occluded_samples(uint32_t(i), l);
     const bool same = a.hit.tri == b.hit.tri &&
                       (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
-                                               a.occluded == b.occluded && a.culled == b.culled));
+                                               a.occluded == b.occluded && a.culled == b.culled && same_counts));
     if (!same && ++mismatches <= 5)
       fmt::print(stderr, "pixel {}: reference tri {} t {} occluded {:#x}; model tri {} t {} occluded {:#x}\n", i,
                  a.hit.tri, a.hit.t, a.occluded, b.hit.tri, b.hit.t, b.occluded);
@@ -85,9 +89,6 @@ int run_model(const RunArgs& args) {
     hooks.mem_trace = parse_trace_request("--mem-trace", args.mem_trace_file, args.trace_window);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that ran.
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
-  for (const Light& l : p.scene.lights)
-    if (l.is_area())
-      throw InputError(c.scene_file + ": area lights are not in the SystemC model yet (issue 12); rtsim render traces them");
 
   nlohmann::json lvb_json = nullptr;
   double lvb_seconds = 0;
@@ -137,11 +138,15 @@ int run_model(const RunArgs& args) {
   if (c.run.check) check = reference_check(p, c.run, r, mismatches);
 
   // Per-pixel planes of the primary level: hit and occlusion (mask.npy), culled lights (culled.npy).
+  // visibility.npy: per pixel and light, the occluded samples (rays) of the primary hit.
   std::vector<uint16_t> mask(r.frame.pixel_count()), culled(r.frame.pixel_count());
+  const size_t lights = r.frame.samples.size();
+  std::vector<uint16_t> visibility(mask.size() * lights);
   for (uint32_t i = 0; i < mask.size(); ++i) {
     const model::PixelState& px = r.frame.at(i, 0);
     mask[i] = mask_value(px.hit.tri, px.occluded);
     culled[i] = px.culled;
+    for (uint32_t l = 0; l < lights; ++l) visibility[i * lights + l] = uint16_t(r.frame.occluded_samples(i, l));
   }
   nlohmann::json per_light = nlohmann::json::array();
   for (size_t l = 0; l < r.shadow_generated.size(); ++l)
@@ -186,6 +191,7 @@ int run_model(const RunArgs& args) {
   write_png_rgb((out / "render.png").string(), r.rgb, p.scene.width, p.scene.height);
   write_npy_u16((out / "mask.npy").string(), mask, p.scene.height, p.scene.width);
   write_npy_u16((out / "culled.npy").string(), culled, p.scene.height, p.scene.width);
+  write_npy_u16((out / "visibility.npy").string(), visibility, {size_t(p.scene.height), size_t(p.scene.width), lights});
   write_file_atomic((out / "stats.csv").string(), stats_csv(report));
   write_file_atomic((out / "glossary.csv").string(), glossary_csv(r.glossary));
   write_file_atomic((out / "report.md").string(), run_report_markdown(report));
@@ -197,7 +203,7 @@ int run_model(const RunArgs& args) {
   if (!args.quiet) {
     fmt::print("{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
                "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, stats.csv, "
-               "glossary.csv, config.json, render.png, mask.npy, culled.npy{}\n",
+               "glossary.csv, config.json, render.png, mask.npy, culled.npy, visibility.npy{}\n",
                p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
                double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
                c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",

@@ -180,7 +180,7 @@ Light read_light(YamlMap& a) {
 // `lights.area_from_points`: every point light becomes a horizontal square area light centred on
 // it, of side `side_fraction` of the scene's diagonal, two-sided unless stated (docs/area-lights.md).
 void area_from_points(YamlMap m, Scene& scene) {
-  const double fraction = m.get_in_range("side_fraction", 0.05, 1e-6, 1.0);
+  const double fraction = m.get_in_range("side_fraction", 0.02, 1e-6, 1.0);
   const int samples = m.get_in_range("samples", 16, 1, 256);
   const bool two_sided = m.get<bool>("two_sided", true);
   m.finish();

@@ -1,7 +1,7 @@
 #include "testbench/simulate.h"
 
 #include "common/error.h"
-#include "kernels/shading.h"
+#include "kernels/light_samples.h"
 #include "model/report.h"
 
 #include <systemc>
@@ -58,11 +58,10 @@ std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const Memor
         continue;
       }
       Vec3 c = kAmbient * px.diffuse;
-      for (uint32_t l = 0; l < h.light_count; ++l) {
-        if ((px.occluded >> l) & 1u) continue;
-        const image::LightRecord light = image.light(l);
-        c += light_contribution(px.surface, px.diffuse, light.position, light.color);
-      }
+      const uint32_t entry = frame.entry(i, level);
+      for (uint32_t l = 0; l < h.light_count; ++l)
+        c += light_term(px.surface, px.diffuse, image.light(l), i, uint32_t(level), l,
+                        [&](uint32_t k, const Vec3&) { return frame.sample_occluded(entry, l, k); });
       if (px.reflectance > 0.f && level + 1 < frame.levels) c = (1.f - px.reflectance) * c + px.reflectance * reflected;
       reflected = c;
     }

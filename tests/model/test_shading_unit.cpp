@@ -43,7 +43,8 @@ struct ShadingBench : Bench {
   ShadingBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()), shading("shading0", ctx, cfg.shading, memory, 0, this, &frame) {
     frame.levels = 2;  // one mirror bounce
-    frame.pixels.assign(frame.pixel_count() * 2, PixelState{});
+    ctx.light_samples.assign(2, 1);  // the shadow rays below go to lights 0 and 1, points
+    frame.allocate(ctx.light_samples);
     shading.records = records;
     shading.write_line = [this](uint64_t line, const uint8_t* data, Tick when) {
       written.push_back({line, std::vector<uint8_t>(data, data + kHitRecordBytes), when});

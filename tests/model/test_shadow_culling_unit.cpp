@@ -49,9 +49,10 @@ struct Scenario {
     ctx.header.light_count = kLights;
     ctx.header.lights = {uint32_t(kLightBase), kLights};
     ctx.shadow_offset = 0.f;
+    ctx.light_samples.assign(kLights, 1);
     frame.width = int(hits + misses);
     frame.height = 1;
-    frame.pixels.assign(hits + misses, PixelState{});
+    frame.allocate(ctx.light_samples);
     for (size_t i = 0; i < hits + misses; ++i) {
       PixelState& px = frame.pixels[i];
       if (i >= hits) continue;  // a miss: nothing written

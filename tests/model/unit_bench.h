@@ -85,10 +85,11 @@ class Bench : public sc_core::sc_module, public RayOwners {
     ctx.clock = Clock();
     ctx.abs_eps = 1e-6f * ctx.header.bounds.diagonal();  // the reference tracer's constants
     ctx.shadow_offset = 1e-5f * ctx.header.bounds.diagonal();
+    for (uint32_t l = 0; l < ctx.header.light_count; ++l) ctx.light_samples.push_back(image.light(l).samples);
     memory.interconnect().port().socket.bind(ram.socket);
     frame.width = int(frame_entries);
     frame.height = 1;
-    frame.pixels.assign(frame_entries, PixelState{});
+    frame.allocate(ctx.light_samples);
     records.base = records_base(image);
     records.stride = kHitRecordBytes;
     SC_THREAD(feeder);
