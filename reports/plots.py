@@ -6,6 +6,7 @@ Usage:
     plots.py sweep DIR [--verbose]
     plots.py reproduce DIR [--verbose]
     plots.py animate DIR [--verbose]
+    plots.py area DIR [--verbose]
 
 run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
   culled.png                where shadow rays were culled: one panel per light (fraction of pixels culled
@@ -31,6 +32,11 @@ reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written 
   reproduce_time.png        per scene, the frame-time reduction with culling ((off - on) / off) for all rays and
                             for the shadow rays, paper vs ours; the absolute times are in the captions only.
 A scene without the paper's figures, or without one of our runs, shows n/a in those places.
+
+area DIR reads the results.json of a sweep with the axes scene.lights.area_from_points.samples and run.lvb
+(configs/sweeps/area-lights.yaml) and writes, per scene and sample count, culling off against on:
+  area_lights.md                   cycles off and on, the reduction (off - on) / off, shadow rays traced and culled.
+  plots/area_reduction.png         the frame-time reduction against the samples per light, one line per scene.
 
 animate DIR reads DIR/frames.csv and DIR/host.csv (written by `rtsim animate`) and writes, over the scene's time:
   plots/animate_cycles.png         cycles per frame with culling off and on.
@@ -961,14 +967,60 @@ def animate_summary(rows, host):
     return "\n".join(lines) + "\n"
 
 
+# ----------------------------------------------------------------------------------------- area
+
+SAMPLES = "scene.lights.area_from_points.samples"
+
+
+def area(folder, written):
+    name, axes, metrics, rows = load_parsed(folder, "results.json", parse_results)
+    for need in (SAMPLES, "run.lvb"):
+        if need not in axes:
+            raise InputError(f"results.json: sweep {name} has no axis {need}")
+    runs = {}
+    for r in rows:
+        lvb = r["run.lvb"]
+        on = lvb if isinstance(lvb, bool) else lvb == "on"
+        runs.setdefault((r["scene"], r[SAMPLES]), {})["on" if on else "off"] = r
+    lines = ["# Culling with area lights: culling off against on", "",
+             f"Sweep {name}; reduction = (cycles off - cycles on) / cycles off; rays with culling on.", "",
+             "| scene | samples | cycles off | cycles on | reduction | shadow rays traced | culled | culled share |",
+             "|---|---|---|---|---|---|---|---|"]
+    curves = {}
+    for (scene, n), pair in sorted(runs.items(), key=lambda kv: (str(kv[0][0]), kv[0][1])):
+        off, on = pair.get("off"), pair.get("on")
+        if not off or not on:
+            continue
+        red = (off["cycles_total"] - on["cycles_total"]) / off["cycles_total"]
+        curves.setdefault(scene, []).append((n, red))
+        lines.append(f"| {scene} | {n} | {off['cycles_total']:,} | {on['cycles_total']:,} | {red:.2%} | "
+                     f"{on['rays_shadow']:,} | {on['shadow_culled']:,} | {on['shadow_culled_rate']:.2%} |")
+    write_text(os.path.join(folder, "area_lights.md"), "\n".join(lines) + "\n", written)
+    out = os.path.join(folder, "plots")
+    os.makedirs(out, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(7, 4))
+    for scene, pts in sorted(curves.items()):
+        pts.sort()
+        ax.plot([p[0] for p in pts], [100 * p[1] for p in pts], marker="o", label=scene)
+    ax.set_xscale("log", base=2)
+    ax.set_xlabel("shadow rays per hit and light (samples)")
+    ax.set_ylabel("frame-time reduction with culling (%)")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title(f"Culling and area lights (sweep {name})", fontsize=10)
+    save(fig, os.path.join(out, "area_reduction.png"), written)
+
+
 def main(argv=None):
     parser = _Parser(prog="plots.py", description="PNG figures for an rtsim run, sweep or reproduce directory.")
     parser.add_argument("--verbose", action="store_true", help="list the files written")
-    sub = parser.add_subparsers(dest="mode", required=True, metavar="{run,sweep,reproduce,animate}")
+    sub = parser.add_subparsers(dest="mode", required=True, metavar="{run,sweep,reproduce,animate,area}")
     for mode, text in (("run", "figures for a run directory (report.json, culled.npy)"),
                        ("sweep", "figures for a sweep directory (results.json)"),
                        ("reproduce", "paper-vs-ours figures for an rtsim reproduce directory (reproduction.json)"),
-                       ("animate", "figures over time and frames.gif for an rtsim animate directory (frames.csv)")):
+                       ("animate", "figures over time and frames.gif for an rtsim animate directory (frames.csv)"),
+                       ("area", "culling against samples per light for an area-light sweep (results.json)")):
         p = sub.add_parser(mode, help=text)
         p.add_argument("dir", metavar="DIR")
         p.add_argument("--verbose", action="store_true", default=argparse.SUPPRESS, help="list the files written")
@@ -977,7 +1029,7 @@ def main(argv=None):
         args = parser.parse_args(argv)
         if not os.path.isdir(args.dir):
             raise InputError(f"{args.dir}: not a directory")
-        {"run": run, "sweep": sweep, "reproduce": reproduce, "animate": animate}[args.mode](args.dir, written)
+        {"run": run, "sweep": sweep, "reproduce": reproduce, "animate": animate, "area": area}[args.mode](args.dir, written)
     except (InputError, OSError) as e:
         print("plots.py: error: " + " ".join(str(e).split()), file=sys.stderr)
         return 2

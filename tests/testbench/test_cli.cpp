@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -378,6 +379,38 @@ TEST(Cli, AreaLightsAreCheckedAndRenderedWithVisibilityCounts) {
     const nlohmann::json report = nlohmann::json::parse(slurp(dir / "run/report.json"));
     EXPECT_EQ(report["per_light"][0]["shadow_rays"].get<uint64_t>() % 9, 0u) << "nine samples per hit";
     EXPECT_NE(slurp(dir / "run/visibility.npy").find("'shape': (24, 40, 1)"), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+// The area-light measurement on a small scene: a sweep over the samples per light, culling off
+// and on, then plots.py area pairs the runs. Its table's figures are those of the sweep's rows.
+TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
+  const fs::path dir = test::temp_dir("cli_area_sweep");
+  write(dir / "scene.yaml", "geometry:\n  - procedural: {kind: city, blocks: 2}\n"
+                            "lights: {area_from_points: {side_fraction: 0.02}}\n");
+  write(dir / "sweep.yaml", "name: area\nscenes: [scene.yaml]\nhw: " +
+                                (test::source_dir() / "configs/hw/small.yaml").string() +
+                                "\nset: {run.width: 32, run.height: 18}\naxes:\n"
+                                "  scene.lights.area_from_points.samples: [1, 4]\n  run.lvb: [off, on]\n"
+                                "metrics: [cycles_total, rays_shadow, shadow_culled, shadow_culled_rate]\n");
+  RunResult r = run("sweep " + (dir / "sweep.yaml").string() + " --out " + (dir / "out").string() + " --jobs 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = test::run_command("/usr/bin/python3 " + (test::source_dir() / "reports/plots.py").string() + " area " +
+                        (dir / "out").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out/plots/area_reduction.png"));
+  const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
+  std::map<std::pair<int, bool>, uint64_t> cycles;
+  const std::string scene = res["rows"][0]["scene"].get<std::string>();
+  for (const auto& row : res["rows"])
+    cycles[{row["scene.lights.area_from_points.samples"].get<int>(), row["run.lvb"].get<bool>()}] =
+        row["cycles_total"].get<uint64_t>();
+  const std::string table = slurp(dir / "out/area_lights.md");
+  for (int n : {1, 4}) {
+    const double off = double(cycles[{n, false}]), on = double(cycles[{n, true}]);
+    EXPECT_NE(table.find(fmt::format("| {} | {} | ", scene, n)), std::string::npos) << table;
+    EXPECT_NE(table.find(fmt::format("{:.2f}%", 100 * (off - on) / off)), std::string::npos) << table;
   }
   fs::remove_all(dir);
 }
