@@ -1009,6 +1009,7 @@ def area(folder, written):
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title(f"Culling and area lights (sweep {name})", fontsize=10)
+    fig.tight_layout()
     save(fig, os.path.join(out, "area_reduction.png"), written)
 
 
