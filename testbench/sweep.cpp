@@ -93,6 +93,8 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
   const size_t rows = write_sweep_results(s, dir);
   std::string note;
   if (plots) note = make_plots("sweep", dir);
+  if (plots && note.empty())
+    for (const std::string& r : s.reports) note = make_plots(r, dir);
   fmt::print("sweep {}: {} of {} points in {}/results.csv{}\n", s.name, rows, s.points.size(), dir,
              plots && note.empty() ? ", figures in plots/" : "");
   if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);

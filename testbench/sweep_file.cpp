@@ -144,6 +144,14 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   } else {
     s.metrics = kDefaultSweepMetrics;
   }
+  // Reports that read the whole sweep: "area" pairs culling off and on per scene and sample count.
+  s.reports = top.get<std::vector<std::string>>("reports", {});
+  for (const std::string& r : s.reports) {
+    if (r != "area") top.fail("reports", fmt::format("'{}': expected 'area'", r));
+    for (const char* axis : {"scene.lights.area_from_points.samples", "run.lvb"})
+      if (std::find(s.columns.begin(), s.columns.end(), axis) == s.columns.end())
+        top.fail("reports", fmt::format("'area' needs the axes scene.lights.area_from_points.samples and run.lvb"));
+  }
   top.finish();
 
   // The cross product, last axis fastest.

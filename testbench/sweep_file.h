@@ -26,6 +26,7 @@ struct SweepSpec {
   std::vector<std::string> scenes;
   std::vector<std::string> columns;  // "variant" (when there are variants) and the axis names
   std::vector<std::string> metrics;  // names of row metrics (see sweep_metric)
+  std::vector<std::string> reports;  // figures beyond the sweep's own, by plots.py mode: "area"
   std::vector<SweepPoint> points;
   const std::string& hw_of(const SweepPoint& p) const { return p.hw_file.empty() ? hw_file : p.hw_file; }
 };

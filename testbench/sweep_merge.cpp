@@ -15,7 +15,9 @@ int merge_sweep(const std::string& dir, bool plots) {
   for (const SweepPoint& p : s.points)
     if (!sweep_point_done(dir, p)) missing += " " + p.id;
   if (plots) {
-    const std::string note = make_plots("sweep", dir);
+    std::string note = make_plots("sweep", dir);
+    for (const std::string& r : s.reports)
+      if (note.empty()) note = make_plots(r, dir);
     if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);
   }
   fmt::print("merged {} of {} points into {}/results.csv\n", rows, s.points.size(), dir);

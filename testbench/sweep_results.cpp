@@ -53,6 +53,7 @@ SweepSpec spec_from_manifest(const nlohmann::json& m, const std::string& path) {
     s.scenes = m.at("scenes").get<std::vector<std::string>>();
     s.columns = m.at("columns").get<std::vector<std::string>>();
     s.metrics = m.at("metrics").get<std::vector<std::string>>();
+    s.reports = m.value("reports", std::vector<std::string>());
     for (const auto& p : m.at("points")) {
       SweepPoint q;
       q.index = p.at("index").get<uint32_t>();
@@ -83,9 +84,11 @@ nlohmann::json sweep_manifest(const SweepSpec& s) {
     points.push_back(q);
   }
   for (const std::string& scene : s.scenes) inputs[scene] = file_digest(scene);
-  return {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},     {"hw_file", s.hw_file},
-          {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points},
-          {"inputs", inputs}};
+  nlohmann::json m = {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},     {"hw_file", s.hw_file},
+                      {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points},
+                      {"inputs", inputs}};
+  if (!s.reports.empty()) m["reports"] = s.reports;
+  return m;
 }
 
 void claim_sweep_directory(const SweepSpec& s, const std::string& dir) {
@@ -93,9 +96,13 @@ void claim_sweep_directory(const SweepSpec& s, const std::string& dir) {
   nlohmann::json mine = sweep_manifest(s);
   if (fs::exists(file)) {
     nlohmann::json theirs = read_json(file);
-    // Everything but where the sweep file lives: the points, the metrics and the inputs' contents.
-    if (theirs.is_object()) theirs.erase("sweep_file");
-    mine.erase("sweep_file");
+    // Everything but where the sweep file lives and which reports it draws: the points, the
+    // metrics and the inputs' contents.
+    for (nlohmann::json* j : {&theirs, &mine})
+      if (j->is_object()) {
+        j->erase("sweep_file");
+        j->erase("reports");
+      }
     if (theirs != mine)
       throw InputError(fmt::format("{}: holds the manifest of another sweep (its points, metrics or input files "
                                    "differ); use another --out",

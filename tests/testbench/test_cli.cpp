@@ -393,12 +393,11 @@ TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
                                 (test::source_dir() / "configs/hw/small.yaml").string() +
                                 "\nset: {run.width: 32, run.height: 18}\naxes:\n"
                                 "  scene.lights.area_from_points.samples: [1, 4]\n  run.lvb: [off, on]\n"
-                                "metrics: [cycles_total, rays_shadow, shadow_culled, shadow_culled_rate]\n");
+                                "metrics: [cycles_total, rays_shadow, shadow_culled, shadow_culled_rate]\n"
+                                "reports: [area]\n");
   RunResult r = run("sweep " + (dir / "sweep.yaml").string() + " --out " + (dir / "out").string() + " --jobs 2");
   ASSERT_EQ(r.code, 0) << r.err;
-  r = test::run_command("/usr/bin/python3 " + (test::source_dir() / "reports/plots.py").string() + " area " +
-                        (dir / "out").string());
-  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "") << "figures and the area report written";
   EXPECT_TRUE(fs::exists(dir / "out/plots/area_reduction.png"));
   const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
   std::map<std::pair<int, bool>, uint64_t> cycles;
@@ -412,6 +411,11 @@ TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
     EXPECT_NE(table.find(fmt::format("| {} | {} | ", scene, n)), std::string::npos) << table;
     EXPECT_NE(table.find(fmt::format("{:.2f}%", 100 * (off - on) / off)), std::string::npos) << table;
   }
+  // A report the sweep cannot draw is refused before anything runs.
+  write(dir / "bad.yaml", "name: bad\nscenes: [scene.yaml]\nhw: " + (test::source_dir() / "configs/hw/small.yaml").string() +
+                              "\naxes:\n  run.lvb: [off, on]\nreports: [area]\n");
+  expect_input_error("sweep " + (dir / "bad.yaml").string() + " --out " + (dir / "bad").string(),
+                     {"bad.yaml:", "reports", "scene.lights.area_from_points.samples"});
   fs::remove_all(dir);
 }
 
