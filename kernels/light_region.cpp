@@ -134,8 +134,7 @@ HullTest::HullTest(const DBox& box, const LightPolygon& light, double tolerance)
 }
 
 bool HullTest::intersects(const DBox& c) const {
-  for (int k = 0; k < 3; ++k)
-    if (enclosing_.hi[k] < c.lo[k] || c.hi[k] < enclosing_.lo[k]) return false;
+  if (!enclosing_.overlaps(c)) return false;
   const DVec3 cc = 0.5 * (c.lo + c.hi), ch = 0.5 * (c.hi - c.lo);
   auto separates = [&](const Axis& a) {
     const double center = a.u.x * cc.x + a.u.y * cc.y + a.u.z * cc.z;

@@ -20,6 +20,12 @@ struct DBox {
   DBox(const DVec3& l, const DVec3& h) : lo(l), hi(h) {}
   explicit DBox(const AABB& b) : lo(b.lo), hi(b.hi) {}
   DBox grown(double g) const { return {lo - g, hi + g}; }
+  // Closed boxes: touching counts as overlapping (as AABB::overlaps).
+  bool overlaps(const DBox& b) const {
+    for (int i = 0; i < 3; ++i)
+      if (hi[i] < b.lo[i] || b.hi[i] < lo[i]) return false;
+    return true;
+  }
   DVec3 corner(int i) const { return {(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z}; }
 };
 

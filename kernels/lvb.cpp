@@ -64,12 +64,6 @@ struct LazyCounters {
   Counters work;
 };
 
-bool boxes_overlap_closed(const DBox& a, const DBox& b) {
-  for (int i = 0; i < 3; ++i)
-    if (a.hi[i] < b.lo[i] || b.hi[i] < a.lo[i]) return false;
-  return true;
-}
-
 // A bounding-volume hierarchy over the moved boxes, so a dirty test costs a walk, not a scan.
 class MovedBoxes {
  public:
@@ -276,16 +270,15 @@ class Preprocessor {
     q.light = light;
     q.area = area;
     Region& r = q.region;
+    // Exact mode: every shadow ray credited to b starts in this box (origins of all of b's triangles).
+    const DBox origins = exact_ ? (p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b])
+                                : DBox();
     // An area light's region is always the hull (the paper's frusta are for a point).
     r.exact = exact_ || area;
     if (area) {
-      r.hull = HullTest(exact_ ? (p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b])
-                               : box(b),
-                        area->polygon, tolerance_ + area->error);
+      r.hull = HullTest(exact_ ? origins : box(b), area->polygon, tolerance_ + area->error);
     } else if (exact_) {
-      // Every shadow ray credited to b starts in this box (origins of all of b's triangles).
-      r.hull = HullTest(p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b], light,
-                        tolerance_);
+      r.hull = HullTest(origins, light, tolerance_);
     } else {
       r.frusta = build_light_frusta(box(b), light);
       if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
@@ -296,7 +289,7 @@ class Preprocessor {
       Counters scratch;
       *dirty = moved_->any([&](const DBox& m) {
         ++lazy->dirty_tests;
-        return boxes_overlap_closed(cell_[b], m) || r.may_hold(m, scratch);
+        return cell_[b].overlaps(m) || r.may_hold(m, scratch);
       });
     }
     // The leaf's own triangles are the likeliest blockers and need no search (exact mode).

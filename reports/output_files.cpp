@@ -39,10 +39,9 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, i
 }
 
 void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, const std::vector<size_t>& shape) {
-  std::string dims;
-  for (size_t d : shape) dims += fmt::format("{}, ", d);
-  std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}), }}",
-                                   shape.size() == 1 ? dims.substr(0, dims.size() - 1) : dims.substr(0, dims.size() - 2));
+  // A Python tuple: "(h, w)", and "(n,)" for one dimension.
+  std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}{}), }}",
+                                   fmt::join(shape, ", "), shape.size() == 1 ? "," : "");
   // The magic, version and length take 10 bytes; pad so the data starts 64-byte aligned.
   const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
   header.append(total - 10 - header.size() - 1, ' ');

@@ -124,30 +124,34 @@ def load_parsed(folder, name, parse):
         raise InputError(str(e).replace(name, path, 1)) from None
 
 
-def save(fig, path, written):
-    """Write fig to path atomically (temporary file in the same directory, then rename)."""
+def write_atomically(path, write, written):
+    """write(tmp) writes the file under a temporary name in the same directory, which then replaces path."""
     folder, name = os.path.split(path)
     tmp = os.path.join(folder, f".{name}.tmp")
     try:
-        # No Software tag: the bytes should not depend on the matplotlib version.
-        fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None})
+        write(tmp)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):
             os.remove(tmp)
         raise
+    written.append(path)
+
+
+def save(fig, path, written):
+    try:
+        # No Software tag: the bytes should not depend on the matplotlib version.
+        write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None}),
+                         written)
     finally:
         plt.close(fig)
-    written.append(path)
 
 
 def write_text(path, text, written):
-    folder, name = os.path.split(path)
-    tmp = os.path.join(folder, f".{name}.tmp")
-    with open(tmp, "w", encoding="utf-8") as f:
-        f.write(text)
-    os.replace(tmp, path)
-    written.append(path)
+    def write(tmp):
+        with open(tmp, "w", encoding="utf-8") as f:
+            f.write(text)
+    write_atomically(path, write, written)
 
 
 def bar_labels(ax, xs, values, fmt="{:.1f}"):
@@ -852,16 +856,10 @@ def write_gif(folder, times, written):
     # One frame per sample at the scene's pace (its time step in seconds), at least 50 ms.
     step = (times[-1] - times[0]) / (len(times) - 1) if len(times) > 1 else 0.1
     duration = max(50, int(round(step * 1000)))
-    path = os.path.join(folder, "frames.gif")
-    tmp = os.path.join(folder, ".frames.gif.tmp")
-    try:
-        images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:], duration=duration, loop=0)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-    written.append(path)
+    write_atomically(os.path.join(folder, "frames.gif"),
+                     lambda tmp: images[0].save(tmp, format="GIF", save_all=True, append_images=images[1:],
+                                                duration=duration, loop=0),
+                     written)
 
 
 def animate(folder, written):

@@ -64,5 +64,7 @@ struct Scene {
 
 // The mask format (uint16, bit 0 = hit, bit 1+i = light i) bounds the light count.
 inline constexpr int kMaxLights = 15;
+// Shadow rays per hit and area light (a scene file's `samples`), and the default.
+inline constexpr int kMaxLightSamples = 256, kDefaultLightSamples = 16;
 
 }  // namespace rtsim

@@ -20,10 +20,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
-#include <sstream>
 
 namespace rtsim {
 
@@ -74,11 +72,6 @@ bool culling_on(const SweepPoint& p) {
   return lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
 }
 
-nlohmann::json read_report(const std::string& dir) {
-  std::ifstream in(fs::path(dir) / "report.json");
-  return nlohmann::json::parse(in);
-}
-
 // frames.csv and host.csv, one row per time, from the points' reports.
 void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   struct Frame {
@@ -91,7 +84,7 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
     const double t = p.values["scene.time"].get<double>();
     const bool on = culling_on(p);
     nlohmann::json& report = on ? frames[t].on : frames[t].off;
-    report = read_report(sweep_point_dir(out, p));
+    report = read_json((fs::path(sweep_point_dir(out, p)) / "report.json").string());
     lights = std::max(lights, report["per_light"].size());
     if (on || frames[t].image.empty()) frames[t].image = (fs::path(sweep_point_dir(out, p)) / "render.png").string();
   }
@@ -173,11 +166,9 @@ int run_animate(const AnimateArgs& a) {
   // would redo.
   for (SweepPoint& p : spec.points) {
     const double t = p.values["scene.time"].get<double>();
-    // The file holds the times to 9 digits: the frame is the nearest of ours.
-    const auto nearest = std::min_element(times.begin(), times.end(), [t](double x, double y) {
-      return std::abs(x - t) < std::abs(y - t);
-    });
-    const size_t k = size_t(nearest - times.begin());
+    // The file holds the times to 9 digits: the frame is the nearest of ours (they increase).
+    size_t k = size_t(std::lower_bound(times.begin(), times.end(), t) - times.begin());
+    if (k == times.size() || (k > 0 && t - times[k - 1] <= times[k] - t)) --k;
     if (a.check_every > 0 && k % size_t(a.check_every) == 0) p.set.push_back("run.check=true");
     if (culling_on(p) && k > 0) p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
   }

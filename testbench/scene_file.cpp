@@ -171,7 +171,7 @@ Light read_light(YamlMap& a) {
     if (!(span > 0.f) || !std::isfinite(span))
       area.fail("edge2", "expected edges that span an area (edge1 x edge2 is zero)");
     area.finish();
-    light.samples = uint32_t(a.get_in_range("samples", 16, 1, 256));
+    light.samples = uint32_t(a.get_in_range("samples", kDefaultLightSamples, 1, kMaxLightSamples));
   }
   a.finish();
   return light;
@@ -181,7 +181,7 @@ Light read_light(YamlMap& a) {
 // it, of side `side_fraction` of the scene's diagonal, two-sided unless stated (docs/area-lights.md).
 void area_from_points(YamlMap m, Scene& scene) {
   const double fraction = m.get_in_range("side_fraction", 0.02, 1e-6, 1.0);
-  const int samples = m.get_in_range("samples", 16, 1, 256);
+  const int samples = m.get_in_range("samples", kDefaultLightSamples, 1, kMaxLightSamples);
   const bool two_sided = m.get<bool>("two_sided", true);
   m.finish();
   const float side = float(fraction * scene.bounds().diagonal());

@@ -2,7 +2,6 @@
 
 #include "common/error.h"
 #include "reports/output_files.h"
-#include "reports/plots.h"
 #include "testbench/commands.h"
 #include "testbench/process_pool.h"
 #include "testbench/slurm.h"
@@ -92,9 +91,7 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
       });
   const size_t rows = write_sweep_results(s, dir);
   std::string note;
-  if (plots) note = make_plots("sweep", dir);
-  if (plots && note.empty())
-    for (const std::string& r : s.reports) note = make_plots(r, dir);
+  if (plots) note = draw_sweep_figures(s, dir);
   fmt::print("sweep {}: {} of {} points in {}/results.csv{}\n", s.name, rows, s.points.size(), dir,
              plots && note.empty() ? ", figures in plots/" : "");
   if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);

@@ -150,7 +150,7 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
     if (r != "area") top.fail("reports", fmt::format("'{}': expected 'area'", r));
     for (const char* axis : {"scene.lights.area_from_points.samples", "run.lvb"})
       if (std::find(s.columns.begin(), s.columns.end(), axis) == s.columns.end())
-        top.fail("reports", fmt::format("'area' needs the axes scene.lights.area_from_points.samples and run.lvb"));
+        top.fail("reports", "'area' needs the axes scene.lights.area_from_points.samples and run.lvb");
   }
   top.finish();
 

@@ -1,6 +1,5 @@
 #include "testbench/sweep_merge.h"
 
-#include "reports/plots.h"
 #include "testbench/sweep_results.h"
 
 #include <fmt/format.h>
@@ -15,9 +14,7 @@ int merge_sweep(const std::string& dir, bool plots) {
   for (const SweepPoint& p : s.points)
     if (!sweep_point_done(dir, p)) missing += " " + p.id;
   if (plots) {
-    std::string note = make_plots("sweep", dir);
-    for (const std::string& r : s.reports)
-      if (note.empty()) note = make_plots(r, dir);
+    const std::string note = draw_sweep_figures(s, dir);
     if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);
   }
   fmt::print("merged {} of {} points into {}/results.csv\n", rows, s.points.size(), dir);

@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "reports/output_files.h"
+#include "reports/plots.h"
 #include "testbench/sweep_metrics.h"
 
 #include <fmt/format.h>
@@ -31,6 +32,13 @@ std::string file_digest(const std::string& path) {
 }
 
 }  // namespace
+
+std::string draw_sweep_figures(const SweepSpec& s, const std::string& dir) {
+  std::string note = make_plots("sweep", dir);
+  for (const std::string& r : s.reports)
+    if (note.empty()) note = make_plots(r, dir);
+  return note;
+}
 
 nlohmann::json read_json(const std::string& path) {
   std::ifstream in(path);

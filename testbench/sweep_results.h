@@ -34,6 +34,10 @@ nlohmann::json sweep_row(const SweepSpec& spec, const SweepPoint& point, const n
 // of points present.
 size_t write_sweep_results(const SweepSpec& spec, const std::string& dir);
 
+// The sweep's figures (plots/) and then its reports (`reports:`), by reports/plots.py; empty on
+// success, else why they were not all written.
+std::string draw_sweep_figures(const SweepSpec& spec, const std::string& dir);
+
 // A JSON file; an InputError naming it when it is missing or malformed.
 nlohmann::json read_json(const std::string& path);
 
