@@ -401,15 +401,28 @@ TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
   EXPECT_TRUE(fs::exists(dir / "out/plots/area_reduction.png"));
   const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
   std::map<std::pair<int, bool>, uint64_t> cycles;
+  std::map<std::pair<int, bool>, nlohmann::json> reports;
   const std::string scene = res["rows"][0]["scene"].get<std::string>();
-  for (const auto& row : res["rows"])
-    cycles[{row["scene.lights.area_from_points.samples"].get<int>(), row["run.lvb"].get<bool>()}] =
-        row["cycles_total"].get<uint64_t>();
+  for (const auto& row : res["rows"]) {
+    const std::pair<int, bool> key{row["scene.lights.area_from_points.samples"].get<int>(), row["run.lvb"].get<bool>()};
+    cycles[key] = row["cycles_total"].get<uint64_t>();
+    reports[key] = nlohmann::json::parse(slurp(dir / "out/points" / row["id"].get<std::string>() / "report.json"));
+  }
   const std::string table = slurp(dir / "out/area_lights.md");
+  const size_t bounds = table.find("## What bounds the shadow phase");
+  ASSERT_NE(bounds, std::string::npos) << table;
   for (int n : {1, 4}) {
     const double off = double(cycles[{n, false}]), on = double(cycles[{n, true}]);
     EXPECT_NE(table.find(fmt::format("| {} | {} | ", scene, n)), std::string::npos) << table;
     EXPECT_NE(table.find(fmt::format("{:.2f}%", 100 * (off - on) / off)), std::string::npos) << table;
+    // The second table's row: the shadow phase and the TRV operations, culling on against off.
+    auto shadow = [&](bool lvb) { return reports[{n, lvb}]["cycles_shadow"].get<double>(); };
+    auto trv = [&](bool lvb) { return reports[{n, lvb}]["stats"]["trv"]["total"]["busy_cycles"].get<double>(); };
+    EXPECT_NE(table.find(fmt::format("| {} | {} | {:.2f}% | {:.2f}% | ", scene, n, 100 * (1 - shadow(true) / shadow(false)),
+                                     100 * (1 - trv(true) / trv(false))),
+                         bounds),
+              std::string::npos)
+        << table;
   }
   // A report the sweep cannot draw is refused before anything runs.
   write(dir / "bad.yaml", "name: bad\nscenes: [scene.yaml]\nhw: " + (test::source_dir() / "configs/hw/small.yaml").string() +
