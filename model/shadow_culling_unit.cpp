@@ -65,6 +65,7 @@ Tick ShadowCullingUnit::current_ready() const {
 void ShadowCullingUnit::next_entry() {
   light_ = 0;
   sample_ = 0;
+  light_latched_ = false;
   record_open_ = false;
   if (!scanning_) {
     ++done_;
@@ -93,6 +94,7 @@ void ShadowCullingUnit::advance() {
 
 void ShadowCullingUnit::next_light() {
   sample_ = 0;
+  light_latched_ = false;
   if (++light_ == ctx_.header.light_count) next_entry();
 }
 
@@ -105,16 +107,10 @@ void ShadowCullingUnit::cull_light() {
   next_light();
 }
 
-bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
-  if (ctx_.pool->full()) return false;  // woken when a ray retires
-  RayFifo* f = inputs_.next_free();
-  if (!f) return false;  // woken when a TRV input frees a slot
+bool ShadowCullingUnit::latch_light(Tick now) {
   const uint64_t addr = ctx_.header.lights.base + uint64_t(light_) * image::kLightBytes;
   const RecordFetch fl = fetch_record(*l1_, addr, image::kLightBytes, now, this, 0);
-  if (fl.ready == kUnknown) {
-    waiting_ = true;  // keeps the pair: the light record is on its way
-    return true;
-  }
+  if (fl.ready == kUnknown) return false;
   uint8_t bytes[image::kLightBytes];
   read_record(*l1_, addr, image::kLightBytes, bytes);
   image::LightRecord light = image::decode_light(bytes);
@@ -123,14 +119,26 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
     // Its edges are in its second record (docs/memory-image.md).
     const uint64_t area_addr = ctx_.header.lights.base + uint64_t(ctx_.header.light_count + light_) * image::kLightBytes;
     const RecordFetch fa = fetch_record(*l1_, area_addr, image::kLightBytes, now, this, 0);
-    if (fa.ready == kUnknown) {
-      waiting_ = true;
-      return true;
-    }
+    if (fa.ready == kUnknown) return false;
     read_record(*l1_, area_addr, image::kLightBytes, bytes);
     image::decode_light_area(bytes, light);
     ready = std::max(ready, fa.ready);
   }
+  latched_ = light;
+  latched_ready_ = ready;
+  light_latched_ = true;
+  return true;
+}
+
+bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
+  if (ctx_.pool->full()) return false;  // woken when a ray retires
+  RayFifo* f = inputs_.next_free();
+  if (!f) return false;  // woken when a TRV input frees a slot
+  if (!light_latched_ && !latch_light(now)) {
+    waiting_ = true;  // keeps the pair: a light record is on its way
+    return true;
+  }
+  const image::LightRecord& light = latched_;
   const uint32_t entry = current();  // the frame entry (pixel and bounce)
   const uint32_t pixels = uint32_t(frame_->pixel_count());
   const uint32_t id = ctx_.pool->allocate();
@@ -141,7 +149,7 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   r.sample = uint16_t(sample_);
   r.trav.ray = shadow_ray(surface, light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
                           ctx_.shadow_offset);
-  f->push(id, std::max(ready, now + clock().period()), now);
+  f->push(id, std::max(latched_ready_, now + clock().period()), now);
   ++lights_[light_].decisions;
   ++lights_[light_].generated;
   advance();

@@ -2,8 +2,8 @@
 // every light, it emits the light's shadow rays (one, or an area light's N samples,
 // kernels/light_samples.h) only when the hit leaf's LVB bit for that light is 1; a culled ray
 // counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on
-// the hit's whole word, so culled lights are skipped within the cycle. Light records are read
-// through its L1.
+// the hit's whole word, so culled lights are skipped within the cycle. A light's records are read
+// through its L1 once per (hit, light) pair and held for the pair's samples.
 //
 // Its work comes one of two ways (the schedule): in two phases, scan_all() at the end of the
 // primary phase hands it every frame entry in order; in one phase, the shading unit add()s each
@@ -99,6 +99,8 @@ class ShadowCullingUnit : public Unit, public FillListener {
   bool can_request() const { return from_memory() && requested_ < frame_->pixels.size() && requested_ < entry_ + prefetch_; }
   // Emits the shadow ray of the current (hit, light) pair from `surface`: true if it went.
   bool emit(const SurfacePoint& surface, Tick now);
+  // Reads the current light's records through the L1 into latched_: false while a line is on its way.
+  bool latch_light(Tick now);
 
   const ModelContext& ctx_;
   bool culling_;
@@ -117,6 +119,11 @@ class ShadowCullingUnit : public Unit, public FillListener {
   uint64_t added_ = 0, done_ = 0;
   uint32_t light_ = 0;
   uint32_t sample_ = 0;  // of the current light (area lights have several)
+  // The current light's records, read for its first sample and held for the others: a unit
+  // latches the light it is shooting at rather than reading it again for each of N samples.
+  bool light_latched_ = false;
+  image::LightRecord latched_;
+  Tick latched_ready_ = 0;
   std::vector<LightStats> lights_;
   // The limited rate.
   uint32_t rate_, prefetch_;

@@ -1,5 +1,6 @@
 // The shadow culling unit: at most its rate of hit records per cycle, one shadow ray per cycle,
-// and (reading the frame buffer from memory) rays built from the bytes it fetched.
+// (reading the frame buffer from memory) rays built from the bytes it fetched, and an area light's
+// records read once per (hit, light) pair.
 // SystemC elaborates once per process: the scenarios run side by side in one simulation.
 #include "model/shadow_culling_unit.h"
 
@@ -19,14 +20,22 @@ constexpr uint32_t kLights = 2;
 constexpr uint64_t kLightBase = 0;
 constexpr uint64_t kRecordBase = 4096;
 
-// Memory answering every line after 20 cycles, with two light records at 0 and whatever the test
-// writes beyond.
+// Memory answering every line after 20 cycles, with two light records at 0 (points, or area
+// lights of `samples` samples with their edge records after them) and whatever the test writes
+// beyond.
 class FixedMemory : public LineSource {
  public:
-  FixedMemory() : bytes(1 << 16, 0) {
+  explicit FixedMemory(uint32_t samples = 1) : bytes(1 << 16, 0) {
     for (uint32_t l = 0; l < kLights; ++l) {
+      uint8_t* p = &bytes[kLightBase + l * image::kLightBytes];
       const float light[] = {10.f * float(l + 1), 100.f, 0.f, 0.f, 1.f, 1.f, 1.f, 0.f};
-      std::memcpy(&bytes[kLightBase + l * image::kLightBytes], light, sizeof light);
+      std::memcpy(p, light, sizeof light);
+      if (samples == 1) continue;
+      const uint32_t flags = image::kLightArea | image::kLightTwoSided;
+      std::memcpy(p + 12, &samples, 4);
+      std::memcpy(p + 28, &flags, 4);
+      const float edges[] = {1.f, 0.f, 0.f, 0.f, 0.f, 0.f, 1.f, 0.f};
+      std::memcpy(&bytes[kLightBase + (kLights + l) * image::kLightBytes], edges, sizeof edges);
     }
   }
   Tick fetch_line(uint64_t line, Tick now, FillListener*, uint64_t) override {
@@ -40,8 +49,9 @@ class FixedMemory : public LineSource {
 };
 
 struct Scenario {
-  Scenario(const char* name, uint32_t rate, uint32_t lvb, size_t hits, size_t misses, bool from_memory)
-      : calendar((std::string(name) + "_calendar").c_str()), pool(4096), memory(),
+  Scenario(const char* name, uint32_t rate, uint32_t lvb, size_t hits, size_t misses, bool from_memory,
+           uint32_t samples = 1)
+      : calendar((std::string(name) + "_calendar").c_str()), pool(4096), memory(samples),
         l1((std::string(name) + "_l1").c_str(), cache_config(), Clock(), &memory) {
     ctx.calendar = &calendar;
     ctx.pool = &pool;
@@ -49,7 +59,7 @@ struct Scenario {
     ctx.header.light_count = kLights;
     ctx.header.lights = {uint32_t(kLightBase), kLights};
     ctx.shadow_offset = 0.f;
-    ctx.light_samples.assign(kLights, 1);
+    ctx.light_samples.assign(kLights, samples);
     frame.width = int(hits + misses);
     frame.height = 1;
     frame.allocate(ctx.light_samples);
@@ -91,7 +101,12 @@ struct Scenario {
   FixedMemory memory;
   Cache l1;
   FrameBuffer frame;
-  HitRecordRegion region{kRecordBase, kHitRecordBytes};
+  HitRecordRegion region = [] {
+    HitRecordRegion r;
+    r.base = kRecordBase;
+    r.stride = kHitRecordBytes;
+    return r;
+  }();
   std::unique_ptr<RayFifo> fifos[2];
   std::unique_ptr<ShadowCullingUnit> unit;
 };
@@ -103,6 +118,11 @@ TEST(ShadowCullingUnit, TakesAtMostItsRateOfRecordsPerCycleAndOneRayPerCycle) {
   Scenario one("rate1", 1, 0u, 12, 0, false), four("rate4", 4, 0u, 12, 0, false), ideal("ideal", 0, 0u, 12, 0, false);
   // Reading the frame buffer: 3 hits with both lights to shoot, 5 misses, at one record per cycle.
   Scenario mem("memory", 1, 0b11u, 3, 5, true);
+  // Area lights of 4 samples, light 1 culled: each (hit, light) pair shot reads its two records
+  // once and holds them for the pair's samples.
+  Scenario area("area", 1, 0b01u, 3, 0, false, 4);
+  for (uint32_t e = 0; e < 3; ++e) area.unit->add(e, 0);
+  area.unit->close(0);
   for (Scenario* s : {&one, &four, &ideal}) {
     for (uint32_t e = 0; e < 12; ++e) s->unit->add(e, 0);
     s->unit->close(0);
@@ -129,6 +149,16 @@ TEST(ShadowCullingUnit, TakesAtMostItsRateOfRecordsPerCycleAndOneRayPerCycle) {
   mem.unit->register_stats(reg, "c");
   EXPECT_EQ(reg.value("c.record_reads"), 8.0);
   EXPECT_EQ(reg.value("c.records_taken"), 8.0);
+
+  EXPECT_TRUE(area.unit->finished());
+  EXPECT_EQ(area.unit->generated(), 12u);
+  EXPECT_EQ(area.unit->per_light()[1].culled, 12u);
+  EXPECT_EQ(area.l1.stats().accesses, 6u) << "3 pairs x 2 records, not one read per sample";
+  EXPECT_GE(area.unit->unit_stats().busy_cycles, 12u) << "one ray per cycle";
+  std::vector<Ray> area_rays = area.rays();
+  ASSERT_EQ(area_rays.size(), 12u);
+  // The samples of a pair go to different points of the light (the edges were read).
+  EXPECT_NE(area_rays[0].d, area_rays[1].d);
 }
 
 }  // namespace
