@@ -15,6 +15,13 @@
 
 namespace {
 
+// Where render, lvb and run write without --out: out/<scene file's stem>-<command>, relative to
+// the working directory (each command names the files it wrote).
+std::string default_out(const std::string& scene, const char* command) {
+  return (std::filesystem::path("out") / fmt::format("{}-{}", std::filesystem::path(scene).stem().string(), command))
+      .string();
+}
+
 void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {
   cmd->add_option("--scene-root", p.scene_root, "Directory that relative geometry paths resolve against")
       ->envname("RTSIM_SCENE_ROOT");
@@ -32,7 +39,7 @@ extern "C" int sc_main(int argc, char** argv) {
   rtsim::RenderArgs render;
   CLI::App* render_cmd = app.add_subcommand("render", "Render a scene with the reference tracer");
   render_cmd->add_option("scene", render.scene, "Scene description (YAML)")->required();
-  render_cmd->add_option("--out", render.out, "Output directory")->required();
+  render_cmd->add_option("--out", render.out, "Output directory (default: out/SCENE-render)");
   render_cmd->add_option("--threads", render.threads, "Host threads (0 = all cores)")->check(CLI::Range(0, 1024));
   render_cmd->add_option("--reflections", render.reflection_depth, "Mirror reflection depth")->check(CLI::Range(0, 16));
   add_prepare_options(render_cmd, render.prepare);
@@ -46,7 +53,7 @@ extern "C" int sc_main(int argc, char** argv) {
   rtsim::LvbArgs lvb;
   CLI::App* lvb_cmd = app.add_subcommand("lvb", "Compute the LVB words and measure culling (Tables 4 and 5)");
   lvb_cmd->add_option("scene", lvb.scene, "Scene description (YAML)")->required();
-  lvb_cmd->add_option("--out", lvb.out, "Output directory")->required();
+  lvb_cmd->add_option("--out", lvb.out, "Output directory (default: out/SCENE-lvb)");
   std::string method = "hierarchical", bounds = "cell", self_occlusion = "test";
   lvb_cmd->add_option("--method", method, "paper (all pairs) or hierarchical (kd-tree walk)")
       ->check(CLI::IsMember({"paper", "hierarchical"}));
@@ -70,7 +77,7 @@ extern "C" int sc_main(int argc, char** argv) {
   run_cmd->add_option("--set", run.sources.set, "Override a key: hw.PATH=VALUE, scene.PATH=VALUE or run.PATH=VALUE")
       ->expected(1)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  run_cmd->add_option("--out", run.out, "Output directory")->required();
+  run_cmd->add_option("--out", run.out, "Output directory (default: out/SCENE-run; required with --config)");
   CLI::Option* lvb_opt =
       run_cmd->add_option("--lvb", lvb_switch, "LVB shadow-ray culling: on or off")->check(CLI::IsMember({"on", "off"}));
   CLI::Option* check_opt =
@@ -149,6 +156,15 @@ extern "C" int sc_main(int argc, char** argv) {
     if (e.get_exit_code() == 0) return app.exit(e);  // --help
     fmt::print(stderr, "rtsim: error: {} (see rtsim --help)\n", e.what());
     return 2;
+  }
+  if (render.out.empty()) render.out = default_out(render.scene, "render");
+  if (lvb.out.empty()) lvb.out = default_out(lvb.scene, "lvb");
+  if (*run_cmd && run.out.empty()) {
+    if (!run.sources.config_file.empty()) {
+      fmt::print(stderr, "rtsim: error: --out is required with --config (see rtsim --help)\n");
+      return 2;
+    }
+    if (!run.sources.scene_file.empty()) run.out = default_out(run.sources.scene_file, "run");
   }
   lvb.lvb.method = method == "paper" ? rtsim::LvbMethod::kPaper : rtsim::LvbMethod::kHierarchical;
   lvb.lvb.bounds = bounds == "geometry" ? rtsim::LvbBounds::kGeometry : rtsim::LvbBounds::kCell;

@@ -86,6 +86,26 @@ std::vector<uint16_t> read_npy_u16(const fs::path& p, int h, int w) {
   return v;
 }
 
+// Without --out, render, lvb and run write to out/<scene stem>-<command> under the working
+// directory; a rerun from a config.json must name its directory.
+TEST(Cli, WithoutOutCommandsWriteUnderOutNamedAfterTheScene) {
+  const fs::path dir = test::temp_dir("cli_default_out");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const std::string hw = (test::source_dir() / "configs/hw/small.yaml").string();
+  const std::string in_dir = "cd " + dir.string() + " && " + RTSIM_BINARY + " ";
+  RunResult r = test::run_command(in_dir + "lvb " + scene + " --width 16 --height 9");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out/city-lvb/lvb.json"));
+  r = test::run_command(in_dir + "render " + scene + " --width 16 --height 9");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out/city-render/render.png"));
+  r = test::run_command(in_dir + "run " + scene + " --hw " + hw + " --width 16 --height 9 --no-plots --quiet");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(dir / "out/city-run/report.json"));
+  expect_input_error("run --config " + (dir / "out/city-run/config.json").string(), {"--out is required with --config"});
+  fs::remove_all(dir);
+}
+
 TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
   const fs::path out = test::temp_dir("cli_lvb");
   const RunResult r = run("lvb " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --out " +
