@@ -972,9 +972,9 @@ def animate_summary(rows, host):
 SAMPLES = "scene.lights.area_from_points.samples"
 
 
-def area_bounds(folder, runs):
+def area_bounds(folder, pairs):
     """What bounds the shadow phase, from the points' report.json: culling can only save the work of
-    the rays it removes, and that work shows in the frame only if its units bound the frame."""
+    the rays it removes, and that work shows in the frame only where nothing else hides it."""
     def stats(row):
         path = os.path.join(folder, "points", str(row.get("id", "")), "report.json")
         return load_json(path) if os.path.exists(path) else None
@@ -983,8 +983,8 @@ def area_bounds(folder, runs):
         return r["stats"][unit]["total"][kind]
 
     out = []
-    for (scene, n), pair in sorted(runs.items(), key=lambda kv: (str(kv[0][0]), kv[0][1])):
-        off, on = (stats(pair[k]) if k in pair else None for k in ("off", "on"))
+    for scene, n, off_row, on_row in pairs:
+        off, on = stats(off_row), stats(on_row)
         if not off or not on:
             continue
         trv = {k: total(off, "trv", k) for k in ("busy_cycles", "stalled_cycles", "idle_cycles")}
@@ -996,8 +996,8 @@ def area_bounds(folder, runs):
         return []
     return ["", "## What bounds the shadow phase", "",
             "From the points' report.json. Culled rays save only their own work: the TRV and IST operations "
-            "culling removes (busy cycles, on against off). That work shortens the shadow phase where those "
-            "units bound it: TRV idle share and IST L1 hit rate with culling off.", "",
+            "culling removes (busy cycles, on against off). That work shortens the shadow phase unless something "
+            "else hides it, such as the IST units' memory: TRV idle share and IST L1 hit rate with culling off.", "",
             "| scene | samples | shadow phase shorter by | TRV operations removed | IST operations removed "
             "| TRV idle (off) | IST L1 hit rate (off) |",
             "|---|---|---|---|---|---|---|"] + out
@@ -1017,16 +1017,17 @@ def area(folder, written):
              f"Sweep {name}; reduction = (cycles off - cycles on) / cycles off; rays with culling on.", "",
              "| scene | samples | cycles off | cycles on | reduction | shadow rays traced | culled | culled share |",
              "|---|---|---|---|---|---|---|---|"]
+    # The (scene, samples) cells that ran both ways, in order.
+    pairs = [(scene, n, pair["off"], pair["on"])
+             for (scene, n), pair in sorted(runs.items(), key=lambda kv: (str(kv[0][0]), kv[0][1]))
+             if pair.get("off") and pair.get("on")]
     curves = {}
-    for (scene, n), pair in sorted(runs.items(), key=lambda kv: (str(kv[0][0]), kv[0][1])):
-        off, on = pair.get("off"), pair.get("on")
-        if not off or not on:
-            continue
+    for scene, n, off, on in pairs:
         red = (off["cycles_total"] - on["cycles_total"]) / off["cycles_total"]
         curves.setdefault(scene, []).append((n, red))
         lines.append(f"| {scene} | {n} | {off['cycles_total']:,} | {on['cycles_total']:,} | {red:.2%} | "
                      f"{on['rays_shadow']:,} | {on['shadow_culled']:,} | {on['shadow_culled_rate']:.2%} |")
-    lines += area_bounds(folder, runs)
+    lines += area_bounds(folder, pairs)
     write_text(os.path.join(folder, "area_lights.md"), "\n".join(lines) + "\n", written)
     out = os.path.join(folder, "plots")
     os.makedirs(out, exist_ok=True)

@@ -83,10 +83,11 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   for (const SweepPoint& p : spec.points) {
     const double t = p.values["scene.time"].get<double>();
     const bool on = culling_on(p);
+    const fs::path dir = sweep_point_dir(out, p);
     nlohmann::json& report = on ? frames[t].on : frames[t].off;
-    report = read_json((fs::path(sweep_point_dir(out, p)) / "report.json").string());
+    report = read_json((dir / "report.json").string());
     lights = std::max(lights, report["per_light"].size());
-    if (on || frames[t].image.empty()) frames[t].image = (fs::path(sweep_point_dir(out, p)) / "render.png").string();
+    if (on || frames[t].image.empty()) frames[t].image = (dir / "render.png").string();
   }
   using ptr = nlohmann::json::json_pointer;
   auto number = [](const nlohmann::json& r, const ptr& at) -> std::string {
