@@ -1,18 +1,18 @@
 #include "model/accelerator.h"
 
-#include "model/dram.h"
-#include "model/ist_unit.h"
-#include "model/list_unit.h"
-#include "model/lvb_updater.h"
-#include "model/memory_system.h"
-#include "model/periodic_probe.h"
-#include "model/phase_controller.h"
-#include "model/report.h"
-#include "model/scheduler.h"
-#include "model/shading_unit.h"
-#include "model/shadow_culling_unit.h"
-#include "model/trv_unit.h"
-#include "model/watchdog.h"
+#include "model/memory/dram.h"
+#include "model/units/ist_unit.h"
+#include "model/units/list_unit.h"
+#include "model/units/lvb_updater.h"
+#include "model/memory/memory_system.h"
+#include "model/sim/periodic_probe.h"
+#include "model/units/phase_controller.h"
+#include "model/sim/report.h"
+#include "model/sim/calendar.h"
+#include "model/units/shading_unit.h"
+#include "model/units/shadow_culling_unit.h"
+#include "model/units/trv_unit.h"
+#include "model/sim/watchdog.h"
 
 #include <stdexcept>
 
@@ -78,7 +78,7 @@ struct Accelerator::Netlist : RayOwners {
   FrameBuffer frame;
   HitRecordRegion records;
   SimulationHooks hooks;
-  Scheduler calendar;
+  Calendar calendar;
   std::unique_ptr<Dram> dram;
   std::unique_ptr<MemorySystem> memory;
   LvbUpdater lvb;
@@ -116,14 +116,14 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 
   DramConfig dram_cfg = cfg.dram;
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
-  // The frame buffer of hit records follows the image (model/hit_record.h).
+  // The frame buffer of hit records follows the image (model/units/hit_record.h).
   const uint64_t entries = uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
   records = record_region(cfg, image, job, dram_cfg.request_bytes);
   memory_bytes = records.base + entries * records.stride;
   if (builtin_memory)
     dram = std::make_unique<Dram>("dram", dram_cfg, &image.bytes(), ctx.clock, calendar,
                                   memory_bytes - image.bytes().size());
-  memory = std::make_unique<MemorySystem>(cfg, dram_cfg, ctx.clock, calendar);
+  memory = std::make_unique<MemorySystem>(cfg.memory_system(), ctx.clock, calendar);
   if (dram) memory->interconnect().port().socket.bind(dram->socket);
   if (!hooks.mem_trace.file.empty()) memory->interconnect().port().open_trace(hooks.mem_trace);
 

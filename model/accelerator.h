@@ -1,26 +1,26 @@
 // The accelerator (rtsim::model::Accelerator), an sc_module: ray generator -> TRV -> LIST -> IST ->
 // shading -> shadow culling -> TRV, with an L1 per unit, L2s per unit type, the interconnect to
 // memory and one GDDR3 memory, all built from one plain config struct. It owns every block as a
-// named child, and its own calendar (`calendar`, model/scheduler.h), so several accelerators can
+// named child, and its own calendar (`calendar`, model/sim/calendar.h), so several accelerators can
 // share one simulation. A block's hierarchical name below the accelerator is its statistics prefix
 // and its VCD scope: `<top>.trv3` is TRV unit 3 (statistics trv3.*), `<top>.trv3.l1` its L1,
 // `<top>.trv3.in` its input FIFO, `<top>.trv.l2` the TRV units' shared L2, `<top>.memory.icnt` the
-// crossbar to memory, `<top>.memory.port` its TLM-2.0 initiator (model/memory_port.h), `<top>.dram`
+// crossbar to memory, `<top>.memory.port` its TLM-2.0 initiator (model/memory/memory_port.h), `<top>.dram`
 // the GDDR3 memory, a TLM-2.0 target (or, built without it, whatever target the platform binds to
 // memory_socket()).
 //
 // It renders one frame: in two phases (all primary rays, then all shadow rays) or in one (shadow
 // rays as soon as their hit is shaded). It never sets the time resolution (it needs 1 ps), never
 // starts or stops the simulation: the frame starts with the simulation, and the accelerator goes
-// quiet when it is done (finished()). Errors are sc_reports of type rtsim/* (model/report.h).
+// quiet when it is done (finished()). Errors are sc_reports of type rtsim/* (model/sim/report.h).
 #pragma once
 
 #include "kernels/memory_image.h"
 #include "model/accelerator_config.h"
-#include "model/frame_buffer.h"
-#include "model/memory_port.h"
-#include "model/stats_registry.h"
-#include "model/vcd_trace.h"
+#include "model/units/frame_buffer.h"
+#include "model/memory/memory_port.h"
+#include "model/sim/stats_registry.h"
+#include "model/sim/vcd_trace.h"
 #include "scene/scene.h"
 
 #include <systemc>

@@ -18,9 +18,19 @@ void AcceleratorConfig::validate() const {
         "culling.records_per_cycle: in two phases the culling unit reads the hit records from memory, which needs "
         "shading.write_records: true (or records_per_cycle: 0, the ideal unit)");
   if (reflection_depth < 0 || reflection_depth > 8) throw std::invalid_argument("reflection_depth: expected 0..8");
-  DramConfig d = dram;
-  d.request_bytes = trv.l2.line_bytes;
-  d.validate();
+  memory_system().dram.validate();
+}
+
+MemorySystemConfig AcceleratorConfig::memory_system() const {
+  MemorySystemConfig m;
+  m.trv = trv;
+  m.list = list;
+  m.ist = ist;
+  m.shading = shading;
+  m.memory_link = memory_link;
+  m.dram = dram;
+  m.dram.request_bytes = trv.l2.line_bytes;  // one L2 line per memory transaction
+  return m;
 }
 
 }  // namespace rtsim::model

@@ -3,42 +3,33 @@
 // (configs/README.md gives each default's source).
 #pragma once
 
-#include "model/cache.h"
-#include "model/crossbar.h"
-#include "model/dram_config.h"
-#include "model/ray_generator.h"
-#include "model/shadow_culling_unit.h"
+#include "model/memory/cache.h"
+#include "model/memory/crossbar.h"
+#include "model/memory/dram_config.h"
+#include "model/memory/memory_system.h"
+#include "model/units/phase_controller.h"
+#include "model/units/ray_generator.h"
+#include "model/units/ray_unit.h"
+#include "model/units/shadow_culling_unit.h"
 
 #include <cstdint>
 
 namespace rtsim::model {
 
-// One L2 shared by all units of a type, or a private L2 per unit (model/memory_system.h).
-enum class L2Sharing { kType, kUnit };
-
-struct UnitTypeConfig {
-  uint32_t count = 1;
-  uint32_t latency = 1;       // pipeline latency in cycles (one operation issues per cycle)
-  uint32_t capacity = 16;     // rays held (TRV: rays owned, the ray accumulation buffer)
-  uint32_t fifo_depth = 16;   // input FIFO
-  CacheConfig l1, l2;
-  LinkConfig link;            // the crossbar between the type's L1s and its L2 (shading: the IST's)
-  L2Sharing l2_sharing = L2Sharing::kType;
-};
-
-// When shadow rays go: after every primary ray (two phases, the paper's Table 6), or as soon as
-// their hit is shaded (one phase: primary and shadow rays overlap).
-enum class Schedule { kTwoPhase, kOnePhase };
+// A unit type's section of the hardware file: its units' pipelines (model/units/ray_unit.h) and
+// their caches (model/memory/memory_system.h).
+struct UnitTypeConfig : RayUnitConfig, TypeMemoryConfig {};
 
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
   // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
   // ports and links as configs/README.md gives them with their sources: single-ported L1s; L2s
   // of 8 single-ported banks (GPGPU-Sim's GT200); 32-byte flits, 8-byte headers, 2 cycles a hop.
-  UnitTypeConfig trv{24, 8, 16, 16, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
-  UnitTypeConfig list{12, 2, 16, 16, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
-  UnitTypeConfig ist{12, 36, 16, 16, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}};
-  UnitTypeConfig shading{1, 4, 64, 64, {16384, 4, 64, 1, 16, 1, 1}, {}, {}};  // its L1 sits on the IST L2
+  UnitTypeConfig trv{{8, 16, 16}, {24, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+  UnitTypeConfig list{{2, 16, 16}, {12, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+  UnitTypeConfig ist{{36, 16, 16}, {12, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+  // Its L1 sits on the IST L2.
+  UnitTypeConfig shading{{4, 64, 64}, {1, {16384, 4, 64, 1, 16, 1, 1}, {}, {}}};
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
   LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
   uint32_t ray_pool = 2048;   // rays in flight, all units together
@@ -54,9 +45,11 @@ struct AcceleratorConfig {
 
   // Throws std::invalid_argument naming the field.
   void validate() const;
+  // The memory hierarchy's part: the units' caches, the links, the memory's address mapping.
+  MemorySystemConfig memory_system() const;
 };
 
-// Every field of a unit type, once (model/config_description.h): `has_l2` for TRV, LIST and IST
+// Every field of a unit type, once (model/sim/config_description.h): `has_l2` for TRV, LIST and IST
 // (the shading units' L1s sit on the IST L2), `max_count` the most units of the type.
 template <class V, class U>
 DescribeOf<U, UnitTypeConfig> describe(V& v, U& u, bool has_l2, uint32_t max_count) {
@@ -74,7 +67,7 @@ DescribeOf<U, UnitTypeConfig> describe(V& v, U& u, bool has_l2, uint32_t max_cou
   v.section("link", "the crossbar between the type's L1s and its L2's banks", [&] { describe(v, u.link); });
 }
 
-// Every field a hardware file sets, once (model/config_description.h). lvb_culling and
+// Every field a hardware file sets, once (model/sim/config_description.h). lvb_culling and
 // reflection_depth come from the run settings, not from the hardware file.
 template <class V, class C>
 DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {

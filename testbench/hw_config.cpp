@@ -27,7 +27,7 @@ const char* name_of(const E& value, model::Choices<E> choices) {
   return "?";
 }
 
-// Reads a hardware file's maps into the config the description names (model/config_description.h);
+// Reads a hardware file's maps into the config the description names (model/sim/config_description.h);
 // absent keys keep their defaults, unknown keys are errors (YamlMap::finish).
 class YamlReader {
  public:

@@ -2,7 +2,7 @@
 
 #include "common/error.h"
 #include "kernels/light_samples.h"
-#include "model/report.h"
+#include "model/sim/report.h"
 
 #include <systemc>
 

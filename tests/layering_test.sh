@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The host folders lean one way (README.md, "Layout"): a file may not include, and a folder's
-# CMakeLists.txt may not link, a folder its rule forbids. Fails naming every file and line that does.
+# CMakeLists.txt may not link, a folder its rule forbids; inside model/, a layer may not include a
+# layer above it. Fails naming every file and line that does.
 # Usage: layering_test.sh SOURCE_DIR
 set -euo pipefail
 src=$1
@@ -42,5 +43,28 @@ for dir in common scene scene_loader kernels model; do
     done < <(grep -nw "$lib" "$dir/CMakeLists.txt")
   done
 done
+# Inside model/, the layers lean one way too: sim/ (calendar, FIFOs, statistics, tracing) below
+# memory/ (L1 to DRAM, the TLM-2.0 boundary) below units/ (the ray-processing blocks) below the
+# accelerator (model/accelerator*: the netlist and its configuration), which alone sees them all.
+model_forbidden() {
+  case $1 in
+    sim) echo "model/memory/ model/units/ model/accelerator" ;;
+    memory) echo "model/units/ model/accelerator" ;;
+    units) echo "model/accelerator" ;;
+  esac
+}
+for layer in sim memory units; do
+  [ -d "model/$layer" ] || continue
+  for bad in $(model_forbidden "$layer"); do
+    while IFS= read -r hit; do
+      violation "$hit" "model/$layer/ may not include $bad"
+    done < <(grep -rnE --include='*.h' --include='*.hpp' --include='*.cpp' \
+               "^[[:space:]]*#[[:space:]]*include[[:space:]]*[\"<]$bad" "model/$layer")
+  done
+done
+# Every model file lives in a layer or is the accelerator.
+while IFS= read -r stray; do
+  violation "$stray" "a model file outside model/{sim,memory,units}/ that is not the accelerator"
+done < <(find model -maxdepth 1 -type f \( -name '*.h' -o -name '*.cpp' \) ! -name 'accelerator*')
 [ $status -eq 0 ] && echo "layering: ok"
 exit $status

@@ -1,0 +1,241 @@
+#include "model/memory/cache.h"
+
+#include "model/sim/report.h"
+
+#include <algorithm>
+#include <cstring>
+#include <stdexcept>
+#include <utility>
+
+namespace rtsim::model {
+
+namespace {
+
+bool is_pow2(uint64_t v) { return v != 0 && (v & (v - 1)) == 0; }
+
+[[noreturn]] void bad(const char* field, const std::string& why) {
+  throw std::invalid_argument(std::string("CacheConfig.") + field + ": " + why);
+}
+
+}  // namespace
+
+void CacheConfig::validate() const {
+  // The ranges of describe(); a cache built in code may be smaller than the files' 1 KB.
+  if (size_bytes == 0) bad("size_bytes", "must be positive");
+  RangeCheck check("CacheConfig");
+  describe(check, *this);
+  if (!is_pow2(line_bytes)) bad("line_bytes", "must be a power of two >= 4");
+  if (size_bytes % line_bytes != 0) bad("size_bytes", "must be a multiple of line_bytes");
+  const uint64_t lines = size_bytes / line_bytes;
+  if (ways > lines) bad("ways", "exceeds the number of lines (" + std::to_string(lines) + ")");
+  if (lines % ways != 0) bad("size_bytes", "must be a multiple of ways * line_bytes");
+  if (!is_pow2(lines / ways)) bad("size_bytes", "sets (" + std::to_string(lines / ways) + ") must be a power of two");
+  if (!is_pow2(banks) || banks > lines / ways)
+    bad("banks", "must be a power of two of at most the number of sets (" + std::to_string(lines / ways) + ")");
+}
+
+Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below)
+    : sc_core::sc_object(name), cfg_(cfg), clock_(clock), below_(below) {
+  try {
+    cfg_.validate();
+  } catch (const std::invalid_argument& e) {
+    report_error(kReportConfig, std::string(this->name()) + ": " + e.what());
+  }
+  if (!below_) report_error(kReportConfig, std::string(this->name()) + ": no level below");
+  hit_ticks_ = clock_.cycles(cfg_.hit_latency);
+  line_shift_ = 0;
+  while ((1u << line_shift_) < cfg_.line_bytes) ++line_shift_;
+  set_mask_ = cfg_.sets() - 1;
+  const size_t n = size_t(cfg_.sets()) * cfg_.ways;
+  tags_.assign(n, kInvalidTag);
+  ready_.assign(n, 0);
+  lru_.assign(n, 0);
+  mshr_of_.assign(n, 0);
+  data_.assign(n * cfg_.line_bytes, 0);
+  mshrs_.resize(cfg_.mshrs);
+  if (cfg_.ports > 0) banks_.assign(cfg_.banks, PortSchedule(clock_.period(), cfg_.ports));
+}
+
+void Cache::name_requester(const FillListener* requester, const std::string& type) {
+  const auto it = std::find(type_names_.begin(), type_names_.end(), type);
+  const uint32_t index = uint32_t(it - type_names_.begin());
+  if (it == type_names_.end()) {
+    type_names_.push_back(type);
+    stall_cycles_by_type_.push_back(0);
+  }
+  requester_type_.push_back({requester, index});
+}
+
+Tick Cache::lookup_slot(uint64_t line, Tick now, const FillListener* requester) {
+  const Tick slot = banks_[port_of(line)].reserve(now);
+  if (slot > now) {
+    const uint64_t wait = ceil_cycles(slot - now);
+    ++stats_.bank_stall_events;
+    stats_.bank_stall_cycles += wait;
+    uint32_t type = 0;
+    for (const auto& [who, t] : requester_type_)
+      if (who == requester) type = t;
+    stall_cycles_by_type_[type] += wait;
+  }
+  return slot;
+}
+
+Tick Cache::fill_slot(uint64_t line, Tick when) {
+  if (banks_.empty() || cfg_.fill_port == FillPort::kSeparate) return when;
+  const Tick slot = banks_[port_of(line)].reserve(when);
+  stats_.fill_stall_cycles += ceil_cycles(slot - when);
+  return slot;
+}
+
+uint32_t Cache::find_way(uint64_t line) const {
+  const uint32_t base = uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
+  for (uint32_t i = base; i < base + cfg_.ways; ++i)
+    if (tags_[i] == line) return i;
+  return kNoWay;
+}
+
+Tick Cache::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
+  if (line & (cfg_.line_bytes - 1))
+    report_error(kReportInternal, std::string(name()) + ": line address " + std::to_string(line) + " not line-aligned");
+  ++stats_.accesses;
+  if (!banks_.empty()) now = lookup_slot(line, now, listener);
+  return access(line, now, listener, cookie, now, false);
+}
+
+Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival, bool requeued) {
+  const uint32_t base = uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
+  for (uint32_t i = base; i < base + cfg_.ways; ++i) {
+    if (tags_[i] != line) continue;
+    lru_[i] = ++stamp_;
+    if (requeued && now > arrival) stats_.mshr_stall_cycles += ceil_cycles(now - arrival);
+    const Tick earliest = now + hit_ticks_;
+    if (ready_[i] <= now) {
+      ++stats_.hits;
+      return earliest;
+    }
+    ++stats_.mshr_merges;
+    if (ready_[i] != kUnknown) return std::max(ready_[i], earliest);
+    mshrs_[mshr_of_[i]].waiters.push_back({listener, cookie, earliest});
+    return kUnknown;
+  }
+  return miss(line, base, now, listener, cookie, arrival, requeued);
+}
+
+Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
+                 bool requeued) {
+  // When can the miss go? It needs an MSHR and a way that are free (not in flight).
+  uint32_t mshr = 0;
+  Tick mshr_free = kUnknown;
+  if (awaiting_ < cfg_.mshrs)  // else every MSHR waits for a fill of unknown time
+    for (uint32_t m = 0; m < cfg_.mshrs; ++m)
+      if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;  // earliest, lowest index
+  Tick way_free = kUnknown;
+  for (uint32_t i = base; i < base + cfg_.ways; ++i) way_free = std::min(way_free, ready_[i]);
+  const Tick issue = std::max({now, mshr_free, way_free});
+
+  if (issue == kUnknown) {  // nothing frees at a known time: wait for a fill
+    if (!requeued) ++stats_.mshr_stall_events;
+    queued_.push_back({line, listener, cookie, arrival});
+    return kUnknown;
+  }
+  if (issue > now && !requeued) ++stats_.mshr_stall_events;
+  if (issue > arrival) stats_.mshr_stall_cycles += ceil_cycles(issue - arrival);
+  ++stats_.misses;
+
+  // Victim: the LRU way among those not in flight at the issue time (never-used ways have stamp 0).
+  uint32_t victim = kNoWay;
+  for (uint32_t i = base; i < base + cfg_.ways; ++i)
+    if (ready_[i] <= issue && (victim == kNoWay || lru_[i] < lru_[victim])) victim = i;
+  if (tags_[victim] != kInvalidTag) ++stats_.evictions;
+  tags_[victim] = line;
+  lru_[victim] = ++stamp_;
+
+  const Tick earliest = issue + hit_ticks_;
+  Tick delivered = below_->fetch_line(line, earliest, this, line);
+  Mshr& m = mshrs_[mshr];
+  if (delivered != kUnknown) {
+    delivered = fill_slot(line, delivered);
+    std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
+    ++stats_.fills;
+    ready_[victim] = delivered;
+    m.free_at = delivered;
+    return delivered;
+  }
+  ready_[victim] = kUnknown;
+  mshr_of_[victim] = mshr;
+  m.free_at = kUnknown;
+  ++awaiting_;
+  m.waiters.clear();
+  m.waiters.push_back({listener, cookie, earliest});
+  return kUnknown;
+}
+
+void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick when) {
+  const uint32_t way = find_way(line);
+  if (way == kNoWay || ready_[way] != kUnknown)
+    report_error(kReportInternal, std::string(name()) + ": fill for line " + std::to_string(line) + " that is not awaited");
+  when = fill_slot(line, when);
+  std::memcpy(&data_[size_t(way) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
+  ++stats_.fills;
+  ready_[way] = when;
+  lru_[way] = ++stamp_;  // the waiters use it now
+  Mshr& m = mshrs_[mshr_of_[way]];
+  m.free_at = when;
+  --awaiting_;
+
+  // Collect every completion first and call the listeners last, so they may call back in.
+  std::vector<Delivery> out;
+  out.reserve(m.waiters.size());
+  for (const Waiter& w : m.waiters) out.push_back({w.listener, line, w.cookie, std::max(when, w.earliest)});
+  m.waiters.clear();
+
+  // The freed MSHR serves the queued requests in arrival order, as accesses made at the fill time.
+  // One that still cannot go (its set is all in flight on unknown fills) is queued again.
+  if (!queued_.empty()) {
+    std::vector<Queued> waiting;
+    waiting.swap(queued_);
+    for (const Queued& q : waiting) {
+      // Without an MSHR that frees at a known time, only a request whose line is now in the cache
+      // (a hit or a merge) can go; the others stay queued, in order, as access() would leave them.
+      if (awaiting_ == cfg_.mshrs && find_way(q.line) == kNoWay) {
+        queued_.push_back(q);
+        continue;
+      }
+      const Tick t = access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
+      if (t != kUnknown) out.push_back({q.listener, q.line, q.cookie, t});
+    }
+  }
+
+  for (const Delivery& d : out)
+    if (d.listener) d.listener->on_fill(d.line, d.cookie, d.when);
+}
+
+const uint8_t* Cache::line_data(uint64_t line) const {
+  const uint32_t way = find_way(line);
+  if (way != kNoWay && ready_[way] != kUnknown) return &data_[size_t(way) * cfg_.line_bytes];
+  return below_->line_data(line);
+}
+
+void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {
+  r.counter(prefix + ".accesses", &stats_.accesses, "count", "line requests received");
+  r.counter(prefix + ".hits", &stats_.hits, "count", "requests finding their line present and delivered");
+  r.counter(prefix + ".misses", &stats_.misses, "count", "requests that allocated a line and asked the level below");
+  r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "count", "requests merged into a line already in flight");
+  r.counter(prefix + ".mshr_stall_events", &stats_.mshr_stall_events, "count",
+            "misses that waited for a free MSHR or a way not in flight");
+  r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles", "cycles misses waited for an MSHR or a way");
+  r.counter(prefix + ".fills", &stats_.fills, "count", "lines written into the data array");
+  r.counter(prefix + ".evictions", &stats_.evictions, "count", "valid lines replaced");
+  const CacheStats* s = &stats_;
+  r.formula(prefix + ".hit_rate", [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; }, "ratio",
+            "hits / accesses");
+  if (banks_.empty()) return;
+  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "count", "lookups that waited for a slot of their bank");
+  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles", "cycles lookups waited for a bank slot");
+  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles", "cycles fills waited for a bank slot");
+  for (size_t t = 0; t < type_names_.size(); ++t)
+    r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t], "cycles",
+              "cycles lookups from " + type_names_[t] + " waited for a bank slot");
+}
+
+}  // namespace rtsim::model

@@ -1,0 +1,210 @@
+// A non-blocking, set-associative, LRU, read-only cache that models timing and holds data.
+//
+// It is an sc_object driven by function calls (no SystemC process): towards the requester it
+// is a LineSource, towards the level below a FillListener (for fills whose time was unknown when
+// they were asked for, i.e. DRAM misses). Data are read-only, so a line's bytes are copied from
+// the level below as soon as they are known to be exact (at request time when the delivery time
+// is known, at on_fill otherwise).
+//
+// Timing (hit_latency H is in cycles of the cache's clock; all times are Ticks):
+//  - hit: the line is present and was delivered by `now` -> now + H.
+//  - merge: the line is allocated and still in flight (delivery T > now). No new request goes
+//    below. The delivery is max(T, now + H): the data passes through as it arrives, but a merge
+//    is never faster than a hit would be. If T is not known yet the requester is queued on the
+//    line's MSHR, fetch_line returns kUnknown and it gets on_fill(line, cookie, max(T, now + H))
+//    when the fill arrives.
+//  - miss: the tag check takes H, so the level below is asked at now + H and its delivery time
+//    is this cache's delivery time (no extra cost on the way back). Hence an L1 miss that hits in
+//    an L2 is delivered at now + H_L1 + H_L2, and one that goes to memory at
+//    now + H_L1 + H_L2 + (memory's answer to a request made at now + H_L1 + H_L2).
+//    The line is allocated at request time in the LRU way among those not in flight; the MSHR
+//    stays busy until the delivery.
+//  - MSHR / structural stall: a miss needs a free MSHR (at most `mshrs` lines in flight) and a
+//    way of its set that is not in flight. If either is missing but the earliest one frees at a
+//    known time, the miss is issued at that time instead of `now` (the level below may thus be
+//    asked about a future time). If none frees at a known time, the request is queued and served
+//    (in arrival order, as an access made at the fill time) when an on_fill frees an MSHR; it
+//    then completes through listener->on_fill.
+//
+// Banks and ports: the array is split into `banks` banks by the lowest bits of the line number
+// (bank = line_addr / line_bytes mod banks, so consecutive lines go to consecutive banks), each
+// serving `ports` accesses per cycle (model/memory/port_schedule.h: first come, first served in the
+// calendar's fixed order). A lookup takes a slot of its line's bank first and is made at that
+// slot's cycle; the wait is counted per requester type. A fill (a line arriving from below) is a
+// write into the array: with `fill_port` kShared it takes a slot of the same bank, competing with
+// lookups as in a single-ported SRAM bank, and the line is delivered at that slot; with kSeparate
+// (GPGPU-Sim's caches) fills have a port of their own and cost no lookup slot. A request that
+// waits for an MSHR is served from the MSHR queue when one frees, without a second bank slot.
+// `ports == 0` is the ideal cache: no bank limit at all.
+//
+// Statistics: accesses = hits + misses + mshr_merges (+ requests still queued; a queued
+// request is classified when it is finally served). mshr_stall_events counts requests that
+// waited for an MSHR or a way; mshr_stall_cycles their total wait, each rounded up to whole
+// cycles. fills counts lines written into the data array, evictions valid lines replaced.
+//
+// Listener contract: on_fill may be called with a `when` later than the call's own time (a queued
+// request served at a fill may complete after it); `when` is the delivery time. Listener calls
+// are made only after the cache's state is consistent, so a listener may call back into it.
+#pragma once
+
+#include "model/sim/config_description.h"
+#include "model/memory/line_source.h"
+#include "model/sim/time.h"
+#include "model/memory/port_schedule.h"
+#include "model/sim/stats_registry.h"
+
+#include <systemc>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+enum class FillPort { kShared, kSeparate };
+
+struct CacheConfig {
+  uint32_t size_bytes = 8192;
+  uint32_t ways = 2;
+  uint32_t line_bytes = 64;  // power of two, >= 4
+  uint32_t hit_latency = 1;  // cycles of the cache's clock (0 allowed: an ideal cache)
+  uint32_t mshrs = 16;       // outstanding misses (distinct lines)
+  uint32_t banks = 1;        // power of two, at most the number of sets
+  uint32_t ports = 0;        // accesses per bank per cycle; 0: unlimited (ideal)
+  FillPort fill_port = FillPort::kShared;
+
+  // Throws std::invalid_argument naming the offending field.
+  void validate() const;
+  uint32_t sets() const { return size_bytes / (ways * line_bytes); }
+};
+
+// Every CacheConfig field, once (model/sim/config_description.h).
+template <class V, class C>
+DescribeOf<C, CacheConfig> describe(V& v, C& c) {
+  v.kib("size_kb", c.size_bytes, 1, 1 << 20, "capacity");
+  v.number("ways", c.ways, 1, 1024, "", "associativity (LRU replacement)");
+  v.number("line_bytes", c.line_bytes, 4, 4096, "bytes", "line size, a power of two");
+  v.number("hit_latency", c.hit_latency, 0, 10000, "cycles", "a hit's latency; a miss adds the level below's");
+  v.number("mshrs", c.mshrs, 1, 65536, "lines", "misses in flight (distinct lines)");
+  v.number("banks", c.banks, 1, 1024, "banks", "by line number mod banks; a power of two, at most the sets");
+  v.number("ports", c.ports, 0, 64, "per bank and cycle", "lookups a bank serves per cycle; 0: unlimited (ideal)");
+  v.choice("fill_port", c.fill_port, {{"shared", FillPort::kShared}, {"separate", FillPort::kSeparate}},
+           "a fill takes one of its bank's slots (shared) or has a port of its own (separate)");
+}
+
+struct CacheStats {
+  uint64_t accesses = 0;
+  uint64_t hits = 0;
+  uint64_t misses = 0;
+  uint64_t mshr_merges = 0;
+  uint64_t mshr_stall_events = 0;
+  uint64_t mshr_stall_cycles = 0;
+  uint64_t fills = 0;
+  uint64_t evictions = 0;
+  uint64_t bank_stall_events = 0;  // lookups that found their bank's slots taken
+  uint64_t bank_stall_cycles = 0;
+  uint64_t fill_stall_cycles = 0;  // fills that waited for a slot of their bank
+};
+
+class Cache : public sc_core::sc_object, public LineSource, public FillListener {
+ public:
+  // `below` must outlive the cache; the cache registers itself as below's listener. A bad
+  // configuration is reported as rtsim/config.
+  Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below);
+  const char* kind() const override { return "rtsim_cache"; }
+  Cache(const Cache&) = delete;  // the level below holds `this`
+  Cache& operator=(const Cache&) = delete;
+
+  // `line_addr` must be line-aligned (rtsim/internal otherwise). `listener` may be null when
+  // the caller does not need a kUnknown completion.
+  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
+  // The cache's own copy when it holds the line's bytes; otherwise (evicted since its delivery,
+  // or not yet arrived) the level below's, which is identical because data are read-only.
+  const uint8_t* line_data(uint64_t line_addr) const override;
+  // A fill from below for a line this cache asked for with an unknown time.
+  void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
+
+  // The bank serving `line_addr` (a crossbar's destination port).
+  uint32_t port_of(uint64_t line_addr) const override {
+    return uint32_t((line_addr >> line_shift_) & (cfg_.banks - 1));
+  }
+  uint32_t port_count() const override { return cfg_.banks; }
+  // Bank waits are also counted per requester type; unnamed requesters count as "other".
+  void name_requester(const FillListener* requester, const std::string& type);
+
+  // Registers <prefix>.accesses, .hits, .misses, .mshr_merges, .mshr_stall_events,
+  // .mshr_stall_cycles, .fills, .evictions and the formula .hit_rate (hits / accesses); with
+  // banks modelled also .bank.stall_events, .bank.stall_cycles, .bank.stall_cycles_by.<type>,
+  // .bank.fill_stall_cycles.
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+  const CacheStats& stats() const { return stats_; }
+  const CacheConfig& config() const { return cfg_; }
+  // Probes without side effects (tests, debugging).
+  bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
+  size_t queued_requests() const { return queued_.size(); }
+
+ private:
+  static constexpr uint64_t kInvalidTag = ~uint64_t(0);  // never line-aligned, never matches
+  static constexpr uint32_t kNoWay = ~uint32_t(0);
+
+  struct Waiter {
+    FillListener* listener;
+    uint64_t cookie;
+    Tick earliest;  // the requester's arrival + hit latency
+  };
+  struct Mshr {
+    Tick free_at = 0;  // busy while free_at > t; kUnknown until its fill arrives
+    std::vector<Waiter> waiters;  // keeps its capacity: no allocation once warmed up
+  };
+  struct Queued {  // a miss that found no MSHR / way with a known free time
+    uint64_t line;
+    FillListener* listener;
+    uint64_t cookie;
+    Tick arrival;
+  };
+  struct Delivery {
+    FillListener* listener;
+    uint64_t line;
+    uint64_t cookie;
+    Tick when;
+  };
+
+  uint32_t find_way(uint64_t line_addr) const;  // global way index or kNoWay
+  // The access proper, at time `now`. `arrival` is when the request first arrived (< now for a
+  // queued request served at a fill); `requeued` says its stall event was already counted.
+  Tick access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival, bool requeued);
+  Tick miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
+            bool requeued);
+  uint64_t ceil_cycles(Tick t) const { return clock_.ceil_cycles(t); }
+  // The cycle a lookup by `requester` made at `now` gets a slot of the line's bank.
+  Tick lookup_slot(uint64_t line, Tick now, const FillListener* requester);
+  // The time a fill of `line` arriving at `when` is written into the array.
+  Tick fill_slot(uint64_t line, Tick when);
+
+  CacheConfig cfg_;
+  Clock clock_;
+  LineSource* below_;
+  Tick hit_ticks_;
+  uint32_t line_shift_;
+  uint64_t set_mask_;
+
+  // Flat per-way arrays, indexed set * ways + way.
+  std::vector<uint64_t> tags_;
+  std::vector<Tick> ready_;      // delivery time of the line's data; kUnknown while awaiting a fill
+  std::vector<uint64_t> lru_;    // last-use stamp; the smallest is the LRU
+  std::vector<uint32_t> mshr_of_;  // the MSHR serving the way while ready_ is kUnknown
+  std::vector<uint8_t> data_;
+  uint64_t stamp_ = 0;
+
+  std::vector<Mshr> mshrs_;
+  uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time
+  std::vector<Queued> queued_;
+  std::vector<PortSchedule> banks_;  // empty: ideal
+  std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;
+  std::vector<std::string> type_names_{"other"};
+  std::vector<uint64_t> stall_cycles_by_type_{0};
+  CacheStats stats_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,164 @@
+#include "model/memory/dram.h"
+
+#include "model/sim/report.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+namespace rtsim::model {
+
+namespace {
+
+constexpr uint64_t kMinPageBytes = 4096;  // copy-on-write granularity (at least one line)
+
+}  // namespace
+
+Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
+           const Clock& accel_clock, Calendar& calendar, uint64_t extra_bytes)
+    : sc_core::sc_module(name),
+      socket("socket"),
+      calendar_(calendar),
+      engine_(config),
+      memory_(memory),
+      image_bytes_(memory ? memory->size() : 0),
+      store_bytes_(image_bytes_ + extra_bytes),
+      accel_clock_(accel_clock) {
+  if (sc_core::sc_get_time_resolution() != sc_core::sc_time(1, sc_core::SC_PS))
+    report_error(kReportConfig, std::string(this->name()) + ": needs a time resolution of 1 ps (sc_set_time_resolution(1, SC_PS) before any sc_time)");
+  const uint64_t line = engine_.config().request_bytes;
+  const uint64_t page = std::max<uint64_t>(kMinPageBytes, line);  // both powers of two
+  while ((uint64_t(1) << page_shift_) < page) ++page_shift_;
+  pages_.resize(size_t((store_bytes_ + page - 1) >> page_shift_));
+  zero_line_.assign(line, 0);
+  // A line across the image's end (an image whose size is not a multiple of request_bytes, with
+  // extra space after it) is neither wholly image nor zeros: give its page a copy now.
+  if (extra_bytes > 0 && image_bytes_ % line != 0) writable_line(image_bytes_ - image_bytes_ % line);
+  socket.register_nb_transport_fw(this, &Dram::nb_transport_fw);
+  socket.register_transport_dbg(this, &Dram::transport_dbg);
+  calendar_.add(this);
+}
+
+tlm::tlm_response_status Dram::check(const tlm::tlm_generic_payload& p) const {
+  const uint64_t bytes = engine_.config().request_bytes;
+  if (p.get_data_length() != bytes || p.get_streaming_width() < bytes || p.get_byte_enable_ptr())
+    return tlm::TLM_BURST_ERROR_RESPONSE;
+  if (p.get_address() % bytes != 0 || (store_bytes_ > 0 && !in_store(p.get_address())))
+    return tlm::TLM_ADDRESS_ERROR_RESPONSE;
+  return tlm::TLM_OK_RESPONSE;
+}
+
+tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+  if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;  // END_RESP: nothing to do
+  const tlm::tlm_response_status status = check(p);
+  if (status != tlm::TLM_OK_RESPONSE) {
+    p.set_response_status(status);
+    return tlm::TLM_COMPLETED;
+  }
+  const uint64_t line = p.get_address();
+  const bool write = p.is_write();
+  if (write && store_bytes_ > 0) std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
+  const uint64_t id = next_id_++;
+  requesters_.emplace(id, Requester{line, &p});
+  engine_.enqueue(line, calendar_.now() + delay.value(), id, write);
+  wake_for(engine_.next_event_time());
+  phase = tlm::END_REQ;
+  return tlm::TLM_UPDATED;
+}
+
+unsigned Dram::transport_dbg(tlm::tlm_generic_payload& p) {
+  const uint64_t addr = p.get_address();
+  const unsigned n = p.get_data_length();
+  if (store_bytes_ == 0 || addr > store_bytes_ || store_bytes_ - addr < n) return 0;
+  const uint64_t bytes = engine_.config().request_bytes;
+  for (unsigned done = 0; done < n;) {  // line by line: a line never leaves its page
+    const uint64_t at = addr + done;
+    const unsigned k = unsigned(std::min<uint64_t>(n - done, bytes - at % bytes));
+    if (p.is_write()) std::memcpy(writable_line(at), p.get_data_ptr() + done, k);
+    else std::memcpy(p.get_data_ptr() + done, line_data(at), k);
+    done += k;
+  }
+  return n;
+}
+
+void Dram::respond(tlm::tlm_generic_payload& p, Tick delay) {
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+  tlm::tlm_phase phase = tlm::BEGIN_RESP;
+  sc_core::sc_time t = sc_core::sc_time::from_value(delay);
+  socket->nb_transport_bw(p, phase, t);  // TLM_ACCEPTED and a later END_RESP are fine too
+}
+
+// Callers may ask for a finer-aligned address (an L1 line inside a larger request): the bytes
+// from `line_addr` to the end of its request_bytes block are right, and that block never leaves
+// its page.
+const uint8_t* Dram::line_data(uint64_t line_addr) const {
+  if (!in_store(line_addr)) {
+    char addr[24];
+    std::snprintf(addr, sizeof addr, "0x%llx", static_cast<unsigned long long>(line_addr));
+    std::string where = "the memory image (" + std::to_string(image_bytes_) + " bytes";
+    if (store_bytes_ > image_bytes_) where += " + " + std::to_string(store_bytes_ - image_bytes_) + " bytes after it";
+    report_error(kReportMemory, std::string(name()) + ": line " + addr + " (" +
+                                    std::to_string(engine_.config().request_bytes) + " bytes) is outside " + where + ")");
+  }
+  const uint64_t bytes = engine_.config().request_bytes;
+  if (const std::unique_ptr<uint8_t[]>& page = pages_[size_t(line_addr >> page_shift_)])
+    return page.get() + (line_addr & ((uint64_t(1) << page_shift_) - 1));
+  const uint64_t block = line_addr & ~(bytes - 1);
+  if (block + bytes <= image_bytes_) return memory_->data() + line_addr;
+  return zero_line_.data() + (line_addr - block);  // unwritten extra space (a block across the
+                                                   // image's end has its page copied)
+}
+
+uint8_t* Dram::writable_line(uint64_t line_addr) {
+  const uint64_t page_bytes = uint64_t(1) << page_shift_;
+  const uint64_t base = line_addr & ~(page_bytes - 1);
+  std::unique_ptr<uint8_t[]>& page = pages_[size_t(base >> page_shift_)];
+  if (!page) {
+    page = std::make_unique<uint8_t[]>(size_t(page_bytes));  // zeroed
+    if (base < image_bytes_) std::memcpy(page.get(), memory_->data() + base, size_t(std::min(page_bytes, image_bytes_ - base)));
+  }
+  return page.get() + (line_addr - base);
+}
+
+uint64_t Dram::pages_written() const {
+  uint64_t n = 0;
+  for (const auto& p : pages_) n += p != nullptr;
+  return n;
+}
+
+void Dram::activate() {
+  const Tick now = calendar_.now();
+  done_.clear();
+  engine_.advance(now, done_);
+  for (const DramController::Completion& c : done_) {
+    if (c.write) {  // posted: the response goes now, annotated with the time the data are in
+      const auto it = requesters_.find(c.id);
+      tlm::tlm_generic_payload* p = it->second.payload;
+      requesters_.erase(it);
+      respond(*p, c.data_ready > now ? c.data_ready - now : 0);
+      continue;
+    }
+    deliveries_.push(Delivery{accel_clock_.edge_at_or_after(c.data_ready), c.id});
+  }
+  while (!deliveries_.empty() && deliveries_.top().when <= now) {
+    const Delivery d = deliveries_.top();
+    deliveries_.pop();
+    const auto it = requesters_.find(d.id);
+    const Requester r = it->second;
+    requesters_.erase(it);
+    // The bytes as they are now (writes posted before this moment included).
+    if (store_bytes_ > 0) std::memcpy(r.payload->get_data_ptr(), line_data(r.line), engine_.config().request_bytes);
+    respond(*r.payload, 0);
+  }
+  Tick next = engine_.next_event_time();
+  if (!deliveries_.empty()) next = std::min(next, deliveries_.top().when);
+  wake_for(next);
+}
+
+void Dram::wake_for(Tick t) {
+  if (t != kUnknown) calendar_.schedule(this, t);  // a pending earlier time stands
+}
+
+}  // namespace rtsim::model

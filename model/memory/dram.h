@@ -1,0 +1,116 @@
+// The GDDR3 memory as a SystemC module and a TLM-2.0 target (`socket`, approximately-timed base
+// protocol): a thin wrapper that drives the DramController engine in simulated time and holds the
+// simulated memory's bytes. Needs a time resolution of 1 ps.
+//
+// A read (BEGIN_REQ, its delay annotation = when it reaches memory) is accepted at once
+// (TLM_UPDATED, END_REQ: the controller's queue takes every request) and enqueued in the engine.
+// An activation on the calendar advances the engine to the current time; a read's response
+// (BEGIN_RESP, with the line's bytes) goes at the first accelerator-clock edge at or after its
+// data are ready (the DRAM runs on its own command clock; the accelerator samples on its own).
+// Responses later than now wait in a small time-ordered queue, sent in (time, request order). The
+// module re-arms for the earliest of the engine's next event and the next response, so it costs no
+// activation while idle.
+//
+// A write is posted: its bytes are stored at once (functionally: a later read sees them, even one
+// enqueued before the write) and the write is queued in the engine for its timing only (it shares
+// the FR-FCFS queue, the banks and the data bus with the reads); its response goes when the engine
+// reports it, annotated with the time its last data beat is in. A request that is not one whole
+// line inside the store completes at once with an address or burst error. transport_dbg reads and
+// writes the store without timing.
+//
+// Backing store: the memory image (not copied) followed by `extra_bytes` of zeroed space (e.g. a
+// frame buffer the accelerator writes after the image), addresses [0, image + extra_bytes).
+// Writes are copy-on-write per page (max(4 KB, request_bytes), so no line straddles two pages):
+// the first write to a page copies that page's image bytes (or zeros) into a page the module
+// owns, and later reads and writes of the page use that copy. So the image costs nothing extra
+// (copying it whole would double the peak memory a run reports, tens of MB for the paper's
+// scenes), the store grows with what is written, and line_data is one array index: a written
+// page, else the image, else a shared zero line.
+//
+// Line addresses are byte addresses of request_bytes-aligned blocks (the cache line above).
+#pragma once
+
+#include "model/memory/dram_config.h"
+#include "model/memory/dram_controller.h"
+#include "model/memory/line_source.h"
+#include "model/sim/time.h"
+#include "model/sim/calendar.h"
+#include "model/sim/stats_registry.h"
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_target_socket.h>
+
+#include <cstdint>
+#include <memory>
+#include <queue>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace rtsim::model {
+
+class Dram : public sc_core::sc_module, public Calendar::Client {
+ public:
+  tlm_utils::simple_target_socket<Dram> socket;
+
+  // `memory` is the loaded memory image (may be null: with extra_bytes 0 that is a timing-only
+  // model, whose line_data reports an error and whose accesses are not range-checked). It must
+  // outlive the module and keep its size. `extra_bytes` of zeroed store follow the image.
+  Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
+       const Clock& accel_clock, Calendar& calendar, uint64_t extra_bytes = 0);
+
+  // The line's current bytes (written ones included); rtsim/memory if the line is not wholly
+  // inside the store. Read it before the next write: a page's first write moves its lines to the
+  // module's copy, and the old pointer then shows the image's bytes.
+  const uint8_t* line_data(uint64_t line_addr) const;
+
+  uint64_t store_bytes() const { return store_bytes_; }  // image + extra_bytes
+  uint64_t image_bytes() const { return image_bytes_; }
+  uint64_t pages_written() const;                        // pages copied on write so far
+
+  const DramController& engine() const { return engine_; }
+  const DramStats& stats() const { return engine_.stats(); }
+  void register_stats(StatsRegistry& registry, const std::string& prefix) const {
+    engine_.register_stats(registry, prefix);
+  }
+
+ private:
+  struct Requester {
+    uint64_t line;
+    tlm::tlm_generic_payload* payload;
+  };
+  struct Delivery {
+    Tick when;
+    uint64_t id;  // ids grow with enqueue order: ties deliver in request order
+    bool operator>(const Delivery& o) const { return when != o.when ? when > o.when : id > o.id; }
+  };
+
+  tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  unsigned transport_dbg(tlm::tlm_generic_payload& p);
+  // A request's response status if it is not one request_bytes line inside the store.
+  tlm::tlm_response_status check(const tlm::tlm_generic_payload& p) const;
+  void respond(tlm::tlm_generic_payload& p, Tick delay);
+  void activate() override;  // on the calendar
+  void wake_for(Tick t);
+  bool in_store(uint64_t line_addr) const {
+    return line_addr <= store_bytes_ && store_bytes_ - line_addr >= engine_.config().request_bytes;
+  }
+  uint8_t* writable_line(uint64_t line_addr);                   // copies its page on first write
+
+  Calendar& calendar_;
+  DramController engine_;
+  const std::vector<uint8_t>* memory_;
+  uint64_t image_bytes_ = 0;
+  uint64_t store_bytes_ = 0;
+  uint32_t page_shift_ = 0;
+  std::vector<std::unique_ptr<uint8_t[]>> pages_;  // written pages, by address >> page_shift_
+  std::vector<uint8_t> zero_line_;                 // an unwritten line of the extra space
+  Clock accel_clock_;
+  std::unordered_map<uint64_t, Requester> requesters_;  // by request id
+  std::priority_queue<Delivery, std::vector<Delivery>, std::greater<Delivery>> deliveries_;
+  std::vector<DramController::Completion> done_;  // scratch
+  uint64_t next_id_ = 0;
+};
+
+}  // namespace rtsim::model

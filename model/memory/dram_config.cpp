@@ -1,0 +1,246 @@
+#include "model/memory/dram_config.h"
+
+#include <algorithm>
+#include <cctype>
+#include <stdexcept>
+
+namespace rtsim::model {
+
+namespace {
+
+bool is_pow2(uint64_t v) { return v != 0 && (v & (v - 1)) == 0; }
+
+uint32_t log2u(uint64_t v) {
+  uint32_t r = 0;
+  while (v > 1) {
+    v >>= 1;
+    ++r;
+  }
+  return r;
+}
+
+[[noreturn]] void fail(const std::string& field, const std::string& what) {
+  throw std::invalid_argument("DramConfig." + field + ": " + what);
+}
+
+void require_pow2(const std::string& field, uint64_t value) {
+  if (!is_pow2(value)) fail(field, "must be a power of two (got " + std::to_string(value) + ")");
+}
+
+const char* field_name(AddressMapping::Field f) {
+  switch (f) {
+    case AddressMapping::kRow: return "row";
+    case AddressMapping::kBank: return "bank";
+    case AddressMapping::kColumn: return "column";
+    case AddressMapping::kChannel: return "channel";
+    default: return "byte";
+  }
+}
+
+// GT200 as configured in GPGPU-Sim's QuadroFX5800 file, configs/deprecated-cfgs/QuadroFX5800/
+// gpgpusim.config (configs/QuadroFX5800/ before 2018; "cfg:N" = its line N at master 90ec3399
+// and at 5e8e8497). Its timing line (cfg:71), commented "GDDR3 timing from Samsung
+// K4J52324QH-HC12 @ 800MHz", reads at 5e8e8497
+//   -gpgpu_dram_timing_opt nbk=8:CCD=2:RRD=8:RCD=12:RAS=25:RP=10:RC=35:CL=10:WL=7:CDLR=6:WR=11
+// (until 2011-07 it had ten positional fields, the 10th (6) then read as tWTR; since 2011-08 the
+// 10th is tCDLR and an 11th, tWR = 11, follows: GPGPU-Sim derives tWTR = WL + BL/2 + tCDLR = 15).
+DramConfig gddr3_gt200() {
+  DramConfig c;
+  c.preset = "gddr3-gt200";
+  c.channels = 8;         // -gpgpu_n_mem 8 (cfg:12)
+  c.banks = 8;            // nbk = 8
+  c.tCK_ps = 1250;        // -gpgpu_clock_domains 325.0:650.0:650.0:800.0, DRAM clock 800 MHz (cfg:13)
+  c.tCCD = 2;             // CCD
+  c.tRRD = 8;             // RRD
+  c.tRCD = 12;            // RCD
+  c.tRAS = 25;            // RAS
+  c.tRP = 10;             // RP
+  c.tRC = 35;             // RC (= tRAS + tRP exactly)
+  c.CL = 10;              // CL
+  c.WL = 7;               // WL
+  c.tCDLR = 6;            // CDLR
+  c.tWR = 11;             // WR
+  c.burst_length = 4;     // -gpgpu_dram_burst_length 4, -dram_data_command_freq_ratio 2 (cfg:66-67):
+                          // DDR, 2 command cycles of data bus
+  c.bus_bytes = 8;        // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
+  c.queue_size = 16;      // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
+                          // FR-FCFS (cfg:54, 60)
+  c.request_bytes = 32;   // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
+                          // accelerator sets its own L2 line size here
+  c.row_policy = RowPolicy::kOpenPage;  // GPGPU-Sim's DRAM model keeps rows open
+  c.address_mapping = kGt200AddressMapping;  // -gpgpu_mem_addr_mapping, verbatim (cfg:69)
+  return c;
+}
+
+// The same chip's timings in nanoseconds on a 1 GHz command clock (each rounded up to whole
+// cycles): a faster GDDR3 part of the same family (K4J52324QH-HC10 is the 1 GHz grade). The
+// HC10 datasheet values are not in GPGPU-Sim; this rescaling is our assumption. The derived
+// write turnarounds follow from the rescaled WL, tCDLR and tWR with GPGPU-Sim's formulas (BL/2
+// and the 2-cycle bus turnaround stay cycles of the data bus).
+DramConfig gddr3_gt200_1ghz() {
+  DramConfig c = gddr3_gt200();
+  c.preset = "gddr3-gt200-1ghz";
+  auto rescale = [&c](uint32_t cycles_at_800) { return uint32_t((uint64_t(cycles_at_800) * c.tCK_ps + 999) / 1000); };
+  c.tRRD = rescale(c.tRRD);    // 10 ns
+  c.tRCD = rescale(c.tRCD);    // 15 ns
+  c.tRAS = rescale(c.tRAS);    // 31.25 -> 32
+  c.tRP = rescale(c.tRP);      // 12.5 -> 13
+  c.CL = rescale(c.CL);        // 12.5 -> 13
+  c.WL = rescale(c.WL);        // 8.75 -> 9
+  c.tCDLR = rescale(c.tCDLR);  // 7.5 -> 8
+  c.tWR = rescale(c.tWR);      // 13.75 -> 14
+  // 43.75 ns rounds up to 44, but tRAS and tRP, rounded up separately, sum to 45: GT200's values
+  // satisfy tRC = tRAS + tRP exactly (35 = 25 + 10), so keep that. This changes no timing: a bank
+  // cannot ACT again before ACT + tRAS (to PRE) + tRP (to ACT) anyway.
+  c.tRC = std::max(rescale(c.tRC), c.tRAS + c.tRP);  // 45
+  c.tCK_ps = 1000;             // tCCD stays 2: a burst of 4 on a DDR bus
+  return c;
+}
+
+// GPGPU-Sim's other reading of "GDDR3 at 1 GHz": its timings are counted in DRAM command
+// cycles, so setting its DRAM clock domain to 1000 MHz keeps GT200's cycle counts, each now 1 ns
+// (tRCD 12 ns, CL 10 ns, ...: a faster part than any K4J52324QH grade).
+DramConfig gddr3_gt200_1ghz_cycles() {
+  DramConfig c = gddr3_gt200();
+  c.preset = "gddr3-gt200-1ghz-cycles";
+  c.tCK_ps = 1000;
+  return c;
+}
+
+}  // namespace
+
+void DramConfig::validate() const {
+  // The ranges of describe() (every count and timing at least 1, bursts at least 2); then what
+  // the fields must satisfy together.
+  RangeCheck check("DramConfig");
+  describe(check, *this);
+  require_pow2("channels", channels);
+  require_pow2("banks", banks);
+  if (tRC < tRAS) fail("tRC", "must be >= tRAS (" + std::to_string(tRAS) + "), got " + std::to_string(tRC));
+  require_pow2("burst_length", burst_length);
+  // GPGPU-Sim's derived write turnarounds subtract WL (gpu-sim.h memory_config::init()); both
+  // must stay >= 1 cycle.
+  if (WL + 1 >= tRCD)
+    fail("WL", "must be < tRCD - 1 (" + std::to_string(tRCD) + " - 1) for an activate-to-write delay tRCD - (WL + 1) >= 1, got " +
+                   std::to_string(WL));
+  if (WL >= CL + burst_cycles() + kReadToWriteTurnaround)
+    fail("WL", "must be < CL + BL/2 + 2 (" + std::to_string(CL + burst_cycles() + kReadToWriteTurnaround) +
+                   ") for a read-to-write delay >= 1, got " + std::to_string(WL));
+  require_pow2("bus_bytes", bus_bytes);
+  require_pow2("request_bytes", request_bytes);
+  if (request_bytes < burst_bytes())
+    fail("request_bytes", "must be at least one burst (" + std::to_string(burst_bytes()) + " bytes), got " +
+                              std::to_string(request_bytes));
+  if (row_policy != RowPolicy::kOpenPage) fail("row_policy", "only the open-page policy is modelled");
+
+  const AddressMapping map(address_mapping, channels);
+  auto require_bits = [&](AddressMapping::Field f, char letter, uint64_t count, const std::string& why) {
+    if (map.bits(f) != log2u(count))
+      fail("address_mapping", std::to_string(map.bits(f)) + " " + field_name(f) + " bits (" + letter + "), but " + why +
+                                  " needs " + std::to_string(log2u(count)));
+  };
+  require_bits(AddressMapping::kByte, 'S', burst_bytes(), "a " + std::to_string(burst_bytes()) + "-byte burst");
+  require_bits(AddressMapping::kBank, 'B', banks, std::to_string(banks) + " banks");
+  require_bits(AddressMapping::kChannel, 'D', channels, std::to_string(channels) + " channels");
+  // A request must stay within one row of one bank of one channel: its offset bits may only be
+  // byte or column bits.
+  for (uint32_t b = 0; b < log2u(request_bytes); ++b) {
+    const AddressMapping::Field f = map.field_of(b);
+    if (f != AddressMapping::kByte && f != AddressMapping::kColumn)
+      fail("address_mapping", "bit " + std::to_string(b) + " is a " + field_name(f) + " bit, so a " +
+                                  std::to_string(request_bytes) +
+                                  "-byte request (request_bytes) would not stay in one row");
+  }
+}
+
+std::vector<std::string> dram_preset_names() {
+  return {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"};
+}
+
+DramConfig dram_preset(const std::string& name) {
+  if (name == "gddr3-gt200") return gddr3_gt200();
+  if (name == "gddr3-gt200-1ghz") return gddr3_gt200_1ghz();
+  if (name == "gddr3-gt200-1ghz-cycles") return gddr3_gt200_1ghz_cycles();
+  std::string known;
+  for (const std::string& n : dram_preset_names()) known += (known.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown DRAM preset '" + name + "' (known: " + known + ")");
+}
+
+AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {
+  auto bad = [&](const std::string& what) {
+    throw std::invalid_argument("DramConfig.address_mapping: " + what + " in '" + spec + "'");
+  };
+  std::string body = spec;
+  int64_t dramid = -1;
+  if (spec.rfind("dramid@", 0) == 0) {
+    const size_t semi = spec.find(';');
+    const std::string num = spec.substr(7, semi == std::string::npos ? std::string::npos : semi - 7);
+    if (semi == std::string::npos || num.empty() || num.size() > 2 ||
+        !std::all_of(num.begin(), num.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+      bad("expected 'dramid@<bit>;' before the bits");
+    dramid = std::stoi(num);
+    body = spec.substr(semi + 1);
+  }
+
+  std::string seq;  // one letter per bit, most significant first
+  for (char c : body) {
+    if (c == '.' || c == '|' || c == ' ') continue;
+    const char u = char(std::toupper(static_cast<unsigned char>(c)));
+    if (std::string("RBCSD0").find(u) == std::string::npos) bad(std::string("unknown character '") + c + "'");
+    seq += u;
+  }
+  if (seq.empty()) bad("no bits");
+
+  uint32_t chan_bits = 0;
+  if (dramid >= 0) {
+    if (!is_pow2(channels)) bad("dramid@ needs a power-of-two channel count");
+    chan_bits = log2u(channels);
+    if (seq.find('D') != std::string::npos) bad("'D' bits together with dramid@");
+    if (dramid > int64_t(seq.size())) bad("dramid@" + std::to_string(dramid) + " lies above the bits");
+  }
+
+  bool named_seen = false;
+  const uint32_t n = uint32_t(seq.size());
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t bit = n - 1 - i;
+    const char c = seq[i];
+    if (c == '0') {
+      if (named_seen) bad("'0' (unused bit) below a named bit: it would alias addresses");
+      continue;
+    }
+    named_seen = true;
+    const uint32_t pos = (dramid >= 0 && bit >= uint32_t(dramid)) ? bit + chan_bits : bit;
+    const Field f = c == 'R' ? kRow : c == 'B' ? kBank : c == 'C' ? kColumn : c == 'D' ? kChannel : kByte;
+    positions_[f].push_back(uint8_t(pos));
+  }
+  for (uint32_t k = 0; k < chan_bits; ++k) positions_[kChannel].push_back(uint8_t(dramid + k));
+  for (auto& p : positions_) std::sort(p.begin(), p.end());  // LSB first
+  for (const auto& p : positions_)
+    if (!p.empty()) top_ = std::max<uint32_t>(top_, p.back() + 1u);
+  if (top_ > 64) bad("more than 64 address bits");
+}
+
+AddressMapping::Field AddressMapping::field_of(uint32_t bit) const {
+  for (int f = 0; f < kFields; ++f)
+    if (std::binary_search(positions_[f].begin(), positions_[f].end(), uint8_t(bit))) return Field(f);
+  return kRow;  // at or above top_: the row extends upwards
+}
+
+DramAddress AddressMapping::decode(uint64_t addr) const {
+  auto gather = [&](Field f) {
+    uint64_t v = 0;
+    const std::vector<uint8_t>& p = positions_[f];
+    for (size_t k = 0; k < p.size(); ++k) v |= ((addr >> p[k]) & 1u) << k;
+    return v;
+  };
+  DramAddress a;
+  a.channel = uint32_t(gather(kChannel));
+  a.bank = uint32_t(gather(kBank));
+  a.column = gather(kColumn);
+  a.byte = uint32_t(gather(kByte));
+  a.row = gather(kRow);
+  if (top_ < 64) a.row |= (addr >> top_) << bits(kRow);
+  return a;
+}
+
+}  // namespace rtsim::model

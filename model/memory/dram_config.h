@@ -1,0 +1,153 @@
+// DRAM configuration: geometry, timings (in DRAM command-clock cycles), controller queue, request
+// size and address mapping, plus the named presets. The timing engine (dram_controller.h) and the
+// SystemC wrapper (dram.h) take a validated DramConfig.
+//
+// Address mapping syntax (GPGPU-Sim's -gpgpu_mem_addr_mapping, a documented subset):
+//   [dramid@N;]<bits>
+// <bits> names every address bit from the most to the least significant:
+//   R row, B bank, C column (index of a burst within the row), S byte within a burst,
+//   D channel, 0 unused; '.', '|' and ' ' are separators and take no bit.
+// "dramid@N;" inserts log2(channels) channel bits at bit N and shifts every <bits> bit at or
+// above N up by as many (GPGPU-Sim's addrdec.cc does the same); D is then not allowed.
+// '0' may only pad the top (above every named bit): address bits above the highest named bit
+// extend the row number, so every address of any size maps to a distinct (channel, bank, row,
+// column, byte) and nothing aliases. Row, bank and column numbers are the named bits packed in
+// order, least significant first.
+//
+// Consequence for the GT200 string "dramid@8;...0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS", 8 channels:
+//   bits 0-4 byte in a 32-byte burst, 5-7 column (low 3), 8-10 channel, 11-13 column (high 3),
+//   14-16 bank, 17-30 row, 31+ more row. So 256 consecutive bytes stay in one channel, a row
+//   holds 64 bursts = 2 KB per channel, and 16 KB of addresses cover one row in every channel.
+#pragma once
+
+#include "model/sim/config_description.h"
+#include "model/memory/line_source.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+// GPGPU-Sim's QuadroFX5800 (GT200) mapping string, verbatim.
+inline constexpr const char* kGt200AddressMapping =
+    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS";
+// A simple alternative, row:bank:channel:column:offset: each channel gets whole 2 KB rows in turn
+// (coarse interleaving, for studying channel imbalance).
+inline constexpr const char* kRowBankChannelColumnMapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.SSSSS";
+
+// Only open page: rows stay open until a request for another row of the bank forces a precharge.
+enum class RowPolicy { kOpenPage };
+
+// A default-constructed DramConfig is empty (and fails validate()): start from dram_preset(),
+// which is the one place the numbers and their sources are written down.
+struct DramConfig {
+  std::string preset;  // name of the preset this came from ("" = hand-made)
+
+  uint32_t channels = 0;  // independent controllers, each with its own command and data bus
+  uint32_t banks = 0;     // per channel
+  Tick tCK_ps = 0;        // DRAM command-clock period
+
+  // Timings in command-clock cycles.
+  uint32_t tRCD = 0;  // ACT -> RD, same bank
+  uint32_t CL = 0;    // RD -> first data beat
+  uint32_t tRP = 0;   // PRE -> ACT, same bank
+  uint32_t tRAS = 0;  // ACT -> PRE, same bank
+  uint32_t tRC = 0;   // ACT -> ACT, same bank
+  uint32_t tCCD = 0;  // column command -> column command (RD or WR), same channel
+  uint32_t tRRD = 0;  // ACT -> ACT, different banks of the channel
+  // Write timings, GPGPU-Sim's three base values (the 9th to 11th fields of
+  // -gpgpu_dram_timing_opt; names and meanings from gpu-sim.h, memory_config):
+  uint32_t WL = 0;     // write latency: WR -> first data beat in
+  uint32_t tCDLR = 0;  // last data-in -> RD ("switching from write to read")
+  uint32_t tWR = 0;    // last data-in -> PRE, same bank (write recovery)
+
+  // The turnarounds GPGPU-Sim derives from them (src/gpgpu-sim/gpu-sim.h, memory_config::init(),
+  // lines 246-254 at commit 011891ab; 208-216 at 90ec3399), with its BL / data_command_freq_ratio
+  // = our burst_cycles() (BL 4 on a DDR bus: 2). dram.cc applies them: WR needs RCDWRc and RTWc
+  // at 0 and sets WTRc and the bank's WTPc; RD needs WTRc at 0 and sets RTWc; PRE needs WTPc at 0
+  // (dram_t::issue_col_command and issue_row_command). Defined only for a config that passed
+  // validate() (which keeps the two subtractions >= 1).
+  uint32_t write_to_read() const { return WL + burst_cycles() + tCDLR; }  // tWTR: WR -> RD, channel
+  uint32_t write_to_precharge() const { return WL + burst_cycles() + tWR; }  // tWTP: WR -> PRE, bank
+  // tRTW: RD -> WR, channel. The read's data end at CL + BL/2; the +2 is GPGPU-Sim's fixed bus
+  // turnaround, so a write's data (from WR + WL) start 2 cycles after the read's data end.
+  uint32_t read_to_write() const { return CL + burst_cycles() + kReadToWriteTurnaround - WL; }
+  uint32_t activate_to_write() const { return tRCD - (WL + 1); }  // tRCDWR: ACT -> WR, bank
+  static constexpr uint32_t kReadToWriteTurnaround = 2;
+
+  uint32_t burst_length = 0;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
+  uint32_t bus_bytes = 0;     // data-bus width of one channel
+
+  uint32_t queue_size = 0;     // scheduler queue per channel; excess requests wait in a FIFO
+  uint32_t request_bytes = 0;  // the cache line above; one request = request_bytes / burst_bytes bursts
+  RowPolicy row_policy = RowPolicy::kOpenPage;
+  std::string address_mapping;
+
+  uint32_t burst_bytes() const { return bus_bytes * burst_length; }
+  uint32_t burst_cycles() const { return burst_length / 2; }
+  uint32_t bursts_per_request() const { return request_bytes / burst_bytes(); }
+  // channels * bus_bytes * 2 (DDR) / tCK, in GB/s (bytes per ns).
+  double peak_bandwidth_gbps() const { return double(channels) * bus_bytes * 2 * 1000.0 / double(tCK_ps); }
+
+  // Throws std::invalid_argument naming the offending field.
+  void validate() const;
+};
+
+// The DramConfig fields a hardware file may set, once (model/sim/config_description.h); a file's
+// `preset` is applied first, then these override its values. request_bytes is the L2 line size.
+template <class V, class C>
+DescribeOf<C, DramConfig> describe(V& v, C& c) {
+  v.number("channels", c.channels, 1, 64, "channels", "independent controllers, each with its own command and data bus");
+  v.number("banks", c.banks, 1, 64, "banks", "banks per channel");
+  v.number("tCK_ps", c.tCK_ps, 1, 100000, "ps", "command-clock period");
+  v.number("tRCD", c.tRCD, 1, 1000, "tCK", "ACT -> RD, same bank");
+  v.number("CL", c.CL, 1, 1000, "tCK", "RD -> first data beat");
+  v.number("tRP", c.tRP, 1, 1000, "tCK", "PRE -> ACT, same bank");
+  v.number("tRAS", c.tRAS, 1, 1000, "tCK", "ACT -> PRE, same bank");
+  v.number("tRC", c.tRC, 1, 1000, "tCK", "ACT -> ACT, same bank");
+  v.number("tCCD", c.tCCD, 1, 1000, "tCK", "column command -> column command, same channel");
+  v.number("tRRD", c.tRRD, 1, 1000, "tCK", "ACT -> ACT, other banks of the channel");
+  v.number("WL", c.WL, 1, 1000, "tCK", "WR -> first data beat in");
+  v.number("tCDLR", c.tCDLR, 1, 1000, "tCK", "last data in -> RD");
+  v.number("tWR", c.tWR, 1, 1000, "tCK", "last data in -> PRE, same bank (write recovery)");
+  v.number("burst_length", c.burst_length, 2, 64, "beats", "beats per burst (DDR: BL/2 cycles of data bus)");
+  v.number("bus_bytes", c.bus_bytes, 1, 256, "bytes", "data-bus width of one channel");
+  v.number("queue_size", c.queue_size, 1, 4096, "requests", "FR-FCFS scheduler queue per channel");
+  v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");
+}
+
+// The preset called `name`; unknown names throw std::invalid_argument listing the known ones.
+DramConfig dram_preset(const std::string& name);
+std::vector<std::string> dram_preset_names();
+
+// Where an address lands.
+struct DramAddress {
+  uint32_t channel = 0;
+  uint32_t bank = 0;
+  uint64_t row = 0;
+  uint64_t column = 0;  // burst index within the row
+  uint32_t byte = 0;    // byte within the burst
+};
+
+// A parsed address-mapping string (syntax above).
+class AddressMapping {
+ public:
+  enum Field { kRow, kBank, kColumn, kChannel, kByte, kFields };
+
+  // Throws std::invalid_argument("address_mapping: ...") for a malformed string.
+  AddressMapping(const std::string& spec, uint32_t channels);
+
+  DramAddress decode(uint64_t addr) const;
+  uint32_t bits(Field f) const { return uint32_t(positions_[f].size()); }
+  // The field that address bit `bit` belongs to (bits at or above top_bit() are row bits).
+  Field field_of(uint32_t bit) const;
+  uint32_t top_bit() const { return top_; }
+
+ private:
+  std::array<std::vector<uint8_t>, kFields> positions_;  // address bits of each field, LSB first
+  uint32_t top_ = 0;                                     // first bit above every named bit
+};
+
+}  // namespace rtsim::model

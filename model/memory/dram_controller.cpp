@@ -1,0 +1,265 @@
+#include "model/memory/dram_controller.h"
+
+#include <algorithm>
+
+namespace rtsim::model {
+
+namespace {
+
+const DramConfig& validated(const DramConfig& c) {
+  c.validate();
+  return c;
+}
+
+}  // namespace
+
+double DramStats::row_hit_rate() const {
+  const uint64_t n = row_hits + row_misses + row_conflicts;
+  return n ? double(row_hits) / double(n) : 0.0;
+}
+
+double DramStats::bandwidth_gbps() const {
+  if (last_completion_ps <= first_arrival_ps) return 0.0;
+  return double(bytes) * 1000.0 / double(last_completion_ps - first_arrival_ps);  // bytes/ps -> GB/s
+}
+
+double DramStats::avg_latency_ns() const { return reads ? double(latency_sum_ps) / double(reads) / 1000.0 : 0.0; }
+
+DramController::DramController(const DramConfig& config)
+    : config_(validated(config)), mapping_(config_.address_mapping, config_.channels) {
+  using C = Command;
+  const uint32_t burst = config_.burst_cycles();
+  const TimingRule rules[] = {
+      {C::kActivate, C::kRead, Scope::kBank, config_.tRCD},
+      {C::kActivate, C::kWrite, Scope::kBank, config_.activate_to_write()},
+      {C::kActivate, C::kPrecharge, Scope::kBank, config_.tRAS},
+      {C::kActivate, C::kActivate, Scope::kBank, config_.tRC},
+      {C::kActivate, C::kActivate, Scope::kChannel, config_.tRRD},
+      {C::kPrecharge, C::kActivate, Scope::kBank, config_.tRP},
+      {C::kRead, C::kRead, Scope::kChannel, config_.tCCD},
+      {C::kRead, C::kRead, Scope::kChannel, burst},      // the data bus holds one burst at a time
+      {C::kRead, C::kPrecharge, Scope::kBank, burst},    // READ to PRECHARGE
+      {C::kRead, C::kWrite, Scope::kChannel, config_.tCCD},
+      {C::kRead, C::kWrite, Scope::kChannel, config_.read_to_write()},
+      {C::kWrite, C::kWrite, Scope::kChannel, config_.tCCD},
+      {C::kWrite, C::kWrite, Scope::kChannel, burst},    // the data bus, as for reads
+      {C::kWrite, C::kRead, Scope::kChannel, config_.tCCD},
+      {C::kWrite, C::kRead, Scope::kChannel, config_.write_to_read()},
+      {C::kWrite, C::kPrecharge, Scope::kBank, config_.write_to_precharge()},
+  };
+  // Rules with the same (prev, next, scope) fold into one with the largest delay: issue() then
+  // stamps each target once (the stamps are maxima, so this changes no timing).
+  for (const TimingRule& r : rules) {
+    std::vector<TimingRule>& list = rules_by_prev_[size_t(r.prev)];
+    const auto same = std::find_if(list.begin(), list.end(), [&r](const TimingRule& o) {
+      return o.next == r.next && o.scope == r.scope;
+    });
+    if (same == list.end()) list.push_back(r);
+    else same->cycles = std::max(same->cycles, r.cycles);
+  }
+
+  channels_.resize(config_.channels);
+  for (Channel& ch : channels_) {
+    ch.banks.resize(config_.banks);
+    ch.queue.reserve(config_.queue_size);
+  }
+  hit_pending_.resize(config_.banks);
+  stats_.channel_reads.assign(config_.channels, 0);
+}
+
+void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
+  const Tick arrival = std::max(now, now_);
+  const DramAddress a = mapping_.decode(addr & ~uint64_t(config_.request_bytes - 1));
+  const Request r{id, next_seq_++, arrival, (arrival + config_.tCK_ps - 1) / config_.tCK_ps, a.bank, a.row,
+                  a.column, 0, false, write};
+  const bool first = stats_.requests + stats_.write_requests == 0;
+  stats_.first_arrival_ps = first ? arrival : std::min(stats_.first_arrival_ps, arrival);
+  ++(write ? stats_.write_requests : stats_.requests);
+  Channel& ch = channels_[a.channel];
+  if (ch.queue.size() < config_.queue_size) {
+    ch.queue.push_back(r);
+    ch.next_cycle = choose(ch).cycle;
+  } else {
+    ch.overflow.push_back(r);  // invisible to the scheduler until it enters the queue
+    ++stats_.queue_full_events;
+  }
+}
+
+DramController::Choice DramController::choose(Channel& ch) {
+  std::fill(hit_pending_.begin(), hit_pending_.end(), uint8_t(0));
+  size_t owner = ch.queue.size();  // the request between its first and last burst, if any
+  for (size_t i = 0; i < ch.queue.size(); ++i) {
+    const Request& r = ch.queue[i];
+    const Bank& b = ch.banks[r.bank];
+    if (b.open && b.row == r.row) hit_pending_[r.bank] = 1;
+    if (r.bursts_issued > 0) owner = i;
+  }
+
+  Choice best;
+  for (size_t i = 0; i < ch.queue.size(); ++i) {
+    const Request& r = ch.queue[i];
+    const Bank& b = ch.banks[r.bank];
+    Command cmd;
+    if (b.open && b.row == r.row) {
+      if (owner != ch.queue.size() && owner != i) continue;  // the column commands are taken
+      cmd = r.write ? Command::kWrite : Command::kRead;
+    } else if (b.open) {
+      if (hit_pending_[r.bank]) continue;  // keep the row open while it still has hits
+      cmd = Command::kPrecharge;
+    } else {
+      cmd = Command::kActivate;
+    }
+    const size_t k = size_t(cmd);
+    const uint64_t cycle = std::max({b.earliest[k], ch.earliest[k], r.arrival_cycle, ch.free_from});
+    bool better = cycle < best.cycle;
+    if (cycle == best.cycle) {
+      const bool col = is_column(cmd), best_col = is_column(best.command);
+      const Request& o = ch.queue[best.index];
+      better = col != best_col ? col : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
+    }
+    if (better) best = Choice{i, cmd, cycle};
+  }
+  return best;
+}
+
+void DramController::issue(uint32_t channel_index, const Choice& c) {
+  Channel& ch = channels_[channel_index];
+  Request& r = ch.queue[c.index];
+  Bank& b = ch.banks[r.bank];
+  const Tick tck = config_.tCK_ps;
+
+  if (!r.classified) {
+    r.classified = true;
+    if (is_column(c.command)) ++stats_.row_hits;
+    else if (c.command == Command::kActivate) ++stats_.row_misses;
+    else ++stats_.row_conflicts;
+  }
+  for (const TimingRule& rule : rules_by_prev_[size_t(c.command)]) {
+    Stamps& s = rule.scope == Scope::kBank ? b.earliest : ch.earliest;
+    uint64_t& e = s[size_t(rule.next)];
+    e = std::max(e, c.cycle + rule.cycles);
+  }
+  ch.free_from = c.cycle + 1;
+  if (trace_)
+    trace_->push_back(CommandRecord{c.cycle * tck, channel_index, r.bank, c.command, r.row,
+                                    is_column(c.command) ? r.column + r.bursts_issued : 0, r.id});
+
+  switch (c.command) {
+    case Command::kActivate:
+      b.open = true;
+      b.row = r.row;
+      ++stats_.activates;
+      break;
+    case Command::kPrecharge:
+      b.open = false;
+      ++stats_.precharges;
+      break;
+    case Command::kRead:
+    case Command::kWrite:
+      ++r.bursts_issued;
+      ++(r.write ? stats_.write_bursts : stats_.bursts);
+      stats_.data_bus_busy_ps += config_.burst_cycles() * tck;
+      if (r.bursts_issued == config_.bursts_per_request()) {
+        // A read's data are ready after CL plus its burst; a write's last beat is in after WL
+        // plus its burst (tWR then only holds the bank's PRE back).
+        const uint32_t latency = r.write ? config_.WL : config_.CL;
+        const Tick ready = (c.cycle + latency + config_.burst_cycles()) * tck;
+        completions_.push(Pending{ready, r.seq, r.id, channel_index, r.arrival, r.write});
+        ch.queue.erase(ch.queue.begin() + std::ptrdiff_t(c.index));
+        if (!ch.overflow.empty()) {
+          ch.queue.push_back(ch.overflow.front());
+          ch.overflow.pop_front();
+        }
+      }
+      break;
+  }
+}
+
+void DramController::advance(Tick now, std::vector<Completion>& done) {
+  now_ = std::max(now_, now);
+  const uint64_t last = now / config_.tCK_ps;  // the last command cycle at or before now
+  for (uint32_t i = 0; i < channels_.size(); ++i) {
+    Channel& ch = channels_[i];
+    for (;;) {
+      const Choice c = choose(ch);
+      if (c.cycle == kNever || c.cycle > last) {
+        ch.next_cycle = c.cycle;
+        break;
+      }
+      issue(i, c);
+    }
+  }
+  while (!completions_.empty() && completions_.top().time <= now) {
+    const Pending p = completions_.top();
+    completions_.pop();
+    done.push_back(Completion{p.id, p.time, p.write});
+    if (p.write) {
+      ++stats_.writes;
+      stats_.bytes_written += config_.request_bytes;
+      stats_.last_write_completion_ps = std::max(stats_.last_write_completion_ps, p.time);
+      continue;
+    }
+    ++stats_.reads;
+    ++stats_.channel_reads[p.channel];
+    stats_.bytes += config_.request_bytes;
+    stats_.latency_sum_ps += p.time - p.arrival;
+    stats_.last_completion_ps = std::max(stats_.last_completion_ps, p.time);
+  }
+}
+
+std::string DramController::state() const {
+  std::string s = "DRAM at " + std::to_string(now_) + " ps: " + std::to_string(completions_.size()) + " completions due";
+  for (size_t i = 0; i < channels_.size(); ++i) {
+    const Channel& ch = channels_[i];
+    if (ch.queue.empty() && ch.overflow.empty()) continue;
+    s += "; ch" + std::to_string(i) + " " + std::to_string(ch.queue.size()) + " queued + " +
+         std::to_string(ch.overflow.size()) + " waiting, next command at cycle " +
+         (ch.next_cycle == kNever ? std::string("never") : std::to_string(ch.next_cycle));
+  }
+  return s;
+}
+
+Tick DramController::next_event_time() const {
+  Tick t = completions_.empty() ? kUnknown : completions_.top().time;
+  for (const Channel& ch : channels_)
+    if (ch.next_cycle != kNever) t = std::min(t, ch.next_cycle * config_.tCK_ps);
+  return t;
+}
+
+void DramController::register_stats(StatsRegistry& reg, const std::string& prefix) const {
+  const std::string p = prefix.empty() ? "" : prefix + ".";
+  const DramStats& s = stats_;
+  reg.counter(p + "requests", &s.requests, "count", "read requests accepted");
+  reg.counter(p + "reads", &s.reads, "count", "read requests completed");
+  reg.counter(p + "bursts", &s.bursts, "count", "RD commands (one burst each)");
+  reg.counter(p + "activates", &s.activates, "count", "ACT commands");
+  reg.counter(p + "precharges", &s.precharges, "count", "PRE commands");
+  reg.counter(p + "row_hits", &s.row_hits, "count", "requests (reads and writes) whose row was open");
+  reg.counter(p + "row_misses", &s.row_misses, "count", "requests (reads and writes) that found their bank closed");
+  reg.counter(p + "row_conflicts", &s.row_conflicts, "count", "requests (reads and writes) that found another row open");
+  reg.counter(p + "bytes", &s.bytes, "bytes", "bytes read (completed requests)");
+  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "ps", "data-bus busy time (reads and writes) summed over channels (ps)");
+  reg.counter(p + "queue_full_events", &s.queue_full_events, "count", "requests that waited in the overflow FIFO");
+  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "ps", "sum of read arrival-to-data latencies (ps)");
+  reg.counter(p + "write_requests", &s.write_requests, "count", "write requests accepted");
+  reg.counter(p + "writes", &s.writes, "count", "write requests completed");
+  reg.counter(p + "write_bursts", &s.write_bursts, "count", "WR commands (one burst each)");
+  reg.counter(p + "bytes_written", &s.bytes_written, "bytes", "bytes written (completed requests)");
+  for (size_t i = 0; i < s.channel_reads.size(); ++i)
+    reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "count", "read requests completed by channel");
+  reg.formula(p + "row_hit_rate", [&s] { return s.row_hit_rate(); }, "ratio", "row_hits / (hits + misses + conflicts)");
+  reg.formula(p + "bandwidth_gbps", [&s] { return s.bandwidth_gbps(); }, "GB/s",
+              "bytes / (last completion - first arrival), GB/s");
+  reg.formula(p + "avg_latency_ns", [&s] { return s.avg_latency_ns(); }, "ns", "latency_sum / reads (ns)");
+  const double channels = double(config_.channels);
+  reg.formula(
+      p + "bus_utilization",
+      [&s, channels] {
+        const uint64_t last = std::max(s.last_completion_ps, s.last_write_completion_ps);
+        const uint64_t span = last > s.first_arrival_ps ? last - s.first_arrival_ps : 0;
+        return span ? double(s.data_bus_busy_ps) / (channels * double(span)) : 0.0;
+      }, "ratio",
+      "data_bus_busy / (channels * (last read or write completion - first arrival))");
+}
+
+}  // namespace rtsim::model

@@ -1,0 +1,210 @@
+// The DRAM timing engine: per-channel FR-FCFS controllers over open-page banks, serving reads and
+// writes. Pure C++ (no SystemC); the sc_module in dram.h drives it.
+//
+// Timing (Ramulator-2.0 style): the constraints are a table of rules "after command P, command N
+// may not issue for K cycles in the same bank / the same channel". Issuing P stamps, for each
+// rule, the earliest cycle of N in that bank or channel; a command is legal at cycle c when c is
+// at or past its bank's and its channel's stamps. The rules (DRAM command-clock cycles; GPGPU-Sim
+// names and derivations in dram_config.h; docs/dram.md has the table with sources):
+//   ACT->RD  tRCD  bank      ACT->WR  tRCD - (WL + 1) bank (activate_to_write, GPGPU-Sim tRCDWR)
+//   ACT->PRE tRAS  bank      ACT->ACT tRC bank           ACT->ACT tRRD channel
+//   PRE->ACT tRP   bank
+//   RD->RD   tCCD  channel   RD->RD   BL/2 channel (data-bus occupancy)
+//   WR->WR   tCCD  channel   WR->WR   BL/2 channel (data-bus occupancy)
+//   RD->WR   tCCD  channel   RD->WR   CL + BL/2 + 2 - WL channel (read_to_write, tRTW)
+//   WR->RD   tCCD  channel   WR->RD   WL + BL/2 + tCDLR channel (write_to_read, tWTR)
+//   RD->PRE  BL/2  bank      (GDDR3 READ to PRECHARGE; GPGPU-Sim's RTP = BL / data-command ratio)
+//   WR->PRE  WL + BL/2 + tWR bank (write_to_precharge, GPGPU-Sim tWTP)
+// tCCD applies between any two column commands (GPGPU-Sim's one CCDc counter for RD and WR,
+// dram.cc dram_t::issue_col_command). A read's data occupy the bus from RD + CL for BL/2 cycles,
+// a write's from WR + WL for BL/2 cycles; the turnarounds keep the two apart (at their minimum,
+// tRTW leaves 2 idle bus cycles between a read's data and a write's, tWTR leaves tCDLR + CL
+// between a write's data and a read's). A read is complete when its last burst is: data ready =
+// last RD + CL + BL/2; a write when its last burst's data are in: last WR + WL + BL/2 (tWR after
+// that only delays the bank's PRE). Not modelled: refresh, power-down, bank groups, tFAW (GDDR3
+// has no four-activate window in GPGPU-Sim's GT200 model), a separate write queue drained in
+// batches (GPGPU-Sim's -dram_seperate_write_queue_enable: off by default, not set for GT200),
+// data masks (every write is a full request).
+//
+// Scheduling, per channel, one command per command-clock cycle:
+//  - A request of request_bytes needs request_bytes/32 bursts: consecutive column commands to one
+//    row (as GPGPU-Sim serves a request's bursts back to back). While a request is between its
+//    first and its last burst it owns the channel's column commands; ACT/PRE for other banks may
+//    still use the free command cycles in between.
+//  - Reads and writes share one queue (as GPGPU-Sim's FR-FCFS queue). Every other queued request
+//    proposes the next command it needs: RD or WR if its bank has its row open (a row hit), ACT if
+//    the bank is closed, PRE if another row is open. A PRE is not proposed while any queued
+//    request still hits the open row (open page: rows stay open until a conflict forces a
+//    precharge, and first-ready hits are not closed under their feet).
+//  - At the earliest cycle at which any proposed command is legal, FR-FCFS picks among the legal
+//    ones: column commands (row hits, read or write) first, then the oldest request (arrival
+//    time, then order of enqueue). Hits can starve an older conflict for as long as hits keep
+//    arriving (as in GPGPU-Sim's FR-FCFS; the L2 in front merges repeated misses, which bounds it
+//    in practice).
+//  - The scheduler sees queue_size requests per channel (GPGPU-Sim's dram_sched_queue_size).
+//    Requests beyond that are still accepted, into a per-channel overflow FIFO, counted in
+//    queue_full_events; one enters the queue each time a request leaves it (after its last column
+//    command). No request is ever refused, so callers never need to retry.
+//  - Row classification is made when a request's first command issues: RD/WR = row hit, ACT = row
+//    miss (bank closed), PRE = row conflict. The row_* statistics count reads and writes.
+//
+// Time: requests arrive in picoseconds (enqueue's `now`); a request can use command cycles from
+// the first command-clock edge at or after its arrival. A request enqueued with a time earlier
+// than the engine's latest advance() is taken as arriving then (time never runs backwards), and
+// never uses a cycle at or before a command this channel already issued.
+#pragma once
+
+#include "model/memory/dram_config.h"
+#include "model/memory/line_source.h"
+#include "model/sim/stats_registry.h"
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <queue>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+struct DramStats {
+  uint64_t requests = 0;           // read requests accepted by enqueue
+  uint64_t reads = 0;              // read requests completed (reported by advance)
+  uint64_t bursts = 0;             // RD commands
+  uint64_t activates = 0;          // ACT commands
+  uint64_t precharges = 0;         // PRE commands
+  uint64_t row_hits = 0;           // first command was RD or WR (reads and writes)
+  uint64_t row_misses = 0;         // first command was ACT (bank closed)
+  uint64_t row_conflicts = 0;      // first command was PRE (another row open)
+  uint64_t bytes = 0;              // completed reads * request_bytes
+  uint64_t data_bus_busy_ps = 0;   // summed over channels: (bursts + write_bursts) * BL/2 * tCK
+  uint64_t queue_full_events = 0;  // requests that found their channel's queue full
+  uint64_t latency_sum_ps = 0;     // over completed reads: data ready - arrival
+  uint64_t first_arrival_ps = 0;   // of the first request, read or write (0 until one arrives)
+  uint64_t last_completion_ps = 0; // data ready of the latest completed read
+  std::vector<uint64_t> channel_reads;  // completed reads per channel
+  uint64_t write_requests = 0;     // write requests accepted by enqueue
+  uint64_t writes = 0;             // write requests completed (reported by advance)
+  uint64_t write_bursts = 0;       // WR commands
+  uint64_t bytes_written = 0;      // completed writes * request_bytes
+  uint64_t last_write_completion_ps = 0;  // data in of the latest completed write
+
+  double row_hit_rate() const;
+  double bandwidth_gbps() const;   // read bandwidth: bytes / (last completion - first arrival)
+  double avg_latency_ns() const;
+};
+
+class DramController {
+ public:
+  // Column commands (RD, WR) come last: is_column() relies on it.
+  enum class Command : uint8_t { kActivate, kPrecharge, kRead, kWrite };
+  static constexpr size_t kCommands = 4;
+  static constexpr bool is_column(Command c) { return c >= Command::kRead; }
+
+  struct Completion {
+    uint64_t id;
+    Tick data_ready;  // ps, on a DRAM command-clock edge; for a write, its last data beat is in
+    bool write = false;
+  };
+
+  // One issued command, for tests and debugging (see set_command_trace).
+  struct CommandRecord {
+    Tick time;
+    uint32_t channel;
+    uint32_t bank;
+    Command command;
+    uint64_t row;
+    uint64_t column;  // RD and WR only
+    uint64_t id;      // the request it was issued for
+  };
+
+  // Validates `config` (std::invalid_argument).
+  explicit DramController(const DramConfig& config);
+
+  // A read (or, with `write`, a write) of the request_bytes-aligned block holding `addr`, arriving
+  // at `now`; `id` comes back in its Completion. Never refused (see the overflow FIFO above).
+  void enqueue(uint64_t addr, Tick now, uint64_t id, bool write = false);
+  // When the engine next has something to do (a command to issue or a completion to report);
+  // kUnknown when idle.
+  Tick next_event_time() const;
+  // Issues every command legal up to `now` and appends the completions with data ready <= now,
+  // in (time, enqueue order).
+  void advance(Tick now, std::vector<Completion>& done);
+  bool idle() const { return next_event_time() == kUnknown; }
+  // Requests waiting per channel, and the next command's cycle (for the watchdog's report).
+  std::string state() const;
+
+  const DramConfig& config() const { return config_; }
+  const AddressMapping& mapping() const { return mapping_; }
+  const DramStats& stats() const { return stats_; }
+  // Registers the statistics under `prefix` ("dram" -> "dram.reads", "dram.ch0.reads", ...). The
+  // registry keeps pointers: the controller must not move afterwards.
+  void register_stats(StatsRegistry& registry, const std::string& prefix) const;
+  // Appends every issued command to *trace (nullptr: off).
+  void set_command_trace(std::vector<CommandRecord>* trace) { trace_ = trace; }
+
+ private:
+  static constexpr uint64_t kNever = ~uint64_t(0);
+  enum class Scope : uint8_t { kBank, kChannel };
+  struct TimingRule {
+    Command prev, next;
+    Scope scope;
+    uint32_t cycles;
+  };
+  using Stamps = std::array<uint64_t, kCommands>;  // earliest legal cycle per command
+
+  struct Request {
+    uint64_t id, seq;
+    Tick arrival;
+    uint64_t arrival_cycle;  // first command-clock edge at or after arrival
+    uint32_t bank;
+    uint64_t row, column;
+    uint32_t bursts_issued;
+    bool classified;
+    bool write;
+  };
+  struct Bank {
+    bool open = false;
+    uint64_t row = 0;
+    Stamps earliest{};
+  };
+  struct Channel {
+    std::vector<Bank> banks;
+    Stamps earliest{};
+    std::vector<Request> queue;   // at most queue_size, in enqueue order
+    std::deque<Request> overflow;
+    uint64_t free_from = 0;       // first cycle after the last issued command
+    uint64_t next_cycle = kNever; // cycle of the next legal command (cached for next_event_time)
+  };
+  struct Choice {
+    size_t index = 0;
+    Command command = Command::kRead;
+    uint64_t cycle = kNever;
+  };
+  struct Pending {
+    Tick time;
+    uint64_t seq;
+    uint64_t id;
+    uint32_t channel;
+    Tick arrival;
+    bool write;
+    bool operator>(const Pending& o) const { return time != o.time ? time > o.time : seq > o.seq; }
+  };
+
+  Choice choose(Channel& ch);  // the FR-FCFS pick at the earliest cycle with a legal command
+  void issue(uint32_t channel_index, const Choice& c);
+
+  DramConfig config_;
+  AddressMapping mapping_;
+  std::array<std::vector<TimingRule>, kCommands> rules_by_prev_;
+  std::vector<Channel> channels_;
+  std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;
+  std::vector<uint8_t> hit_pending_;  // scratch for choose(): bank has a queued row hit
+  Tick now_ = 0;                      // latest advance()
+  uint64_t next_seq_ = 0;
+  DramStats stats_;
+  std::vector<CommandRecord>* trace_ = nullptr;
+};
+
+}  // namespace rtsim::model

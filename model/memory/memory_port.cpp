@@ -1,0 +1,246 @@
+#include "model/memory/memory_port.h"
+
+#include "model/sim/report.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+namespace rtsim::model {
+
+struct MemoryPort::Transaction : tlm::tlm_generic_payload {
+  explicit Transaction(tlm::tlm_mm_interface* mm, uint32_t bytes) : tlm::tlm_generic_payload(mm), data(bytes) {}
+  std::vector<uint8_t> data;
+  uint64_t line = 0;
+  Tick requested = 0;  // when it reaches memory
+  bool write = false;
+  FillListener* listener = nullptr;
+  uint64_t cookie = 0;
+  std::string initiator;  // writes: who wrote
+};
+
+MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping, const Clock& clock,
+                       Calendar& calendar)
+    : sc_core::sc_module(name),
+      socket("socket"),
+      line_bytes_(line_bytes),
+      channels_(mapping.channels),
+      mapping_(mapping.address_mapping, mapping.channels),
+      clock_(clock),
+      calendar_(calendar),
+      debug_line_(line_bytes) {
+  socket.register_nb_transport_bw(this, &MemoryPort::nb_transport_bw);
+  calendar_.add(this, clock_.period());
+}
+
+MemoryPort::~MemoryPort() = default;
+
+MemoryPort::Transaction* MemoryPort::make(uint64_t line, Tick arrival, bool write) {
+  if (free_.empty()) {
+    all_.push_back(std::make_unique<Transaction>(this, line_bytes_));
+    free_.push_back(all_.back().get());
+  }
+  Transaction* t = free_.back();
+  free_.pop_back();
+  t->set_command(write ? tlm::TLM_WRITE_COMMAND : tlm::TLM_READ_COMMAND);
+  t->set_address(line);
+  t->set_data_ptr(t->data.data());
+  t->set_data_length(line_bytes_);
+  t->set_streaming_width(line_bytes_);
+  t->set_byte_enable_ptr(nullptr);
+  t->set_dmi_allowed(false);
+  t->set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
+  t->line = line;
+  t->requested = arrival;
+  t->write = write;
+  t->listener = nullptr;
+  t->cookie = 0;
+  t->acquire();
+  return t;
+}
+
+void MemoryPort::free(tlm::tlm_generic_payload* p) {
+  p->reset();  // drops extensions a target may have set
+  free_.push_back(static_cast<Transaction*>(p));
+}
+
+Tick MemoryPort::fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) {
+  Transaction* t = make(line_addr, std::max(now, calendar_.now()), false);
+  t->listener = listener;
+  t->cookie = cookie;
+  ++stats_.reads;
+  send(t);
+  return kUnknown;
+}
+
+void MemoryPort::write_line(uint64_t line_addr, const uint8_t* data, Tick now, const std::string& initiator) {
+  Transaction* t = make(line_addr, std::max(now, calendar_.now()), true);
+  std::memcpy(t->data.data(), data, line_bytes_);
+  t->initiator = initiator;
+  ++stats_.writes;
+  send(t);
+}
+
+void MemoryPort::send(Transaction* t) {
+  if (open_ || !held_.empty()) {
+    ++stats_.refused;
+    held_.push_back(t);
+    return;
+  }
+  send_now(t);
+}
+
+void MemoryPort::send_now(Transaction* t) {
+  const Tick now = calendar_.now();
+  tlm::tlm_phase phase = tlm::BEGIN_REQ;
+  sc_core::sc_time delay = sc_core::sc_time::from_value(t->requested > now ? t->requested - now : 0);
+  switch (socket->nb_transport_fw(*t, phase, delay)) {
+    case tlm::TLM_ACCEPTED:
+      open_ = t;  // END_REQ comes later
+      break;
+    // Answered within the request: queued, never delivered inside the requester's fetch_line.
+    case tlm::TLM_UPDATED:
+      if (phase == tlm::BEGIN_RESP) response(t, now + delay.value(), false);
+      else if (phase != tlm::END_REQ) open_ = t;
+      break;
+    case tlm::TLM_COMPLETED:
+      response(t, now + delay.value(), false);
+      break;
+  }
+}
+
+tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                                               sc_core::sc_time& delay) {
+  const Tick at = calendar_.now() + delay.value();
+  // END_REQ, or a response to the open request (the base protocol's implicit END_REQ), frees the
+  // request channel.
+  if (&p == open_ && (phase == tlm::END_REQ || phase == tlm::BEGIN_RESP)) {
+    open_ = nullptr;
+    if (!held_.empty()) calendar_.schedule(this, clock_.edge_at_or_after(at));
+  }
+  if (phase != tlm::BEGIN_RESP) return tlm::TLM_ACCEPTED;
+  response(static_cast<Transaction*>(&p), at, true);
+  return tlm::TLM_COMPLETED;
+}
+
+void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
+  if (!t->is_response_ok()) failed(*t);
+  ++stats_.responses;
+  if (t->write) {  // posted: nobody waits
+    trace(*t, at);
+    t->release();
+    return;
+  }
+  const Tick edge = clock_.edge_at_or_after(at);
+  if (may_deliver_now && edge == calendar_.now() && calendar_.running() && responses_.empty()) {
+    deliver(t);  // from a block on this calendar (our GDDR3), at an edge: already in the fixed order
+    return;
+  }
+  responses_.push({edge, seq_++, t});
+  calendar_.schedule(this, edge);
+}
+
+void MemoryPort::deliver(Transaction* t) {
+  const Tick now = calendar_.now();
+  stats_.latency_cycles += clock_.ceil_cycles(now - t->requested);
+  trace(*t, now);
+  const Transaction* outer = delivering_;
+  delivering_ = t;
+  if (t->listener) t->listener->on_fill(t->line, t->cookie, now);
+  delivering_ = outer;
+  t->release();
+}
+
+void MemoryPort::activate() {
+  const Tick now = calendar_.now();
+  while (!responses_.empty() && responses_.top().when <= now) {
+    Transaction* t = responses_.top().t;
+    responses_.pop();
+    deliver(t);
+  }
+  while (!open_ && !held_.empty()) {
+    Transaction* t = held_.front();
+    held_.pop_front();
+    send_now(t);
+  }
+  if (!responses_.empty()) calendar_.schedule(this, responses_.top().when);
+}
+
+const uint8_t* MemoryPort::line_data(uint64_t line_addr) const {
+  const uint64_t block = line_addr & ~uint64_t(line_bytes_ - 1);
+  if (delivering_ && delivering_->line == block) return delivering_->data.data() + (line_addr - block);
+  // Not in a response: read it without timing.
+  tlm::tlm_generic_payload p;
+  p.set_read();
+  p.set_address(block);
+  p.set_data_ptr(debug_line_.data());
+  p.set_data_length(line_bytes_);
+  p.set_streaming_width(line_bytes_);
+  if (const_cast<MemoryPort*>(this)->socket->transport_dbg(p) != line_bytes_)
+    report_error(kReportMemory, std::string(name()) + ": debug read of line " + std::to_string(block) + " failed");
+  ++debug_reads_;
+  return debug_line_.data() + (line_addr - block);
+}
+
+void MemoryPort::name_requester(const FillListener* listener, const std::string& name) {
+  names_.push_back({listener, name});
+}
+
+void MemoryPort::failed(const Transaction& t) const {
+  char addr[24];
+  std::snprintf(addr, sizeof addr, "0x%" PRIx64, t.line);
+  report_error(kReportMemory, std::string(name()) + ": " + (t.write ? "write" : "read") + " of " +
+                                  std::to_string(line_bytes_) + " bytes at " + addr + " failed: " +
+                                  t.get_response_string());
+}
+
+void MemoryPort::open_trace(const TraceRequest& request) {
+  trace_request_ = request;
+  trace_ = std::make_unique<std::ofstream>(request.file + ".part");
+  if (!*trace_) report_error(kReportTrace, "cannot write " + request.file);
+  *trace_ << "cycle,initiator,address,bytes,op,latency_cycles\n";
+}
+
+void MemoryPort::close_trace() {
+  if (!trace_) return;
+  trace_->close();
+  const bool ok = !trace_->fail();
+  trace_.reset();
+  std::error_code ec;
+  if (ok) std::filesystem::rename(trace_request_.file + ".part", trace_request_.file, ec);
+  if (!ok || ec) {
+    std::filesystem::remove(trace_request_.file + ".part", ec);
+    report_error(kReportTrace, "cannot write " + trace_request_.file);
+  }
+}
+
+void MemoryPort::trace(const Transaction& t, Tick done) {
+  if (!trace_) return;
+  const uint64_t cycle = clock_.to_cycles(t.requested);
+  if (cycle < trace_request_.start_cycle || cycle >= trace_request_.end_cycle) return;
+  const std::string* who = &t.initiator;
+  static const std::string unknown = "?";
+  if (!t.write) {
+    who = &unknown;
+    for (const auto& [l, n] : names_)
+      if (l == t.listener) who = &n;
+  }
+  char addr[24];
+  std::snprintf(addr, sizeof addr, "0x%" PRIx64, t.line);
+  *trace_ << cycle << ',' << *who << ',' << addr << ',' << line_bytes_ << ',' << (t.write ? 'W' : 'R') << ','
+          << clock_.ceil_cycles(done > t.requested ? done - t.requested : 0) << '\n';
+}
+
+void MemoryPort::register_stats(StatsRegistry& r, const std::string& prefix) const {
+  r.counter(prefix + ".reads", &stats_.reads, "count", "line reads sent to memory");
+  r.counter(prefix + ".writes", &stats_.writes, "count", "line writes sent to memory");
+  r.counter(prefix + ".refused", &stats_.refused, "count", "requests held back until the memory took the previous one");
+  r.counter(prefix + ".debug_reads", &debug_reads_, "count", "lines read with the debug transport (outside a response)");
+  r.counter(prefix + ".latency_cycles", &stats_.latency_cycles, "cycles", "sum over reads of request-to-response cycles");
+  r.formula(prefix + ".avg_latency_cycles",
+            [this] { return stats_.reads ? double(stats_.latency_cycles) / double(stats_.reads) : 0.0; }, "cycles",
+            "mean read latency at the memory boundary");
+}
+
+}  // namespace rtsim::model

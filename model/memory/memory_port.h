@@ -1,0 +1,125 @@
+// The accelerator's TLM-2.0 boundary: a LineSource for the memory crossbar whose far side is a
+// tlm_utils initiator socket (`socket`) speaking the approximately-timed base protocol to any
+// TLM-2.0 memory target (our GDDR3 controller, model/memory/dram.h, or a platform's own memory).
+//
+// A line read or a posted line write becomes one generic payload from a pool (a memory manager),
+// sent with BEGIN_REQ and a delay annotation = the time it arrives at memory minus now. A target
+// that answers TLM_ACCEPTED holds back further requests until its END_REQ (back-pressure): they
+// wait here, in order, and go at the first accelerator clock edge after END_REQ. Responses
+// (BEGIN_RESP, answered TLM_COMPLETED) are not acted on inside the target's call: each is queued
+// and handed to the calendar at the first accelerator clock edge at or after its time, where
+// the requester is told (FillListener::on_fill) in the order the responses came. So the
+// calendar's fixed order holds whatever the target's processes do. A response that comes from a
+// block of this calendar while it runs, for this very edge, with none queued before it (our
+// GDDR3's, model/memory/dram.h), is already in that order: it is handed over at once, which saves the
+// port an activation per read and gives the same figures.
+//
+// The data come with the response: a cache asks line_data() for the line being delivered and
+// gets the payload's bytes. A line asked for at any other time (an L1 re-reading a line its L2
+// has evicted since) is read with the debug transport (transport_dbg, no timing), and counted.
+//
+// Statistics: reads, writes, debug_reads, latency_cycles (sum over reads, request to response),
+// refused (BEGIN_REQs held back by the target).
+#pragma once
+
+#include "model/memory/dram_config.h"
+#include "model/memory/line_source.h"
+#include "model/sim/time.h"
+#include "model/sim/calendar.h"
+#include "model/sim/stats_registry.h"
+#include "model/sim/trace_request.h"
+
+#include <systemc>
+#include <tlm>
+#include <tlm_utils/simple_initiator_socket.h>
+
+#include <cstdint>
+#include <deque>
+#include <fstream>
+#include <memory>
+#include <queue>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+struct MemoryPortStats {
+  uint64_t reads = 0, writes = 0, refused = 0;
+  uint64_t responses = 0;  // reads delivered and writes completed
+  uint64_t latency_cycles = 0;
+};
+
+class MemoryPort : public sc_core::sc_module,
+                   public LineSource,
+                   public Calendar::Client,
+                   public tlm::tlm_mm_interface {
+ public:
+  tlm_utils::simple_initiator_socket<MemoryPort> socket;
+
+  // `line_bytes`: the size of every transaction; `mapping`: the memory's channel decode (the
+  // crossbar's destination ports); `clock`: the accelerator's, on whose edges responses land.
+  MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping, const Clock& clock,
+             Calendar& calendar);
+  ~MemoryPort() override;
+
+  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
+  // A posted write of line_bytes from `data` (copied), by `initiator` (for the trace).
+  void write_line(uint64_t line_addr, const uint8_t* data, Tick now, const std::string& initiator);
+  const uint8_t* line_data(uint64_t line_addr) const override;
+  uint32_t port_of(uint64_t line_addr) const override { return mapping_.decode(line_addr).channel; }
+  uint32_t port_count() const override { return channels_; }
+
+  // The trace's name for the requests of `listener` (default "?").
+  void name_requester(const FillListener* listener, const std::string& name);
+  // Opens a CSV of every transaction whose request reaches memory inside the window: request
+  // cycle, initiator, address, bytes, R or W, latency in cycles. close_trace() moves it to its
+  // name (rtsim/trace if that fails).
+  void open_trace(const TraceRequest& request);
+  void close_trace();
+
+  const MemoryPortStats& stats() const { return stats_; }
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+ private:
+  struct Transaction;
+  struct Response {
+    Tick when;
+    uint64_t seq;
+    Transaction* t;
+    bool operator>(const Response& o) const { return when != o.when ? when > o.when : seq > o.seq; }
+  };
+
+  Transaction* make(uint64_t line, Tick arrival, bool write);
+  void send(Transaction* t);                 // BEGIN_REQ, or queued behind a pending END_REQ
+  void send_now(Transaction* t);
+  tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  // A response arrived (at `at`); from the target's own call (nb_transport_bw), it may be handed
+  // over at once (above).
+  void response(Transaction* t, Tick at, bool may_deliver_now);
+  void deliver(Transaction* t);              // tells its requester, now
+  void activate() override;                  // on the calendar: deliver due responses, send held requests
+  void free(tlm::tlm_generic_payload* p) override;  // the memory manager: back to the pool
+  void trace(const Transaction& t, Tick done);
+  [[noreturn]] void failed(const Transaction& t) const;
+
+  uint32_t line_bytes_;
+  uint32_t channels_;
+  AddressMapping mapping_;
+  Clock clock_;
+  Calendar& calendar_;
+  std::vector<std::unique_ptr<Transaction>> all_;  // the pool
+  std::vector<Transaction*> free_;
+  const Transaction* open_ = nullptr;  // the BEGIN_REQ awaiting its END_REQ
+  std::deque<Transaction*> held_;      // requests waiting for it
+  std::priority_queue<Response, std::vector<Response>, std::greater<Response>> responses_;
+  uint64_t seq_ = 0;
+  const Transaction* delivering_ = nullptr;  // the response being handed over
+  mutable std::vector<uint8_t> debug_line_;
+  std::vector<std::pair<const FillListener*, std::string>> names_;
+  TraceRequest trace_request_;
+  std::unique_ptr<std::ofstream> trace_;
+  MemoryPortStats stats_;
+  mutable uint64_t debug_reads_ = 0;
+};
+
+}  // namespace rtsim::model

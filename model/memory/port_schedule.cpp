@@ -1,0 +1,83 @@
+#include "model/memory/port_schedule.h"
+
+#include <systemc>
+
+#include <algorithm>
+#include <stdexcept>
+
+namespace rtsim::model {
+
+namespace {
+
+Tick sim_time() { return Tick(sc_core::sc_time_stamp().value()); }
+
+}  // namespace
+
+PortSchedule::PortSchedule(Tick period, uint32_t ports) : clock_(Clock::with_period(period)), ports_(ports) {
+  if (period == 0) throw std::invalid_argument("PortSchedule: zero clock period");
+  if (ports_ == 0) return;
+  if (ports_ > 255) throw std::invalid_argument("PortSchedule: at most 255 slots per cycle");
+  if (ports_ > 1) used_.assign(kInlineWords * 64, 0);
+}
+
+void PortSchedule::slide_or_grow(uint64_t cycle) {
+  const uint64_t held = uint64_t(words()) * 64;
+  // Slide past the cycles that are over (nobody asks for a time before the simulated one).
+  const uint64_t now = clock_.to_cycles(sim_time()) & ~uint64_t(63);
+  if (now > base_) {
+    const uint64_t stop = std::min(now, base_ + held);
+    for (uint64_t c = base_; c < stop; c += 64) {
+      full()[word_of(c)] = 0;
+      if (!used_.empty()) std::fill_n(&used_[word_of(c) * 64], 64, uint8_t(0));
+    }
+    base_ = now;
+  }
+  while (cycle >= base_ + uint64_t(words()) * 64) grow();
+}
+
+void PortSchedule::grow() {
+  const size_t n = words();
+  std::vector<uint64_t> ring(n * 2, 0);
+  std::vector<uint8_t> used(used_.empty() ? 0 : n * 2 * 64, 0);
+  for (uint64_t c = base_; c < base_ + n * 64; c += 64) {
+    const size_t from = word_of(c), to = size_t(c >> 6) & (n * 2 - 1);
+    ring[to] = full()[from];
+    if (!used.empty()) std::copy_n(&used_[from * 64], 64, &used[to * 64]);
+  }
+  heap_.swap(ring);
+  used_.swap(used);
+}
+
+Tick PortSchedule::reserve(Tick t) {
+  ++stats_.requests;
+  if (ports_ == 0) return t;
+  const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
+  uint64_t c = asked == last_asked_ ? std::max(asked, last_granted_) : asked;
+  for (;;) {
+    hold(c | 63);
+    const uint64_t free = ~full()[word_of(c)] & (~uint64_t(0) << (c & 63));
+    if (free) {
+      c = (c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free));
+      break;
+    }
+    c = (c | 63) + 1;
+  }
+  const uint64_t bit = uint64_t(1) << (c & 63);
+  if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
+  last_asked_ = asked;
+  last_granted_ = c;
+  if (c > asked) {
+    ++stats_.delayed;
+    stats_.wait_cycles += c - asked;
+    stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, c - asked);
+  }
+  return clock_.cycles(c);
+}
+
+Tick PortSchedule::reserve_run(Tick t, uint32_t n) {
+  Tick last = reserve(t);
+  for (uint32_t k = 1; k < n; ++k) last = reserve(last + clock_.period());
+  return last;
+}
+
+}  // namespace rtsim::model

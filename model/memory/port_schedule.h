@@ -1,0 +1,79 @@
+// The cycles a port (a cache bank, a link's end) is taken. A port serves `ports` accesses per cycle
+// of its clock; a request for time t gets the first cycle at or after t with a slot left, and keeps
+// it: requests are served first come, first served in the order they are made (the calendar's
+// fixed order), and one made later never takes a slot already given. Requests may ask for future
+// times (a miss reaches the next level a hit latency later), so the schedule is a calendar of
+// slots, not a single busy-until stamp: an earlier time asked later still finds the idle cycles
+// before a later reservation.
+//
+// The calendar is a ring of bits, one per cycle, set when the cycle's slots are all taken (with a
+// count per cycle when a port has several slots): the first free cycle is found 64 cycles at a
+// time, and requests piling up on one cycle resume where the previous one found room. The ring holds
+// the cycles from the simulated time (read lazily: it only moves on) onwards, and doubles when
+// reservations reach further ahead.
+//
+// `ports == 0` is the ideal port: every request is served at once and nothing is recorded but the
+// count.
+#pragma once
+
+#include "model/memory/line_source.h"
+#include "model/sim/time.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace rtsim::model {
+
+struct PortStats {
+  uint64_t requests = 0;      // slots asked for
+  uint64_t delayed = 0;       // requests served later than asked
+  uint64_t wait_cycles = 0;   // sum over requests of (cycle served - cycle asked)
+  uint64_t max_wait_cycles = 0;
+};
+
+class PortSchedule {
+ public:
+  // `period`: the port's clock period (ps); `ports`: slots per cycle (0: unlimited).
+  PortSchedule(Tick period, uint32_t ports);
+
+  // The edge of the first cycle at or after `t` with a free slot, which is taken.
+  Tick reserve(Tick t);
+  // `n` slots, one per cycle, the first at or after `t`, each after the previous: the cycle of
+  // the last (a transfer of n flits over the port). n >= 1.
+  Tick reserve_run(Tick t, uint32_t n);
+
+  bool ideal() const { return ports_ == 0; }
+  uint32_t ports() const { return ports_; }
+  Tick period() const { return clock_.period(); }
+  const PortStats& stats() const { return stats_; }
+
+ private:
+  // The ring: 256 cycles inside the object (most ports never need more, and a reservation then
+  // touches one cache line), on the heap once it has grown.
+  uint64_t* full() { return heap_.empty() ? inline_ : heap_.data(); }
+  size_t words() const { return heap_.empty() ? kInlineWords : heap_.size(); }
+  size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & (words() - 1); }
+  // Makes the ring hold every cycle up to `cycle` (sliding past the cycles that are over, or
+  // growing).
+  void hold(uint64_t cycle) {
+    if (cycle >= base_ + uint64_t(words()) * 64) slide_or_grow(cycle);
+  }
+  void slide_or_grow(uint64_t cycle);
+  void grow();
+
+  Clock clock_;
+  uint32_t ports_;
+  static constexpr size_t kInlineWords = 4;
+  uint64_t base_ = 0;           // first cycle held, a multiple of 64; the ring holds 64 * words
+  // Bit c % 64 of word c / 64: cycle c has no slot left.
+  uint64_t inline_[kInlineWords] = {};
+  std::vector<uint64_t> heap_;
+  std::vector<uint8_t> used_;   // ports > 1: slots taken per cycle (index c % cycles held)
+  // The last request's asked and granted cycles: cycles in between were full and stay full, so a
+  // pile-up on one cycle resumes the search where the previous request found room.
+  uint64_t last_asked_ = ~uint64_t(0), last_granted_ = 0;
+  PortStats stats_;
+};
+
+}  // namespace rtsim::model

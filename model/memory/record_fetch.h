@@ -1,0 +1,43 @@
+// A record read through a cache: the lines covering it are fetched (a record may straddle two),
+// and its bytes are assembled from the cache's copies of those lines.
+#pragma once
+
+#include "model/memory/cache.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace rtsim::model {
+
+struct RecordFetch {
+  Tick ready = 0;        // delivery of the last line; kUnknown if some line is still to come
+  uint32_t pending = 0;  // lines still to come (each will be told through on_fill)
+};
+
+inline RecordFetch fetch_record(Cache& cache, uint64_t addr, uint32_t bytes, Tick now, FillListener* listener,
+                                uint64_t cookie) {
+  const uint64_t line_bytes = cache.config().line_bytes;
+  RecordFetch f;
+  for (uint64_t line = addr & ~(line_bytes - 1); line < addr + bytes; line += line_bytes) {
+    const Tick t = cache.fetch_line(line, now, listener, cookie);
+    if (t == kUnknown) ++f.pending;
+    else f.ready = std::max(f.ready, t);
+  }
+  if (f.pending) f.ready = kUnknown;
+  return f;
+}
+
+// The record's bytes, once every line was delivered (or is known to be).
+inline void read_record(const Cache& cache, uint64_t addr, uint32_t bytes, uint8_t* out) {
+  const uint64_t line_bytes = cache.config().line_bytes;
+  uint32_t done = 0;
+  while (done < bytes) {
+    const uint64_t a = addr + done;
+    const uint64_t line = a & ~(line_bytes - 1);
+    const uint32_t n = uint32_t(std::min<uint64_t>(bytes - done, line + line_bytes - a));
+    std::memcpy(out + done, cache.line_data(line) + (a - line), n);
+    done += n;
+  }
+}
+
+}  // namespace rtsim::model

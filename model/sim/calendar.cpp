@@ -1,0 +1,117 @@
+#include "model/sim/calendar.h"
+
+#include "model/sim/report.h"
+
+#include <algorithm>
+#include <climits>
+#include <string>
+
+namespace rtsim::model {
+
+namespace {
+Tick now_ps() { return Tick(sc_core::sc_time_stamp().value()); }
+}  // namespace
+
+Calendar::Calendar(sc_core::sc_module_name name) : sc_core::sc_module(name) {
+  SC_METHOD(run);
+  sensitive << event_;
+  dont_initialize();
+  ring_.assign(kSlots * words_, 0);
+  slot_count_.assign(kSlots, 0);
+}
+
+void Calendar::add(Client* c, Tick period) {
+  if (ring_entries_ > 0) report_error(kReportInternal, std::string(name()) + ": blocks must be added before any is scheduled");
+  c->id_ = uint32_t(clients_.size());
+  c->period_ = period;
+  clients_.push_back(c);
+  if (period_ == 0) period_ = period;
+  words_ = (clients_.size() + 63) / 64;
+  ring_.assign(kSlots * words_, 0);
+}
+
+void Calendar::schedule(Client* c, Tick at) {
+  const Tick now = this->now();
+  if (at < now) at = now;
+  if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;
+  c->armed_at_ = at;
+  const uint64_t cycle = period_ ? at / period_ : 0;
+  if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at && at - now < kSlots * period_) {
+    const uint64_t slot = cycle % kSlots;
+    uint64_t& word = ring_[slot * words_ + c->id_ / 64];
+    const uint64_t bit = uint64_t(1) << (c->id_ % 64);
+    if (!(word & bit)) {
+      word |= bit;
+      ++slot_count_[slot];
+      ++ring_entries_;
+    }
+  } else {
+    heap_.push({at, c->id_});
+  }
+  // While run() drains the current time it re-arms the event itself.
+  if (!running_ && at < event_at_) notify_at(at, now);
+}
+
+void Calendar::notify_at(Tick at, Tick now) {
+  event_at_ = at;
+  event_.notify(sc_core::sc_time::from_value(at - now));
+}
+
+bool Calendar::pop_due(Tick now, uint32_t& id) {
+  uint32_t best = UINT32_MAX;
+  if (!heap_.empty() && heap_.top().at == now) best = heap_.top().id;
+  const uint64_t slot = period_ ? (now / period_) % kSlots : 0;
+  const bool edge = period_ && now % period_ == 0 && slot_count_[slot] > 0;
+  if (edge) {
+    for (size_t w = 0; w < words_; ++w) {
+      const uint64_t bits = ring_[slot * words_ + w];
+      if (bits) {
+        best = std::min<uint32_t>(best, uint32_t(w * 64 + __builtin_ctzll(bits)));
+        break;
+      }
+    }
+  }
+  if (best == UINT32_MAX) return false;
+  if (!heap_.empty() && heap_.top().at == now && heap_.top().id == best) {
+    heap_.pop();
+  } else {
+    ring_[slot * words_ + best / 64] &= ~(uint64_t(1) << (best % 64));
+    --slot_count_[slot];
+    --ring_entries_;
+  }
+  id = best;
+  return true;
+}
+
+Tick Calendar::next_time(Tick now) {
+  Tick next = heap_.empty() ? kUnknown : heap_.top().at;
+  if (ring_entries_ > 0) {
+    const uint64_t first = (now + period_ - 1) / period_;  // the first edge at or after now
+    for (uint64_t c = first; c < first + kSlots; ++c) {
+      if (c * period_ >= next) break;
+      if (slot_count_[c % kSlots] > 0) return c * period_;
+    }
+  }
+  return next;
+}
+
+void Calendar::run() {
+  const Tick now = now_ps();
+  event_at_ = kUnknown;
+  now_ = now;
+  running_ = true;
+  // Blocks woken for `now` while this runs are served in this same loop: the lowest id queued
+  // for `now` runs next.
+  uint32_t id = 0;
+  while (pop_due(now, id)) {
+    Client* c = clients_[id];
+    if (c->armed_at_ != now) continue;  // superseded by an earlier arming
+    c->armed_at_ = kUnknown;
+    c->activate();
+  }
+  running_ = false;
+  const Tick next = next_time(now);
+  if (next != kUnknown) notify_at(next, now);
+}
+
+}  // namespace rtsim::model

@@ -1,0 +1,75 @@
+// The simulation's calendar. Every unit and the DRAM arm their activations here instead of on
+// SystemC events of their own: one SC_METHOD, at each simulated time with work, runs every block
+// due then in a fixed order (registration order). Blocks that act in the same cycle therefore
+// always act in the same order, whatever observers (progress, traces) exist, and a cycle with N
+// active blocks costs one SystemC activation instead of N. Each accelerator owns its calendar (a
+// child named `calendar`), so several accelerators in one simulation keep their own order.
+//
+// Most activations are clock edges a few cycles ahead, so those live in a ring of per-cycle
+// bitsets (one bit per block); other times (the DRAM's own clock, far-off watchdog looks) go to a
+// heap. Both yield the same order: at a time, the lowest block id still queued runs next.
+#pragma once
+
+#include "model/sim/time.h"
+
+#include <systemc>
+
+#include <cstdint>
+#include <queue>
+#include <vector>
+
+namespace rtsim::model {
+
+class Calendar : public sc_core::sc_module {
+ public:
+  class Client {
+   public:
+    virtual ~Client() = default;
+    virtual void activate() = 0;
+    Tick armed_at() const { return armed_at_; }
+
+   private:
+    friend class Calendar;
+    uint32_t id_ = 0;
+    Tick period_ = 0;  // the clock it acts on (0: any time)
+    Tick armed_at_ = kUnknown;
+  };
+
+  explicit Calendar(sc_core::sc_module_name name);
+  // `period`: the clock period of the block's activations (0 when they fall at any time).
+  void add(Client* c, Tick period = 0);
+  // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
+  // the past) stands; a later one is replaced.
+  void schedule(Client* c, Tick at);
+  // Whether the calendar is running its blocks (an activation is on the stack).
+  bool running() const { return running_; }
+  // The simulated time (cached while the calendar runs: blocks ask often).
+  Tick now() const { return running_ ? now_ : Tick(sc_core::sc_time_stamp().value()); }
+
+ private:
+  SC_HAS_PROCESS(Calendar);
+  void run();
+  void notify_at(Tick at, Tick now);
+  Tick next_time(Tick now);       // the earliest queued time at or after now; kUnknown if none
+  bool pop_due(Tick now, uint32_t& id);  // the lowest id queued for `now`
+
+  static constexpr uint64_t kSlots = 256;  // cycles ahead held in the ring
+  struct Entry {
+    Tick at;
+    uint32_t id;
+    bool operator>(const Entry& o) const { return at != o.at ? at > o.at : id > o.id; }
+  };
+  std::vector<Client*> clients_;
+  Tick period_ = 0;                   // the ring's clock: the first block's
+  size_t words_ = 1;                  // 64-bit words per ring slot
+  std::vector<uint64_t> ring_;        // kSlots x words_ bits: slot = cycle % kSlots
+  std::vector<uint32_t> slot_count_;  // bits set per slot
+  uint64_t ring_entries_ = 0;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
+  sc_core::sc_event event_;
+  Tick event_at_ = kUnknown;  // time of the pending SystemC notification
+  bool running_ = false;
+  Tick now_ = 0;  // while running
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,14 @@
+#include "model/sim/report.h"
+
+#include <systemc>
+
+#include <stdexcept>
+
+namespace rtsim::model {
+
+void report_error(const char* type, const std::string& message) {
+  SC_REPORT_ERROR(type, message.c_str());
+  throw std::runtime_error(std::string(type) + ": " + message);
+}
+
+}  // namespace rtsim::model

@@ -1,0 +1,62 @@
+// The common shape of every pipelined unit: activations on the calendar, only when the
+// unit has work. An activation does one cycle's work (`cycle`), then the unit re-arms itself for the next cycle
+// if more work is ready by then, for the earliest future ready time, or not at all (idle until
+// something calls wake()). Busy, stalled and idle cycles are accounted from these transitions:
+// a cycle is busy when an operation issued, stalled when the unit held work it could not issue
+// (waiting on memory or on a full output), idle otherwise.
+#pragma once
+
+#include "model/sim/time.h"
+#include "model/sim/calendar.h"
+#include "model/sim/stats_registry.h"
+
+#include <systemc>
+
+#include <string>
+
+namespace rtsim::model {
+
+struct UnitStats {
+  uint64_t busy_cycles = 0;
+  uint64_t stalled_cycles = 0;
+  uint64_t idle_cycles = 0;
+};
+
+class Unit : public sc_core::sc_module, public Calendar::Client {
+ public:
+  // Schedules an activation at time `at` (or at once if `at` has passed); the earliest wins.
+  void wake(Tick at);
+  // Closes the accounting at `end` (the end of the run).
+  void finish_accounting(Tick end);
+  const UnitStats& unit_stats() const { return stats_; }
+  void register_unit_stats(StatsRegistry& r, const std::string& prefix) const;
+  const Clock& clock() const { return clock_; }
+  // Whether an operation issued at clock edge `edge` (the latest edge only).
+  bool issued_at(Tick edge) const { return last_issue_ == edge; }
+
+ protected:
+  Unit(sc_core::sc_module_name name, Calendar& calendar, const Clock& clock);
+
+  // One cycle at `now` (a clock edge). Returns true if an operation issued.
+  virtual bool cycle(Tick now) = 0;
+  // The earliest time at or after `from` at which cycle() could issue; kUnknown if it cannot
+  // until woken from outside.
+  virtual Tick next_ready(Tick from) const = 0;
+  // True while the unit holds work (for stalled versus idle).
+  virtual bool holds_work() const = 0;
+
+  Tick now_ps() const { return calendar_.now(); }
+  Calendar& calendar() const { return calendar_; }
+
+ private:
+  void activate() override;
+
+  Calendar& calendar_;
+  const Clock& clock_;
+  Tick accounted_to_ = 0;      // cycles before this are classified
+  bool held_work_ = false;     // state of the gap since the last activation
+  Tick last_issue_ = kUnknown;
+  UnitStats stats_;
+};
+
+}  // namespace rtsim::model

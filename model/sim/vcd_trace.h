@@ -1,0 +1,57 @@
+// Not a hardware block: a VCD recording (sc_trace, viewable in GTKWave) of FIFO occupancies, unit
+// busy signals and counters over a window of cycles. Signals are named after their block's
+// hierarchical name (`<top>.trv3.in.occupancy`, `<top>.trv3.busy`), so the VCD's scopes are the
+// module tree. Each traced value is an sc_signal that a
+// probe writes once per cycle inside the window, half a cycle after the edge (after every unit
+// has acted), so outside the window the file holds no changes and the run pays little.
+#pragma once
+
+#include "model/sim/time.h"
+#include "model/sim/periodic_probe.h"
+#include "model/sim/ray_fifo.h"
+#include "model/sim/trace_request.h"
+#include "model/sim/unit.h"
+
+#include <systemc>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+class VcdTrace {
+ public:
+  VcdTrace(const TraceRequest& request, const Clock& clock);
+  ~VcdTrace();
+  void add_fifo(const RayFifo* fifo);
+  void add_unit(const Unit* unit);  // 1 in cycles where an operation issued
+  void add_counter(const std::string& name, std::function<uint64_t()> value);
+  // Arms the sampling probe (before sc_start); it stops at the window's end or when nothing is pending.
+  void start(std::function<bool()> pending);
+  void close();  // after the run: completes the file and moves it to its name
+
+ private:
+  bool sample(Tick now);
+
+  TraceRequest request_;
+  const Clock& clock_;
+  std::string temp_base_;
+  sc_core::sc_trace_file* file_ = nullptr;
+  struct Counter {
+    std::unique_ptr<sc_core::sc_signal<uint64_t>> signal;
+    std::function<uint64_t()> value;
+  };
+  struct Busy {
+    std::unique_ptr<sc_core::sc_signal<bool>> signal;
+    const Unit* unit;
+  };
+  std::vector<Counter> counters_;
+  std::vector<Busy> busy_;
+  std::unique_ptr<PeriodicProbe> probe_;
+  std::function<bool()> pending_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,34 @@
+// LIST: fetches a leaf's record (primitive-list offset and count, and its LVB word) and then the
+// primitive list itself, one line per operation (2-cycle pipeline), and passes the ray with its
+// triangle ids to IST.
+#pragma once
+
+#include "model/memory/cache.h"
+#include "model/units/ray_unit.h"
+
+namespace rtsim::model {
+
+struct ListStats {
+  uint64_t leaves = 0;
+  uint64_t list_lines = 0;
+  uint64_t prims = 0;
+};
+
+class ListUnit : public RayUnit {
+ public:
+  // Unit `index` of the LIST units; its rays go on to `to_ist`.
+  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
+           uint32_t index, RayFifo* to_ist);
+  const ListStats& stats() const { return stats_; }
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+ protected:
+  void process(uint32_t ray, Tick now) override;
+
+ private:
+  uint32_t latency_;
+  RayFifo* to_ist_;
+  ListStats stats_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,27 @@
+// LVB updater (the paper's Fig. 5): whenever a ray's closest hit is updated after an intersection
+// test, the ray takes the LVB word of the leaf that holds the new hit. Two registers and a mux in
+// hardware; here a counter of updates.
+#pragma once
+
+#include "model/units/ray_state.h"
+#include "model/sim/stats_registry.h"
+
+namespace rtsim::model {
+
+class LvbUpdater : public sc_core::sc_object {
+ public:
+  explicit LvbUpdater(const char* name) : sc_core::sc_object(name) {}
+  const char* kind() const override { return "rtsim_lvb_updater"; }
+  void on_closest_hit(RayState& r) {
+    r.lvb = r.leaf_lvb;
+    ++updates_;
+  }
+  void register_stats(StatsRegistry& reg, const std::string& prefix) const {
+    reg.counter(prefix + ".updates", &updates_, "count", "closest-hit updates that took a leaf's LVB word");
+  }
+
+ private:
+  uint64_t updates_ = 0;
+};
+
+}  // namespace rtsim::model

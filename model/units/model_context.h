@@ -1,0 +1,25 @@
+// What every unit of one accelerator instance shares: its calendar, the ray pool, the memory image's layout,
+// the clock and the numeric constants of the traversal (the reference tracer's).
+#pragma once
+
+#include "kernels/memory_image.h"
+#include "model/sim/time.h"
+#include "model/units/ray_state.h"
+
+namespace rtsim::model {
+
+class Calendar;
+
+struct ModelContext {
+  Calendar* calendar = nullptr;  // the accelerator's calendar
+  RayPool* pool = nullptr;
+  image::Header header;
+  Clock clock;
+  float abs_eps = 0.f;        // the traversal's absolute slack (1e-6 of the scene diagonal)
+  float shadow_offset = 0.f;  // shadow-ray origin offset (1e-5 of the scene diagonal)
+  // Per light: shadow rays per hit (1 for a point light). The light table's sample counts, read
+  // once with the header, as a culling unit would hold them in registers.
+  std::vector<uint32_t> light_samples;
+};
+
+}  // namespace rtsim::model

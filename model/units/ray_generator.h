@@ -1,0 +1,45 @@
+// Ray generator: up to `rays_per_cycle` primary rays per cycle (the T&I engine's dispatcher issues
+// one), through pixel centres in scanline or square-tile order, dealt round-robin to the TRV
+// units' input FIFOs, as long as the ray pool has a free slot.
+#pragma once
+
+#include "kernels/camera.h"
+#include "model/units/model_context.h"
+#include "model/sim/ray_fifo.h"
+#include "model/sim/unit.h"
+
+#include <vector>
+
+namespace rtsim::model {
+
+enum class RayOrder { kScanline, kTiles };
+
+// The pixels in issue order: row by row, or square tiles row by row with pixels row by row inside
+// a tile (partial tiles at the edges).
+std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int tile);
+
+class RayGenerator : public Unit {
+ public:
+  RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width, int height,
+               RayOrder order, int tile, std::vector<RayFifo*> trv_inputs, uint32_t rays_per_cycle = 1);
+  bool finished() const { return next_ == total_; }
+  uint64_t issued() const { return next_; }
+
+ protected:
+  bool cycle(Tick now) override;
+  Tick next_ready(Tick from) const override;
+  bool holds_work() const override { return !finished(); }
+
+ private:
+  uint32_t pixel_of(uint64_t k) const { return order_[k]; }
+
+  const ModelContext& ctx_;
+  PinholeCamera camera_;
+  int width_, height_;
+  RoundRobin inputs_;  // the TRV units' input FIFOs
+  uint32_t rays_per_cycle_;
+  uint64_t next_ = 0, total_ = 0;
+  std::vector<uint32_t> order_;  // pixels in issue order
+};
+
+}  // namespace rtsim::model

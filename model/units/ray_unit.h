@@ -1,0 +1,141 @@
+// The shape shared by the units that work on rays (TRV, LIST, IST, shading): rays enter from an
+// input FIFO, wait in a ready queue ordered by issue time, park while a line comes from DRAM
+// (on_fill puts them back: the T&I engine's ray accumulation buffer), and leave through an
+// output FIFO; a full output blocks the unit until the consumer frees a slot. A unit's children
+// are its input FIFO `in` and its caches (`l1`, and `l2` and `icnt` when L2s are private).
+#pragma once
+
+#include "model/memory/memory_system.h"
+#include "model/units/model_context.h"
+#include "model/memory/record_fetch.h"
+#include "model/sim/ray_fifo.h"
+#include "model/sim/ready_queue.h"
+#include "model/sim/unit.h"
+
+namespace rtsim::model {
+
+// A ray unit's pipeline (its caches: model/memory/memory_system.h).
+struct RayUnitConfig {
+  uint32_t latency = 1;      // pipeline latency in cycles (one operation issues per cycle)
+  uint32_t capacity = 16;    // rays held (TRV: rays owned, the ray accumulation buffer)
+  uint32_t fifo_depth = 16;  // input FIFO
+};
+
+class RayUnit : public Unit, public FillListener {
+ public:
+  // A line a parked ray waited for arrived; the ray may issue again at `when`.
+  void on_fill(uint64_t, uint64_t ray, Tick when) override {
+    RayState& r = (*ctx_.pool)[uint32_t(ray)];
+    if (r.waiting_lines > 0 && --r.waiting_lines > 0) return;
+    r.fill_ready = true;
+    ready_.push(when, uint32_t(ray));
+    wake(when);
+  }
+  RayFifo* input() { return &in_; }
+  Cache& l1() const { return *l1_; }
+  uint32_t held() const { return held_; }
+
+ protected:
+  // Builds the unit's input FIFO and its caches (unit `index` of `type` in `memory`).
+  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
+          MemorySystem::Type type, uint32_t index)
+      : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), in_("in", cfg.fifo_depth), capacity_(cfg.capacity) {
+    memory_ = memory.build_unit(type, index, this);
+    l1_ = memory_->l1.get();
+    in_.connect(nullptr, this);
+  }
+
+  // Works on one ready ray at `now`.
+  virtual void process(uint32_t ray, Tick now) = 0;
+  // Whether a new ray may enter from the input FIFO (default: room inside the unit).
+  virtual bool can_admit() const { return held_ < capacity_; }
+  virtual void admitted(uint32_t) {}
+
+  bool cycle(Tick now) override {
+    if (blocked_.fifo) {
+      if (!blocked_.fifo->push(blocked_.ray, std::max(blocked_.when, now), now)) return false;
+      blocked_.fifo = nullptr;
+      --held_;
+    }
+    while (!in_.empty() && in_.head_ready() <= now && can_admit()) {
+      const Tick t = in_.head_ready();
+      const uint32_t ray = in_.pop(now);
+      ready_.push(t, ray);
+      ++held_;
+      admitted(ray);
+    }
+    if (ready_.next_time() > now) return false;
+    process(ready_.pop(), now);
+    return true;
+  }
+  Tick next_ready(Tick from) const override {
+    if (blocked_.fifo) return kUnknown;  // the consumer wakes us when it frees a slot
+    Tick t = ready_.next_time();
+    if (!in_.empty() && can_admit()) t = std::min(t, in_.head_ready());
+    return t == kUnknown ? kUnknown : std::max(t, from);
+  }
+  bool holds_work() const override { return held_ > 0 || !in_.empty(); }
+
+  // The ray stays in this unit and may issue again at `when`.
+  void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
+  // The ray waits for `lines` fills (told through on_fill).
+  void park(uint32_t ray, uint32_t lines) { (*ctx_.pool)[ray].waiting_lines = lines; }
+  // Fetches a record for `ray`, unless a fill the ray waited for already brought it.
+  RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
+    RayState& r = (*ctx_.pool)[ray];
+    if (r.fill_ready) {
+      r.fill_ready = false;
+      return {now, 0};
+    }
+    return fetch_record(cache, addr, bytes, now, this, ray);
+  }
+  // Reads a record for `ray` into `out` and returns when it is there; kUnknown when a line is still
+  // to come (the ray is parked until it arrives, then issues again and reads it).
+  Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, uint8_t* out, Tick now) {
+    const RecordFetch f = fetch(cache, ray, addr, bytes, now);
+    if (f.ready == kUnknown) {
+      park(ray, f.pending);
+      return kUnknown;
+    }
+    read_record(cache, addr, bytes, out);
+    return f.ready;
+  }
+  // The ray leaves this unit through `out`, visible from `when`.
+  void emit(RayFifo* out, uint32_t ray, Tick when, Tick now) {
+    if (out->push(ray, when, now)) {
+      --held_;
+      return;
+    }
+    blocked_ = {out, ray, when};
+  }
+  // The ray leaves this unit by another way (handed back to its owner, or retired).
+  void release() { --held_; }
+  // A ray comes back into this unit by another way than the input FIFO.
+  void take_back(uint32_t ray, Tick when) {
+    ++held_;
+    keep(ray, when);
+    wake(when);
+  }
+
+  const ModelContext& ctx_;
+  RayFifo in_;
+
+ private:
+  std::unique_ptr<UnitMemory> memory_;
+  Cache* l1_ = nullptr;
+  struct Blocked {
+    RayFifo* fifo = nullptr;
+    uint32_t ray = 0;
+    Tick when = 0;
+  };
+  uint32_t capacity_;
+
+ protected:
+  uint32_t held_ = 0;
+
+ private:
+  Blocked blocked_;
+  ReadyQueue ready_;
+};
+
+}  // namespace rtsim::model

@@ -1,0 +1,255 @@
+#include "model/units/shadow_culling_unit.h"
+
+#include "kernels/light_samples.h"
+#include "model/memory/record_fetch.h"
+
+namespace rtsim::model {
+
+ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
+                                     const CullingConfig& config, Cache* l1, FrameBuffer* frame,
+                                     std::vector<RayFifo*> trv_inputs)
+    : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), culling_(culling), l1_(l1), frame_(frame), inputs_(std::move(trv_inputs)),
+      lights_(ctx.header.light_count), rate_(config.records_per_cycle), prefetch_(std::max<uint32_t>(1, config.prefetch)) {}
+
+void ShadowCullingUnit::scan_all(Tick now) {
+  scanning_ = closed_ = true;
+  scan_ready_ = now;
+  entry_ = 0;
+  light_ = 0;
+  for (const PixelState& px : frame_->pixels) added_ += px.hit.tri != kNoHit;
+  if (ctx_.header.light_count == 0) entry_ = frame_->pixels.size();
+  if (from_memory()) {
+    arrival_.assign(prefetch_, kUnknown);
+    prefetched_.assign(prefetch_, HitRecord{});
+    requested_ = entry_;
+  } else if (rate_ == 0) {
+    while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit) ++entry_;
+  }
+  wake(now);
+}
+
+void ShadowCullingUnit::add(uint32_t entry, Tick ready) {
+  if (ctx_.header.light_count == 0) return;
+  queue_.push_back({entry, ready});
+  ++added_;
+  wake(queue_.front().ready);
+}
+
+void ShadowCullingUnit::close(Tick now) {
+  closed_ = true;
+  wake(now);
+}
+
+void ShadowCullingUnit::on_fill(uint64_t, uint64_t cookie, Tick when) {
+  if (cookie == 0) {
+    waiting_ = false;
+  } else {
+    // The record's bytes as they arrive (the window keeps its slot until the entry is taken).
+    const uint32_t entry = uint32_t(cookie - 1);
+    arrival_[entry % prefetch_] = when;
+    prefetched_[entry % prefetch_] = decode_hit_record(reader_->line_data(region_.slot_address(entry)));
+    if (entry != entry_) return;
+  }
+  wake(when);
+}
+
+double ShadowCullingUnit::decided_fraction() const {
+  return added_ ? double(done_) / double(added_) : 0.0;
+}
+
+Tick ShadowCullingUnit::current_ready() const {
+  if (!scanning_) return queue_.front().ready;
+  return from_memory() ? arrival_[entry_ % prefetch_] : scan_ready_;
+}
+
+void ShadowCullingUnit::next_entry() {
+  light_ = 0;
+  sample_ = 0;
+  light_latched_ = false;
+  record_open_ = false;
+  if (!scanning_) {
+    ++done_;
+    queue_.pop_front();
+    return;
+  }
+  if (from_memory()) {
+    done_ += record_.hit;
+    arrival_[entry_ % prefetch_] = kUnknown;
+    ++entry_;
+    return;
+  }
+  ++done_;
+  if (rate_ > 0) {
+    ++entry_;
+    return;
+  }
+  do ++entry_;
+  while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit);
+}
+
+void ShadowCullingUnit::advance() {
+  if (++sample_ < ctx_.light_samples[light_]) return;
+  next_light();
+}
+
+void ShadowCullingUnit::next_light() {
+  sample_ = 0;
+  light_latched_ = false;
+  if (++light_ == ctx_.header.light_count) next_entry();
+}
+
+void ShadowCullingUnit::cull_light() {
+  // Every sample of the light: none is generated, all count as unoccluded.
+  const uint32_t n = ctx_.light_samples[light_];
+  lights_[light_].decisions += n;
+  lights_[light_].culled += n;
+  frame_->pixels[current()].culled |= uint16_t(1u << light_);
+  next_light();
+}
+
+bool ShadowCullingUnit::latch_light(Tick now) {
+  const uint64_t addr = ctx_.header.lights.base + uint64_t(light_) * image::kLightBytes;
+  const RecordFetch fl = fetch_record(*l1_, addr, image::kLightBytes, now, this, 0);
+  if (fl.ready == kUnknown) return false;
+  uint8_t bytes[image::kLightBytes];
+  read_record(*l1_, addr, image::kLightBytes, bytes);
+  image::LightRecord light = image::decode_light(bytes);
+  Tick ready = fl.ready;
+  if (light.area) {
+    // Its edges are in its second record (docs/memory-image.md).
+    const uint64_t area_addr = ctx_.header.lights.base + uint64_t(ctx_.header.light_count + light_) * image::kLightBytes;
+    const RecordFetch fa = fetch_record(*l1_, area_addr, image::kLightBytes, now, this, 0);
+    if (fa.ready == kUnknown) return false;
+    read_record(*l1_, area_addr, image::kLightBytes, bytes);
+    image::decode_light_area(bytes, light);
+    ready = std::max(ready, fa.ready);
+  }
+  latched_ = light;
+  latched_ready_ = ready;
+  light_latched_ = true;
+  return true;
+}
+
+bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
+  if (ctx_.pool->full()) return false;  // woken when a ray retires
+  RayFifo* f = inputs_.next_free();
+  if (!f) return false;  // woken when a TRV input frees a slot
+  if (!light_latched_ && !latch_light(now)) {
+    waiting_ = true;  // keeps the pair: a light record is on its way
+    return true;
+  }
+  const image::LightRecord& light = latched_;
+  const uint32_t entry = current();  // the frame entry (pixel and bounce)
+  const uint32_t pixels = uint32_t(frame_->pixel_count());
+  const uint32_t id = ctx_.pool->allocate();
+  RayState& r = (*ctx_.pool)[id];
+  r.type = RayType::kShadow;
+  r.pixel = entry;
+  r.light = uint8_t(light_);
+  r.sample = uint16_t(sample_);
+  r.trav.ray = shadow_ray(surface, light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
+                          ctx_.shadow_offset);
+  f->push(id, std::max(latched_ready_, now + clock().period()), now);
+  ++lights_[light_].decisions;
+  ++lights_[light_].generated;
+  advance();
+  return true;
+}
+
+bool ShadowCullingUnit::cycle(Tick now) { return rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now); }
+
+bool ShadowCullingUnit::cycle_unlimited(Tick now) {
+  if (!has_work() || waiting_ || current_ready() > now) return false;
+  // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
+  // unit emits the next shadow ray that is not culled.
+  bool culled_any = false;
+  while (culling_ && has_work() && current_ready() <= now && !((frame_->pixels[current()].lvb >> light_) & 1u)) {
+    cull_light();
+    culled_any = true;
+  }
+  if (!has_work() || current_ready() > now) return culled_any;
+  return emit(frame_->pixels[current()].surface, now) || culled_any;
+}
+
+bool ShadowCullingUnit::request_records(Tick now) {
+  bool any = false;
+  for (uint32_t k = 0; k < rate_ && can_request(); ++k) {
+    const uint32_t entry = uint32_t(requested_++);  // a record slot
+    ++record_reads_;
+    const Tick t = reader_->fetch_line(region_.slot_address(entry), now, this, uint64_t(entry) + 1);
+    arrival_[entry % prefetch_] = t;
+    if (t != kUnknown) prefetched_[entry % prefetch_] = decode_hit_record(reader_->line_data(region_.slot_address(entry)));
+    any = true;
+  }
+  return any;
+}
+
+bool ShadowCullingUnit::cycle_limited(Tick now) {
+  const bool requested = request_records(now);
+  uint32_t taken = 0;
+  while (has_work() && !waiting_ && current_ready() <= now) {
+    if (!record_open_) {  // a new record: it takes one of this cycle's slots
+      if (taken == rate_) break;
+      ++taken;
+      ++records_taken_;
+      record_open_ = true;
+      if (from_memory()) {
+        record_ = prefetched_[entry_ % prefetch_];
+      } else {
+        const PixelState& px = frame_->pixels[current()];
+        record_ = {px.surface, px.lvb, px.hit.tri != kNoHit};
+      }
+    }
+    if (!record_.hit) {
+      next_entry();
+      continue;
+    }
+    if (culling_ && !((record_.lvb >> light_) & 1u)) {
+      cull_light();
+      continue;
+    }
+    return emit(record_.surface, now) || requested || taken > 0;  // one ray per cycle
+  }
+  return requested || taken > 0;
+}
+
+Tick ShadowCullingUnit::next_ready(Tick from) const {
+  if (rate_ > 0 && can_request()) return from;  // keep the reads flowing
+  if (!has_work() || waiting_) return kUnknown;  // woken by add() or a fill
+  if (ctx_.pool->full()) return kUnknown;        // woken when a ray retires
+  if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
+  const Tick ready = current_ready();
+  return ready == kUnknown ? kUnknown : std::max(from, ready);
+}
+
+std::string ShadowCullingUnit::state() const {
+  std::string s = "culling unit: " + std::to_string(done_) + " of " + std::to_string(added_) + " hits decided";
+  if (!has_work()) return s + (closed_ ? ", done" : ", waiting for hits");
+  s += ", at entry " + std::to_string(current()) + " light " + std::to_string(light_);
+  if (ctx_.light_samples[light_] > 1) s += " sample " + std::to_string(sample_);
+  if (waiting_) s += ", waiting for a light record";
+  const Tick ready = current_ready();
+  s += ready == kUnknown ? ", its record not arrived" : ", its record ready at " + std::to_string(ready) + " ps";
+  if (from_memory()) s += ", " + std::to_string(requested_) + " records asked for";
+  return s;
+}
+
+uint64_t ShadowCullingUnit::generated() const {
+  uint64_t n = 0;
+  for (const LightStats& l : lights_) n += l.generated;
+  return n;
+}
+
+void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
+  register_unit_stats(r, prefix);
+  r.counter(prefix + ".records_taken", &records_taken_, "count", "hit records taken (limited rate only)");
+  r.counter(prefix + ".record_reads", &record_reads_, "count", "hit-record lines read from the frame buffer");
+  for (size_t i = 0; i < lights_.size(); ++i) {
+    const std::string p = prefix + ".light" + std::to_string(i);
+    r.counter(p + ".decisions", &lights_[i].decisions, "count", "shadow rays decided (a hit's samples of the light)");
+    r.counter(p + ".generated", &lights_[i].generated, "count", "shadow rays emitted");
+    r.counter(p + ".culled", &lights_[i].culled, "count", "shadow rays culled by the LVB");
+  }
+}
+
+}  // namespace rtsim::model

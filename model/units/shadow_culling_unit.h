@@ -1,0 +1,140 @@
+// Shadow culling unit (the paper's Fig. 5): for every hit (a frame entry: pixel and bounce) and
+// every light, it emits the light's shadow rays (one, or an area light's N samples,
+// kernels/light_samples.h) only when the hit leaf's LVB bit for that light is 1; a culled ray
+// counts as unoccluded. One shadow ray per cycle; the LVB test is a bitwise check on
+// the hit's whole word, so culled lights are skipped within the cycle. A light's records are read
+// through its L1 once per (hit, light) pair and held for the pair's samples.
+//
+// Its work comes one of two ways (the schedule): in two phases, scan_all() at the end of the
+// primary phase hands it every frame entry in order; in one phase, the shading unit add()s each
+// hit as it is shaded and close() says no more will come.
+//
+// Its rate: it takes at most `records_per_cycle` hit records per cycle (a record with several
+// lights to shoot holds it one cycle per ray). In two phases with read_records_from(), it reads
+// every entry's record from the frame buffer in memory (model/units/hit_record.h), up to `prefetch`
+// lines ahead in the order they lie in memory (model/units/hit_record.h), and builds the rays from the
+// fetched bytes; an entry without a hit costs its read and a record slot too. `records_per_cycle == 0` is the ideal unit: any number of records per
+// cycle, taken from the host-side frame without memory traffic, and entries without a hit skipped
+// for free.
+#pragma once
+
+#include "model/memory/cache.h"
+#include "model/units/frame_buffer.h"
+#include "model/units/hit_record.h"
+#include "model/units/model_context.h"
+#include "model/sim/ray_fifo.h"
+#include "model/sim/unit.h"
+
+#include <deque>
+#include <vector>
+
+namespace rtsim::model {
+
+struct LightStats {
+  uint64_t decisions = 0;  // shadow rays decided: per hit, the light's samples (1 for a point light)
+  uint64_t generated = 0;  // shadow rays emitted
+  uint64_t culled = 0;     // shadow rays culled by the LVB
+};
+
+struct CullingConfig {
+  uint32_t records_per_cycle = 1;  // 0: unlimited (ideal)
+  uint32_t prefetch = 128;         // record lines in flight when reading the frame buffer
+};
+
+// Every CullingConfig field, once (model/sim/config_description.h).
+template <class V, class C>
+DescribeOf<C, CullingConfig> describe(V& v, C& c) {
+  v.number("records_per_cycle", c.records_per_cycle, 0, 64, "records",
+           "hit records taken per cycle, read back from the frame buffer in two phases; 0: unlimited, from the "
+           "host-side frame (ideal)");
+  v.number("prefetch", c.prefetch, 1, 65536, "lines", "record lines in flight when reading the frame buffer");
+}
+
+class ShadowCullingUnit : public Unit, public FillListener {
+ public:
+  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, const CullingConfig& config,
+                    Cache* l1, FrameBuffer* frame, std::vector<RayFifo*> trv_inputs);
+  // Two phases, limited rate: read the records through `reader` from `region` (else from the host).
+  void read_records_from(LineSource* reader, const HitRecordRegion& region) {
+    reader_ = reader;
+    region_ = region;
+  }
+  // Two phases: every hit entry of the frame, in order, from `now`; no more will come.
+  void scan_all(Tick now);
+  // One phase: the hit at frame entry `entry` is shaded by `ready`; close() after the last.
+  void add(uint32_t entry, Tick ready);
+  void close(Tick now);
+  bool finished() const { return closed_ && !has_work(); }
+  // Share of the known hits decided (for progress reports).
+  double decided_fraction() const;
+  uint64_t generated() const;
+  // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
+  void on_fill(uint64_t, uint64_t cookie, Tick when) override;
+  const std::vector<LightStats>& per_light() const { return lights_; }
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  // Where it stands (for the watchdog's report).
+  std::string state() const;
+
+ protected:
+  bool cycle(Tick now) override;
+  Tick next_ready(Tick from) const override;
+  bool holds_work() const override { return has_work(); }
+
+ private:
+  bool has_work() const { return scanning_ ? entry_ < frame_->pixels.size() : !queue_.empty(); }
+  // The frame entry being decided (reading memory, the cursor runs over record slots).
+  uint32_t current() const {
+    if (!scanning_) return queue_.front().entry;
+    return from_memory() ? region_.entry(uint32_t(entry_)) : uint32_t(entry_);
+  }
+  Tick current_ready() const;
+  bool from_memory() const { return scanning_ && rate_ > 0 && reader_; }
+  void advance();      // the next (hit, light, sample)
+  void next_light();   // the next (hit, light) pair
+  void cull_light();   // the current light's bit is 0: all its samples culled
+  void next_entry();   // the next hit
+  bool cycle_unlimited(Tick now);
+  bool cycle_limited(Tick now);
+  bool request_records(Tick now);   // memory reads for the coming entries; true if any issued
+  bool can_request() const { return from_memory() && requested_ < frame_->pixels.size() && requested_ < entry_ + prefetch_; }
+  // Emits the shadow ray of the current (hit, light) pair from `surface`: true if it went.
+  bool emit(const SurfacePoint& surface, Tick now);
+  // Reads the current light's records through the L1 into latched_: false while a line is on its way.
+  bool latch_light(Tick now);
+
+  const ModelContext& ctx_;
+  bool culling_;
+  Cache* l1_;
+  FrameBuffer* frame_;
+  RoundRobin inputs_;  // the TRV units' input FIFOs
+  bool closed_ = false, waiting_ = false;
+  bool scanning_ = false;  // two phases: a cursor over the frame
+  size_t entry_ = 0;
+  Tick scan_ready_ = 0;
+  struct Pending {
+    uint32_t entry;
+    Tick ready;
+  };
+  std::deque<Pending> queue_;  // one phase: hits in the order they were shaded
+  uint64_t added_ = 0, done_ = 0;
+  uint32_t light_ = 0;
+  uint32_t sample_ = 0;  // of the current light (area lights have several)
+  // The current light's records, read for its first sample and held for the others: a unit
+  // latches the light it is shooting at rather than reading it again for each of N samples.
+  bool light_latched_ = false;
+  image::LightRecord latched_;
+  Tick latched_ready_ = 0;
+  std::vector<LightStats> lights_;
+  // The limited rate.
+  uint32_t rate_, prefetch_;
+  bool record_open_ = false;  // the current entry's record is taken (counted against the rate)
+  HitRecord record_;          // ... and its contents
+  LineSource* reader_ = nullptr;
+  HitRecordRegion region_;
+  size_t requested_ = 0;      // the next entry whose record is to be read
+  std::vector<Tick> arrival_; // per entry in the window (entry % prefetch): when its record is in
+  std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came
+  uint64_t record_reads_ = 0, records_taken_ = 0;
+};
+
+}  // namespace rtsim::model

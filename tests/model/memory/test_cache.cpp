@@ -1,0 +1,508 @@
+#include "model/memory/cache.h"
+
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <functional>
+#include <vector>
+
+namespace rtsim::model {
+namespace {
+
+constexpr Tick kNs = 1000;  // ps
+
+// Memory below the cache: a byte array answering after `latency`, or (kUnknown) later, when the
+// test calls the cache's on_fill by hand.
+class FakeMemory : public LineSource {
+ public:
+  struct Request {
+    uint64_t line;
+    Tick now;
+    FillListener* listener;
+    uint64_t cookie;
+  };
+  explicit FakeMemory(size_t bytes = 1 << 16) : bytes(bytes) {
+    for (size_t i = 0; i < bytes; ++i) this->bytes[i] = uint8_t(i * 131 + (i >> 8) * 7 + 1);
+  }
+  Tick fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) override {
+    requests.push_back({line, now, listener, cookie});
+    return latency == kUnknown ? kUnknown : now + latency;
+  }
+  const uint8_t* line_data(uint64_t line) const override { return &bytes[line]; }
+  bool owns(const uint8_t* p) const { return p >= bytes.data() && p < bytes.data() + bytes.size(); }
+
+  std::vector<uint8_t> bytes;
+  Tick latency = 10 * kNs;
+  std::vector<Request> requests;
+};
+
+struct Fill {
+  uint64_t line;
+  uint64_t cookie;
+  Tick when;
+  bool operator==(const Fill& o) const { return line == o.line && cookie == o.cookie && when == o.when; }
+};
+std::ostream& operator<<(std::ostream& os, const Fill& f) {
+  return os << "{line " << f.line << ", cookie " << f.cookie << ", when " << f.when << "}";
+}
+
+class Recorder : public FillListener {
+ public:
+  void on_fill(uint64_t line, uint64_t cookie, Tick when) override {
+    fills.push_back({line, cookie, when});
+    if (hook) hook(line, cookie, when);
+  }
+  std::vector<Fill> fills;
+  std::function<void(uint64_t, uint64_t, Tick)> hook;
+};
+
+CacheConfig tiny(uint32_t size, uint32_t ways, uint32_t hit = 1, uint32_t mshrs = 16) {
+  CacheConfig c;
+  c.size_bytes = size;
+  c.ways = ways;
+  c.line_bytes = 64;
+  c.hit_latency = hit;
+  c.mshrs = mshrs;
+  return c;
+}
+
+void expect_invalid(const CacheConfig& c, const std::string& field) {
+  try {
+    c.validate();
+    ADD_FAILURE() << "accepted a config with a bad " << field;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(CacheConfig, ValidatesEveryField) {
+  EXPECT_NO_THROW(CacheConfig{}.validate());
+  EXPECT_EQ(CacheConfig{}.sets(), 64u);  // 8192 / (2 * 64)
+  CacheConfig c;
+  c.size_bytes = 0;
+  expect_invalid(c, "size_bytes");
+  c = {};
+  c.ways = 0;
+  expect_invalid(c, "ways");
+  c = {};
+  c.line_bytes = 0;
+  expect_invalid(c, "line_bytes");
+  c = {};
+  c.line_bytes = 48;  // not a power of two
+  expect_invalid(c, "line_bytes");
+  c = {};
+  c.line_bytes = 2;  // below 4
+  expect_invalid(c, "line_bytes");
+  c = {};
+  c.mshrs = 0;
+  expect_invalid(c, "mshrs");
+  expect_invalid(tiny(3 * 2 * 64, 2), "size_bytes");  // 3 sets
+  expect_invalid(tiny(128, 4), "ways");               // 4 ways, 2 lines
+  expect_invalid(tiny(100, 1), "size_bytes");         // not a whole number of lines
+  expect_invalid(tiny(5 * 64, 2), "size_bytes");      // 5 lines, 2 ways
+  EXPECT_NO_THROW(tiny(64, 1).validate());            // one line, direct-mapped
+  EXPECT_NO_THROW(tiny(256, 4).validate());           // fully associative
+  FakeMemory mem;
+  // A cache built with a bad configuration reports rtsim/config (model/sim/report.h).
+  test::ExpectReports expected({"rtsim/config"});
+  EXPECT_THROW(Cache("c", tiny(128, 4), Clock(), &mem), sc_core::sc_report);
+  EXPECT_THROW(Cache("c", tiny(256, 2), Clock(), nullptr), sc_core::sc_report);
+}
+
+CacheConfig with_banks(uint32_t banks, uint32_t ports, FillPort fill = FillPort::kShared) {
+  CacheConfig c = tiny(4096, 2, /*hit=*/4);
+  c.banks = banks;
+  c.ports = ports;
+  c.fill_port = fill;
+  return c;
+}
+
+TEST(CacheBanks, KRequestsToOneSinglePortedBankCompleteOneCycleApart) {
+  FakeMemory mem;
+  Cache c("c", with_banks(4, 1), Clock(), &mem);
+  // Lines 0, 256, 512, 768 all map to bank 0 (line number mod 4 = 0); make them present.
+  for (uint64_t line : {0, 256, 512, 768}) c.fetch_line(line, 0, nullptr, 0);
+  const CacheStats before = c.stats();
+  const Tick t = 1000 * kNs;
+  for (uint64_t k = 0; k < 4; ++k) EXPECT_EQ(c.fetch_line(k * 256, t, nullptr, 0), t + (4 + k) * kNs);
+  EXPECT_EQ(c.stats().bank_stall_events - before.bank_stall_events, 3u);
+  EXPECT_EQ(c.stats().bank_stall_cycles - before.bank_stall_cycles, 1u + 2 + 3);
+}
+
+TEST(CacheBanks, RequestsToKDifferentBanksCompleteTogether) {
+  FakeMemory mem;
+  Cache c("c", with_banks(4, 1), Clock(), &mem);
+  for (uint64_t line : {0, 64, 128, 192}) c.fetch_line(line, 0, nullptr, 0);
+  const Tick t = 1000 * kNs;
+  for (uint64_t line : {0, 64, 128, 192}) EXPECT_EQ(c.fetch_line(line, t, nullptr, 0), t + 4 * kNs);
+  EXPECT_EQ(c.stats().bank_stall_events, 0u);
+}
+
+TEST(CacheBanks, PortsPerBankServeThatManyPerCycle) {
+  FakeMemory mem;
+  Cache c("c", with_banks(1, 2), Clock(), &mem);
+  for (uint64_t line : {0, 64, 128}) c.fetch_line(line, 0, nullptr, 0);
+  const Tick t = 1000 * kNs;
+  EXPECT_EQ(c.fetch_line(0, t, nullptr, 0), t + 4 * kNs);
+  EXPECT_EQ(c.fetch_line(64, t, nullptr, 0), t + 4 * kNs);
+  EXPECT_EQ(c.fetch_line(128, t, nullptr, 0), t + 5 * kNs);
+}
+
+TEST(CacheBanks, AFillTakesASlotOfItsBankUnlessFillsHaveTheirOwnPort) {
+  for (FillPort fill : {FillPort::kShared, FillPort::kSeparate}) {
+    FakeMemory mem;  // answers after 10 ns
+    Cache c("c", with_banks(1, 1, fill), Clock(), &mem);
+    c.fetch_line(64, 0, nullptr, 0);  // present long before
+    // A miss at 100: tag check in slot 100, memory asked at 104, fill written at 114.
+    const Tick miss = c.fetch_line(0, 100 * kNs, nullptr, 0);
+    EXPECT_EQ(miss, 114 * kNs);
+    // A lookup for cycle 114 finds the slot taken by the fill (shared) or free (separate).
+    const Tick hit = c.fetch_line(64, 114 * kNs, nullptr, 0);
+    EXPECT_EQ(hit, (fill == FillPort::kShared ? 119 : 118) * kNs);
+  }
+}
+
+TEST(CacheBanks, WaitsAreCountedPerRequesterType) {
+  FakeMemory mem;
+  Cache c("c", with_banks(1, 1), Clock(), &mem);
+  Recorder a, b;
+  c.name_requester(&a, "ist");
+  c.name_requester(&b, "shading");
+  c.fetch_line(0, 0, nullptr, 0);
+  const Tick t = 1000 * kNs;
+  c.fetch_line(0, t, &a, 1);
+  c.fetch_line(0, t, &b, 2);  // waits 1
+  c.fetch_line(0, t, &b, 3);  // waits 2
+  c.fetch_line(0, t, &a, 4);  // waits 3
+  StatsRegistry r;
+  c.register_stats(r, "c");
+  EXPECT_EQ(r.value("c.bank.stall_cycles_by.ist"), 3.0);
+  EXPECT_EQ(r.value("c.bank.stall_cycles_by.shading"), 3.0);
+  EXPECT_EQ(r.value("c.bank.stall_cycles"), 6.0);
+}
+
+TEST(CacheBanks, BanksAreCheckedAgainstTheSets) {
+  CacheConfig c = with_banks(3, 1);
+  expect_invalid(c, "banks");
+  c = with_banks(64, 1);  // 4096 / (2 * 64) = 32 sets
+  expect_invalid(c, "banks");
+  c = with_banks(2, 65);
+  expect_invalid(c, "ports");
+  EXPECT_NO_THROW(with_banks(32, 1).validate());
+}
+
+TEST(Cache, RejectsUnalignedLineAddress) {
+  FakeMemory mem;
+  Cache c("c", tiny(256, 2), Clock(), &mem);
+  test::ExpectReports expected({"rtsim/internal"});
+  EXPECT_THROW(c.fetch_line(65, 0, nullptr, 0), sc_core::sc_report);
+  EXPECT_THROW(c.on_fill(128, 128, 0), sc_core::sc_report);  // a fill nobody asked for
+}
+
+TEST(Cache, HitLatencyIsInCyclesOfItsClock) {
+  FakeMemory mem;
+  Cache c("c", tiny(256, 2, /*hit=*/3), Clock(0.5), &mem);  // 2 ns period
+  // Miss: the tag check (3 cycles = 6 ns) then the memory's 10 ns.
+  EXPECT_EQ(c.fetch_line(0, 0, nullptr, 0), 16 * kNs);
+  ASSERT_EQ(mem.requests.size(), 1u);
+  EXPECT_EQ(mem.requests[0].now, 6 * kNs);
+  EXPECT_EQ(mem.requests[0].listener, &c);
+  EXPECT_EQ(mem.requests[0].cookie, 0u);
+  EXPECT_EQ(c.fetch_line(0, 16 * kNs, nullptr, 0), 22 * kNs);  // delivered by now: a hit
+  EXPECT_EQ(c.fetch_line(0, 1001 * kNs, nullptr, 0), 1007 * kNs);
+  EXPECT_EQ(c.stats().hits, 2u);
+  EXPECT_EQ(c.stats().misses, 1u);
+  EXPECT_EQ(mem.requests.size(), 1u);
+}
+
+TEST(Cache, LruReplacementGivesExactHitsAndMisses) {
+  // 2 sets x 2 ways. Set 0 holds A, B, C (addresses 0, 128, 256); set 1 holds D (64).
+  FakeMemory mem;
+  Cache c("c", tiny(256, 2), Clock(), &mem);
+  const uint64_t A = 0, B = 128, C = 256, D = 64;
+  struct Step {
+    uint64_t line;
+    bool hit;
+  };
+  // Under FIFO the 4th access (C) would evict A, not B, and everything after would differ.
+  const std::vector<Step> steps = {
+      {A, false}, {B, false}, {A, true},   // set 0: A B
+      {C, false},                          // evicts B (A used more recently)
+      {B, false},                          // evicts A (C newer)
+      {A, false},                          // evicts C
+      {B, true},                           //
+      {C, false},                          // evicts A (B newer)
+      {A, false},                          // evicts B
+      {D, false}, {D, true},               // the other set is independent
+  };
+  Tick t = 0;
+  for (size_t i = 0; i < steps.size(); ++i, t += 100 * kNs) {
+    const Tick expect = steps[i].hit ? t + 1 * kNs : t + 11 * kNs;
+    EXPECT_EQ(c.fetch_line(steps[i].line, t, nullptr, 0), expect) << "step " << i;
+  }
+  EXPECT_EQ(c.stats().accesses, 11u);
+  EXPECT_EQ(c.stats().hits, 3u);
+  EXPECT_EQ(c.stats().misses, 8u);
+  EXPECT_EQ(c.stats().evictions, 5u);
+  EXPECT_EQ(c.stats().fills, 8u);
+  EXPECT_EQ(c.stats().mshr_merges, 0u);
+  EXPECT_TRUE(c.contains(A));
+  EXPECT_TRUE(c.contains(C));
+  EXPECT_FALSE(c.contains(B));
+  EXPECT_TRUE(c.contains(D));
+}
+
+TEST(Cache, MergeIntoKnownFillSharesItsDeliveryTime) {
+  FakeMemory mem;
+  mem.latency = 100 * kNs;
+  Cache c("c", tiny(256, 2), Clock(), &mem);
+  EXPECT_EQ(c.fetch_line(0, 0, nullptr, 0), 101 * kNs);
+  EXPECT_EQ(c.fetch_line(0, 5 * kNs, nullptr, 0), 101 * kNs);  // merged: same delivery
+  // Just before the delivery a merge is never faster than a hit: max(T, now + hit_latency).
+  EXPECT_EQ(c.fetch_line(0, 100'500, nullptr, 0), 101'500u);
+  EXPECT_EQ(c.fetch_line(0, 101 * kNs, nullptr, 0), 102 * kNs);  // delivered: a hit
+  EXPECT_EQ(mem.requests.size(), 1u);
+  EXPECT_EQ(c.stats().accesses, 4u);
+  EXPECT_EQ(c.stats().misses, 1u);
+  EXPECT_EQ(c.stats().mshr_merges, 2u);
+  EXPECT_EQ(c.stats().hits, 1u);
+}
+
+TEST(Cache, MergeIntoUnknownFillIsToldWithItsOwnCookie) {
+  FakeMemory mem;
+  mem.latency = kUnknown;
+  Cache c("c", tiny(256, 2), Clock(), &mem);
+  Recorder r1, r2;
+  EXPECT_EQ(c.fetch_line(128, 0, &r1, 7), kUnknown);
+  EXPECT_EQ(c.fetch_line(128, 2 * kNs, &r2, 8), kUnknown);
+  ASSERT_EQ(mem.requests.size(), 1u);  // one request below for both
+  EXPECT_EQ(mem.requests[0].line, 128u);
+  EXPECT_EQ(mem.requests[0].now, 1 * kNs);
+  EXPECT_EQ(c.stats().misses, 1u);
+  EXPECT_EQ(c.stats().mshr_merges, 1u);
+  EXPECT_TRUE(r1.fills.empty());
+  c.on_fill(128, mem.requests[0].cookie, 90 * kNs);
+  EXPECT_EQ(r1.fills, (std::vector<Fill>{{128, 7, 90 * kNs}}));
+  EXPECT_EQ(r2.fills, (std::vector<Fill>{{128, 8, 90 * kNs}}));
+  EXPECT_EQ(c.fetch_line(128, 100 * kNs, &r1, 9), 101 * kNs);  // now a hit
+  EXPECT_EQ(r1.fills.size(), 1u);
+  EXPECT_EQ(c.stats().fills, 1u);
+}
+
+TEST(Cache, MshrLimitWithKnownTimesDelaysTheMissUntilTheEarliestFrees) {
+  // 4 sets x 2 ways, 2 MSHRs; lines 0, 64, 128, 192 fall in different sets.
+  FakeMemory mem;
+  Cache c("c", tiny(512, 2, 1, /*mshrs=*/2), Clock(), &mem);
+  mem.latency = 100 * kNs;
+  EXPECT_EQ(c.fetch_line(0, 0, nullptr, 0), 101 * kNs);
+  mem.latency = 50 * kNs;
+  EXPECT_EQ(c.fetch_line(64, 0, nullptr, 0), 51 * kNs);
+  // Third miss: both MSHRs busy, the earliest frees at 51 ns; issued then (tag check, memory).
+  mem.latency = 20 * kNs;
+  EXPECT_EQ(c.fetch_line(128, 0, nullptr, 0), 72 * kNs);
+  EXPECT_EQ(mem.requests.back().now, 52 * kNs);
+  EXPECT_EQ(c.stats().mshr_stall_events, 1u);
+  EXPECT_EQ(c.stats().mshr_stall_cycles, 51u);
+  // Fourth at 10 ns: MSHRs free at 101 ns and 72 ns -> waits 62 cycles.
+  EXPECT_EQ(c.fetch_line(192, 10 * kNs, nullptr, 0), 93 * kNs);
+  EXPECT_EQ(c.stats().mshr_stall_events, 2u);
+  EXPECT_EQ(c.stats().mshr_stall_cycles, 51u + 62u);
+  // A merge needs no MSHR; a miss at 200 ns finds them all free.
+  EXPECT_EQ(c.fetch_line(0, 20 * kNs, nullptr, 0), 101 * kNs);
+  EXPECT_EQ(c.fetch_line(256, 200 * kNs, nullptr, 0), 221 * kNs);
+  EXPECT_EQ(c.stats().mshr_stall_events, 2u);
+  EXPECT_EQ(c.stats().misses, 5u);
+  EXPECT_EQ(c.stats().mshr_merges, 1u);
+}
+
+TEST(Cache, SetAllInFlightIsAStructuralStall) {
+  FakeMemory mem;
+  mem.latency = 100 * kNs;
+  Cache c("c", tiny(64, 1), Clock(), &mem);  // one line
+  EXPECT_EQ(c.fetch_line(0, 0, nullptr, 0), 101 * kNs);
+  // The only way is in flight until 101 ns: the miss goes then and evicts line 0.
+  EXPECT_EQ(c.fetch_line(64, 0, nullptr, 0), 202 * kNs);
+  EXPECT_EQ(mem.requests.back().now, 102 * kNs);
+  EXPECT_EQ(c.stats().mshr_stall_events, 1u);
+  EXPECT_EQ(c.stats().mshr_stall_cycles, 101u);
+  EXPECT_EQ(c.stats().evictions, 1u);
+  EXPECT_FALSE(c.contains(0));
+}
+
+TEST(Cache, MshrLimitWithUnknownTimesQueuesUntilAFill) {
+  FakeMemory mem;
+  mem.latency = kUnknown;
+  Cache c("c", tiny(512, 2, 1, /*mshrs=*/2), Clock(), &mem);
+  Recorder r;
+  EXPECT_EQ(c.fetch_line(0, 0, &r, 1), kUnknown);
+  EXPECT_EQ(c.fetch_line(64, 0, &r, 2), kUnknown);
+  EXPECT_EQ(c.fetch_line(128, 3 * kNs, &r, 3), kUnknown);  // no MSHR, none with a known time
+  EXPECT_EQ(c.queued_requests(), 1u);
+  EXPECT_EQ(mem.requests.size(), 2u);
+  EXPECT_EQ(c.stats().mshr_stall_events, 1u);
+  EXPECT_EQ(c.fetch_line(0, 4 * kNs, &r, 4), kUnknown);  // merges, needs no MSHR
+  EXPECT_EQ(c.stats().mshr_merges, 1u);
+
+  mem.latency = 20 * kNs;
+  c.on_fill(0, 0, 40 * kNs);
+  // The fill's waiters, then the queued miss, issued at the fill time (40 + 1 + 20).
+  EXPECT_EQ(r.fills, (std::vector<Fill>{{0, 1, 40 * kNs}, {0, 4, 40 * kNs}, {128, 3, 61 * kNs}}));
+  ASSERT_EQ(mem.requests.size(), 3u);
+  EXPECT_EQ(mem.requests[2].now, 41 * kNs);
+  EXPECT_EQ(c.queued_requests(), 0u);
+  EXPECT_EQ(c.stats().mshr_stall_cycles, 37u);  // 3 ns -> 40 ns
+  EXPECT_EQ(c.stats().misses, 3u);
+  c.on_fill(64, 64, 45 * kNs);
+  EXPECT_EQ(r.fills.back(), (Fill{64, 2, 45 * kNs}));
+  EXPECT_EQ(c.stats().accesses, c.stats().hits + c.stats().misses + c.stats().mshr_merges);
+}
+
+TEST(Cache, QueuedRequestsToOneLineBecomeOneMissAndMerges) {
+  FakeMemory mem;
+  mem.latency = kUnknown;
+  Cache c("c", tiny(512, 2, 1, /*mshrs=*/1), Clock(), &mem);
+  Recorder r;
+  EXPECT_EQ(c.fetch_line(0, 0, &r, 1), kUnknown);
+  EXPECT_EQ(c.fetch_line(64, 2 * kNs, &r, 5), kUnknown);
+  EXPECT_EQ(c.fetch_line(64, 3 * kNs, &r, 6), kUnknown);
+  EXPECT_EQ(c.queued_requests(), 2u);
+  c.on_fill(0, 0, 10 * kNs);
+  EXPECT_EQ(c.queued_requests(), 0u);
+  ASSERT_EQ(mem.requests.size(), 2u);
+  EXPECT_EQ(mem.requests[1].line, 64u);
+  EXPECT_EQ(mem.requests[1].now, 11 * kNs);
+  c.on_fill(64, 64, 30 * kNs);
+  EXPECT_EQ(r.fills, (std::vector<Fill>{{0, 1, 10 * kNs}, {64, 5, 30 * kNs}, {64, 6, 30 * kNs}}));
+  EXPECT_EQ(c.stats().misses, 2u);
+  EXPECT_EQ(c.stats().mshr_merges, 1u);
+  EXPECT_EQ(c.stats().mshr_stall_events, 2u);
+  EXPECT_EQ(c.stats().mshr_stall_cycles, 8u + 7u);
+}
+
+void expect_line_equals_memory(const Cache& c, const FakeMemory& mem, uint64_t line) {
+  const uint8_t* p = c.line_data(line);
+  EXPECT_FALSE(mem.owns(p)) << "line " << line << " not served from the cache's own copy";
+  EXPECT_EQ(std::memcmp(p, &mem.bytes[line], 64), 0) << "line " << line;
+}
+
+TEST(Cache, DataEqualsTheBackingStoreAcrossEvictionAndRefetch) {
+  FakeMemory mem;
+  Cache c("c", tiny(256, 2), Clock(), &mem);
+  Tick t = 0;
+  for (uint64_t line : {0, 64, 128, 192}) {
+    c.fetch_line(line, t, nullptr, 0);
+    t += 100 * kNs;
+    expect_line_equals_memory(c, mem, line);
+  }
+  c.fetch_line(256, t, nullptr, 0);  // evicts 0
+  t += 100 * kNs;
+  EXPECT_FALSE(c.contains(0));
+  // An evicted line's bytes still come out right (from below).
+  EXPECT_EQ(std::memcmp(c.line_data(0), &mem.bytes[0], 64), 0);
+  expect_line_equals_memory(c, mem, 256);
+  c.fetch_line(0, t, nullptr, 0);  // refetched into 128's way
+  EXPECT_FALSE(c.contains(128));
+  expect_line_equals_memory(c, mem, 0);
+  expect_line_equals_memory(c, mem, 256);
+  expect_line_equals_memory(c, mem, 64);
+
+  // Through an unknown-time fill.
+  mem.latency = kUnknown;
+  Recorder r;
+  c.fetch_line(4096, t, &r, 0);
+  // Not arrived yet: the way still holds the victim's bytes, so the answer comes from below.
+  EXPECT_EQ(std::memcmp(c.line_data(4096), &mem.bytes[4096], 64), 0);
+  c.on_fill(4096, 4096, t + 50 * kNs);
+  expect_line_equals_memory(c, mem, 4096);
+}
+
+TEST(Cache, L1OverL2AddsHitLatenciesOnTheWayDown) {
+  FakeMemory mem;
+  mem.latency = 30 * kNs;
+  Cache l2("l2", tiny(1024, 4, /*hit=*/4), Clock(), &mem);
+  Cache l1("l1", tiny(256, 2, /*hit=*/1), Clock(), &l2);
+  // Cold: L1 tag check 1, L2 tag check 4, memory 30.
+  EXPECT_EQ(l1.fetch_line(0, 0, nullptr, 0), 35 * kNs);
+  EXPECT_EQ(mem.requests.back().now, 5 * kNs);
+  EXPECT_EQ(mem.requests.back().listener, &l2);
+  // Evict line 0 from the L1 (set 0 also holds 128 and 256); the L2 keeps it.
+  l1.fetch_line(128, 100 * kNs, nullptr, 0);
+  l1.fetch_line(256, 200 * kNs, nullptr, 0);
+  EXPECT_FALSE(l1.contains(0));
+  EXPECT_TRUE(l2.contains(0));
+  // L1 miss + L2 hit = now + l1 hit + l2 hit latencies.
+  EXPECT_EQ(l1.fetch_line(0, 1000 * kNs, nullptr, 0), 1005 * kNs);
+  EXPECT_EQ(l2.stats().hits, 1u);
+  EXPECT_EQ(l2.stats().misses, 3u);
+  EXPECT_EQ(l1.stats().misses, 4u);
+  expect_line_equals_memory(l1, mem, 0);
+  EXPECT_NE(l1.line_data(0), l2.line_data(0));
+}
+
+TEST(Cache, DramFillPropagatesThroughL2AndL1ToEveryWaiter) {
+  FakeMemory mem;
+  mem.latency = kUnknown;
+  Cache l2("l2", tiny(1024, 4, 4), Clock(), &mem);
+  Cache l1("l1", tiny(256, 2, 1), Clock(), &l2);
+  Recorder unit;
+  EXPECT_EQ(l1.fetch_line(512, 0, &unit, 99), kUnknown);
+  EXPECT_EQ(l1.fetch_line(512, 2 * kNs, &unit, 100), kUnknown);
+  ASSERT_EQ(mem.requests.size(), 1u);
+  EXPECT_EQ(mem.requests[0].now, 5 * kNs);
+  EXPECT_EQ(l2.stats().accesses, 1u);  // the L1 merged the second
+  l2.on_fill(512, mem.requests[0].cookie, 40 * kNs);
+  EXPECT_EQ(unit.fills, (std::vector<Fill>{{512, 99, 40 * kNs}, {512, 100, 40 * kNs}}));
+  expect_line_equals_memory(l1, mem, 512);
+  expect_line_equals_memory(l2, mem, 512);
+  EXPECT_EQ(l1.fetch_line(512, 40 * kNs, &unit, 101), 41 * kNs);
+}
+
+TEST(Cache, ListenersMayCallBackIntoTheCacheFromOnFill) {
+  // One line, one MSHR: the first waiter's next request evicts the line before the second
+  // waiter reads it; the second must still read the right bytes.
+  FakeMemory mem;
+  mem.latency = kUnknown;
+  Cache c("c", tiny(64, 1, 1, 1), Clock(), &mem);
+  Recorder first, second;
+  Tick reissued = 0;
+  first.hook = [&](uint64_t, uint64_t, Tick when) { reissued = c.fetch_line(64, when, &first, 2); };
+  bool second_read_ok = false;
+  second.hook = [&](uint64_t line, uint64_t, Tick) {
+    second_read_ok = std::memcmp(c.line_data(line), &mem.bytes[line], 64) == 0;
+  };
+  c.fetch_line(0, 0, &first, 1);
+  c.fetch_line(0, 1 * kNs, &second, 1);
+  c.on_fill(0, 0, 10 * kNs);
+  EXPECT_EQ(reissued, kUnknown);
+  EXPECT_FALSE(c.contains(0));
+  EXPECT_TRUE(second_read_ok);
+  ASSERT_EQ(mem.requests.size(), 2u);
+  EXPECT_EQ(mem.requests[1].now, 11 * kNs);
+  c.on_fill(64, 64, 30 * kNs);
+  EXPECT_EQ(first.fills.back(), (Fill{64, 2, 30 * kNs}));
+}
+
+TEST(Cache, RegistersItsStatisticsByName) {
+  FakeMemory mem;
+  Cache c("c", tiny(256, 2), Clock(), &mem);
+  StatsRegistry r;
+  c.register_stats(r, "trv.l1.3");
+  EXPECT_DOUBLE_EQ(r.value("trv.l1.3.hit_rate"), 0.0);
+  c.fetch_line(0, 0, nullptr, 0);
+  c.fetch_line(0, 100 * kNs, nullptr, 0);
+  c.fetch_line(0, 200 * kNs, nullptr, 0);
+  c.fetch_line(64, 300 * kNs, nullptr, 0);
+  for (const char* n : {"accesses", "hits", "misses", "mshr_merges", "mshr_stall_events", "mshr_stall_cycles",
+                        "fills", "evictions", "hit_rate"})
+    EXPECT_TRUE(r.has(std::string("trv.l1.3.") + n)) << n;
+  EXPECT_DOUBLE_EQ(r.value("trv.l1.3.accesses"), 4.0);
+  EXPECT_DOUBLE_EQ(r.value("trv.l1.3.hits"), 2.0);
+  EXPECT_DOUBLE_EQ(r.value("trv.l1.3.misses"), 2.0);
+  EXPECT_DOUBLE_EQ(r.value("trv.l1.3.fills"), 2.0);
+  EXPECT_DOUBLE_EQ(r.value("trv.l1.3.hit_rate"), 0.5);
+}
+
+}  // namespace
+}  // namespace rtsim::model

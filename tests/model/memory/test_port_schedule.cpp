@@ -1,0 +1,70 @@
+// The port calendar: first come, first served slots per cycle, future reservations, and its
+// union-find skip over full cycles.
+#include "model/memory/port_schedule.h"
+
+#include <gtest/gtest.h>
+
+namespace rtsim::model {
+namespace {
+
+constexpr Tick kCycle = 1000;  // 1 GHz
+
+TEST(PortSchedule, OneSlotPerCycleServesRequestsOneCycleApart) {
+  PortSchedule p(kCycle, 1);
+  for (uint64_t k = 0; k < 5; ++k) EXPECT_EQ(p.reserve(10 * kCycle), (10 + k) * kCycle);
+  EXPECT_EQ(p.stats().requests, 5u);
+  EXPECT_EQ(p.stats().delayed, 4u);
+  EXPECT_EQ(p.stats().wait_cycles, 0u + 1 + 2 + 3 + 4);
+  EXPECT_EQ(p.stats().max_wait_cycles, 4u);
+}
+
+TEST(PortSchedule, TwoPortsServeTwoPerCycle) {
+  PortSchedule p(kCycle, 2);
+  const Tick expect[] = {0, 0, kCycle, kCycle, 2 * kCycle};
+  for (Tick e : expect) EXPECT_EQ(p.reserve(0), e);
+}
+
+TEST(PortSchedule, AnEarlierTimeAskedLaterFindsTheIdleCyclesBeforeALaterReservation) {
+  PortSchedule p(kCycle, 1);
+  EXPECT_EQ(p.reserve(20 * kCycle), 20 * kCycle);
+  EXPECT_EQ(p.reserve(5 * kCycle), 5 * kCycle);    // not pushed behind cycle 20
+  EXPECT_EQ(p.reserve(19 * kCycle), 19 * kCycle);
+  EXPECT_EQ(p.reserve(19 * kCycle), 21 * kCycle);  // 19 and 20 are taken
+  EXPECT_EQ(p.reserve(5 * kCycle), 6 * kCycle);
+}
+
+TEST(PortSchedule, TimesBetweenEdgesRoundUp) {
+  PortSchedule p(kCycle, 1);
+  EXPECT_EQ(p.reserve(1), kCycle);
+  EXPECT_EQ(p.reserve(kCycle), 2 * kCycle);
+}
+
+TEST(PortSchedule, ManyRequestsOnOneCycleStayFirstComeFirstServed) {
+  // Far more than the ring's first size, and spread far ahead: the ring grows without losing a
+  // reservation.
+  PortSchedule p(kCycle, 1);
+  const uint64_t n = 5000;
+  for (uint64_t k = 0; k < n; ++k) ASSERT_EQ(p.reserve(100 * kCycle), (100 + k) * kCycle);
+  EXPECT_EQ(p.reserve(99 * kCycle), 99 * kCycle);
+  EXPECT_EQ(p.reserve(1000000 * kCycle), 1000000 * kCycle);
+  EXPECT_EQ(p.reserve(100 * kCycle), (100 + n) * kCycle);
+  EXPECT_EQ(p.reserve(1000000 * kCycle), 1000001 * kCycle);
+}
+
+TEST(PortSchedule, RunsTakeConsecutiveFreeCycles) {
+  PortSchedule p(kCycle, 1);
+  EXPECT_EQ(p.reserve(3 * kCycle), 3 * kCycle);
+  // Three flits from cycle 2: 2, then 4 and 5 around the taken cycle 3.
+  EXPECT_EQ(p.reserve_run(2 * kCycle, 3), 5 * kCycle);
+}
+
+TEST(PortSchedule, TheIdealPortNeverDelays) {
+  PortSchedule p(kCycle, 0);
+  for (int k = 0; k < 100; ++k) EXPECT_EQ(p.reserve(7 * kCycle + 3), 7 * kCycle + 3);
+  EXPECT_TRUE(p.ideal());
+  EXPECT_EQ(p.stats().requests, 100u);
+  EXPECT_EQ(p.stats().delayed, 0u);
+}
+
+}  // namespace
+}  // namespace rtsim::model
