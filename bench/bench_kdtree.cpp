@@ -22,10 +22,11 @@
 namespace {
 
 [[noreturn]] void usage(const char* msg) {
-  std::fprintf(stderr,
-               "bench_kdtree: %s\nusage: bench_kdtree [FILE.ply] [--aff FILE.aff] [--time T] [--runs N]\n"
-               "       [--ki K_I] [--kt K_T] [--empty-bonus B] [--max-depth D] [--max-prims M]\n",
-               msg);
+  std::fprintf(
+      stderr,
+      "bench_kdtree: %s\nusage: bench_kdtree [FILE.ply] [--aff FILE.aff] [--time T] [--runs N]\n   "
+      "    [--ki K_I] [--kt K_T] [--empty-bonus B] [--max-depth D] [--max-prims M]\n",
+      msg);
   std::exit(2);
 }
 
@@ -44,16 +45,26 @@ int main(int argc, char** argv) {
       if (i + 1 >= argc) usage(("missing value after " + a).c_str());
       return argv[++i];
     };
-    if (a == "--aff") aff = value();
-    else if (a == "--time") time = std::atof(value());
-    else if (a == "--runs") runs = std::max(1, std::atoi(value()));
-    else if (a == "--ki") params.intersection_cost = float(std::atof(value()));
-    else if (a == "--kt") params.traversal_cost = float(std::atof(value()));
-    else if (a == "--empty-bonus") params.empty_bonus = float(std::atof(value()));
-    else if (a == "--max-depth") params.max_depth = std::atoi(value());
-    else if (a == "--max-prims") params.max_prims_per_leaf = std::atoi(value());
-    else if (!a.empty() && a[0] == '-') usage(("unknown option " + a).c_str());
-    else ply = a;
+    if (a == "--aff")
+      aff = value();
+    else if (a == "--time")
+      time = std::atof(value());
+    else if (a == "--runs")
+      runs = std::max(1, std::atoi(value()));
+    else if (a == "--ki")
+      params.intersection_cost = float(std::atof(value()));
+    else if (a == "--kt")
+      params.traversal_cost = float(std::atof(value()));
+    else if (a == "--empty-bonus")
+      params.empty_bonus = float(std::atof(value()));
+    else if (a == "--max-depth")
+      params.max_depth = std::atoi(value());
+    else if (a == "--max-prims")
+      params.max_prims_per_leaf = std::atoi(value());
+    else if (!a.empty() && a[0] == '-')
+      usage(("unknown option " + a).c_str());
+    else
+      ply = a;
   }
 
   Scene scene;
@@ -68,9 +79,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_kdtree: %s\n", e.what());
     return 2;
   }
-  const double load_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("scene: %s\ntriangles: %zu (loaded in %.3f s)\n", aff.empty() ? ply.c_str() : aff.c_str(),
-              scene.triangles.size(), load_s);
+  const double load_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::printf("scene: %s\ntriangles: %zu (loaded in %.3f s)\n",
+              aff.empty() ? ply.c_str() : aff.c_str(), scene.triangles.size(), load_s);
   std::printf("params: K_T %.3g  K_I %.3g  empty bonus %.3g  max depth %d  max prims %d\n",
               params.traversal_cost, params.intersection_cost, params.empty_bonus, params.max_depth,
               params.max_prims_per_leaf);
@@ -87,11 +99,13 @@ int main(int argc, char** argv) {
     cpu.push_back(c);
     std::printf("build %d: %.3f s (cpu %.3f s)\n", r + 1, tree.stats.build_seconds, c);
   }
-  std::printf("median: %.3f s (cpu %.3f s) over %d builds\n", bench::median(wall), bench::median(cpu), runs);
+  std::printf("median: %.3f s (cpu %.3f s) over %d builds\n", bench::median(wall),
+              bench::median(cpu), runs);
 
   const KdTreeStats& s = tree.stats;
   std::printf("nodes %llu (inner %llu, leaves %llu, empty %llu)\n", (unsigned long long)s.nodes,
-              (unsigned long long)s.inner_nodes, (unsigned long long)s.leaves, (unsigned long long)s.empty_leaves);
+              (unsigned long long)s.inner_nodes, (unsigned long long)s.leaves,
+              (unsigned long long)s.empty_leaves);
   std::printf("prim refs %llu (%.2f per triangle), mean %.2f / max %u per non-empty leaf\n",
               (unsigned long long)s.prim_refs,
               scene.triangles.empty() ? 0.0 : double(s.prim_refs) / double(scene.triangles.size()),

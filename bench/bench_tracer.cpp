@@ -23,11 +23,16 @@ int main(int argc, char** argv) {
   int repeat = 5;
   for (int i = 1; i < argc; ++i) {
     auto next = [&] { return bench::option_value(argc, argv, i); };
-    if (!std::strcmp(argv[i], "--width")) prep.width = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--height")) prep.height = std::atoi(next());
-    else if (!std::strcmp(argv[i], "--repeat")) repeat = std::max(1, std::atoi(next()));
-    else if (!std::strcmp(argv[i], "--scene-root")) prep.scene_root = next();
-    else scene_file = argv[i];
+    if (!std::strcmp(argv[i], "--width"))
+      prep.width = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--height"))
+      prep.height = std::atoi(next());
+    else if (!std::strcmp(argv[i], "--repeat"))
+      repeat = std::max(1, std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--scene-root"))
+      prep.scene_root = next();
+    else
+      scene_file = argv[i];
   }
   const PreparedScene p = prepare_scene(scene_file, prep);
   const ReferenceTracer tracer(*p.image);
@@ -59,12 +64,13 @@ int main(int argc, char** argv) {
     auto t2 = std::chrono::steady_clock::now();
     prim_rate.push_back(primary.size() / std::chrono::duration<double>(t1 - t0).count());
     shadow_rate.push_back(shadow.size() / std::chrono::duration<double>(t2 - t1).count());
-    fmt::print("run {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s\n", k, prim_rate.back() / 1e6,
-               shadow_rate.back() / 1e6);
+    fmt::print("run {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s\n", k,
+               prim_rate.back() / 1e6, shadow_rate.back() / 1e6);
   }
   fmt::print("{}: {} triangles, {}x{}, {} primary rays, {} shadow rays, one core\n", p.scene.name,
-             p.scene.triangles.size(), p.scene.width, p.scene.height, primary.size(), shadow.size());
-  fmt::print("median of {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s (checksum {})\n", repeat,
-             bench::median(prim_rate) / 1e6, bench::median(shadow_rate) / 1e6, sink);
+             p.scene.triangles.size(), p.scene.width, p.scene.height, primary.size(),
+             shadow.size());
+  fmt::print("median of {}: {:.3f} M primary rays/s, {:.3f} M shadow rays/s (checksum {})\n",
+             repeat, bench::median(prim_rate) / 1e6, bench::median(shadow_rate) / 1e6, sink);
   return 0;
 }

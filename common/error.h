@@ -15,6 +15,7 @@ class InputError : public std::runtime_error {
 // "FILE:LINE: MESSAGE" (line <= 0 omits the line).
 [[noreturn]] void throw_at_line(const std::string& file, long line, const std::string& message);
 // "FILE: key 'KEY': MESSAGE".
-[[noreturn]] void throw_at_key(const std::string& file, const std::string& key, const std::string& message);
+[[noreturn]] void throw_at_key(const std::string& file, const std::string& key,
+                               const std::string& message);
 
 }  // namespace rtsim

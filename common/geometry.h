@@ -1,8 +1,8 @@
 // Geometry shared by the host kernels and the hardware model: vectors, boxes, triangles.
 #pragma once
 
-#include <glm/vec3.hpp>
 #include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
 
 #include <algorithm>
 #include <cstdint>
@@ -35,8 +35,8 @@ struct AABB {
   }
   // Closed boxes: touching counts as overlapping.
   bool overlaps(const AABB& b) const {
-    return lo.x <= b.hi.x && b.lo.x <= hi.x && lo.y <= b.hi.y && b.lo.y <= hi.y &&
-           lo.z <= b.hi.z && b.lo.z <= hi.z;
+    return lo.x <= b.hi.x && b.lo.x <= hi.x && lo.y <= b.hi.y && b.lo.y <= hi.y && lo.z <= b.hi.z &&
+           b.lo.z <= hi.z;
   }
   bool contains(const Vec3& p) const {
     return p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;

@@ -33,7 +33,10 @@ ConfigOverride parse_override(const std::string& text) {
 
 YamlMap YamlMap::from_node(const YAML::Node& node, std::string file, std::string path,
                            const std::vector<ConfigOverride>& overrides) {
-  if (!node.IsMap()) throw_at_line(file, node.Mark().line + 1, path.empty() ? "expected a mapping of keys" : fmt::format("key '{}': expected a mapping of keys", path));
+  if (!node.IsMap())
+    throw_at_line(file, node.Mark().line + 1,
+                  path.empty() ? "expected a mapping of keys"
+                               : fmt::format("key '{}': expected a mapping of keys", path));
   auto origins = std::make_shared<std::map<std::string, std::string>>();
   for (const ConfigOverride& o : overrides) {
     YAML::Node at = node;
@@ -45,9 +48,12 @@ YamlMap YamlMap::from_node(const YAML::Node& node, std::string file, std::string
         at[o.keys[i]] = YAML::Clone(o.value);
         break;
       }
-      if (!at[o.keys[i]].IsDefined() || at[o.keys[i]].IsNull()) at[o.keys[i]] = YAML::Node(YAML::NodeType::Map);
+      if (!at[o.keys[i]].IsDefined() || at[o.keys[i]].IsNull())
+        at[o.keys[i]] = YAML::Node(YAML::NodeType::Map);
       const YAML::Node next = at[o.keys[i]];
-      if (!next.IsMap()) throw InputError(fmt::format("{}: key '{}' of {} is not a mapping", o.text, key_path, file));
+      if (!next.IsMap())
+        throw InputError(
+            fmt::format("{}: key '{}' of {} is not a mapping", o.text, key_path, file));
       at.reset(next);
     }
   }
@@ -58,7 +64,8 @@ YamlMap YamlMap::from_node(const YAML::Node& node, std::string file, std::string
 
 YamlMap YamlMap::load_file(const std::string& path, const std::vector<ConfigOverride>& overrides) {
   if (!std::filesystem::exists(path)) throw InputError(fmt::format("{}: file not found", path));
-  if (!std::filesystem::is_regular_file(path)) throw InputError(fmt::format("{}: not a regular file", path));
+  if (!std::filesystem::is_regular_file(path))
+    throw InputError(fmt::format("{}: not a regular file", path));
   YAML::Node root;
   try {
     root = YAML::LoadFile(path);
@@ -67,7 +74,8 @@ YamlMap YamlMap::load_file(const std::string& path, const std::vector<ConfigOver
   } catch (const std::exception& e) {
     throw InputError(fmt::format("{}: cannot read YAML: {}", path, e.what()));
   }
-  if (!root.IsMap()) throw_at_line(path, root.Mark().line + 1, "expected a mapping of keys at the top level");
+  if (!root.IsMap())
+    throw_at_line(path, root.Mark().line + 1, "expected a mapping of keys at the top level");
   return from_node(root, path, "", overrides);
 }
 
@@ -77,9 +85,13 @@ YamlMap::YamlMap(const YAML::Node& node, std::string file, std::string path)
   std::set<std::string> seen;
   for (const auto& kv : node_) {
     const long line = kv.first.Mark().line + 1;
-    if (!kv.first.IsScalar()) throw_at_line(file_, line, fmt::format("in '{}': expected a plain key", path_.empty() ? "top level" : path_));
+    if (!kv.first.IsScalar())
+      throw_at_line(
+          file_, line,
+          fmt::format("in '{}': expected a plain key", path_.empty() ? "top level" : path_));
     const std::string key = kv.first.as<std::string>();
-    if (!seen.insert(key).second) throw_at_line(file_, line, fmt::format("key '{}': given twice", key_path(key)));
+    if (!seen.insert(key).second)
+      throw_at_line(file_, line, fmt::format("key '{}': given twice", key_path(key)));
   }
 }
 
@@ -106,7 +118,8 @@ Vec3 YamlMap::require_vec3(const std::string& key) {
   } catch (const YAML::Exception&) {
     fail(key, "expected a list of 3 numbers", n);
   }
-  if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) fail(key, "expected 3 finite numbers", n);
+  if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+    fail(key, "expected 3 finite numbers", n);
   return v;
 }
 
@@ -134,7 +147,9 @@ std::vector<YamlMap> YamlMap::list_of_maps(const std::string& key) {
   std::vector<YamlMap> out;
   for (size_t i = 0; i < n.size(); ++i) {
     const std::string p = fmt::format("{}[{}]", key_path(key), i);
-    if (!n[i].IsMap()) throw_at_line(file_, n[i].Mark().line + 1, fmt::format("key '{}': expected a mapping of keys", p));
+    if (!n[i].IsMap())
+      throw_at_line(file_, n[i].Mark().line + 1,
+                    fmt::format("key '{}': expected a mapping of keys", p));
     out.push_back(sub(n[i], p));
   }
   return out;
@@ -157,7 +172,8 @@ void YamlMap::throw_for(const std::string& key, long line, const std::string& me
   const std::string path = key_path(key);
   if (overridden_) {
     const auto it = overridden_->find(path);
-    if (it != overridden_->end()) throw InputError(fmt::format("{}: key '{}' of {}: {}", it->second, path, file_, message));
+    if (it != overridden_->end())
+      throw InputError(fmt::format("{}: key '{}' of {}: {}", it->second, path, file_, message));
   }
   throw_at_line(file_, line, fmt::format("key '{}': {}", path, message));
 }

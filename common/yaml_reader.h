@@ -33,7 +33,8 @@ class YamlMap {
  public:
   // Parses a whole file, then applies `overrides` to it; a missing file or a syntax error is an
   // InputError. Errors about an overridden key name the override instead of a line.
-  static YamlMap load_file(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
+  static YamlMap load_file(const std::string& path,
+                           const std::vector<ConfigOverride>& overrides = {});
   // A map built in memory (a document's section, or one assembled from command-line flags).
   static YamlMap from_node(const YAML::Node& node, std::string file, std::string path,
                            const std::vector<ConfigOverride>& overrides = {});
@@ -45,7 +46,9 @@ class YamlMap {
     return n.IsDefined() && !n.IsNull();
   }
   const std::string& file() const { return file_; }
-  std::string key_path(const std::string& key) const { return path_.empty() ? key : path_ + "." + key; }
+  std::string key_path(const std::string& key) const {
+    return path_.empty() ? key : path_ + "." + key;
+  }
   std::vector<std::string> keys() const;
 
   template <class T>
@@ -73,13 +76,17 @@ class YamlMap {
   template <class T>
   T get_in_range(const std::string& key, const T& fallback, const T& lo, const T& hi) {
     T v = get<T>(key, fallback);
-    if (!(v >= lo && v <= hi)) fail(key, fmt::format("expected a value in [{}, {}], got {}", lo, hi, v));  // NaN too
+    // NaN too
+    if (!(v >= lo && v <= hi))
+      fail(key, fmt::format("expected a value in [{}, {}], got {}", lo, hi, v));
     return v;
   }
   Vec3 require_vec3(const std::string& key);
-  Vec3 get_vec3(const std::string& key, const Vec3& fallback) { return has(key) ? require_vec3(key) : (mark(key), fallback); }
+  Vec3 get_vec3(const std::string& key, const Vec3& fallback) {
+    return has(key) ? require_vec3(key) : (mark(key), fallback);
+  }
 
-  YamlMap map(const std::string& key);                 // a required nested map
+  YamlMap map(const std::string& key);  // a required nested map
   std::vector<YamlMap> list_of_maps(const std::string& key);
   YAML::Node raw(const std::string& key) { return child(key); }
   YAML::Node raw_sequence(const std::string& key);  // a required list
@@ -87,8 +94,11 @@ class YamlMap {
   // Throws for every key of this map that was never read.
   void finish() const;
 
-  [[noreturn]] void fail(const std::string& key, const std::string& message) const { fail(key, message, node_[key]); }
-  [[noreturn]] void fail(const std::string& key, const std::string& message, const YAML::Node& at) const;
+  [[noreturn]] void fail(const std::string& key, const std::string& message) const {
+    fail(key, message, node_[key]);
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& message,
+                         const YAML::Node& at) const;
 
  private:
   YAML::Node child(const std::string& key);
@@ -97,11 +107,16 @@ class YamlMap {
   [[noreturn]] void throw_for(const std::string& key, long line, const std::string& message) const;
   template <class T>
   static const char* type_name() {
-    if constexpr (std::is_same_v<T, bool>) return "true or false";
-    else if constexpr (std::is_integral_v<T>) return "an integer";
-    else if constexpr (std::is_floating_point_v<T>) return "a number";
-    else if constexpr (std::is_same_v<T, std::string>) return "a string";
-    else return "a value of another type";
+    if constexpr (std::is_same_v<T, bool>)
+      return "true or false";
+    else if constexpr (std::is_integral_v<T>)
+      return "an integer";
+    else if constexpr (std::is_floating_point_v<T>)
+      return "a number";
+    else if constexpr (std::is_same_v<T, std::string>)
+      return "a string";
+    else
+      return "a value of another type";
   }
 
   YAML::Node node_;

@@ -11,7 +11,8 @@ namespace rtsim {
 
 class PinholeCamera {
  public:
-  PinholeCamera(const Camera& cam, int width, int height) : eye_(cam.eye), width_(width), height_(height) {
+  PinholeCamera(const Camera& cam, int width, int height)
+      : eye_(cam.eye), width_(width), height_(height) {
     forward_ = glm::normalize(cam.dir);
     right_ = glm::normalize(glm::cross(forward_, cam.up));
     up_ = glm::cross(right_, forward_);

@@ -140,7 +140,8 @@ class Builder {
 
   void run() {
     // Event codes and node records keep 30 bits for a triangle index or a count.
-    if (tris_.size() >= (size_t(1) << 30)) throw std::length_error("build_kdtree: more than 2^30 triangles");
+    if (tris_.size() >= (size_t(1) << 30))
+      throw std::length_error("build_kdtree: more than 2^30 triangles");
     const uint32_t n_input = static_cast<uint32_t>(tris_.size());
     flags_.assign(n_input, 0);
 
@@ -193,7 +194,8 @@ class Builder {
     SplitPlane plane;
     if (n > 0 && depth < depth_limit_) {
       SplitPlane best, forced;
-      const bool want_forced = params_.max_prims_per_leaf > 0 && n > uint32_t(params_.max_prims_per_leaf);
+      const bool want_forced =
+          params_.max_prims_per_leaf > 0 && n > uint32_t(params_.max_prims_per_leaf);
       find_plane(ev, cell, n, best, forced, want_forced);
       if (best.axis >= 0 && best.cost < double(params_.intersection_cost) * n)
         plane = best;
@@ -216,7 +218,8 @@ class Builder {
     // The below child's lists live in levels_[depth + 1] until its subtree is done; only then
     // does the above child's subtree reuse the deeper levels.
     build(depth + 1, next.below, below, n_below);
-    tree_.nodes[index] = KdNode::inner(plane.axis, plane.pos, static_cast<uint32_t>(tree_.nodes.size()));
+    tree_.nodes[index] =
+        KdNode::inner(plane.axis, plane.pos, static_cast<uint32_t>(tree_.nodes.size()));
     build(depth + 1, next.above, above, n_above);
   }
 
@@ -272,8 +275,9 @@ class Builder {
           ++i;
         } while (i < m && list[i].pos_key() == pk);
         const float p = from_order_key(pk);
-        const uint32_t starting = count[kStart] + count[kPlanar];  // triangles whose extent begins at p
-        const uint32_t ending = count[kEnd] + count[kPlanar];      // ... ends at p
+        // Triangles whose extent begins at p
+        const uint32_t starting = count[kStart] + count[kPlanar];
+        const uint32_t ending = count[kEnd] + count[kPlanar];  // ... ends at p
         // In the plane: everything touching p is on both sides.
         consider(p, before + starting, after);
         // Just below p, what begins at p (planar triangles included) is above only; just above
@@ -297,8 +301,9 @@ class Builder {
 
   // Wald & Havran's classify-and-split: the children's lists come out sorted without sorting
   // more than the events of the clipped triangles.
-  void split_events(const EventLists& ev, const SplitPlane& plane, const AABB& below, const AABB& above,
-                    EventLists& out_below, EventLists& out_above, uint32_t& n_below, uint32_t& n_above) {
+  void split_events(const EventLists& ev, const SplitPlane& plane, const AABB& below,
+                    const AABB& above, EventLists& out_below, EventLists& out_above,
+                    uint32_t& n_below, uint32_t& n_above) {
     const int k = plane.axis;
     const uint32_t p = order_key(plane.pos + 0.f);  // compared as order keys
 
@@ -431,11 +436,11 @@ class Builder {
   KdTree& tree_;
   int depth_limit_ = 0;
   double root_sa_ = 0;
-  float min_offset_ = 0;  // see offset_above()
-  std::vector<uint8_t> flags_;         // per triangle, valid while its node is being split
-  std::vector<uint32_t> clip_list_;    // triangles of the current split that need clipping
+  float min_offset_ = 0;             // see offset_above()
+  std::vector<uint8_t> flags_;       // per triangle, valid while its node is being split
+  std::vector<uint32_t> clip_list_;  // triangles of the current split that need clipping
   EventLists root_, new_below_, new_above_;
-  std::vector<Level> levels_;          // reused from node to node: no allocation per node
+  std::vector<Level> levels_;  // reused from node to node: no allocation per node
 };
 
 }  // namespace

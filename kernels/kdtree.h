@@ -52,17 +52,17 @@ static_assert(sizeof(KdNode) == 8, "node record is 8 bytes");
 struct KdLeaf {
   uint32_t first = 0;  // offset into KdTree::prims
   uint32_t count = 0;
-  AABB cell;           // the leaf's kd-tree cell
+  AABB cell;  // the leaf's kd-tree cell
 };
 
 struct KdTreeStats {
   uint64_t nodes = 0, inner_nodes = 0, leaves = 0, empty_leaves = 0;
-  uint64_t prim_refs = 0;  // total primitive references over all leaves
+  uint64_t prim_refs = 0;          // total primitive references over all leaves
   double mean_prims_per_leaf = 0;  // over non-empty leaves
   uint32_t max_prims_per_leaf = 0;
-  int max_depth = 0;       // deepest leaf
-  int depth_limit = 0;     // the limit in force
-  double sah_cost = 0;     // SAH cost of the tree, relative to the root's surface area
+  int max_depth = 0;    // deepest leaf
+  int depth_limit = 0;  // the limit in force
+  double sah_cost = 0;  // SAH cost of the tree, relative to the root's surface area
   double build_seconds = 0;
 };
 

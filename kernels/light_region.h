@@ -26,7 +26,9 @@ struct DBox {
       if (hi[i] < b.lo[i] || b.hi[i] < lo[i]) return false;
     return true;
   }
-  DVec3 corner(int i) const { return {(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z}; }
+  DVec3 corner(int i) const {
+    return {(i & 1) ? hi.x : lo.x, (i & 2) ? hi.y : lo.y, (i & 4) ? hi.z : lo.z};
+  }
 };
 
 // Plane n.p + d = 0; the frustum lies on the side where n.p + d <= 0.
@@ -70,8 +72,8 @@ DBox enclosing_box(const DBox& box, const DVec3& light);
 
 // Exact closed test: does `c` intersect the convex hull of `box` and the light? A complete
 // separating-axis test (the coordinate axes and the products of an axis with the
-// corner-to-light edges: 12 distinct ones); touching counts as intersecting, and a gap smaller than `tolerance`
-// counts as touching, so rounding can only make it report an intersection.
+// corner-to-light edges: 12 distinct ones); touching counts as intersecting, and a gap smaller than
+// `tolerance` counts as touching, so rounding can only make it report an intersection.
 bool hull_intersects_box(const DBox& box, const DVec3& light, const DBox& c, double tolerance);
 
 // The points an area light spans: the parallelogram's four corners.

@@ -1,8 +1,8 @@
 // Where the shadow rays to a light go. A point light has one sample, the point. An area light's
 // N samples are a jittered stratified pattern: the parallelogram's parameter square cut into a
-// rows x cols grid (rows the largest divisor of N not above sqrt N), one sample in each cell, placed
-// in it by a hash of (pixel, bounce, light, sample). The reference tracer and the model call these
-// same functions, so both trace the same rays, run after run. docs/area-lights.md.
+// rows x cols grid (rows the largest divisor of N not above sqrt N), one sample in each cell,
+// placed in it by a hash of (pixel, bounce, light, sample). The reference tracer and the model call
+// these same functions, so both trace the same rays, run after run. docs/area-lights.md.
 #pragma once
 
 #include "kernels/memory_image.h"
@@ -35,7 +35,8 @@ inline SampleGrid sample_grid(uint32_t n) {
 struct SampleUv {
   float u = 0.f, v = 0.f;
 };
-inline SampleUv light_sample_uv(uint32_t pixel, uint32_t bounce, uint32_t light, uint32_t k, uint32_t n) {
+inline SampleUv light_sample_uv(uint32_t pixel, uint32_t bounce, uint32_t light, uint32_t k,
+                                uint32_t n) {
   const SampleGrid g = sample_grid(n);
   const uint32_t h1 = pcg_hash(pcg_hash(pcg_hash(pixel) ^ (bounce << 16 | light)) ^ k);
   const uint32_t h2 = pcg_hash(h1);
@@ -45,8 +46,8 @@ inline SampleUv light_sample_uv(uint32_t pixel, uint32_t bounce, uint32_t light,
 }
 
 // The point a shadow ray to sample k of the light goes to (the light's position for a point light).
-inline Vec3 light_sample_point(const image::LightRecord& l, uint32_t pixel, uint32_t bounce, uint32_t light,
-                               uint32_t k) {
+inline Vec3 light_sample_point(const image::LightRecord& l, uint32_t pixel, uint32_t bounce,
+                               uint32_t light, uint32_t k) {
   if (!l.area) return l.position;
   const SampleUv s = light_sample_uv(pixel, bounce, light, k, l.samples);
   return l.position + s.u * l.edge1 + s.v * l.edge2;
@@ -58,12 +59,12 @@ inline bool light_faces(const image::LightRecord& l, const Vec3& point, const Ve
 }
 
 // The Lambert term of light `index` at a hit: the terms of its unoccluded samples summed in sample
-// order, over the number of samples (a point light: its one term). `occluded(k, point)` says whether
-// sample k was blocked: the reference tracer traces it there, the model's composition looks it up,
-// so both add the same floats in the same order.
+// order, over the number of samples (a point light: its one term). `occluded(k, point)` says
+// whether sample k was blocked: the reference tracer traces it there, the model's composition looks
+// it up, so both add the same floats in the same order.
 template <class Occluded>
-Vec3 light_term(const SurfacePoint& s, const Vec3& diffuse, const image::LightRecord& light, uint32_t pixel,
-                uint32_t bounce, uint32_t index, Occluded&& occluded) {
+Vec3 light_term(const SurfacePoint& s, const Vec3& diffuse, const image::LightRecord& light,
+                uint32_t pixel, uint32_t bounce, uint32_t index, Occluded&& occluded) {
   Vec3 lit(0.f);
   for (uint32_t k = 0; k < light.samples; ++k) {
     const Vec3 point = light_sample_point(light, pixel, bounce, index, k);

@@ -17,7 +17,9 @@ namespace rtsim {
 
 const char* to_string(LvbMethod m) { return m == LvbMethod::kPaper ? "paper" : "hierarchical"; }
 const char* to_string(LvbBounds b) { return b == LvbBounds::kCell ? "cell" : "geometry"; }
-const char* to_string(LvbSelfOcclusion s) { return s == LvbSelfOcclusion::kIgnore ? "ignore" : "test"; }
+const char* to_string(LvbSelfOcclusion s) {
+  return s == LvbSelfOcclusion::kIgnore ? "ignore" : "test";
+}
 
 namespace {
 
@@ -44,8 +46,8 @@ void extend(DBox& b, const DBox& o) {
 
 struct TriangleInfo {
   DVec3 v[3];
-  DVec3 n;     // unit normal
-  double c;    // n . v0
+  DVec3 n;   // unit normal
+  double c;  // n . v0
 };
 
 struct Counters {
@@ -116,8 +118,9 @@ class MovedBoxes {
     const DVec3 ext = box.hi - box.lo;
     const int a = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
     const uint32_t mid = lo + (hi - lo) / 2;
-    std::nth_element(boxes_.begin() + lo, boxes_.begin() + mid, boxes_.begin() + hi,
-                     [a](const DBox& x, const DBox& y) { return x.lo[a] + x.hi[a] < y.lo[a] + y.hi[a]; });
+    std::nth_element(
+        boxes_.begin() + lo, boxes_.begin() + mid, boxes_.begin() + hi,
+        [a](const DBox& x, const DBox& y) { return x.lo[a] + x.hi[a] < y.lo[a] + y.hi[a]; });
     nodes_[id].first = build(lo, mid);
     nodes_[id].right = build(mid, hi);
     return id;
@@ -166,7 +169,8 @@ class Preprocessor {
       a.polygon.edge1 = e1;
       a.polygon.edge2 = e2;
       // Each of the two products and sums rounds once: a few ulps of the largest magnitude.
-      const double m = std::max({glm::compMax(glm::abs(p)), glm::compMax(glm::abs(e1)), glm::compMax(glm::abs(e2))});
+      const double m = std::max(
+          {glm::compMax(glm::abs(p)), glm::compMax(glm::abs(e1)), glm::compMax(glm::abs(e2))});
       a.error = 8.0 * std::ldexp(m, -23);
       areas_[i] = a;
     }
@@ -189,7 +193,8 @@ class Preprocessor {
     origin_.resize(exact_ ? tree.prims.size() : 0);
     origin_region_.assign(exact_ ? leaves : 0, empty_dbox());
     // Cell-mode regions grow by the margin plus float rounding of the grown cell used for clipping.
-    cell_growth_ = p.origin_margin + 4 * std::ldexp(max_abs_coordinate(tree.bounds), -23) + 2 * tolerance_;
+    cell_growth_ =
+        p.origin_margin + 4 * std::ldexp(max_abs_coordinate(tree.bounds), -23) + 2 * tolerance_;
     const double slack = std::max(0.0, p.origin_margin - p.shadow_offset);
     for (size_t l = 0; l < leaves; ++l) {
       const KdLeaf& leaf = tree.leaves[l];
@@ -237,7 +242,9 @@ class Preprocessor {
     if (change) moved_ = std::make_unique<MovedBoxes>(change->moved);
   }
 
-  const DBox& box(uint32_t leaf) const { return p_.bounds == LvbBounds::kCell ? cell_[leaf] : geom_[leaf]; }
+  const DBox& box(uint32_t leaf) const {
+    return p_.bounds == LvbBounds::kCell ? cell_[leaf] : geom_[leaf];
+  }
 
  private:
   // What the exact mode knows about one of b's own triangles, for one light.
@@ -263,16 +270,19 @@ class Preprocessor {
 
   bool bit(uint32_t b, size_t light_index, Counters& c, bool* dirty, LazyCounters* lazy) const {
     const AreaLight* area = areas_[light_index].has_value() ? &*areas_[light_index] : nullptr;
-    const DVec3 light = area ? DVec3(scene_.lights[light_index].center()) : DVec3(scene_.lights[light_index].position);
+    const DVec3 light = area ? DVec3(scene_.lights[light_index].center())
+                             : DVec3(scene_.lights[light_index].position);
     if (dirty) *dirty = change_->light_moved[light_index] != 0;
     Query q;
     q.b = b;
     q.light = light;
     q.area = area;
     Region& r = q.region;
-    // Exact mode: every shadow ray credited to b starts in this box (origins of all of b's triangles).
-    const DBox origins = exact_ ? (p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b])
-                                : DBox();
+    // Exact mode: every shadow ray credited to b starts in this box (origins of all of b's
+    // triangles).
+    const DBox origins =
+        exact_ ? (p_.bounds == LvbBounds::kCell ? cell_[b].grown(cell_growth_) : origin_region_[b])
+               : DBox();
     // An area light's region is always the hull (the paper's frusta are for a point).
     r.exact = exact_ || area;
     if (area) {
@@ -369,7 +379,8 @@ class Preprocessor {
       o.tri = tree_.prims[ka];
       o.use_halfspace = halfspace_ok_ && std::abs(dl) > 4 * point_error_ + slack;
       o.side = dl > 0 ? 1.0 : -1.0;
-      o.need = 0.5 * std::min(p_.shadow_offset - 2 * point_error_, std::abs(dl) - 2 * point_error_ - slack);
+      o.need = 0.5 * std::min(p_.shadow_offset - 2 * point_error_,
+                              std::abs(dl) - 2 * point_error_ - slack);
       o.origin_box = &origin_[ka];
       q.origins.push_back(o);
     }
@@ -416,8 +427,8 @@ class Preprocessor {
   std::vector<std::optional<AreaLight>> areas_;  // per light; empty for a point light
   std::vector<TriangleInfo> tris_;
   std::vector<DBox> cell_, geom_;
-  std::vector<DBox> in_cell_;  // per reference: the triangle clipped to its leaf's cell
-  std::vector<DBox> origin_;   // per reference: where its shadow rays may start (exact mode)
+  std::vector<DBox> in_cell_;        // per reference: the triangle clipped to its leaf's cell
+  std::vector<DBox> origin_;         // per reference: where its shadow rays may start (exact mode)
   std::vector<DBox> origin_region_;  // per leaf: union of its references' origin boxes
 };
 
@@ -435,7 +446,8 @@ double lvb_origin_margin(const Scene& scene, const KdTree& tree, float relative_
   const double diag = tree.bounds.diagonal();
   double t_max = diag;
   const DBox root(tree.bounds);
-  for (int i = 0; i < 8; ++i) t_max = std::max(t_max, glm::length(root.corner(i) - DVec3(scene.camera.eye)));
+  for (int i = 0; i < 8; ++i)
+    t_max = std::max(t_max, glm::length(root.corner(i) - DVec3(scene.camera.eye)));
   return lvb_shadow_offset(tree, relative_offset) + 2.0 * (1e-5 * t_max + 1e-6 * diag);
 }
 
@@ -459,14 +471,15 @@ LvbChange lvb_change(const Scene& before, const Scene& now) {
   c.light_moved.assign(now.lights.size(), 1);
   for (size_t i = 0; i < std::min(now.lights.size(), before.lights.size()); ++i)
     c.light_moved[i] = before.lights[i].position != now.lights[i].position ||
-                       before.lights[i].edge1 != now.lights[i].edge1 || before.lights[i].edge2 != now.lights[i].edge2;
+                       before.lights[i].edge1 != now.lights[i].edge1 ||
+                       before.lights[i].edge2 != now.lights[i].edge2;
   return c;
 }
 
 namespace {
 
-LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& params, const LvbChange* change,
-                  LvbLazyStats* lazy_stats) {
+LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& params,
+                  const LvbChange* change, LvbLazyStats* lazy_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   LvbResult out;
   const uint32_t all = scene.lights.size() >= 32 ? ~0u : (1u << scene.lights.size()) - 1u;
@@ -481,7 +494,8 @@ LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& param
     constexpr uint32_t kBlock = 64;
     for (uint32_t start = w * kBlock; start < tree.leaves.size(); start += threads * kBlock)
       for (uint32_t l = start; l < std::min<uint32_t>(start + kBlock, tree.leaves.size()); ++l)
-        if (tree.leaves[l].count > 0) out.words[l] = pre.word(l, counters[w], change ? &lazy[w] : nullptr);
+        if (tree.leaves[l].count > 0)
+          out.words[l] = pre.word(l, counters[w], change ? &lazy[w] : nullptr);
   };
   std::vector<std::thread> pool;
   for (int w = 1; w < threads; ++w) pool.emplace_back(body, w);
@@ -499,7 +513,8 @@ LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& param
   if (change) {
     LvbLazyStats& z = *lazy_stats;
     z.moved_triangles = change->moved.size();
-    z.moved_lights = uint64_t(std::count(change->light_moved.begin(), change->light_moved.end(), 1));
+    z.moved_lights =
+        uint64_t(std::count(change->light_moved.begin(), change->light_moved.end(), 1));
     for (const LazyCounters& c : lazy) {
       z.pairs += c.pairs;
       z.dirty_pairs += c.dirty_pairs;
@@ -524,7 +539,8 @@ LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& p
   return compute(scene, tree, params, nullptr, nullptr);
 }
 
-LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params, const LvbChange& change) {
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params,
+                            const LvbChange& change) {
   LvbLazyStats z;
   compute(scene, tree, params, &change, &z);
   return z;

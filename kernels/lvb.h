@@ -13,8 +13,8 @@
 namespace rtsim {
 
 enum class LvbMethod { kPaper, kHierarchical };  // all-pairs scan, or a walk of the kd-tree
-enum class LvbBounds { kCell, kGeometry };        // leaf cell, or its geometry clipped to the cell
-enum class LvbSelfOcclusion { kIgnore, kTest };   // the paper's method, or the exact one
+enum class LvbBounds { kCell, kGeometry };       // leaf cell, or its geometry clipped to the cell
+enum class LvbSelfOcclusion { kIgnore, kTest };  // the paper's method, or the exact one
 
 struct LvbParams {
   LvbMethod method = LvbMethod::kHierarchical;
@@ -32,7 +32,7 @@ const char* to_string(LvbBounds b);
 const char* to_string(LvbSelfOcclusion s);
 
 struct LvbLightStats {
-  uint64_t culled_leaves = 0;    // non-empty leaves whose bit is 0
+  uint64_t culled_leaves = 0;  // non-empty leaves whose bit is 0
   uint64_t nonempty_leaves = 0;
 };
 
@@ -52,7 +52,7 @@ struct LvbStats {
   // the paper's scan), box-versus-region tests (cells and, exact mode, triangle bounds).
   uint64_t nodes_visited = 0;
   uint64_t region_tests = 0;
-  uint64_t pair_tests = 0;    // triangle-pair tests (exact mode)
+  uint64_t pair_tests = 0;  // triangle-pair tests (exact mode)
   double seconds = 0;
 };
 
@@ -78,6 +78,7 @@ LvbChange lvb_change(const Scene& before, const Scene& now);
 LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params);
 // The same computation once more, counting which bits a lazy rebuild would redo after `change`
 // and that work (a pass of its own, so compute_lvb's seconds stay those of the full rebuild).
-LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params, const LvbChange& change);
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params,
+                            const LvbChange& change);
 
 }  // namespace rtsim

@@ -53,8 +53,9 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
     const uint64_t base = align_up(cursor);
     cursor = base + uint64_t(count) * record_bytes;
     if (align_up(cursor) > std::numeric_limits<uint32_t>::max())
-      throw InputError(fmt::format("scene too large for the 32-bit memory image (more than {} bytes)",
-                                   std::numeric_limits<uint32_t>::max()));
+      throw InputError(
+          fmt::format("scene too large for the 32-bit memory image (more than {} bytes)",
+                      std::numeric_limits<uint32_t>::max()));
     s.base = static_cast<uint32_t>(base);
     s.count = static_cast<uint32_t>(count);
   };
@@ -65,7 +66,8 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   place(h.materials, scene.materials.size(), kMaterialBytes);
   // With an area light, a second block of records holds the lights' edges (point-only scenes keep
   // the one block, byte for byte as before).
-  const bool any_area = std::any_of(scene.lights.begin(), scene.lights.end(), [](const Light& l) { return l.is_area(); });
+  const bool any_area = std::any_of(scene.lights.begin(), scene.lights.end(),
+                                    [](const Light& l) { return l.is_area(); });
   place(h.lights, scene.lights.size() * (any_area ? 2 : 1), kLightBytes);
   h.image_bytes = static_cast<uint32_t>(align_up(cursor));
   h.light_count = static_cast<uint32_t>(scene.lights.size());
@@ -75,7 +77,8 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   uint8_t* b = bytes_.data();
   store_u32(b, h.magic);
   store_u32(b + 4, h.version);
-  const Section* sections[] = {&h.nodes, &h.leaves, &h.prims, &h.triangles, &h.materials, &h.lights};
+  const Section* sections[] = {&h.nodes,     &h.leaves,    &h.prims,
+                               &h.triangles, &h.materials, &h.lights};
   for (int i = 0; i < 6; ++i) {
     store_u32(b + 8 + 8 * i, sections[i]->base);
     store_u32(b + 12 + 8 * i, sections[i]->count);
@@ -97,7 +100,8 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
     store_u32(p + 4, tree.leaves[i].count);
     store_u32(p + 8, all_lights);
   }
-  for (size_t i = 0; i < tree.prims.size(); ++i) store_u32(b + prim_addr(static_cast<uint32_t>(i)), tree.prims[i]);
+  for (size_t i = 0; i < tree.prims.size(); ++i)
+    store_u32(b + prim_addr(static_cast<uint32_t>(i)), tree.prims[i]);
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];
     uint8_t* p = b + triangle_addr(static_cast<uint32_t>(i));
@@ -128,6 +132,8 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   }
 }
 
-void MemoryImage::set_leaf_lvb(uint32_t leaf, uint32_t lvb) { store_u32(&bytes_[leaf_addr(leaf) + 8], lvb); }
+void MemoryImage::set_leaf_lvb(uint32_t leaf, uint32_t lvb) {
+  store_u32(&bytes_[leaf_addr(leaf) + 8], lvb);
+}
 
 }  // namespace rtsim

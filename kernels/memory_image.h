@@ -17,7 +17,7 @@ namespace image {
 
 inline constexpr uint32_t kMagic = 0x4d535452;  // "RTSM"
 inline constexpr uint32_t kVersion = 1;
-inline constexpr uint32_t kSectionAlign = 64;   // every section starts on a cache-line boundary
+inline constexpr uint32_t kSectionAlign = 64;  // every section starts on a cache-line boundary
 inline constexpr uint32_t kHeaderBytes = 128;
 inline constexpr uint32_t kNodeBytes = 8;
 inline constexpr uint32_t kLeafBytes = 16;
@@ -44,7 +44,7 @@ struct Header {
 struct LeafRecord {
   uint32_t prim_offset = 0;  // index of the first entry in the primitive-list section
   uint32_t prim_count = 0;
-  uint32_t lvb = 0;          // bit i = 1: shadow rays to light i must be traced
+  uint32_t lvb = 0;  // bit i = 1: shadow rays to light i must be traced
 };
 
 struct TriangleRecord {
@@ -82,7 +82,9 @@ inline float load_f32(const uint8_t* p) {
   std::memcpy(&v, p, 4);
   return v;
 }
-inline Vec3 load_vec3(const uint8_t* p) { return Vec3(load_f32(p), load_f32(p + 4), load_f32(p + 8)); }
+inline Vec3 load_vec3(const uint8_t* p) {
+  return Vec3(load_f32(p), load_f32(p + 4), load_f32(p + 8));
+}
 
 inline KdNode decode_node(const uint8_t* p) {
   KdNode n;
@@ -90,7 +92,9 @@ inline KdNode decode_node(const uint8_t* p) {
   n.word1 = load_u32(p + 4);
   return n;
 }
-inline LeafRecord decode_leaf(const uint8_t* p) { return {load_u32(p), load_u32(p + 4), load_u32(p + 8)}; }
+inline LeafRecord decode_leaf(const uint8_t* p) {
+  return {load_u32(p), load_u32(p + 4), load_u32(p + 8)};
+}
 inline TriangleRecord decode_triangle(const uint8_t* p) {
   return {load_vec3(p), load_vec3(p + 12), load_vec3(p + 24), load_u32(p + 36)};
 }
@@ -127,8 +131,12 @@ class MemoryImage {
   uint32_t node_addr(uint32_t i) const { return header_.nodes.base + i * image::kNodeBytes; }
   uint32_t leaf_addr(uint32_t i) const { return header_.leaves.base + i * image::kLeafBytes; }
   uint32_t prim_addr(uint32_t i) const { return header_.prims.base + i * image::kPrimBytes; }
-  uint32_t triangle_addr(uint32_t i) const { return header_.triangles.base + i * image::kTriangleBytes; }
-  uint32_t material_addr(uint32_t i) const { return header_.materials.base + i * image::kMaterialBytes; }
+  uint32_t triangle_addr(uint32_t i) const {
+    return header_.triangles.base + i * image::kTriangleBytes;
+  }
+  uint32_t material_addr(uint32_t i) const {
+    return header_.materials.base + i * image::kMaterialBytes;
+  }
   uint32_t light_addr(uint32_t i) const { return header_.lights.base + i * image::kLightBytes; }
   // An area light's second record: after every light's first one.
   uint32_t light_area_addr(uint32_t i) const { return light_addr(header_.light_count + i); }
@@ -137,8 +145,12 @@ class MemoryImage {
   KdNode node(uint32_t i) const { return image::decode_node(&bytes_[node_addr(i)]); }
   image::LeafRecord leaf(uint32_t i) const { return image::decode_leaf(&bytes_[leaf_addr(i)]); }
   uint32_t prim(uint32_t i) const { return image::load_u32(&bytes_[prim_addr(i)]); }
-  image::TriangleRecord triangle(uint32_t i) const { return image::decode_triangle(&bytes_[triangle_addr(i)]); }
-  image::MaterialRecord material(uint32_t i) const { return image::decode_material(&bytes_[material_addr(i)]); }
+  image::TriangleRecord triangle(uint32_t i) const {
+    return image::decode_triangle(&bytes_[triangle_addr(i)]);
+  }
+  image::MaterialRecord material(uint32_t i) const {
+    return image::decode_material(&bytes_[material_addr(i)]);
+  }
   image::LightRecord light(uint32_t i) const {
     image::LightRecord l = image::decode_light(&bytes_[light_addr(i)]);
     if (l.area) image::decode_light_area(&bytes_[light_area_addr(i)], l);

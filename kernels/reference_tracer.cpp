@@ -26,15 +26,20 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) c
   TraversalStep step = TraversalStep::kFetchNode;
   while (step != TraversalStep::kDone) {
     const KdNode node = image::decode_node(mem_ + h_.nodes.base + s.node * image::kNodeBytes);
-    if (!node.is_leaf()) ++c.nodes;
-    else ++c.leaves;
+    if (!node.is_leaf())
+      ++c.nodes;
+    else
+      ++c.leaves;
     step = traversal_node(s, node);
     if (step != TraversalStep::kLeaf) continue;
-    const image::LeafRecord leaf = image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
+    const image::LeafRecord leaf =
+        image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
     const Ray r = traversal_leaf_ray(s);
     for (uint32_t k = 0; k < leaf.prim_count; ++k) {
-      const uint32_t tri = image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
-      const image::TriangleRecord t = image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
+      const uint32_t tri =
+          image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
+      const image::TriangleRecord t =
+          image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
       ++c.tri_tests;
       float t_hit;
       if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
@@ -73,7 +78,6 @@ bool ReferenceTracer::occluded_by_leaf(const Ray& ray, uint32_t leaf_index) cons
 
 namespace {
 
-
 struct Worker {
   const ReferenceTracer& tracer;
   const MemoryImage& image;
@@ -96,24 +100,26 @@ struct Worker {
       const bool culled = opt.cull_with_lvb && !((lvb >> i) & 1u);
       if (culled && rec) rec->culled |= uint16_t(1u << i);
       uint32_t blocked_samples = 0;
-      color += light_term(sp, mat.diffuse, light, pixel, uint32_t(depth), i, [&](uint32_t, const Vec3& point) {
-        const Ray shadow = shadow_ray(sp, point, offset);
-        ++lc.shadow_rays;
-        if (culled) {
-          ++lc.culled;
-          if (opt.verify_culls && tracer.occluded(shadow)) {
-            ++lc.wrong_culls;
-            if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
-          }
-          return false;
-        }
-        ++lc.traced;
-        ++stats.shadow_rays_traced;
-        const bool blocked = tracer.occluded(shadow, &stats.any);
-        lc.occluded += blocked;
-        blocked_samples += blocked;
-        return blocked;
-      });
+      color += light_term(sp, mat.diffuse, light, pixel, uint32_t(depth), i,
+                          [&](uint32_t, const Vec3& point) {
+                            const Ray shadow = shadow_ray(sp, point, offset);
+                            ++lc.shadow_rays;
+                            if (culled) {
+                              ++lc.culled;
+                              if (opt.verify_culls && tracer.occluded(shadow)) {
+                                ++lc.wrong_culls;
+                                if (tracer.occluded_by_leaf(shadow, hit.leaf))
+                                  ++lc.wrong_culls_own_leaf;
+                              }
+                              return false;
+                            }
+                            ++lc.traced;
+                            ++stats.shadow_rays_traced;
+                            const bool blocked = tracer.occluded(shadow, &stats.any);
+                            lc.occluded += blocked;
+                            blocked_samples += blocked;
+                            return blocked;
+                          });
       if (rec) {
         rec->occluded_samples[i] = uint16_t(blocked_samples);
         if (blocked_samples == light.samples) rec->occluded |= uint16_t(1u << i);
@@ -165,7 +171,8 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
   out.pixels.assign(size_t(opt.width) * opt.height, PixelRecord{});
   out.rgb.assign(size_t(opt.width) * opt.height * 3, 0);
 
-  int threads = opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  int threads =
+      opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   threads = std::min(threads, opt.height);
   const float offset = opt.shadow_offset * h_.bounds.diagonal();
   std::vector<Worker> workers;

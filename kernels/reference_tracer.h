@@ -16,19 +16,19 @@ namespace rtsim {
 
 struct TracerOptions {
   int width = 0, height = 0;
-  int reflection_depth = 0;       // mirror bounces for materials with reflectance > 0
-  int threads = 0;                // 0 = every core
-  bool cull_with_lvb = false;     // skip shadow rays whose leaf's LVB bit is 0
-  bool verify_culls = false;      // trace culled shadow rays anyway and count the wrong ones
-  float shadow_offset = 1e-5f;    // shadow/reflection origin offset, relative to the scene diagonal
+  int reflection_depth = 0;     // mirror bounces for materials with reflectance > 0
+  int threads = 0;              // 0 = every core
+  bool cull_with_lvb = false;   // skip shadow rays whose leaf's LVB bit is 0
+  bool verify_culls = false;    // trace culled shadow rays anyway and count the wrong ones
+  float shadow_offset = 1e-5f;  // shadow/reflection origin offset, relative to the scene diagonal
 };
 
 // What one primary ray (one pixel) produced.
 struct PixelRecord {
   Hit hit;
-  uint32_t lvb = 0;        // LVB word of hit.leaf
-  uint16_t occluded = 0;   // bit i: every shadow ray to light i is blocked (culled ones never are)
-  uint16_t culled = 0;     // bit i: the shadow rays to light i were culled by the LVB
+  uint32_t lvb = 0;       // LVB word of hit.leaf
+  uint16_t occluded = 0;  // bit i: every shadow ray to light i is blocked (culled ones never are)
+  uint16_t culled = 0;    // bit i: the shadow rays to light i were culled by the LVB
   std::array<uint16_t, kMaxLights> occluded_samples{};  // per light: blocked shadow rays (samples)
 };
 
@@ -48,7 +48,7 @@ struct LightCounters {
   uint64_t traced = 0;
   uint64_t occluded = 0;
   uint64_t culled = 0;
-  uint64_t wrong_culls = 0;  // culled but in fact occluded (verify_culls only)
+  uint64_t wrong_culls = 0;           // culled but in fact occluded (verify_culls only)
   uint64_t wrong_culls_own_leaf = 0;  // ... of which a triangle of the hit's own leaf blocks
 };
 

@@ -18,7 +18,8 @@ struct SurfacePoint {
   Vec3 n;  // unit geometric normal, facing the incoming ray (triangles are two-sided)
 };
 
-inline SurfacePoint surface_point(const Ray& ray, float t, const Vec3& v0, const Vec3& v1, const Vec3& v2) {
+inline SurfacePoint surface_point(const Ray& ray, float t, const Vec3& v0, const Vec3& v1,
+                                  const Vec3& v2) {
   Vec3 n = unit_normal(v0, v1, v2);
   if (glm::dot(n, ray.d) > 0.f) n = -n;
   return {ray.o + t * ray.d, n};
@@ -36,7 +37,8 @@ inline Ray shadow_ray(const SurfacePoint& s, const Vec3& light, float offset) {
   return r;
 }
 
-// Mirror reflection of an incoming direction, starting `offset` off the surface on the incoming side.
+// Mirror reflection of an incoming direction, starting `offset` off the surface on the incoming
+// side.
 inline Ray reflection_ray(const SurfacePoint& s, const Vec3& incoming, float offset) {
   Ray r;
   r.o = s.p + offset * s.n;
@@ -45,7 +47,8 @@ inline Ray reflection_ray(const SurfacePoint& s, const Vec3& incoming, float off
 }
 
 // Lambert term of one unoccluded light.
-inline Vec3 light_contribution(const SurfacePoint& s, const Vec3& diffuse, const Vec3& light, const Vec3& color) {
+inline Vec3 light_contribution(const SurfacePoint& s, const Vec3& diffuse, const Vec3& light,
+                               const Vec3& color) {
   const float cos_theta = glm::dot(s.n, glm::normalize(light - s.p));
   return cos_theta > 0.f ? cos_theta * diffuse * color : Vec3(0.f);
 }

@@ -35,9 +35,9 @@ struct TraversalState {
   RayShear shear{Vec3(0, 0, 1)};
   bool any_hit = false;
   float abs_eps = 0.f;
-  uint32_t node = 0;       // the node to fetch next
+  uint32_t node = 0;         // the node to fetch next
   float tmin = 0, tmax = 0;  // the current cell's range along the ray
-  uint32_t leaf = 0;       // the leaf being tested (after kLeaf)
+  uint32_t leaf = 0;         // the leaf being tested (after kLeaf)
   Entry stack[kTraversalStackDepth];
   int sp = 0;
   float best = 0;
@@ -46,7 +46,8 @@ struct TraversalState {
 };
 
 // Slab test against the root cell; NaN (0 * inf) comparisons fall through and keep the range.
-inline bool clip_ray_to_box(const Ray& ray, const Vec3& inv, const AABB& box, float& t0, float& t1) {
+inline bool clip_ray_to_box(const Ray& ray, const Vec3& inv, const AABB& box, float& t0,
+                            float& t1) {
   t0 = ray.tmin;
   t1 = ray.tmax;
   for (int a = 0; a < 3; ++a) {
@@ -67,7 +68,8 @@ inline bool clip_ray_to_box(const Ray& ray, const Vec3& inv, const AABB& box, fl
 }
 
 // Starts a ray at the root. False: the ray misses the scene box and is done without a hit.
-inline bool traversal_begin(TraversalState& s, const Ray& ray, bool any_hit, const AABB& root, float abs_eps) {
+inline bool traversal_begin(TraversalState& s, const Ray& ray, bool any_hit, const AABB& root,
+                            float abs_eps) {
   s.ray = ray;
   s.inv = Vec3(1.f / ray.d.x, 1.f / ray.d.y, 1.f / ray.d.z);
   s.shear = RayShear(ray.d);
@@ -103,7 +105,8 @@ inline TraversalStep traversal_node(TraversalState& s, const KdNode& node) {
   const int axis = node.axis();
   const float split = node.split();
   const float t_plane = (split - s.ray.o[axis]) * s.inv[axis];
-  const bool below_first = s.ray.o[axis] < split || (s.ray.o[axis] == split && s.ray.d[axis] <= 0.f);
+  const bool below_first =
+      s.ray.o[axis] < split || (s.ray.o[axis] == split && s.ray.d[axis] <= 0.f);
   const uint32_t first = below_first ? s.node + 1 : node.above_child();
   const uint32_t second = below_first ? node.above_child() : s.node + 1;
   // The same slack as the leaves': a cell thinner than the rounding of t must still be visited.
@@ -112,7 +115,8 @@ inline TraversalStep traversal_node(TraversalState& s, const KdNode& node) {
   } else if (t_plane < s.tmin * (1.f - kLeafRelEps) - s.abs_eps) {
     s.node = second;
   } else {
-    if (s.sp == kTraversalStackDepth) throw std::logic_error("kd-tree deeper than the traversal stack");
+    if (s.sp == kTraversalStackDepth)
+      throw std::logic_error("kd-tree deeper than the traversal stack");
     s.stack[s.sp++] = {second, t_plane, s.tmax};
     s.node = first;
     s.tmax = t_plane;

@@ -1,18 +1,18 @@
 #include "model/accelerator.h"
 
 #include "model/memory/dram.h"
+#include "model/memory/memory_system.h"
+#include "model/sim/calendar.h"
+#include "model/sim/periodic_probe.h"
+#include "model/sim/report.h"
+#include "model/sim/watchdog.h"
 #include "model/units/ist_unit.h"
 #include "model/units/list_unit.h"
 #include "model/units/lvb_updater.h"
-#include "model/memory/memory_system.h"
-#include "model/sim/periodic_probe.h"
 #include "model/units/phase_controller.h"
-#include "model/sim/report.h"
-#include "model/sim/calendar.h"
 #include "model/units/shading_unit.h"
 #include "model/units/shadow_culling_unit.h"
 #include "model/units/trv_unit.h"
-#include "model/sim/watchdog.h"
 
 #include <stdexcept>
 
@@ -36,13 +36,14 @@ std::vector<const Unit*> raw(const std::vector<std::unique_ptr<T>>& units) {
 
 std::string indexed(const char* type, uint32_t i) { return type + std::to_string(i); }
 
-HitRecordRegion record_region(const AcceleratorConfig& cfg, const MemoryImage& image, const FrameJob& job,
-                              uint32_t request_bytes) {
+HitRecordRegion record_region(const AcceleratorConfig& cfg, const MemoryImage& image,
+                              const FrameJob& job, uint32_t request_bytes) {
   HitRecordRegion records;
   records.base = (image.bytes().size() + 4095) / 4096 * 4096;
   records.stride = std::max(kHitRecordBytes, request_bytes);
   records.pixels = uint32_t(job.width) * uint32_t(job.height);
-  auto pixel_at = std::make_shared<std::vector<uint32_t>>(issue_order(job.width, job.height, cfg.order, cfg.tile));
+  auto pixel_at = std::make_shared<std::vector<uint32_t>>(
+      issue_order(job.width, job.height, cfg.order, cfg.tile));
   auto slot_of = std::make_shared<std::vector<uint32_t>>(pixel_at->size());
   for (uint32_t k = 0; k < pixel_at->size(); ++k) (*slot_of)[(*pixel_at)[k]] = k;
   records.pixel_at = std::move(pixel_at);
@@ -57,14 +58,20 @@ HitRecordRegion record_region(const AcceleratorConfig& cfg, const MemoryImage& i
 // units, the ray generator, the culling unit and the watchdog (a block's calendar id is its
 // construction rank).
 struct Accelerator::Netlist : RayOwners {
-  Netlist(Accelerator& top, const AcceleratorConfig& cfg, const MemoryImage& image, const FrameJob& job,
-          const SimulationHooks& hooks, bool builtin_memory);
+  Netlist(Accelerator& top, const AcceleratorConfig& cfg, const MemoryImage& image,
+          const FrameJob& job, const SimulationHooks& hooks, bool builtin_memory);
 
-  void return_ray(uint32_t ray, Tick when) override { trv[(*ctx.pool)[ray].trv_unit]->return_ray(ray, when); }
+  void return_ray(uint32_t ray, Tick when) override {
+    trv[(*ctx.pool)[ray].trv_unit]->return_ray(ray, when);
+  }
   void retire(uint32_t ray) override { trv[(*ctx.pool)[ray].trv_unit]->retire(ray); }
-  RayFifo* shading_input(uint32_t ray) override { return shading_of_trv[(*ctx.pool)[ray].trv_unit]; }
+  RayFifo* shading_input(uint32_t ray) override {
+    return shading_of_trv[(*ctx.pool)[ray].trv_unit];
+  }
 
-  bool pending() const { return pool.in_flight() > 0 || !generator->finished() || !culling->finished(); }
+  bool pending() const {
+    return pool.in_flight() > 0 || !generator->finished() || !culling->finished();
+  }
   uint64_t progress_count() const;
   std::string describe_stall() const;
   void report_progress(Tick now) const;
@@ -86,7 +93,8 @@ struct Accelerator::Netlist : RayOwners {
   std::vector<std::unique_ptr<ListUnit>> list;
   std::vector<std::unique_ptr<TrvUnit>> trv;
   std::vector<std::unique_ptr<ShadingUnit>> shading;
-  std::vector<RayFifo*> shading_of_trv;  // the rays of TRV unit i finish in shading unit i * shading / trv
+  // The rays of TRV unit i finish in shading unit i * shading / trv
+  std::vector<RayFifo*> shading_of_trv;
   std::unique_ptr<RayGenerator> generator;
   std::unique_ptr<ShadowCullingUnit> culling;
   std::unique_ptr<PhaseController> phases;
@@ -94,16 +102,23 @@ struct Accelerator::Netlist : RayOwners {
   std::unique_ptr<PeriodicProbe> progress;
   std::unique_ptr<VcdTrace> trace;
   std::vector<RayUnit*> ray_units;  // TRV, LIST, IST, shading
-  std::vector<RayFifo*> fifos;            // shading, TRV, LIST, IST inputs
+  std::vector<RayFifo*> fifos;      // shading, TRV, LIST, IST inputs
   StatsRegistry stats;
   Tick end = 0;
   uint64_t memory_bytes = 0;
   bool collected = false;
 };
 
-Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config, const MemoryImage& image,
-                              const FrameJob& frame_job, const SimulationHooks& observers, bool builtin_memory)
-    : top(top_), cfg(config), job(frame_job), pool(config.ray_pool), hooks(observers), calendar("calendar"), lvb("lvb_updater") {
+Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config,
+                              const MemoryImage& image, const FrameJob& frame_job,
+                              const SimulationHooks& observers, bool builtin_memory)
+    : top(top_),
+      cfg(config),
+      job(frame_job),
+      pool(config.ray_pool),
+      hooks(observers),
+      calendar("calendar"),
+      lvb("lvb_updater") {
   const image::Header& h = image.header();
   ctx.calendar = &calendar;
   ctx.pool = &pool;
@@ -117,7 +132,8 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   DramConfig dram_cfg = cfg.dram;
   dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
   // The frame buffer of hit records follows the image (model/units/hit_record.h).
-  const uint64_t entries = uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
+  const uint64_t entries =
+      uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
   records = record_region(cfg, image, job, dram_cfg.request_bytes);
   memory_bytes = records.base + entries * records.stride;
   if (builtin_memory)
@@ -134,23 +150,26 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 
   ist = reserve<IstUnit>(cfg.ist.count);
   for (uint32_t k = 0; k < cfg.ist.count; ++k)
-    ist.push_back(std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist, *memory, k, this, &lvb));
+    ist.push_back(
+        std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist, *memory, k, this, &lvb));
   list = reserve<ListUnit>(cfg.list.count);
   for (uint32_t j = 0; j < cfg.list.count; ++j) {
     IstUnit& to = *ist[j * cfg.ist.count / cfg.list.count];
-    list.push_back(std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list, *memory, j, to.input()));
+    list.push_back(std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list, *memory, j,
+                                              to.input()));
     to.input()->connect(list.back().get(), nullptr);
   }
   trv = reserve<TrvUnit>(cfg.trv.count);
   for (uint32_t i = 0; i < cfg.trv.count; ++i) {
     ListUnit& to = *list[i * cfg.list.count / cfg.trv.count];
-    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, *memory, i, to.input(), this));
+    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, *memory, i,
+                                            to.input(), this));
     to.input()->connect(trv.back().get(), nullptr);
   }
   shading = reserve<ShadingUnit>(cfg.shading.count);
   for (uint32_t s = 0; s < cfg.shading.count; ++s) {
-    shading.push_back(
-        std::make_unique<ShadingUnit>(indexed("shading", s).c_str(), ctx, cfg.shading, *memory, s, this, &frame));
+    shading.push_back(std::make_unique<ShadingUnit>(indexed("shading", s).c_str(), ctx, cfg.shading,
+                                                    *memory, s, this, &frame));
     for (auto& u : ist) shading.back()->input()->connect(u.get(), nullptr);
   }
   for (uint32_t i = 0; i < cfg.trv.count; ++i) {
@@ -160,12 +179,13 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 
   std::vector<RayFifo*> trv_inputs;
   for (auto& u : trv) trv_inputs.push_back(u->input());
-  generator = std::make_unique<RayGenerator>("raygen", ctx, job.camera, job.width, job.height, cfg.order, cfg.tile,
-                                             trv_inputs, cfg.raygen_rays_per_cycle);
+  generator =
+      std::make_unique<RayGenerator>("raygen", ctx, job.camera, job.width, job.height, cfg.order,
+                                     cfg.tile, trv_inputs, cfg.raygen_rays_per_cycle);
   // The culling unit reads the lights through the first shading unit's L1.
   Cache& culling_l1 = shading[0]->l1();
-  culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.lvb_culling, cfg.culling, &culling_l1, &frame,
-                                                trv_inputs);
+  culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.lvb_culling, cfg.culling,
+                                                &culling_l1, &frame, trv_inputs);
   culling_l1.name_requester(culling.get(), "culling");
   for (RayFifo* f : trv_inputs) {
     f->connect(generator.get(), nullptr);
@@ -175,7 +195,9 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
     for (uint32_t s = 0; s < cfg.shading.count; ++s) {
       shading[s]->records = records;
       shading[s]->write_line = [m = &memory->interconnect(), s, who = indexed("shading", s)](
-                                   uint64_t line, const uint8_t* data, Tick when) { m->write_line(s, line, data, when, who); };
+                                   uint64_t line, const uint8_t* data, Tick when) {
+        m->write_line(s, line, data, when, who);
+      };
     }
   if (cfg.schedule == Schedule::kTwoPhase && cfg.culling.records_per_cycle > 0)
     culling->read_records_from(&memory->interconnect().record_reader(), records);
@@ -201,17 +223,19 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
       "watchdog", calendar, ctx.clock, cfg.watchdog_cycles, [this] { return progress_count(); },
       [this] { return pending(); }, [this] { return describe_stall(); });
   if (hooks.progress)
-    progress = std::make_unique<PeriodicProbe>("progress", ctx.clock.cycles(hooks.progress_cycles), [this](Tick now) {
-      report_progress(now);
-      return pending();
-    });
+    progress = std::make_unique<PeriodicProbe>("progress", ctx.clock.cycles(hooks.progress_cycles),
+                                               [this](Tick now) {
+                                                 report_progress(now);
+                                                 return pending();
+                                               });
   if (!hooks.trace.file.empty()) {
     trace = std::make_unique<VcdTrace>(hooks.trace, ctx.clock);
     for (const RayFifo* f : fifos) trace->add_fifo(f);
     trace->add_unit(generator.get());
     for (const RayUnit* u : ray_units) trace->add_unit(u);
     trace->add_unit(culling.get());
-    trace->add_counter(std::string(top.name()) + ".rays_in_flight", [this] { return uint64_t(pool.in_flight()); });
+    trace->add_counter(std::string(top.name()) + ".rays_in_flight",
+                       [this] { return uint64_t(pool.in_flight()); });
   }
   register_stats();
 }
@@ -219,8 +243,9 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 uint64_t Accelerator::Netlist::progress_count() const {
   // A DRAM draining its queues (a backlog of posted writes) is progress too.
   const MemoryPortStats& port = memory->interconnect().port().stats();
-  uint64_t n = phases->primaries_retired() + phases->shadows_retired() + generator->unit_stats().busy_cycles +
-               culling->unit_stats().busy_cycles + (dram ? dram->stats().reads + dram->stats().writes : port.responses);
+  uint64_t n = phases->primaries_retired() + phases->shadows_retired() +
+               generator->unit_stats().busy_cycles + culling->unit_stats().busy_cycles +
+               (dram ? dram->stats().reads + dram->stats().writes : port.responses);
   for (const RayUnit* u : ray_units) n += u->unit_stats().busy_cycles;
   return n;
 }
@@ -257,11 +282,14 @@ void Accelerator::Netlist::register_stats() {
     for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
                                std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
                                std::pair{"idle_cycles", &UnitStats::idle_cycles}})
-      stats.formula(type + ".total." + name, [units, field = field] {
-        uint64_t n = 0;
-        for (const Unit* u : units) n += u->unit_stats().*field;
-        return double(n);
-      }, "cycles", std::string("all ") + type + " units: " + name);
+      stats.formula(
+          type + ".total." + name,
+          [units, field = field] {
+            uint64_t n = 0;
+            for (const Unit* u : units) n += u->unit_stats().*field;
+            return double(n);
+          },
+          "cycles", std::string("all ") + type + " units: " + name);
   };
   add_totals("trv", raw(trv));
   add_totals("list", raw(list));
@@ -275,8 +303,9 @@ void Accelerator::Netlist::register_stats() {
   for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &end);
 }
 
-Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, const MemoryImage& image,
-                         const FrameJob& job, const SimulationHooks& hooks, bool builtin_memory)
+Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                         const MemoryImage& image, const FrameJob& job,
+                         const SimulationHooks& hooks, bool builtin_memory)
     : sc_core::sc_module(name) {
   try {
     config.validate();
@@ -309,7 +338,9 @@ uint64_t Accelerator::memory_bytes() const { return net_->memory_bytes; }
 
 AcceleratorResult Accelerator::result() {
   Netlist& n = *net_;
-  if (!finished()) report_error(kReportInternal, std::string(name()) + ": the simulation ended with rays in flight");
+  if (!finished())
+    report_error(kReportInternal,
+                 std::string(name()) + ": the simulation ended with rays in flight");
   if (!n.collected) {
     if (n.trace) n.trace->close();
     n.memory->interconnect().port().close_trace();

@@ -5,9 +5,9 @@
 // share one simulation. A block's hierarchical name below the accelerator is its statistics prefix
 // and its VCD scope: `<top>.trv3` is TRV unit 3 (statistics trv3.*), `<top>.trv3.l1` its L1,
 // `<top>.trv3.in` its input FIFO, `<top>.trv.l2` the TRV units' shared L2, `<top>.memory.icnt` the
-// crossbar to memory, `<top>.memory.port` its TLM-2.0 initiator (model/memory/memory_port.h), `<top>.dram`
-// the GDDR3 memory, a TLM-2.0 target (or, built without it, whatever target the platform binds to
-// memory_socket()).
+// crossbar to memory, `<top>.memory.port` its TLM-2.0 initiator (model/memory/memory_port.h),
+// `<top>.dram` the GDDR3 memory, a TLM-2.0 target (or, built without it, whatever target the
+// platform binds to memory_socket()).
 //
 // It renders one frame: in two phases (all primary rays, then all shadow rays) or in one (shadow
 // rays as soon as their hit is shaded). It never sets the time resolution (it needs 1 ps), never
@@ -17,10 +17,10 @@
 
 #include "kernels/memory_image.h"
 #include "model/accelerator_config.h"
-#include "model/units/frame_buffer.h"
 #include "model/memory/memory_port.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/vcd_trace.h"
+#include "model/units/frame_buffer.h"
 #include "scene/scene.h"
 
 #include <systemc>
@@ -42,25 +42,27 @@ struct AcceleratorResult {
   double clock_ghz = 1.0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
-  nlohmann::json stats;  // every named statistic
+  nlohmann::json stats;                                     // every named statistic
   std::map<std::string, StatsRegistry::Glossary> glossary;  // ... with its unit and meaning
 };
 
 // Where a running frame stands, for progress reports.
 struct Progress {
-  int phase = 1;                     // 1: primary rays, 2: shadow rays
+  int phase = 1;  // 1: primary rays, 2: shadow rays
   uint64_t cycle = 0;
   uint64_t pixels = 0, primaries_retired = 0;
   uint64_t shadows_generated = 0, shadows_retired = 0;
-  double culling_scanned = 0;        // share of the hit pixels the culling unit has passed (phase 2)
+  // Share of the hit pixels the culling unit has passed (phase 2)
+  double culling_scanned = 0;
 };
 
 // Observers of a run; neither changes a simulated figure.
 struct SimulationHooks {
-  std::function<void(const Progress&)> progress;  // called every progress_cycles while the frame runs
+  // Called every progress_cycles while the frame runs
+  std::function<void(const Progress&)> progress;
   uint64_t progress_cycles = 20000;
-  TraceRequest trace;                              // a VCD of FIFOs and unit busy signals
-  TraceRequest mem_trace;                       // a CSV of the memory transactions
+  TraceRequest trace;      // a VCD of FIFOs and unit busy signals
+  TraceRequest mem_trace;  // a CSV of the memory transactions
 };
 
 // The frame to render: `camera` at width x height.
@@ -76,8 +78,9 @@ class Accelerator : public sc_core::sc_module {
   // reported as rtsim/config.
   // With `builtin_memory` false there is no `dram`: memory_socket() is left for the platform to
   // bind to a TLM-2.0 target holding memory_bytes() bytes, the image's first.
-  Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config, const MemoryImage& image,
-              const FrameJob& job, const SimulationHooks& hooks = {}, bool builtin_memory = true);
+  Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+              const MemoryImage& image, const FrameJob& job, const SimulationHooks& hooks = {},
+              bool builtin_memory = true);
   ~Accelerator() override;
   const char* kind() const override { return "rtsim_accelerator"; }
 
@@ -87,7 +90,8 @@ class Accelerator : public sc_core::sc_module {
   AcceleratorResult result();
   const StatsRegistry& stats() const;
 
-  // The TLM-2.0 initiator socket towards memory (bound to the built-in GDDR3 unless told otherwise).
+  // The TLM-2.0 initiator socket towards memory (bound to the built-in GDDR3 unless told
+  // otherwise).
   tlm_utils::simple_initiator_socket<MemoryPort>& memory_socket();
   // The bytes the memory must hold: the image, then the frame buffer of hit records.
   uint64_t memory_bytes() const;

@@ -9,15 +9,20 @@ void AcceleratorConfig::validate() const {
   RangeCheck check;
   describe(check, *this);
   if (list.l2.line_bytes != trv.l2.line_bytes || ist.l2.line_bytes != trv.l2.line_bytes)
-    throw std::invalid_argument("l2.line_bytes: the three L2s share one memory; expected equal line sizes");
+    throw std::invalid_argument(
+        "l2.line_bytes: the three L2s share one memory; expected equal line sizes");
   for (const UnitTypeConfig* u : {&trv, &list, &ist})
-    if (u->l1.line_bytes > u->l2.line_bytes) throw std::invalid_argument("l1.line_bytes: expected <= the L2's");
-  if (shading.l1.line_bytes > ist.l2.line_bytes) throw std::invalid_argument("shading.l1.line_bytes: expected <= the IST L2's");
+    if (u->l1.line_bytes > u->l2.line_bytes)
+      throw std::invalid_argument("l1.line_bytes: expected <= the L2's");
+  if (shading.l1.line_bytes > ist.l2.line_bytes)
+    throw std::invalid_argument("shading.l1.line_bytes: expected <= the IST L2's");
   if (schedule == Schedule::kTwoPhase && culling.records_per_cycle > 0 && !write_records)
     throw std::invalid_argument(
-        "culling.records_per_cycle: in two phases the culling unit reads the hit records from memory, which needs "
-        "shading.write_records: true (or records_per_cycle: 0, the ideal unit)");
-  if (reflection_depth < 0 || reflection_depth > 8) throw std::invalid_argument("reflection_depth: expected 0..8");
+        "culling.records_per_cycle: in two phases the culling unit reads the hit records from "
+        "memory, which needs shading.write_records: true (or records_per_cycle: 0, the ideal "
+        "unit)");
+  if (reflection_depth < 0 || reflection_depth > 8)
+    throw std::invalid_argument("reflection_depth: expected 0..8");
   memory_system().dram.validate();
 }
 

@@ -25,14 +25,17 @@ struct AcceleratorConfig {
   // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
   // ports and links as configs/README.md gives them with their sources: single-ported L1s; L2s
   // of 8 single-ported banks (GPGPU-Sim's GT200); 32-byte flits, 8-byte headers, 2 cycles a hop.
-  UnitTypeConfig trv{{8, 16, 16}, {24, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
-  UnitTypeConfig list{{2, 16, 16}, {12, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
-  UnitTypeConfig ist{{36, 16, 16}, {12, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+  UnitTypeConfig trv{{8, 16, 16},
+                     {24, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+  UnitTypeConfig list{{2, 16, 16},
+                      {12, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+  UnitTypeConfig ist{{36, 16, 16},
+                     {12, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
   // Its L1 sits on the IST L2.
   UnitTypeConfig shading{{4, 64, 64}, {1, {16384, 4, 64, 1, 16, 1, 1}, {}, {}}};
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
-  LinkConfig memory_link{2, 32, 8};  // the crossbar between the L2 banks and the DRAM channels
-  uint32_t ray_pool = 2048;   // rays in flight, all units together
+  LinkConfig memory_link{2, 32, 8};    // the crossbar between the L2 banks and the DRAM channels
+  uint32_t ray_pool = 2048;            // rays in flight, all units together
   uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
   CullingConfig culling;               // one hit record per cycle, read from memory in two phases
   bool write_records = true;           // shading units write each hit's record to the frame buffer
@@ -54,17 +57,24 @@ struct AcceleratorConfig {
 template <class V, class U>
 DescribeOf<U, UnitTypeConfig> describe(V& v, U& u, bool has_l2, uint32_t max_count) {
   v.number("count", u.count, 1, max_count, "units", "units of this type");
-  v.number("latency", u.latency, 1, 10000, "cycles", "pipeline latency; one operation issues per cycle");
-  v.number("capacity", u.capacity, 1, 65536, "rays", "rays held (TRV: rays owned, its ray accumulation buffer)");
+  v.number("latency", u.latency, 1, 10000, "cycles",
+           "pipeline latency; one operation issues per cycle");
+  v.number("capacity", u.capacity, 1, 65536, "rays",
+           "rays held (TRV: rays owned, its ray accumulation buffer)");
   v.number("fifo_depth", u.fifo_depth, 1, 65536, "rays", "the input FIFO");
-  v.section("l1", "each unit's L1", [&] { describe(v, u.l1); }, [&] { u.l1.validate(); });
+  v.section(
+      "l1", "each unit's L1", [&] { describe(v, u.l1); }, [&] { u.l1.validate(); });
   if (!has_l2) return;
-  v.section("l2", "the type's L2", [&] {
-    describe(v, u.l2);
-    v.choice("sharing", u.l2_sharing, {{"type", L2Sharing::kType}, {"unit", L2Sharing::kUnit}},
-             "one L2 for all units of the type, or a private L2 per unit");
-  }, [&] { u.l2.validate(); });
-  v.section("link", "the crossbar between the type's L1s and its L2's banks", [&] { describe(v, u.link); });
+  v.section(
+      "l2", "the type's L2",
+      [&] {
+        describe(v, u.l2);
+        v.choice("sharing", u.l2_sharing, {{"type", L2Sharing::kType}, {"unit", L2Sharing::kUnit}},
+                 "one L2 for all units of the type, or a private L2 per unit");
+      },
+      [&] { u.l2.validate(); });
+  v.section("link", "the crossbar between the type's L1s and its L2's banks",
+            [&] { describe(v, u.link); });
 }
 
 // Every field a hardware file sets, once (model/sim/config_description.h). lvb_culling and
@@ -73,27 +83,32 @@ template <class V, class C>
 DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {
   v.number("clock_ghz", c.clock_ghz, 0.01, 100, "GHz", "the accelerator clock");
   v.number("ray_pool", c.ray_pool, 1, 1 << 24, "rays", "rays in flight in the whole accelerator");
-  v.choice("order", c.order, {{"tiles", RayOrder::kTiles}, {"scanline", RayOrder::kScanline}}, "primary ray order");
+  v.choice("order", c.order, {{"tiles", RayOrder::kTiles}, {"scanline", RayOrder::kScanline}},
+           "primary ray order");
   v.number("tile", c.tile, 1, 4096, "pixels", "tile side");
-  v.choice("schedule", c.schedule, {{"two-phase", Schedule::kTwoPhase}, {"one-phase", Schedule::kOnePhase}},
-           "all primary rays, then all shadow rays (the paper's Table 6); or shadow rays as soon as their hit is "
-           "shaded");
+  v.choice("schedule", c.schedule,
+           {{"two-phase", Schedule::kTwoPhase}, {"one-phase", Schedule::kOnePhase}},
+           "all primary rays, then all shadow rays (the paper's Table 6); or shadow rays as soon "
+           "as their hit is shaded");
   v.number("watchdog_cycles", c.watchdog_cycles, 1000, double(uint64_t(1) << 40), "cycles",
            "an error naming the stuck FIFOs and units after this long without progress");
   v.section("trv", "the traversal units", [&] { describe(v, c.trv, true, 1024); });
   v.section("list", "the primitive-list units", [&] { describe(v, c.list, true, 1024); });
   v.section("ist", "the intersection units", [&] { describe(v, c.ist, true, 1024); });
-  v.section("shading", "the shading units (the rays of TRV unit i finish in shading unit i x count / trv)", [&] {
-    describe(v, c.shading, false, 64);
-    v.flag("write_records", c.write_records, "every shaded hit's 64-byte record is written to the frame buffer in DRAM");
-  });
+  v.section("shading",
+            "the shading units (the rays of TRV unit i finish in shading unit i x count / trv)",
+            [&] {
+              describe(v, c.shading, false, 64);
+              v.flag("write_records", c.write_records,
+                     "every shaded hit's 64-byte record is written to the frame buffer in DRAM");
+            });
   v.section("raygen", "the ray generator", [&] {
-    v.number("rays_per_cycle", c.raygen_rays_per_cycle, 1, 64, "rays", "primary rays issued per cycle at most");
+    v.number("rays_per_cycle", c.raygen_rays_per_cycle, 1, 64, "rays",
+             "primary rays issued per cycle at most");
   });
   v.section("culling", "the shadow culling unit", [&] { describe(v, c.culling); });
-  v.section("memory_link", "the crossbar between the L2 banks and the memory channels", [&] {
-    describe(v, c.memory_link);
-  });
+  v.section("memory_link", "the crossbar between the L2 banks and the memory channels",
+            [&] { describe(v, c.memory_link); });
   v.section("dram", "the GDDR3 memory", [&] {
     v.preset("preset", c.dram, "the preset the section starts from (docs/dram.md)");
     describe(v, c.dram);

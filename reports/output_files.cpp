@@ -6,10 +6,10 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 namespace rtsim {
 
@@ -32,13 +32,17 @@ void write_file_atomic(const std::string& path, const std::string& contents) {
   }
 }
 
-void write_json(const std::string& path, const nlohmann::json& j) { write_file_atomic(path, j.dump(2) + "\n"); }
+void write_json(const std::string& path, const nlohmann::json& j) {
+  write_file_atomic(path, j.dump(2) + "\n");
+}
 
-void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height, int width) {
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height,
+                   int width) {
   write_npy_u16(path, data, std::vector<size_t>{size_t(height), size_t(width)});
 }
 
-void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, const std::vector<size_t>& shape) {
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
+                   const std::vector<size_t>& shape) {
   // A Python tuple: "(h, w)", and "(n,)" for one dimension.
   std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}{}), }}",
                                    fmt::join(shape, ", "), shape.size() == 1 ? "," : "");
@@ -58,9 +62,12 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, c
   write_file_atomic(path, out);
 }
 
-void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height) {
+void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width,
+                   int height) {
   std::string png;
-  auto sink = [](void* ctx, void* data, int size) { static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size); };
+  auto sink = [](void* ctx, void* data, int size) {
+    static_cast<std::string*>(ctx)->append(static_cast<char*>(data), size);
+  };
   if (!stbi_write_png_to_func(sink, &png, width, height, 3, rgb.data(), width * 3))
     throw InputError(fmt::format("{}: PNG encoding failed", path));
   write_file_atomic(path, png);

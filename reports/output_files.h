@@ -12,9 +12,11 @@ namespace rtsim {
 void write_file_atomic(const std::string& path, const std::string& contents);
 void write_json(const std::string& path, const nlohmann::json& j);
 // NumPy .npy (format 1.0), little-endian uint16, C order, shape (height, width).
-void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height, int width);
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height,
+                   int width);
 // Any shape, row-major (C order): the last dimension varies fastest.
-void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, const std::vector<size_t>& shape);
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
+                   const std::vector<size_t>& shape);
 // 8-bit RGB PNG.
 void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height);
 

@@ -2,12 +2,12 @@
 
 #include <fmt/format.h>
 
-#include <cstdlib>
 #include <fcntl.h>
-#include <fstream>
-#include <filesystem>
 #include <spawn.h>
 #include <sys/wait.h>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <vector>
 
 extern char** environ;
@@ -32,7 +32,8 @@ std::string make_plots(const std::string& kind, const std::string& dir) {
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
-  // Its output goes to a scratch file: on failure the last line says why, and nothing else is printed.
+  // Its output goes to a scratch file: on failure the last line says why, and nothing else is
+  // printed.
   const std::string log = (std::filesystem::path(dir) / ".plots.log").string();
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
@@ -53,7 +54,8 @@ std::string make_plots(const std::string& kind, const std::string& dir) {
   std::filesystem::remove(log);
   if (!waited) return "lost " + py;
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    return fmt::format("{} {} {} {} failed{}{}", py, script, kind, dir, last.empty() ? "" : ": ", last);
+    return fmt::format("{} {} {} {} failed{}{}", py, script, kind, dir, last.empty() ? "" : ": ",
+                       last);
   return "";
 }
 

@@ -19,7 +19,9 @@ void flatten(const nlohmann::json& j, const std::string& prefix, std::string& ou
   }
 }
 
-std::string pct(double part, double whole) { return whole > 0 ? fmt::format("{:.2f}%", 100.0 * part / whole) : "n/a"; }
+std::string pct(double part, double whole) {
+  return whole > 0 ? fmt::format("{:.2f}%", 100.0 * part / whole) : "n/a";
+}
 // Integers with thousands separators, independent of the host's locale.
 std::string num(double v) {
   if (std::isnan(v)) return "n/a";
@@ -39,12 +41,16 @@ double json_number(const nlohmann::json& j, const std::string& path) {
   size_t start = 0;
   while (start <= path.size()) {
     const size_t dot = path.find('.', start);
-    const std::string key = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
-    if (at->is_object() && at->contains(key)) at = &(*at)[key];
+    const std::string key =
+        path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    if (at->is_object() && at->contains(key))
+      at = &(*at)[key];
     else if (at->is_array() && !key.empty() && key.size() < 10 &&
-             key.find_first_not_of("0123456789") == std::string::npos && std::stoul(key) < at->size())
+             key.find_first_not_of("0123456789") == std::string::npos &&
+             std::stoul(key) < at->size())
       at = &(*at)[std::stoul(key)];
-    else return NAN;
+    else
+      return NAN;
     if (dot == std::string::npos) break;
     start = dot + 1;
   }
@@ -54,8 +60,9 @@ double json_number(const nlohmann::json& j, const std::string& path) {
 
 std::string stats_csv(const nlohmann::json& r) {
   std::string out = "name,value\n";
-  for (const char* key : {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow", "frame_ms", "rays",
-                          "per_light", "lvb", "kdtree", "reference_check", "stats"})
+  for (const char* key :
+       {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow", "frame_ms", "rays",
+        "per_light", "lvb", "kdtree", "reference_check", "stats"})
     if (r.contains(key)) flatten(r[key], key, out);
   return out;
 }
@@ -66,109 +73,145 @@ std::string run_report_markdown(const nlohmann::json& r) {
   const nlohmann::json& run = r["config"]["run"];
   const bool lvb = run["lvb"].get<bool>();
   const auto& res = scene["resolution"];
-  md << fmt::format("# rtsim run: {} at {}x{}, LVB culling {}\n\n", scene["name"].get<std::string>(), res[0].get<int>(),
-                    res[1].get<int>(), lvb ? "on" : "off");
-  md << fmt::format("Scene file `{}`, hardware `{}`, clock {} GHz", r["config"]["scene_file"].get<std::string>(),
+  md << fmt::format("# rtsim run: {} at {}x{}, LVB culling {}\n\n",
+                    scene["name"].get<std::string>(), res[0].get<int>(), res[1].get<int>(),
+                    lvb ? "on" : "off");
+  md << fmt::format("Scene file `{}`, hardware `{}`, clock {} GHz",
+                    r["config"]["scene_file"].get<std::string>(),
                     r["config"]["hw_file"].get<std::string>(), r["clock_ghz"].get<double>());
   if (lvb)
-    md << fmt::format("; LVB method {}, bounds {}, self-occlusion {}", r["lvb"]["method"].get<std::string>(),
-                      r["lvb"]["bounds"].get<std::string>(), r["lvb"]["self_occlusion"].get<std::string>());
-  md << ". Schema " << r["schema"].get<std::string>() << "; every figure below is in report.json.\n\n";
+    md << fmt::format("; LVB method {}, bounds {}, self-occlusion {}",
+                      r["lvb"]["method"].get<std::string>(), r["lvb"]["bounds"].get<std::string>(),
+                      r["lvb"]["self_occlusion"].get<std::string>());
+  md << ". Schema " << r["schema"].get<std::string>()
+     << "; every figure below is in report.json.\n\n";
 
-  md << "## Scene (as the paper's Table 3)\n\n| triangles | lights | kd-tree nodes | leaves | non-empty leaves | max depth | memory image |\n|---|---|---|---|---|---|---|\n";
+  md << "## Scene (as the paper's Table 3)\n\n| triangles | lights | kd-tree nodes | leaves | "
+        "non-empty leaves | max depth | memory image |\n|---|---|---|---|---|---|---|\n";
   const nlohmann::json& kd = r["kdtree"];
-  md << fmt::format("| {} | {} | {} | {} | {} | {} | {:.1f} MB |\n\n", num(scene["triangles"].get<double>()),
-                    scene["lights"].size(), num(kd["nodes"].get<double>()), num(kd["leaves"].get<double>()),
+  md << fmt::format("| {} | {} | {} | {} | {} | {} | {:.1f} MB |\n\n",
+                    num(scene["triangles"].get<double>()), scene["lights"].size(),
+                    num(kd["nodes"].get<double>()), num(kd["leaves"].get<double>()),
                     num(kd["nonempty_leaves"].get<double>()), kd["max_depth"].get<int>(),
                     scene["image_bytes"].get<double>() / 1e6);
 
   const nlohmann::json& per_light = r["per_light"];
   if (lvb) {
-    // The paper's Table 4 divides by all leaves (empty ones included); only non-empty leaves get an LVB.
-    md << "## Culled leaves (as Table 4)\n\n| light | culled leaves | non-empty leaves | rate of non-empty leaves | "
-          "all leaves | rate of all leaves (the paper's) |\n|---|---|---|---|---|---|\n";
+    // The paper's Table 4 divides by all leaves (empty ones included); only non-empty leaves get an
+    // LVB.
+    md << "## Culled leaves (as Table 4)\n\n| light | culled leaves | non-empty leaves | rate of "
+          "non-empty leaves | all leaves | rate of all leaves (the paper's) "
+          "|\n|---|---|---|---|---|---|\n";
     const nlohmann::json& lp = r["lvb"]["per_light"];
     const double all = kd["leaves"].get<double>();
     for (size_t l = 0; l < lp.size(); ++l) {
-      const double c = lp[l]["culled_leaves"].get<double>(), n = lp[l]["nonempty_leaves"].get<double>();
-      md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n), num(all), pct(c, all));
+      const double c = lp[l]["culled_leaves"].get<double>(),
+                   n = lp[l]["nonempty_leaves"].get<double>();
+      md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n),
+                        num(all), pct(c, all));
     }
     md << "\n";
   }
-  md << "## Shadow rays culled (as Table 5)\n\n| light | culled | shadow rays | rate | traced |\n|---|---|---|---|---|\n";
+  md << "## Shadow rays culled (as Table 5)\n\n| light | culled | shadow rays | rate | traced "
+        "|\n|---|---|---|---|---|\n";
   double culled_sum = 0, shadow_sum = 0;
   for (size_t l = 0; l < per_light.size(); ++l) {
-    const double c = per_light[l]["culled"].get<double>(), n = per_light[l]["shadow_rays"].get<double>();
+    const double c = per_light[l]["culled"].get<double>(),
+                 n = per_light[l]["shadow_rays"].get<double>();
     culled_sum += c;
     shadow_sum += n;
     md << fmt::format("| {} | {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n),
                       num(per_light[l]["generated"].get<double>()));
   }
-  md << fmt::format("| all | {} | {} | {} | {} |\n\n", num(culled_sum), num(shadow_sum), pct(culled_sum, shadow_sum),
-                    num(shadow_sum - culled_sum));
+  md << fmt::format("| all | {} | {} | {} | {} |\n\n", num(culled_sum), num(shadow_sum),
+                    pct(culled_sum, shadow_sum), num(shadow_sum - culled_sum));
 
   const nlohmann::json& hw = r["config"]["hw"];
-  md << "## Frame time (as Table 6, this run's column)\n\n| rays | cycles | time |\n|---|---|---|\n";
-  md << fmt::format("| all | {} | {:.3f} ms |\n", num(r["cycles_total"].get<double>()), r["frame_ms"]["all"].get<double>());
+  md << "## Frame time (as Table 6, this run's column)\n\n| rays | cycles | time "
+        "|\n|---|---|---|\n";
+  md << fmt::format("| all | {} | {:.3f} ms |\n", num(r["cycles_total"].get<double>()),
+                    r["frame_ms"]["all"].get<double>());
   md << fmt::format("| shadow | {} | {:.3f} ms |\n", num(r["cycles_shadow"].get<double>()),
                     r["frame_ms"]["shadow"].get<double>());
   md << fmt::format("| primary | {} | {:.3f} ms |\n\n", num(r["cycles_primary"].get<double>()),
                     r["cycles_primary"].get<double>() / (r["clock_ghz"].get<double>() * 1e6));
   if (hw.value("schedule", "two-phase") == "two-phase")
-    md << "\"shadow\" is the second phase: from the last primary ray's retirement to the last shadow ray's "
-          "(docs/model-design.md).\n\n";
+    md << "\"shadow\" is the second phase: from the last primary ray's retirement to the last "
+          "shadow ray's (docs/model-design.md).\n\n";
   else
-    md << "One-phase schedule: shadow rays overlap the primary rays, so \"shadow\" is only the time after the "
-          "last primary ray retired, not the paper's shadow time (docs/model-design.md).\n\n";
-  md << fmt::format("Rays: {} primary ({} hits), {} reflection, {} shadow.\n\n", num(r["rays"]["primary"].get<double>()),
-                    num(r["rays"]["primary_hits"].get<double>()), num(r["rays"]["reflection"].get<double>()),
-                    num(r["rays"]["shadow"].get<double>()));
+    md << "One-phase schedule: shadow rays overlap the primary rays, so \"shadow\" is only the "
+          "time after the last primary ray retired, not the paper's shadow time "
+          "(docs/model-design.md).\n\n";
+  md << fmt::format(
+      "Rays: {} primary ({} hits), {} reflection, {} shadow.\n\n",
+      num(r["rays"]["primary"].get<double>()), num(r["rays"]["primary_hits"].get<double>()),
+      num(r["rays"]["reflection"].get<double>()), num(r["rays"]["shadow"].get<double>()));
 
-  md << "## Units\n\n| unit | count | busy | stalled | idle | busy cycles |\n|---|---|---|---|---|---|\n";
+  md << "## Units\n\n| unit | count | busy | stalled | idle | busy cycles "
+        "|\n|---|---|---|---|---|---|\n";
   for (const auto& [label, path, count] : std::vector<std::tuple<std::string, std::string, double>>{
-           {"ray generator", "stats.raygen", 1}, {"TRV", "stats.trv.total", hw["trv"]["count"].get<double>()},
+           {"ray generator", "stats.raygen", 1},
+           {"TRV", "stats.trv.total", hw["trv"]["count"].get<double>()},
            {"LIST", "stats.list.total", hw["list"]["count"].get<double>()},
-           {"IST", "stats.ist.total", hw["ist"]["count"].get<double>()}, {"shading", "stats.shading.total", hw["shading"]["count"].get<double>()},
+           {"IST", "stats.ist.total", hw["ist"]["count"].get<double>()},
+           {"shading", "stats.shading.total", hw["shading"]["count"].get<double>()},
            {"shadow culling", "stats.culling", 1}}) {
-    const double b = json_number(r, path + ".busy_cycles"), s = json_number(r, path + ".stalled_cycles"),
+    const double b = json_number(r, path + ".busy_cycles"),
+                 s = json_number(r, path + ".stalled_cycles"),
                  i = json_number(r, path + ".idle_cycles");
-    md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", label, count, pct(b, b + s + i), pct(s, b + s + i),
-                      pct(i, b + s + i), num(b));
+    md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", label, count, pct(b, b + s + i),
+                      pct(s, b + s + i), pct(i, b + s + i), num(b));
   }
   md << "\nShares of the unit cycles (summed over the units of a type).\n\n";
 
-  md << "## Caches\n\n| unit | level | accesses | hits | misses | hit rate | MSHR merges |\n|---|---|---|---|---|---|---|\n";
-  for (const auto& [label, path] : std::vector<std::pair<std::string, std::string>>{
-           {"TRV", "trv.l1"}, {"TRV", "trv.l2"}, {"LIST", "list.l1"}, {"LIST", "list.l2"}, {"IST", "ist.l1"},
-           {"IST", "ist.l2"}, {"shading", "shading.l1"}}) {
+  md << "## Caches\n\n| unit | level | accesses | hits | misses | hit rate | MSHR merges "
+        "|\n|---|---|---|---|---|---|---|\n";
+  for (const auto& [label, path] :
+       std::vector<std::pair<std::string, std::string>>{{"TRV", "trv.l1"},
+                                                        {"TRV", "trv.l2"},
+                                                        {"LIST", "list.l1"},
+                                                        {"LIST", "list.l2"},
+                                                        {"IST", "ist.l1"},
+                                                        {"IST", "ist.l2"},
+                                                        {"shading", "shading.l1"}}) {
     const std::string p = "stats." + path;
-    md << fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", label, path.substr(path.size() - 2) == "l1" ? "L1" : "L2",
+    md << fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", label,
+                      path.substr(path.size() - 2) == "l1" ? "L1" : "L2",
                       num(json_number(r, p + ".accesses")), num(json_number(r, p + ".hits")),
                       num(json_number(r, p + ".misses")), rate(json_number(r, p + ".hit_rate")),
                       num(json_number(r, p + ".mshr_merges")));
   }
-  md << "\n## DRAM\n\n| reads | bytes | row-hit rate | bandwidth | bus utilisation | mean read latency |\n|---|---|---|---|---|---|\n";
-  md << fmt::format("| {} | {} | {} | {:.2f} GB/s | {} | {:.1f} ns |\n\n", num(json_number(r, "stats.dram.reads")),
-                    num(json_number(r, "stats.dram.bytes")), rate(json_number(r, "stats.dram.row_hit_rate")),
-                    json_number(r, "stats.dram.bandwidth_gbps"), rate(json_number(r, "stats.dram.bus_utilization")),
-                    json_number(r, "stats.dram.avg_latency_ns"));
+  md << "\n## DRAM\n\n| reads | bytes | row-hit rate | bandwidth | bus utilisation | mean read "
+        "latency |\n|---|---|---|---|---|---|\n";
+  md << fmt::format(
+      "| {} | {} | {} | {:.2f} GB/s | {} | {:.1f} ns |\n\n",
+      num(json_number(r, "stats.dram.reads")), num(json_number(r, "stats.dram.bytes")),
+      rate(json_number(r, "stats.dram.row_hit_rate")), json_number(r, "stats.dram.bandwidth_gbps"),
+      rate(json_number(r, "stats.dram.bus_utilization")),
+      json_number(r, "stats.dram.avg_latency_ns"));
 
   if (!r["reference_check"].is_null()) {
     const nlohmann::json& c = r["reference_check"];
-    md << fmt::format("## Reference check\n\n{} of {} pixels differ from the reference tracer; image {}; culled counts {}.\n\n",
-                      num(c["mismatched_pixels"].get<double>()), num(c["pixels"].get<double>()),
-                      c["image_identical"].get<bool>() ? "identical" : "different",
-                      c["culled_counts_identical"].get<bool>() ? "identical" : "different");
+    md << fmt::format(
+        "## Reference check\n\n{} of {} pixels differ from the reference tracer; image {}; culled "
+        "counts {}.\n\n",
+        num(c["mismatched_pixels"].get<double>()), num(c["pixels"].get<double>()),
+        c["image_identical"].get<bool>() ? "identical" : "different",
+        c["culled_counts_identical"].get<bool>() ? "identical" : "different");
   }
   const nlohmann::json& host = r["host"];
-  md << fmt::format("## Host\n\n{:.1f} s in all ({:.1f} s simulating: {} rays/s, {} cycles/s), peak memory {:.0f} MB.\n\n",
-                    host["seconds"]["total"].get<double>(), host["seconds"]["simulate"].get<double>(),
-                    num(host["rays_per_second"].get<double>()), num(host["cycles_per_second"].get<double>()),
-                    host["peak_memory_mb"].get<double>());
+  md << fmt::format(
+      "## Host\n\n{:.1f} s in all ({:.1f} s simulating: {} rays/s, {} cycles/s), peak memory "
+      "{:.0f} MB.\n\n",
+      host["seconds"]["total"].get<double>(), host["seconds"]["simulate"].get<double>(),
+      num(host["rays_per_second"].get<double>()), num(host["cycles_per_second"].get<double>()),
+      host["peak_memory_mb"].get<double>());
   md << "## Figures\n\n";
   for (const auto& [file, what] : std::vector<std::pair<std::string, std::string>>{
-           {"render.png", "the frame"}, {"culled.png", "where shadow rays were culled, per light and summed"},
-           {"plot_culling.png", "culling rate per light (leaves and shadow rays; the paper's Fig. 7)"},
+           {"render.png", "the frame"},
+           {"culled.png", "where shadow rays were culled, per light and summed"},
+           {"plot_culling.png",
+            "culling rate per light (leaves and shadow rays; the paper's Fig. 7)"},
            {"plot_time_breakdown.png", "busy, stalled and idle cycles per unit type"},
            {"plot_cache_hit_rates.png", "hit rates per unit type and cache level"}})
     md << fmt::format("- [{}]({}): {}\n", file, file, what);

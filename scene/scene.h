@@ -1,5 +1,6 @@
 // The one scene type every loader produces: world-space triangles, materials, lights, camera.
-// Data the loaders produce and the kernels consume: a folder of its own, so neither includes the other.
+// Data the loaders produce and the kernels consume: a folder of its own, so neither includes the
+// other.
 #pragma once
 
 #include "common/geometry.h"
@@ -11,8 +12,8 @@ namespace rtsim {
 
 // NFF/BART material, kept as read so shading can use what the file says.
 struct Material {
-  Vec3 diffuse{0.8f};   // diffuse colour (colour * Kd for NFF 'f')
-  Vec3 specular{0.f};   // specular colour (colour * Ks for NFF 'f')
+  Vec3 diffuse{0.8f};  // diffuse colour (colour * Kd for NFF 'f')
+  Vec3 specular{0.f};  // specular colour (colour * Ks for NFF 'f')
   float shininess = 0.f;
   float reflectance = 0.f;    // mirror weight used by reflection rays (0 = no reflection ray)
   float transmittance = 0.f;  // kept for reference; geometry is opaque in rtsim
@@ -37,7 +38,7 @@ struct Camera {
   Vec3 eye{0.f, 0.f, 0.f};
   Vec3 dir{0.f, 0.f, -1.f};  // unit view direction
   Vec3 up{0.f, 1.f, 0.f};
-  float vfov_deg = 45.f;     // vertical field of view
+  float vfov_deg = 45.f;  // vertical field of view
   float hither = 0.f;
 };
 

@@ -219,7 +219,10 @@ struct Frame {
 class AffLoader {
  public:
   AffLoader(Scene& scene, double time, KbQuatSpline::Flip rotation_flip)
-      : scene_(scene), time_(time), rotation_flip_(rotation_flip), first_triangle_(scene.triangles.size()),
+      : scene_(scene),
+        time_(time),
+        rotation_flip_(rotation_flip),
+        first_triangle_(scene.triangles.size()),
         first_light_(scene.lights.size()) {}
 
   void load(const std::string& path) {
@@ -238,33 +241,56 @@ class AffLoader {
     for (;;) {
       std::string_view kw = tk.next();
       if (kw.empty()) break;
-      if (kw == "m") parse_mesh(tk);
-      else if (kw == "xs") parse_static_transform(tk);
-      else if (kw == "x") parse_animated_transform(tk);
-      else if (kw == "}") close_frame(tk, depth_at_entry);
-      else if (kw == "i") parse_include(tk);
-      else if (kw == "fm") parse_material_fm(tk);
-      else if (kw == "f") parse_material_f(tk);
-      else if (kw == "k") parse_keyframes(tk);
-      else if (kw == "p") parse_polygon(tk, false);
-      else if (kw == "pp") parse_polygon(tk, true);
-      else if (kw == "tt") parse_textured_triangle(tk, false);
-      else if (kw == "ttp") parse_textured_triangle(tk, true);
-      else if (kw == "tpa") parse_animated_triangle(tk);
-      else if (kw == "s") parse_sphere(tk);
-      else if (kw == "c") parse_cone(tk);
-      else if (kw == "l") parse_light(tk);
-      else if (kw == "la") parse_animated_light(tk);
-      else if (kw == "v") parse_view(tk);
-      else if (kw == "b") tk.vec3("background colour");  // no background in Scene
-      else if (kw == "am") tk.vec3("ambient light colour");  // no ambient term in Scene
-      else if (kw == "a") parse_animation_range(tk);
-      else if (kw == "d") detail_level_ = tk.integer("detail level");
-      else if (kw == "{") tk.fail(kw, "a keyword ('{' only follows 'xs ...' or 'x NAME')");
+      if (kw == "m")
+        parse_mesh(tk);
+      else if (kw == "xs")
+        parse_static_transform(tk);
+      else if (kw == "x")
+        parse_animated_transform(tk);
+      else if (kw == "}")
+        close_frame(tk, depth_at_entry);
+      else if (kw == "i")
+        parse_include(tk);
+      else if (kw == "fm")
+        parse_material_fm(tk);
+      else if (kw == "f")
+        parse_material_f(tk);
+      else if (kw == "k")
+        parse_keyframes(tk);
+      else if (kw == "p")
+        parse_polygon(tk, false);
+      else if (kw == "pp")
+        parse_polygon(tk, true);
+      else if (kw == "tt")
+        parse_textured_triangle(tk, false);
+      else if (kw == "ttp")
+        parse_textured_triangle(tk, true);
+      else if (kw == "tpa")
+        parse_animated_triangle(tk);
+      else if (kw == "s")
+        parse_sphere(tk);
+      else if (kw == "c")
+        parse_cone(tk);
+      else if (kw == "l")
+        parse_light(tk);
+      else if (kw == "la")
+        parse_animated_light(tk);
+      else if (kw == "v")
+        parse_view(tk);
+      else if (kw == "b")
+        tk.vec3("background colour");  // no background in Scene
+      else if (kw == "am")
+        tk.vec3("ambient light colour");  // no ambient term in Scene
+      else if (kw == "a")
+        parse_animation_range(tk);
+      else if (kw == "d")
+        detail_level_ = tk.integer("detail level");
+      else if (kw == "{")
+        tk.fail(kw, "a keyword ('{' only follows 'xs ...' or 'x NAME')");
       else
         tk.error("found unknown keyword '" + std::string(kw) +
-                 "', expected one of the AFF keywords v b l la f fm am a c s p pp tt ttp tpa m i d xs "
-                 "x k }");
+                 "', expected one of the AFF keywords v b l la f fm am a c s p pp tt ttp tpa m i d "
+                 "xs x k }");
     }
     // Braces must balance within each file, so a truncated include cannot close its parent.
     if (frames_.size() > depth_at_entry)
@@ -507,8 +533,10 @@ class AffLoader {
     scene_.triangles.push_back(Triangle{a, b, c, material()});
     if (node_ < 0) return;
     auto& ranges = nodes_[node_].triangles;
-    if (!ranges.empty() && ranges.back().second == i) ranges.back().second = i + 1;
-    else ranges.emplace_back(i, i + 1);
+    if (!ranges.empty() && ranges.back().second == i)
+      ranges.back().second = i + 1;
+    else
+      ranges.emplace_back(i, i + 1);
   }
 
   // m / vertices N xyz... / [normals N xyz...] / [texturecoords N file uv...] /
@@ -583,8 +611,8 @@ class AffLoader {
     for (std::size_t k = 0; k < times.size(); ++k) {
       times[k] = tk.number("tpa sample time");
       if (k > 0 && !(times[k] > times[k - 1]))
-        tk.error("found tpa sample time " + std::to_string(times[k]) + " after " + std::to_string(times[k - 1]) +
-                 ", expected increasing times");
+        tk.error("found tpa sample time " + std::to_string(times[k]) + " after " +
+                 std::to_string(times[k - 1]) + ", expected increasing times");
       for (dvec3& v : verts[k]) {
         v = tk.vec3("tpa vertex x y z");
         tk.vec3("tpa normal");
@@ -629,7 +657,8 @@ class AffLoader {
     dvec3 apex = tk.vec3("cone apex centre");
     double r1 = std::abs(tk.number("cone apex radius"));
     dvec3 axis = apex - base;
-    if (glm::length(axis) == 0.0) tk.error("found cone apex equal to base, expected distinct points");
+    if (glm::length(axis) == 0.0)
+      tk.error("found cone apex equal to base, expected distinct points");
     if (r0 == 0.0 && r1 == 0.0) tk.error("found cone radii 0 and 0, expected a non-zero radius");
     dvec3 w = glm::normalize(axis);
     // Any unit vector not parallel to w completes the frame.
@@ -690,7 +719,9 @@ class AffLoader {
     for (const AnimatedLight& a : animated_lights_) {
       auto it = animations_.find(a.name);
       if (it == animations_.end())
-        throw_at_line(a.file, a.line, "found 'la " + a.name + "', expected keyframes 'k " + a.name + "' in the scene");
+        throw_at_line(
+            a.file, a.line,
+            "found 'la " + a.name + "', expected keyframes 'k " + a.name + "' in the scene");
       const dmat4 m = (a.node < 0 ? dmat4(1.0) : world[a.node]) * a.matrix * it->second.matrix();
       scene_.lights[a.index].position = Vec3(transform_point(m, a.position));
       if (a.node >= 0 && !visible[a.node]) {
@@ -745,7 +776,8 @@ class AffLoader {
 
 }  // namespace
 
-void load_aff(const std::string& path, double time, Scene& scene, KbQuatSpline::Flip rotation_flip) {
+void load_aff(const std::string& path, double time, Scene& scene,
+              KbQuatSpline::Flip rotation_flip) {
   AffLoader(scene, time, rotation_flip).load(path);
 }
 

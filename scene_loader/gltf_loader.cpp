@@ -22,8 +22,8 @@ namespace {
 using Mat4 = glm::dmat4;
 
 // rtsim traces geometry only: textures are never decoded (nor is a missing one an error).
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
-                void*) {
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                const unsigned char*, int, void*) {
   return true;
 }
 
@@ -48,7 +48,8 @@ class GltfReader {
   void run() {
     for (int root : roots()) visit(root, Mat4(1.0));
     if (skipped_lines_points_)
-      print_warnings(path_, "skipped " + std::to_string(skipped_lines_points_) + " point/line primitive(s)");
+      print_warnings(
+          path_, "skipped " + std::to_string(skipped_lines_points_) + " point/line primitive(s)");
     if (skipped_no_position_)
       print_warnings(path_, "skipped " + std::to_string(skipped_no_position_) +
                                 " primitive(s) without POSITION or index data");
@@ -62,8 +63,8 @@ class GltfReader {
   template <class T>
   const T& at(const std::vector<T>& v, int i, const char* what) const {
     if (i < 0 || static_cast<size_t>(i) >= v.size())
-      fail(std::string(what) + " " + std::to_string(i) + " out of range (the file has " + std::to_string(v.size()) +
-           ")");
+      fail(std::string(what) + " " + std::to_string(i) + " out of range (the file has " +
+           std::to_string(v.size()) + ")");
     return v[static_cast<size_t>(i)];
   }
 
@@ -90,7 +91,8 @@ class GltfReader {
     Mat4 t(1.0), r(1.0), s(1.0);
     if (!n.translation.empty()) {
       if (n.translation.size() != 3) fail(where + "translation must have 3 numbers");
-      t = glm::translate(Mat4(1.0), glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+      t = glm::translate(Mat4(1.0),
+                         glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
     }
     if (!n.rotation.empty()) {
       if (n.rotation.size() != 4) fail(where + "rotation must have 4 numbers");
@@ -108,7 +110,8 @@ class GltfReader {
 
   void visit(int index, const Mat4& parent) {
     const tinygltf::Node& n = at(m_.nodes, index, "node");
-    if (on_path_[index]) fail("node " + std::to_string(index) + " is its own ancestor (cycle in the node tree)");
+    if (on_path_[index])
+      fail("node " + std::to_string(index) + " is its own ancestor (cycle in the node tree)");
     on_path_[index] = 1;
     const Mat4 world = parent * local_transform(n, index);
 
@@ -161,7 +164,8 @@ class GltfReader {
     Material mat;
     mat.diffuse = Vec3(1.f);  // glTF's default baseColorFactor
     if (index != -1) {
-      const std::vector<double>& c = at(m_.materials, index, "material").pbrMetallicRoughness.baseColorFactor;
+      const std::vector<double>& c =
+          at(m_.materials, index, "material").pbrMetallicRoughness.baseColorFactor;
       if (c.size() >= 3) mat.diffuse = Vec3(c[0], c[1], c[2]);
     }
     const uint32_t id = scene_.add_material(mat);
@@ -179,11 +183,14 @@ class GltfReader {
     stride = v.byteStride ? v.byteStride : elem_size;
     if (v.byteOffset > b.data.size() || v.byteLength > b.data.size() - v.byteOffset)
       fail(where + "bufferView " + std::to_string(a.bufferView) + " lies outside its buffer");
-    if (stride < elem_size) fail(where + "byteStride " + std::to_string(stride) + " is smaller than an element");
+    if (stride < elem_size)
+      fail(where + "byteStride " + std::to_string(stride) + " is smaller than an element");
     // Need byteOffset + (count - 1) * stride + elem_size <= byteLength, without overflow.
-    const bool fits = a.count == 0 || (a.byteOffset <= v.byteLength && v.byteLength - a.byteOffset >= elem_size &&
-                                       a.count - 1 <= (v.byteLength - a.byteOffset - elem_size) / stride);
-    if (!fits) fail(where + "accessor data lies outside bufferView " + std::to_string(a.bufferView));
+    const bool fits =
+        a.count == 0 || (a.byteOffset <= v.byteLength && v.byteLength - a.byteOffset >= elem_size &&
+                         a.count - 1 <= (v.byteLength - a.byteOffset - elem_size) / stride);
+    if (!fits)
+      fail(where + "accessor data lies outside bufferView " + std::to_string(a.bufferView));
     return b.data.data() + v.byteOffset + a.byteOffset;
   }
 
@@ -209,9 +216,12 @@ class GltfReader {
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: size = 1; break;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: size = 2; break;
       case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: size = 4; break;
-      default: fail(where + "index accessor " + std::to_string(index) + " must be unsigned byte/short/int");
+      default:
+        fail(where + "index accessor " + std::to_string(index) +
+             " must be unsigned byte/short/int");
     }
-    if (a.type != TINYGLTF_TYPE_SCALAR) fail(where + "index accessor " + std::to_string(index) + " must be SCALAR");
+    if (a.type != TINYGLTF_TYPE_SCALAR)
+      fail(where + "index accessor " + std::to_string(index) + " must be SCALAR");
     size_t stride = 0;
     const unsigned char* p = accessor_data(a, size, stride, where);
     std::vector<uint32_t> out(a.count);
@@ -219,12 +229,15 @@ class GltfReader {
       uint8_t u8;
       uint16_t u16;
       uint32_t u32 = 0;
-      if (size == 1) std::memcpy(&u8, p, 1), u32 = u8;
-      else if (size == 2) std::memcpy(&u16, p, 2), u32 = u16;
-      else std::memcpy(&u32, p, 4);
+      if (size == 1)
+        std::memcpy(&u8, p, 1), u32 = u8;
+      else if (size == 2)
+        std::memcpy(&u16, p, 2), u32 = u16;
+      else
+        std::memcpy(&u32, p, 4);
       if (u32 >= nverts)
-        fail(where + "index " + std::to_string(u32) + " at position " + std::to_string(i) + " out of range (" +
-             std::to_string(nverts) + " vertices)");
+        fail(where + "index " + std::to_string(u32) + " at position " + std::to_string(i) +
+             " out of range (" + std::to_string(nverts) + " vertices)");
       out[i] = u32;
     }
     return out;
@@ -239,7 +252,8 @@ class GltfReader {
     const tinygltf::Mesh& mesh = at(m_.meshes, index, "mesh");
     for (size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
       const tinygltf::Primitive& prim = mesh.primitives[pi];
-      const std::string where = "mesh " + std::to_string(index) + " primitive " + std::to_string(pi) + ": ";
+      const std::string where =
+          "mesh " + std::to_string(index) + " primitive " + std::to_string(pi) + ": ";
       const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
       if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
           mode != TINYGLTF_MODE_TRIANGLE_FAN) {
@@ -249,7 +263,8 @@ class GltfReader {
       // Accessors without a bufferView are all zeros (only sparse data, unsupported, would fill
       // them): such primitives would be degenerate, so they are skipped like ones without POSITION.
       const auto pos = prim.attributes.find("POSITION");
-      if (pos == prim.attributes.end() || !has_data(pos->second) || (prim.indices >= 0 && !has_data(prim.indices))) {
+      if (pos == prim.attributes.end() || !has_data(pos->second) ||
+          (prim.indices >= 0 && !has_data(prim.indices))) {
         ++skipped_no_position_;
         continue;
       }
@@ -270,8 +285,7 @@ class GltfReader {
         for (size_t i = 0; i + 2 < n; i += 3) emit(idx[i], idx[i + 1], idx[i + 2]);
       } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
         // Odd triangles swap their last two vertices to keep a consistent winding.
-        for (size_t i = 0; i + 2 < n; ++i)
-          emit(idx[i], idx[i + 1 + i % 2], idx[i + 2 - i % 2]);
+        for (size_t i = 0; i + 2 < n; ++i) emit(idx[i], idx[i + 1 + i % 2], idx[i + 2 - i % 2]);
       } else {
         for (size_t i = 1; i + 1 < n; ++i) emit(idx[i], idx[i + 1], idx[0]);
       }
@@ -281,7 +295,7 @@ class GltfReader {
   const std::string& path_;
   const tinygltf::Model& m_;
   Scene& scene_;
-  std::vector<char> on_path_;           // nodes on the current root-to-node path
+  std::vector<char> on_path_;          // nodes on the current root-to-node path
   std::map<int, uint32_t> materials_;  // glTF material (-1 = none) -> scene material
   size_t skipped_lines_points_ = 0, skipped_no_position_ = 0, skipped_lights_ = 0;
 };
@@ -300,7 +314,8 @@ void load_gltf(const std::string& path, Scene& scene) {
                                       : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) {
     while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
-    throw_at_line(path, 0, "tinygltf: " + (err.empty() ? std::string("cannot parse the file") : err));
+    throw_at_line(path, 0,
+                  "tinygltf: " + (err.empty() ? std::string("cannot parse the file") : err));
   }
   print_warnings(path, warn + err);
   GltfReader(path, model, scene).run();

@@ -71,8 +71,8 @@ KbSpline<T>::KbSpline(const std::vector<KbKey<T>>& keys) {
     T tan_out = w.out_prev * (k1.value - k0.value) + w.out_next * d;
     T tan_in = w.in_prev * d + w.in_next * (k3.value - k2.value);
     // Hermite basis (p1, tan_out, p2, tan_in) rewritten in power form for Horner evaluation.
-    segments_.push_back(Segment{k1.value, tan_out, 3.0 * d - 2.0 * tan_out - tan_in,
-                                -2.0 * d + tan_out + tan_in});
+    segments_.push_back(
+        Segment{k1.value, tan_out, 3.0 * d - 2.0 * tan_out - tan_in, -2.0 * d + tan_out + tan_in});
     starts_.push_back(k1.time);
     ends_.push_back(k2.time);
   }
@@ -144,9 +144,9 @@ KbQuatSpline::KbQuatSpline(const std::vector<KbKey<glm::dquat>>& keys, Flip flip
     // later segment sees the flipped key), but takes the key after it as written.
     if (flip == Flip::kBart && glm::dot(q[i + 1], q[i + 2]) < 0.0) q[i + 2] = -q[i + 2];
     const glm::dquat &q0 = q[i], &q1 = q[i + 1], &q2 = q[i + 2], &q3 = q[i + 3];
-    kb_detail::SegmentWeights w = kb_detail::segment_weights(
-        keys[i].time, keys[i + 1].time, keys[i + 2].time, keys[i + 3].time, keys[i + 1].tcb,
-        keys[i + 2].tcb);
+    kb_detail::SegmentWeights w =
+        kb_detail::segment_weights(keys[i].time, keys[i + 1].time, keys[i + 2].time,
+                                   keys[i + 3].time, keys[i + 1].tcb, keys[i + 2].tcb);
     // The vector KB tangents, taken in the log space of relative rotations.
     glm::dquat d = quat_log(glm::conjugate(q1) * q2);
     glm::dquat tan_out = w.out_prev * quat_log(glm::conjugate(q0) * q1) + w.out_next * d;

@@ -17,8 +17,10 @@ namespace {
 // tinyobjloader puts "(line N.)" or "line N" in its messages; lift N out for "FILE:N:".
 void throw_tinyobj_error(const std::string& path, const std::string& err) {
   std::string msg = err;
-  while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ' || msg.back() == '.')) msg.pop_back();
-  if (const size_t nl = msg.find('\n'); nl != std::string::npos) msg.resize(nl);  // first message only
+  while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ' || msg.back() == '.'))
+    msg.pop_back();
+  // First message only
+  if (const size_t nl = msg.find('\n'); nl != std::string::npos) msg.resize(nl);
   if (msg.empty()) msg = "tinyobjloader could not parse the file";
   std::smatch m;
   long line = 0;
@@ -96,8 +98,8 @@ void load_obj(const std::string& path, Scene& scene) {
       if (i.vertex_index >= 0 && i.vertex_index < nverts) continue;
       const BadIndex bad = find_bad_face(path, nverts);
       throw_at_line(path, bad.line,
-                    "face vertex index " + std::to_string(bad.index) + " is out of range (the file has " +
-                        std::to_string(nverts) + " vertices)");
+                    "face vertex index " + std::to_string(bad.index) +
+                        " is out of range (the file has " + std::to_string(nverts) + " vertices)");
     }
   }
   print_warnings(path, reader.Warning());
@@ -138,8 +140,8 @@ void load_obj(const std::string& path, Scene& scene) {
         const uint32_t material = material_of(mesh.material_ids[f]);
         const Vec3 v0 = position(mesh.indices[offset]);
         for (size_t k = 2; k < n; ++k)
-          scene.triangles.push_back(
-              Triangle{v0, position(mesh.indices[offset + k - 1]), position(mesh.indices[offset + k]), material});
+          scene.triangles.push_back(Triangle{v0, position(mesh.indices[offset + k - 1]),
+                                             position(mesh.indices[offset + k]), material});
       }
       offset += n;
     }

@@ -53,7 +53,7 @@ bool parse_type(std::string_view s, Type& out) {
 
 struct Property {
   std::string name;
-  Type type = Type::F32;        // scalar type, or the item type of a list
+  Type type = Type::F32;  // scalar type, or the item type of a list
   bool is_list = false;
   Type count_type = Type::U8;  // lists only
 };
@@ -132,7 +132,8 @@ Header parse_header(const std::string& path, const std::string& data) {
 
   std::string_view line;
   if (!next_line(line) || line != "ply")
-    throw_at_line(path, 1, "expected 'ply' as the first line, found " + quote(line) + " (not a PLY file?)");
+    throw_at_line(path, 1,
+                  "expected 'ply' as the first line, found " + quote(line) + " (not a PLY file?)");
 
   Header h;
   bool have_format = false;
@@ -142,10 +143,15 @@ Header parse_header(const std::string& path, const std::string& data) {
     if (w.empty() || w[0] == "comment" || w[0] == "obj_info") continue;
     if (w[0] == "format") {
       if (w.size() != 3) fail("expected 'format ascii|binary_little_endian|binary_big_endian 1.0'");
-      if (w[1] == "ascii") h.format = Format::kAscii;
-      else if (w[1] == "binary_little_endian") h.format = Format::kBinaryLittle;
-      else if (w[1] == "binary_big_endian") h.format = Format::kBinaryBig;
-      else fail("unknown format " + quote(w[1]) + ", expected ascii, binary_little_endian or binary_big_endian");
+      if (w[1] == "ascii")
+        h.format = Format::kAscii;
+      else if (w[1] == "binary_little_endian")
+        h.format = Format::kBinaryLittle;
+      else if (w[1] == "binary_big_endian")
+        h.format = Format::kBinaryBig;
+      else
+        fail("unknown format " + quote(w[1]) +
+             ", expected ascii, binary_little_endian or binary_big_endian");
       if (w[2] != "1.0") fail("unsupported PLY version " + quote(w[2]) + ", expected 1.0");
       have_format = true;
     } else if (w[0] == "element") {
@@ -164,11 +170,13 @@ Header parse_header(const std::string& path, const std::string& data) {
         if (w.size() != 5) fail("expected 'property list COUNT_TYPE ITEM_TYPE NAME'");
         if (!parse_type(w[2], prop.count_type)) fail("unknown list count type " + quote(w[2]));
         if (!parse_type(w[3], prop.type)) fail("unknown list item type " + quote(w[3]));
-        if (is_float(prop.count_type)) fail("list count type " + quote(w[2]) + " must be an integer type");
+        if (is_float(prop.count_type))
+          fail("list count type " + quote(w[2]) + " must be an integer type");
         prop.is_list = true;
         prop.name = std::string(w[4]);
       } else {
-        if (w.size() != 3) fail("expected 'property TYPE NAME' or 'property list COUNT_TYPE ITEM_TYPE NAME'");
+        if (w.size() != 3)
+          fail("expected 'property TYPE NAME' or 'property list COUNT_TYPE ITEM_TYPE NAME'");
         if (!parse_type(w[1], prop.type)) fail("unknown property type " + quote(w[1]));
         prop.name = std::string(w[2]);
       }
@@ -212,7 +220,8 @@ class AsciiReader {
     const char* start = p_;
     while (p_ != end_ && *p_ != ' ' && *p_ != '\t' && *p_ != '\r' && *p_ != '\n') ++p_;
     if (p_ == start)
-      fail("the line ends before property '" + prop.name + "' is complete (wrong element count or property list?)");
+      fail("the line ends before property '" + prop.name +
+           "' is complete (wrong element count or property list?)");
     return parse(t, start, p_, prop);
   }
 
@@ -232,8 +241,9 @@ class AsciiReader {
     if (p_ != end_) {
       const Element& last = h.elements.back();
       throw_at_line(path_, line_,
-                    "data after the last element (the header declares " + std::to_string(last.count) +
-                        " " + plural(last) + "): the element counts are wrong");
+                    "data after the last element (the header declares " +
+                        std::to_string(last.count) + " " + plural(last) +
+                        "): the element counts are wrong");
     }
   }
 
@@ -243,8 +253,8 @@ class AsciiReader {
   // Names the last line holding data: that is where the count stops matching.
   [[noreturn]] void fail_eof() const {
     throw_at_line(path_, last_line_,
-                  "expected " + std::to_string(elem_->count) + " " + plural(*elem_) + ", file ends after " +
-                      std::to_string(index_));
+                  "expected " + std::to_string(elem_->count) + " " + plural(*elem_) +
+                      ", file ends after " + std::to_string(index_));
   }
 
  private:
@@ -277,11 +287,11 @@ class AsciiReader {
       value = static_cast<double>(i);
     }
     if (r.ec != std::errc() || r.ptr != e)
-      fail("property '" + prop.name + "': " + quote(std::string_view(b, e - b)) + " is not a valid " +
-           info(t).alias);
+      fail("property '" + prop.name + "': " + quote(std::string_view(b, e - b)) +
+           " is not a valid " + info(t).alias);
     if (!is_float(t) && (value < info(t).lo || value > info(t).hi))
-      fail("property '" + prop.name + "': " + quote(std::string_view(b, e - b)) + " does not fit in " +
-           info(t).alias);
+      fail("property '" + prop.name + "': " + quote(std::string_view(b, e - b)) +
+           " does not fit in " + info(t).alias);
     return value;
   }
 
@@ -297,7 +307,8 @@ class AsciiReader {
 // Binary: packed values in the file's byte order.
 class BinaryReader {
  public:
-  BinaryReader(const std::string& path, const char* begin, const char* p, const char* end, bool big_endian)
+  BinaryReader(const std::string& path, const char* begin, const char* p, const char* end,
+               bool big_endian)
       : path_(path), begin_(begin), p_(p), end_(end) {
     const bool host_big = __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__;
     swap_ = host_big != big_endian;
@@ -337,14 +348,13 @@ class BinaryReader {
       const Element& last = h.elements.back();
       throw_at_line(path_, 0,
                     std::to_string(end_ - p_) + " bytes of data after the last element at byte " +
-                        std::to_string(p_ - begin_) + " (the header declares " + std::to_string(last.count) +
-                        " " + plural(last) + "): the element counts are wrong");
+                        std::to_string(p_ - begin_) + " (the header declares " +
+                        std::to_string(last.count) + " " + plural(last) +
+                        "): the element counts are wrong");
     }
   }
 
-  [[noreturn]] void fail(const std::string& msg) const {
-    throw_at_line(path_, 0, where() + msg);
-  }
+  [[noreturn]] void fail(const std::string& msg) const { throw_at_line(path_, 0, where() + msg); }
   [[noreturn]] void fail_eof() const {
     throw_at_line(path_, 0,
                   where() + "expected " + std::to_string(elem_->count) + " " + plural(*elem_) +
@@ -359,7 +369,8 @@ class BinaryReader {
     return static_cast<double>(v);
   }
   std::string where() const {
-    return elem_->name + " " + std::to_string(index_) + " at byte " + std::to_string(instance_ - begin_) + ": ";
+    return elem_->name + " " + std::to_string(index_) + " at byte " +
+           std::to_string(instance_ - begin_) + ": ";
   }
 
   const std::string& path_;
@@ -391,7 +402,9 @@ Layout find_layout(const std::string& path, const Header& h) {
         const Property& p = e.props[i];
         int* slot = p.name == "x" ? &l.x : p.name == "y" ? &l.y : p.name == "z" ? &l.z : nullptr;
         if (!slot) continue;
-        if (p.is_list) throw_at_line(path, e.line, "vertex property '" + p.name + "' must be a scalar, not a list");
+        if (p.is_list)
+          throw_at_line(path, e.line,
+                        "vertex property '" + p.name + "' must be a scalar, not a list");
         *slot = static_cast<int>(i);
       }
       if (l.x < 0 || l.y < 0 || l.z < 0)
@@ -403,16 +416,20 @@ Layout find_layout(const std::string& path, const Header& h) {
         const Property& p = e.props[i];
         if (p.name != "vertex_indices" && p.name != "vertex_index") continue;
         if (!p.is_list || is_float(p.type))
-          throw_at_line(path, e.line, "face property '" + p.name + "' must be a list of an integer type");
+          throw_at_line(path, e.line,
+                        "face property '" + p.name + "' must be a list of an integer type");
         l.indices = static_cast<int>(i);
         break;
       }
       if (l.indices < 0)
-        throw_at_line(path, e.line, "element 'face' needs a list property vertex_indices (or vertex_index)");
+        throw_at_line(path, e.line,
+                      "element 'face' needs a list property vertex_indices (or vertex_index)");
     }
   }
   if (!l.vertex) throw_at_line(path, 0, "no 'vertex' element in the header");
-  if (!l.face) throw_at_line(path, 0, "no 'face' element in the header (a point cloud has no triangles to trace)");
+  if (!l.face)
+    throw_at_line(path, 0,
+                  "no 'face' element in the header (a point cloud has no triangles to trace)");
   return l;
 }
 
@@ -438,9 +455,12 @@ void read_data(Reader& r, const Header& h, const Layout& l, size_t data_bytes, M
         if (!p.is_list) {
           const double v = r.read(p.type, p);
           if (is_vertex) {
-            if (slot == l.x) mesh.vertices.back().x = static_cast<float>(v);
-            else if (slot == l.y) mesh.vertices.back().y = static_cast<float>(v);
-            else if (slot == l.z) mesh.vertices.back().z = static_cast<float>(v);
+            if (slot == l.x)
+              mesh.vertices.back().x = static_cast<float>(v);
+            else if (slot == l.y)
+              mesh.vertices.back().y = static_cast<float>(v);
+            else if (slot == l.z)
+              mesh.vertices.back().z = static_cast<float>(v);
           }
           continue;
         }
@@ -492,7 +512,8 @@ void load_ply(const std::string& path, uint32_t material, Scene& scene) {
 
   scene.triangles.reserve(scene.triangles.size() + mesh.triangles.size() / 3);
   for (size_t i = 0; i < mesh.triangles.size(); i += 3) {
-    scene.triangles.push_back(Triangle{mesh.vertices[mesh.triangles[i]], mesh.vertices[mesh.triangles[i + 1]],
+    scene.triangles.push_back(Triangle{mesh.vertices[mesh.triangles[i]],
+                                       mesh.vertices[mesh.triangles[i + 1]],
                                        mesh.vertices[mesh.triangles[i + 2]], material});
   }
 }

@@ -11,8 +11,8 @@ namespace rtsim {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kPitch = 10.0;   // block pitch
-constexpr double kStreet = 3.0;   // street width
+constexpr double kPitch = 10.0;  // block pitch
+constexpr double kStreet = 3.0;  // street width
 constexpr double kLot = kPitch - kStreet;
 
 // splitmix64 (Steele, Lea, Flood 2014): tiny, fast and fully specified, unlike the standard
@@ -55,8 +55,9 @@ Vec3 to_vec3(double x, double y, double z) {
 
 void check_range(const char* name, long value, long lo, long hi) {
   if (value < lo || value > hi)
-    throw InputError("procedural city: '" + std::string(name) + "' must be in " + std::to_string(lo) + ".." +
-                     std::to_string(hi) + ", got " + std::to_string(value));
+    throw InputError("procedural city: '" + std::string(name) + "' must be in " +
+                     std::to_string(lo) + ".." + std::to_string(hi) + ", got " +
+                     std::to_string(value));
 }
 
 // Unit sphere as triangles (3 points each), computed once and scaled per sphere.
@@ -73,7 +74,9 @@ std::vector<glm::dvec3> unit_sphere(int segments) {
       ring.push_back(glm::dvec3(cp * ct, -sp, cp * st));
     }
   }
-  auto at = [&](int k, int m) { return ring[static_cast<size_t>((k - 1) * segments + m % segments)]; };
+  auto at = [&](int k, int m) {
+    return ring[static_cast<size_t>((k - 1) * segments + m % segments)];
+  };
   const glm::dvec3 north(0, 1, 0), south(0, -1, 0);
   std::vector<glm::dvec3> tris;
   for (int m = 0; m < segments; ++m) {
@@ -87,8 +90,8 @@ std::vector<glm::dvec3> unit_sphere(int segments) {
   return tris;
 }
 
-void add_sphere(Scene& scene, const std::vector<glm::dvec3>& unit, const glm::dvec3& center, double radius,
-                uint32_t material) {
+void add_sphere(Scene& scene, const std::vector<glm::dvec3>& unit, const glm::dvec3& center,
+                double radius, uint32_t material) {
   for (size_t i = 0; i < unit.size(); i += 3) {
     Triangle t;
     const glm::dvec3 a = center + radius * unit[i], b = center + radius * unit[i + 1],
@@ -101,14 +104,17 @@ void add_sphere(Scene& scene, const std::vector<glm::dvec3>& unit, const glm::dv
   }
 }
 
-void add_quad(Scene& scene, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, const glm::dvec3& d,
-              uint32_t material) {
-  scene.triangles.push_back(Triangle{to_vec3(a.x, a.y, a.z), to_vec3(b.x, b.y, b.z), to_vec3(c.x, c.y, c.z), material});
-  scene.triangles.push_back(Triangle{to_vec3(a.x, a.y, a.z), to_vec3(c.x, c.y, c.z), to_vec3(d.x, d.y, d.z), material});
+void add_quad(Scene& scene, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+              const glm::dvec3& d, uint32_t material) {
+  scene.triangles.push_back(
+      Triangle{to_vec3(a.x, a.y, a.z), to_vec3(b.x, b.y, b.z), to_vec3(c.x, c.y, c.z), material});
+  scene.triangles.push_back(
+      Triangle{to_vec3(a.x, a.y, a.z), to_vec3(c.x, c.y, c.z), to_vec3(d.x, d.y, d.z), material});
 }
 
 // Walls and roof of the box [x0,x1] x [0,h] x [z0,z1]; the floor would only duplicate the ground.
-void add_building(Scene& scene, double x0, double z0, double x1, double z1, double h, uint32_t material) {
+void add_building(Scene& scene, double x0, double z0, double x1, double z1, double h,
+                  uint32_t material) {
   const glm::dvec3 b00(x0, 0, z0), b10(x1, 0, z0), b11(x1, 0, z1), b01(x0, 0, z1);
   const glm::dvec3 t00(x0, h, z0), t10(x1, h, z0), t11(x1, h, z1), t01(x0, h, z1);
   add_quad(scene, b00, b10, t10, t00, material);
@@ -149,7 +155,8 @@ void make_city(const CityParams& params, Scene& scene) {
   paint.specular = Vec3(0.3f);
   paint.shininess = 20.f;
   const uint32_t m_ground = scene.add_material(ground);
-  const uint32_t m_walls[3] = {scene.add_material(concrete), scene.add_material(brick), scene.add_material(glass)};
+  const uint32_t m_walls[3] = {scene.add_material(concrete), scene.add_material(brick),
+                               scene.add_material(glass)};
   const uint32_t m_mirror = scene.add_material(mirror);
   const uint32_t m_paint = scene.add_material(paint);
 
@@ -173,7 +180,8 @@ void make_city(const CityParams& params, Scene& scene) {
     // The street before this row runs along x at z in [pitch*row, pitch*row + street].
     const double r = 0.4 * kStreet * rng.range(0.7, 1.0);
     const double x = rng.range(0.5 * kStreet, w - 0.5 * kStreet);
-    add_sphere(scene, sphere, {x, r, kPitch * row + 0.5 * kStreet}, r, rng.next() % 2 ? m_mirror : m_paint);
+    add_sphere(scene, sphere, {x, r, kPitch * row + 0.5 * kStreet}, r,
+               rng.next() % 2 ? m_mirror : m_paint);
   }
 
   const float intensity = static_cast<float>(1.0 / std::sqrt(static_cast<double>(params.lights)));

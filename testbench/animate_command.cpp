@@ -1,10 +1,11 @@
 // rtsim animate: a BART scene as a frame sequence. Each frame is one point of a sweep (the sweep
 // engine runs frames in parallel processes, resumes, emits Slurm scripts): the scene loaded at time
 // t, the kd-tree, memory image and LVB (hierarchical) rebuilt, the frame simulated with culling on,
-// off, or both. The per-frame table (frames.csv) then pairs the on and off runs of each time and adds
-// what the rebuild cost: host seconds of the kd-tree and the LVB (host.csv keeps host figures apart,
-// so frames.csv is deterministic), the LVB's work counts and what a lazy rebuild after the previous
-// frame would redo; plots.py adds the figures, frames.gif and summary.md. docs/animation.md.
+// off, or both. The per-frame table (frames.csv) then pairs the on and off runs of each time and
+// adds what the rebuild cost: host seconds of the kd-tree and the LVB (host.csv keeps host figures
+// apart, so frames.csv is deterministic), the LVB's work counts and what a lazy rebuild after the
+// previous frame would redo; plots.py adds the figures, frames.gif and summary.md.
+// docs/animation.md.
 #include "common/error.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
@@ -34,9 +35,11 @@ std::vector<double> parse_times(const std::string& text) {
       !std::isfinite(b) || !std::isfinite(step))
     throw InputError(fmt::format("--times {}: expected START:END:STEP", text));
   if (!(step > 0) || b < a)
-    throw InputError(fmt::format("--times {}: expected START <= END and STEP > 0 (an increasing, non-empty range)", text));
+    throw InputError(fmt::format(
+        "--times {}: expected START <= END and STEP > 0 (an increasing, non-empty range)", text));
   const long n = long(std::floor((b - a) / step + 1e-9)) + 1;
-  if (n > 100000) throw InputError(fmt::format("--times {}: {} frames, expected at most 100000", text, n));
+  if (n > 100000)
+    throw InputError(fmt::format("--times {}: {} frames, expected at most 100000", text, n));
   std::vector<double> times;
   for (long k = 0; k < n; ++k) times.push_back(a + double(k) * step);
   return times;
@@ -44,13 +47,15 @@ std::vector<double> parse_times(const std::string& text) {
 
 namespace {
 
-const std::vector<std::string> kFrameMetrics = {"scene.triangles", "cycles_total", "frame_ms_all", "shadow_culled",
+const std::vector<std::string> kFrameMetrics = {"scene.triangles",    "cycles_total",
+                                                "frame_ms_all",       "shadow_culled",
                                                 "shadow_culled_rate", "leaves_culled_rate"};
 
 // The sweep the frames are: one scene, one hardware file, the times (and culling) as axes.
 std::string sweep_yaml(const AnimateArgs& a, const std::vector<double>& times) {
   std::string y = "# Written by rtsim animate: the frames of " + a.scene + "\nname: animate\n";
-  y += fmt::format("scenes: [\"{}\"]\nhw: \"{}\"\n", fs::absolute(a.scene).string(), fs::absolute(a.hw).string());
+  y += fmt::format("scenes: [\"{}\"]\nhw: \"{}\"\n", fs::absolute(a.scene).string(),
+                   fs::absolute(a.hw).string());
   if (a.width > 0 || a.height > 0) {
     y += "set: {";
     if (a.width > 0) y += fmt::format("run.width: {}", a.width);
@@ -91,14 +96,19 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   }
   using ptr = nlohmann::json::json_pointer;
   auto number = [](const nlohmann::json& r, const ptr& at) -> std::string {
-    return r.is_null() || !r.contains(at) || r.at(at).is_null() ? "" : fmt::format("{}", r.at(at).get<double>());
+    return r.is_null() || !r.contains(at) || r.at(at).is_null()
+               ? ""
+               : fmt::format("{}", r.at(at).get<double>());
   };
-  std::string csv = "time,triangles,cycles_off,cycles_on,frame_ms_off,frame_ms_on,saved_ms,shadow_rays,"
-                    "shadow_rays_culled,culled_share,nonempty_leaves";
+  std::string csv =
+      "time,triangles,cycles_off,cycles_on,frame_ms_off,frame_ms_on,saved_ms,shadow_rays,shadow_"
+      "rays_culled,culled_share,nonempty_leaves";
   for (size_t l = 0; l < lights; ++l) csv += fmt::format(",culled_leaves_l{}", l);
   for (size_t l = 0; l < lights; ++l) csv += fmt::format(",culled_rays_l{}", l);
-  csv += ",lvb_nodes_visited,lvb_region_tests,lvb_pair_tests,moved_triangles,lazy_dirty_pairs,lazy_pairs,"
-         "lazy_dirty_tests,lazy_nodes_visited,lazy_region_tests,lazy_pair_tests,check_mismatched_pixels\n";
+  csv +=
+      ",lvb_nodes_visited,lvb_region_tests,lvb_pair_tests,moved_triangles,lazy_dirty_pairs,lazy_"
+      "pairs,lazy_dirty_tests,lazy_nodes_visited,lazy_region_tests,lazy_pair_tests,check_"
+      "mismatched_pixels\n";
   std::string host = "time,kdtree_seconds,lvb_seconds,simulate_seconds_off,simulate_seconds_on\n";
   for (const auto& [t, f] : frames) {
     const nlohmann::json& any = f.on.is_null() ? f.off : f.on;
@@ -114,11 +124,14 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
       culled = std::to_string(cut);
       share = all ? fmt::format("{:.6f}", double(cut) / double(all)) : "";
       const nlohmann::json& lvb_lights = f.on["lvb"]["per_light"];
-      if (!lvb_lights.empty()) nonempty = std::to_string(lvb_lights[0]["nonempty_leaves"].get<uint64_t>());
-      for (const auto& l : lvb_lights) leaves += fmt::format(",{}", l["culled_leaves"].get<uint64_t>());
+      if (!lvb_lights.empty())
+        nonempty = std::to_string(lvb_lights[0]["nonempty_leaves"].get<uint64_t>());
+      for (const auto& l : lvb_lights)
+        leaves += fmt::format(",{}", l["culled_leaves"].get<uint64_t>());
     }
     if (!f.on.is_null() && !f.off.is_null())
-      saved = fmt::format("{:.6f}", f.off["frame_ms"]["all"].get<double>() - f.on["frame_ms"]["all"].get<double>());
+      saved = fmt::format(
+          "{:.6f}", f.off["frame_ms"]["all"].get<double>() - f.on["frame_ms"]["all"].get<double>());
     // Columns for lights this frame lacks (or a run it lacks) stay empty.
     auto pad = [&](std::string cells) {
       while (size_t(std::count(cells.begin(), cells.end(), ',')) < lights) cells += ",";
@@ -128,18 +141,22 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
     std::optional<uint64_t> mismatched;
     for (const nlohmann::json* r : {&f.off, &f.on})
       if (!r->is_null() && r->contains("reference_check") && !(*r)["reference_check"].is_null())
-        mismatched = mismatched.value_or(0) + (*r)["reference_check"]["mismatched_pixels"].get<uint64_t>();
-    csv += fmt::format("{:.9g},{},{},{},{},{},{},{},{},{},{}{}{}", t, number(any, ptr("/scene/triangles")),
-                       number(f.off, ptr("/cycles_total")), number(f.on, ptr("/cycles_total")),
-                       number(f.off, ptr("/frame_ms/all")), number(f.on, ptr("/frame_ms/all")), saved, rays, culled,
-                       share, nonempty, pad(leaves), pad(rays_l));
-    for (const char* key : {"/lvb/nodes_visited", "/lvb/region_tests", "/lvb/pair_tests", "/lvb/lazy/moved_triangles",
-                            "/lvb/lazy/dirty_pairs", "/lvb/lazy/pairs", "/lvb/lazy/dirty_tests",
-                            "/lvb/lazy/nodes_visited", "/lvb/lazy/region_tests", "/lvb/lazy/pair_tests"})
+        mismatched =
+            mismatched.value_or(0) + (*r)["reference_check"]["mismatched_pixels"].get<uint64_t>();
+    csv += fmt::format("{:.9g},{},{},{},{},{},{},{},{},{},{}{}{}", t,
+                       number(any, ptr("/scene/triangles")), number(f.off, ptr("/cycles_total")),
+                       number(f.on, ptr("/cycles_total")), number(f.off, ptr("/frame_ms/all")),
+                       number(f.on, ptr("/frame_ms/all")), saved, rays, culled, share, nonempty,
+                       pad(leaves), pad(rays_l));
+    for (const char* key :
+         {"/lvb/nodes_visited", "/lvb/region_tests", "/lvb/pair_tests", "/lvb/lazy/moved_triangles",
+          "/lvb/lazy/dirty_pairs", "/lvb/lazy/pairs", "/lvb/lazy/dirty_tests",
+          "/lvb/lazy/nodes_visited", "/lvb/lazy/region_tests", "/lvb/lazy/pair_tests"})
       csv += "," + number(f.on, ptr(key));
     csv += "," + (mismatched ? std::to_string(*mismatched) : std::string()) + "\n";
     host += fmt::format("{:.9g},{},{},{},{}\n", t, number(any, ptr("/host/seconds/kdtree")),
-                        number(f.on, ptr("/host/seconds/lvb")), number(f.off, ptr("/host/seconds/simulate")),
+                        number(f.on, ptr("/host/seconds/lvb")),
+                        number(f.off, ptr("/host/seconds/simulate")),
                         number(f.on, ptr("/host/seconds/simulate")));
   }
   // frames/frame_NNNN.png in time order: the sequence as images.
@@ -171,18 +188,23 @@ int run_animate(const AnimateArgs& a) {
     size_t k = size_t(std::lower_bound(times.begin(), times.end(), t) - times.begin());
     if (k == times.size() || (k > 0 && t - times[k - 1] <= times[k] - t)) --k;
     if (a.check_every > 0 && k % size_t(a.check_every) == 0) p.set.push_back("run.check=true");
-    if (culling_on(p) && k > 0) p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
+    if (culling_on(p) && k > 0)
+      p.set.push_back(fmt::format("run.lvb_lazy_since={:.9g}", times[k - 1]));
   }
   if (a.emit == "slurm") {
     const int code = emit_slurm(spec, a.out);
-    if (code == 0) fmt::print("after the job, this command again (without --emit) writes frames.csv and the figures\n");
+    if (code == 0)
+      fmt::print(
+          "after the job, this command again (without --emit) writes frames.csv and the figures\n");
     return code;
   }
   const int code = run_sweep_points(spec, a.out, a.jobs, false);
   if (code != 0) return code;
   write_frame_tables(a.out, spec);
-  fmt::print("{} frames: {}/frames.csv (cycles, culled rays, LVB work per frame), host.csv (host seconds)\n",
-             times.size(), a.out);
+  fmt::print(
+      "{} frames: {}/frames.csv (cycles, culled rays, LVB work per frame), host.csv (host "
+      "seconds)\n",
+      times.size(), a.out);
   const std::string note = make_plots("animate", a.out);
   if (note.empty())
     fmt::print("figures in {}/plots/, the frames as {}/frames.gif\n", a.out, a.out);

@@ -16,7 +16,8 @@ std::string choice_names(model::Choices<E> choices) {
   std::vector<std::string> names;
   for (const auto& [name, value] : choices) names.push_back(fmt::format("'{}'", name));
   std::string s = names.back();
-  if (names.size() > 1) s = fmt::format("{} or {}", fmt::join(names.begin(), names.end() - 1, ", "), names.back());
+  if (names.size() > 1)
+    s = fmt::format("{} or {}", fmt::join(names.begin(), names.end() - 1, ", "), names.back());
   return s;
 }
 
@@ -27,8 +28,9 @@ const char* name_of(const E& value, model::Choices<E> choices) {
   return "?";
 }
 
-// Reads a hardware file's maps into the config the description names (model/sim/config_description.h);
-// absent keys keep their defaults, unknown keys are errors (YamlMap::finish).
+// Reads a hardware file's maps into the config the description names
+// (model/sim/config_description.h); absent keys keep their defaults, unknown keys are errors
+// (YamlMap::finish).
 class YamlReader {
  public:
   explicit YamlReader(YamlMap top) { maps_.push_back(std::move(top)); }
@@ -38,14 +40,19 @@ class YamlReader {
   void number(const char* key, T& field, double lo, double hi, const char*, const char*) {
     YamlMap& m = at(key);
     // Integers are read as int64 so that a negative value is reported as out of range.
-    if constexpr (std::is_integral_v<T>) field = T(m.get_in_range<int64_t>(key, int64_t(field), int64_t(lo), int64_t(hi)));
-    else field = T(m.get_in_range<double>(key, double(field), lo, hi));
+    if constexpr (std::is_integral_v<T>)
+      field = T(m.get_in_range<int64_t>(key, int64_t(field), int64_t(lo), int64_t(hi)));
+    else
+      field = T(m.get_in_range<double>(key, double(field), lo, hi));
   }
   void kib(const char* key, uint32_t& bytes, double lo, double hi, const char*) {
-    bytes = uint32_t(at(key).get_in_range<int64_t>(key, bytes / 1024, int64_t(lo), int64_t(hi))) * 1024;
+    bytes =
+        uint32_t(at(key).get_in_range<int64_t>(key, bytes / 1024, int64_t(lo), int64_t(hi))) * 1024;
   }
   void flag(const char* key, bool& field, const char*) { field = at(key).get<bool>(key, field); }
-  void text(const char* key, std::string& field, const char*) { field = at(key).get<std::string>(key, field); }
+  void text(const char* key, std::string& field, const char*) {
+    field = at(key).get<std::string>(key, field);
+  }
   template <class E>
   void choice(const char* key, E& field, model::Choices<E> choices, const char*) {
     YamlMap& m = at(key);
@@ -102,15 +109,21 @@ class JsonWriter {
   nlohmann::json out = nlohmann::json::object();
 
   template <class T>
-  void number(const char* key, const T& field, double, double, const char*, const char*) { at()[key] = field; }
-  void kib(const char* key, uint32_t bytes, double, double, const char*) { at()[key] = bytes / 1024; }
+  void number(const char* key, const T& field, double, double, const char*, const char*) {
+    at()[key] = field;
+  }
+  void kib(const char* key, uint32_t bytes, double, double, const char*) {
+    at()[key] = bytes / 1024;
+  }
   void flag(const char* key, bool field, const char*) { at()[key] = field; }
   void text(const char* key, const std::string& field, const char*) { at()[key] = field; }
   template <class E>
   void choice(const char* key, const E& field, model::Choices<E> choices, const char*) {
     at()[key] = name_of(field, choices);
   }
-  void preset(const char* key, const model::DramConfig& dram, const char*) { at()[key] = dram.preset; }
+  void preset(const char* key, const model::DramConfig& dram, const char*) {
+    at()[key] = dram.preset;
+  }
   template <class F, class G>
   void section(const char* key, const char* meaning, F&& body, G&&) {
     section(key, meaning, body);
@@ -138,13 +151,16 @@ class DocTable {
   std::string rows;
 
   template <class T>
-  void number(const char* key, const T& field, double lo, double hi, const char* unit, const char* meaning) {
+  void number(const char* key, const T& field, double lo, double hi, const char* unit,
+              const char* meaning) {
     row(key, fmt::format("{}", field), fmt::format("{} .. {}", lo, hi), unit, meaning);
   }
   void kib(const char* key, uint32_t bytes, double lo, double hi, const char* meaning) {
     row(key, fmt::format("{}", bytes / 1024), fmt::format("{} .. {}", lo, hi), "KB", meaning);
   }
-  void flag(const char* key, bool field, const char* meaning) { row(key, field ? "true" : "false", "true, false", "", meaning); }
+  void flag(const char* key, bool field, const char* meaning) {
+    row(key, field ? "true" : "false", "true, false", "", meaning);
+  }
   void text(const char* key, const std::string& field, const char* meaning) {
     row(key, field.size() > 24 ? field.substr(0, 21) + "..." : field, "text", "", meaning);
   }
@@ -155,7 +171,8 @@ class DocTable {
     row(key, name_of(field, choices), fmt::format("{}", fmt::join(names, ", ")), "", meaning);
   }
   void preset(const char* key, const model::DramConfig& dram, const char* meaning) {
-    row(key, dram.preset, fmt::format("{}", fmt::join(model::dram_preset_names(), ", ")), "", meaning);
+    row(key, dram.preset, fmt::format("{}", fmt::join(model::dram_preset_names(), ", ")), "",
+        meaning);
   }
   template <class F, class G>
   void section(const char* key, const char* meaning, F&& body, G&&) {
@@ -169,17 +186,20 @@ class DocTable {
   }
 
  private:
-  void row(const char* key, const std::string& value, const std::string& range, const char* unit, const char* meaning) {
+  void row(const char* key, const std::string& value, const std::string& range, const char* unit,
+           const char* meaning) {
     std::string path;
     for (const char* p : prefix_) path += std::string(p) + ".";
-    rows += fmt::format("| `{}{}` | {} | {} | {} | {} |\n", path, key, value.empty() ? "\"\"" : value, range, unit, meaning);
+    rows += fmt::format("| `{}{}` | {} | {} | {} | {} |\n", path, key,
+                        value.empty() ? "\"\"" : value, range, unit, meaning);
   }
   std::vector<const char*> prefix_;
 };
 
 }  // namespace
 
-model::AcceleratorConfig load_hw_config(const std::string& path, const std::vector<ConfigOverride>& overrides) {
+model::AcceleratorConfig load_hw_config(const std::string& path,
+                                        const std::vector<ConfigOverride>& overrides) {
   return read_hw_config(YamlMap::load_file(path, overrides));
 }
 

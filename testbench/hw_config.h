@@ -14,7 +14,8 @@ namespace rtsim {
 
 // Loads and validates; every error names the file, the line and the key path (InputError).
 // `overrides` are "--set hw.KEY=VALUE" without the "hw." prefix.
-model::AcceleratorConfig load_hw_config(const std::string& path, const std::vector<ConfigOverride>& overrides = {});
+model::AcceleratorConfig load_hw_config(const std::string& path,
+                                        const std::vector<ConfigOverride>& overrides = {});
 // The same from a map (a file's top level, or the "hw" section of a config.json).
 model::AcceleratorConfig read_hw_config(YamlMap top);
 // The resolved configuration, as written beside every report: every key of the hardware file,

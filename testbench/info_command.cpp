@@ -8,9 +8,10 @@ namespace rtsim {
 int run_info(const InfoArgs& args) {
   const PreparedScene p = prepare_scene(args.scene, args.prepare);
   if (args.json) {
-    const nlohmann::json j = {{"scene", scene_json(p)},
-                              {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
-                              {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
+    const nlohmann::json j = {
+        {"scene", scene_json(p)},
+        {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
+        {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
@@ -18,23 +19,29 @@ int run_info(const InfoArgs& args) {
   const Camera& c = s.camera;
   const KdTreeStats& k = p.tree.stats;
   fmt::print("scene        {} ({})\n", s.name, p.file);
-  fmt::print("triangles    {}\nmaterials    {}\nresolution   {}x{}\ntime         {}\n", s.triangles.size(),
-             s.materials.size(), s.width, s.height, s.time);
-  fmt::print("camera       eye ({:.7g}, {:.7g}, {:.7g})  dir ({:.7g}, {:.7g}, {:.7g})  up ({:.7g}, {:.7g}, {:.7g})  vfov {:.6g} deg\n",
-             c.eye.x, c.eye.y, c.eye.z, c.dir.x, c.dir.y, c.dir.z, c.up.x, c.up.y, c.up.z, c.vfov_deg);
+  fmt::print("triangles    {}\nmaterials    {}\nresolution   {}x{}\ntime         {}\n",
+             s.triangles.size(), s.materials.size(), s.width, s.height, s.time);
+  fmt::print(
+      "camera       eye ({:.7g}, {:.7g}, {:.7g})  dir ({:.7g}, {:.7g}, {:.7g})  up ({:.7g}, "
+      "{:.7g}, {:.7g})  vfov {:.6g} deg\n",
+      c.eye.x, c.eye.y, c.eye.z, c.dir.x, c.dir.y, c.dir.z, c.up.x, c.up.y, c.up.z, c.vfov_deg);
   for (size_t i = 0; i < s.lights.size(); ++i) {
     const Light& l = s.lights[i];
     fmt::print("light {:<6} ({:.7g}, {:.7g}, {:.7g})", i, l.position.x, l.position.y, l.position.z);
     if (l.is_area())
-      fmt::print(" + u ({:.7g}, {:.7g}, {:.7g}) + v ({:.7g}, {:.7g}, {:.7g}), {}-sided, {} samples", l.edge1.x,
-                 l.edge1.y, l.edge1.z, l.edge2.x, l.edge2.y, l.edge2.z, l.two_sided ? "two" : "one", l.samples);
+      fmt::print(" + u ({:.7g}, {:.7g}, {:.7g}) + v ({:.7g}, {:.7g}, {:.7g}), {}-sided, {} samples",
+                 l.edge1.x, l.edge1.y, l.edge1.z, l.edge2.x, l.edge2.y, l.edge2.z,
+                 l.two_sided ? "two" : "one", l.samples);
     fmt::print("\n");
   }
-  fmt::print("kd-tree      {} nodes, {} leaves ({} empty), {} references, {:.2f} mean / {} max per non-empty leaf\n",
-             k.nodes, k.leaves, k.empty_leaves, k.prim_refs, k.mean_prims_per_leaf, k.max_prims_per_leaf);
-  fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n", k.max_depth, k.depth_limit,
-             k.sah_cost, k.build_seconds);
-  fmt::print("image        {} bytes\nload         {:.3f} s\n", p.image->header().image_bytes, p.load_seconds);
+  fmt::print(
+      "kd-tree      {} nodes, {} leaves ({} empty), {} references, {:.2f} mean / {} max per "
+      "non-empty leaf\n",
+      k.nodes, k.leaves, k.empty_leaves, k.prim_refs, k.mean_prims_per_leaf, k.max_prims_per_leaf);
+  fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n", k.max_depth,
+             k.depth_limit, k.sah_cost, k.build_seconds);
+  fmt::print("image        {} bytes\nload         {:.3f} s\n", p.image->header().image_bytes,
+             p.load_seconds);
   return 0;
 }
 

@@ -19,7 +19,8 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
   PreparedScene p;
   p.file = scene_file;
   auto t0 = std::chrono::steady_clock::now();
-  SceneSetup setup = load_scene_file(scene_file, SceneFileOptions{options.scene_root, options.overrides});
+  SceneSetup setup =
+      load_scene_file(scene_file, SceneFileOptions{options.scene_root, options.overrides});
   p.scene = std::move(setup.scene);
   p.kdtree_params = setup.kdtree;
   if (options.width > 0) p.scene.width = options.width;
@@ -38,7 +39,10 @@ nlohmann::json scene_json(const PreparedScene& p) {
   for (const Light& l : s.lights) {
     nlohmann::json j = {{"position", vec(l.position)}, {"color", vec(l.color)}};
     if (l.is_area())
-      j["area"] = {{"edge1", vec(l.edge1)}, {"edge2", vec(l.edge2)}, {"two_sided", l.two_sided}, {"samples", l.samples}};
+      j["area"] = {{"edge1", vec(l.edge1)},
+                   {"edge2", vec(l.edge2)},
+                   {"two_sided", l.two_sided},
+                   {"samples", l.samples}};
     lights.push_back(j);
   }
   const AABB b = s.bounds();
@@ -49,7 +53,10 @@ nlohmann::json scene_json(const PreparedScene& p) {
           {"materials", s.materials.size()},
           {"lights", lights},
           {"camera",
-           {{"eye", vec(s.camera.eye)}, {"dir", vec(s.camera.dir)}, {"up", vec(s.camera.up)}, {"vfov_deg", s.camera.vfov_deg}}},
+           {{"eye", vec(s.camera.eye)},
+            {"dir", vec(s.camera.dir)},
+            {"up", vec(s.camera.up)},
+            {"vfov_deg", s.camera.vfov_deg}}},
           {"resolution", {s.width, s.height}},
           {"bounds", {{"lo", vec(b.lo)}, {"hi", vec(b.hi)}}},
           {"image_bytes", p.image ? p.image->header().image_bytes : 0}};

@@ -14,9 +14,9 @@
 namespace rtsim {
 
 struct PrepareOptions {
-  std::string scene_root;  // empty = default
+  std::string scene_root;                 // empty = default
   std::vector<ConfigOverride> overrides;  // of the scene file's keys
-  int width = 0, height = 0;  // 0 = from the scene file
+  int width = 0, height = 0;              // 0 = from the scene file
 };
 
 struct PreparedScene {
@@ -30,7 +30,8 @@ struct PreparedScene {
 
 PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions& options);
 
-// One pixel of mask.npy: bit 0 = the primary ray hit, bit 1+i = its shadow ray to light i is occluded.
+// One pixel of mask.npy: bit 0 = the primary ray hit, bit 1+i = its shadow ray to light i is
+// occluded.
 inline uint16_t mask_value(uint32_t hit_tri, uint16_t occluded) {
   return uint16_t((hit_tri != kNoHit ? 1u : 0u) | (uint32_t(occluded) << 1));
 }

@@ -2,14 +2,14 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
-#include <csignal>
 #include <fcntl.h>
-#include <map>
-#include <stdexcept>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <chrono>
+#include <csignal>
+#include <map>
+#include <stdexcept>
 #include <utility>
 
 namespace rtsim {

@@ -2,15 +2,18 @@
 
 #include <fmt/format.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdio>
-#include <unistd.h>
 
 namespace rtsim {
 
 ProgressLine::ProgressLine(std::string label, bool enabled)
-    : label_(std::move(label)), enabled_(enabled && isatty(fileno(stderr))),
-      start_(std::chrono::steady_clock::now()), phase_start_(start_), last_draw_(start_) {}
+    : label_(std::move(label)),
+      enabled_(enabled && isatty(fileno(stderr))),
+      start_(std::chrono::steady_clock::now()),
+      phase_start_(start_),
+      last_draw_(start_) {}
 
 void ProgressLine::update(const model::Progress& p) {
   if (!enabled_) return;
@@ -30,9 +33,11 @@ void ProgressLine::update(const model::Progress& p) {
   const double phase_s = std::chrono::duration<double>(now - phase_start_).count();
   const double host_s = std::chrono::duration<double>(now - start_).count();
   const std::string eta = done > 0.01 ? fmt::format("{:.0f} s", phase_s * (1 - done) / done) : "?";
-  fmt::print(stderr, "\r\033[K{}: phase {} ({}) {:.0f}% | rays retired {} | {} cycles | {:.0f} s | phase ETA {}",
-             label_, p.phase, p.phase == 1 ? "primary" : "shadow", 100 * done,
-             p.primaries_retired + p.shadows_retired, p.cycle, host_s, eta);
+  fmt::print(
+      stderr,
+      "\r\033[K{}: phase {} ({}) {:.0f}% | rays retired {} | {} cycles | {:.0f} s | phase ETA {}",
+      label_, p.phase, p.phase == 1 ? "primary" : "shadow", 100 * done,
+      p.primaries_retired + p.shadows_retired, p.cycle, host_s, eta);
   std::fflush(stderr);
   drawn_ = true;
 }

@@ -28,7 +28,8 @@ int run_render(const RenderArgs& args) {
   const size_t lights = p.scene.lights.size();
   std::vector<uint16_t> visibility(r.pixels.size() * lights);
   for (size_t i = 0; i < r.pixels.size(); ++i)
-    for (size_t l = 0; l < lights; ++l) visibility[i * lights + l] = r.pixels[i].occluded_samples[l];
+    for (size_t l = 0; l < lights; ++l)
+      visibility[i * lights + l] = r.pixels[i].occluded_samples[l];
 
   const TraceStats& s = r.stats;
   uint64_t shadow = 0;
@@ -38,34 +39,46 @@ int run_render(const RenderArgs& args) {
     per_light.push_back({{"shadow_rays", l.shadow_rays}, {"occluded", l.occluded}});
   }
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  nlohmann::json j = {
-      {"command", "render"},
-      {"scene", scene_json(p)},
-      {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
-      {"reflection_depth", args.reflection_depth},
-      {"rays",
-       {{"primary", s.primary_rays},
-        {"primary_hits", s.primary_hits},
-        {"shadow", shadow},
-        {"reflection", s.reflection_rays},
-        {"reflection_hits", s.reflection_hits}}},
-      {"per_light", per_light},
-      {"traversal",
-       {{"closest_hit", {{"inner_nodes", s.closest.nodes}, {"leaves", s.closest.leaves}, {"tri_tests", s.closest.tri_tests}}},
-        {"any_hit", {{"inner_nodes", s.any.nodes}, {"leaves", s.any.leaves}, {"tri_tests", s.any.tri_tests}}}}},
-      {"threads", s.threads},
-      {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}, {"trace", s.seconds}, {"total", total}}}};
+  nlohmann::json j = {{"command", "render"},
+                      {"scene", scene_json(p)},
+                      {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
+                      {"reflection_depth", args.reflection_depth},
+                      {"rays",
+                       {{"primary", s.primary_rays},
+                        {"primary_hits", s.primary_hits},
+                        {"shadow", shadow},
+                        {"reflection", s.reflection_rays},
+                        {"reflection_hits", s.reflection_hits}}},
+                      {"per_light", per_light},
+                      {"traversal",
+                       {{"closest_hit",
+                         {{"inner_nodes", s.closest.nodes},
+                          {"leaves", s.closest.leaves},
+                          {"tri_tests", s.closest.tri_tests}}},
+                        {"any_hit",
+                         {{"inner_nodes", s.any.nodes},
+                          {"leaves", s.any.leaves},
+                          {"tri_tests", s.any.tri_tests}}}}},
+                      {"threads", s.threads},
+                      {"host_seconds",
+                       {{"load", p.load_seconds},
+                        {"build", p.build_seconds},
+                        {"trace", s.seconds},
+                        {"total", total}}}};
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
   write_png_rgb((out / "render.png").string(), r.rgb, r.width, r.height);
   write_npy_u16((out / "mask.npy").string(), mask, r.height, r.width);
-  write_npy_u16((out / "visibility.npy").string(), visibility, {size_t(r.height), size_t(r.width), lights});
+  write_npy_u16((out / "visibility.npy").string(), visibility,
+                {size_t(r.height), size_t(r.width), lights});
   write_json((out / "render.json").string(), j);
-  fmt::print("{}: {} triangles, {} lights, {}x{}: {} primary ({} hit), {} shadow, {} reflection rays in {:.2f} s "
-             "({} threads)\n  wrote {}/render.png, mask.npy, visibility.npy, render.json\n",
-             p.scene.name, p.scene.triangles.size(), p.scene.lights.size(), r.width, r.height, s.primary_rays,
-             s.primary_hits, shadow, s.reflection_rays, s.seconds, s.threads, out.string());
+  fmt::print(
+      "{}: {} triangles, {} lights, {}x{}: {} primary ({} hit), {} shadow, {} reflection rays in "
+      "{:.2f} s ({} threads)\n  wrote {}/render.png, mask.npy, visibility.npy, render.json\n",
+      p.scene.name, p.scene.triangles.size(), p.scene.lights.size(), r.width, r.height,
+      s.primary_rays, s.primary_hits, shadow, s.reflection_rays, s.seconds, s.threads,
+      out.string());
   return 0;
 }
 

@@ -15,9 +15,9 @@
 
 #include <fmt/format.h>
 
+#include <sys/resource.h>
 #include <chrono>
 #include <filesystem>
-#include <sys/resource.h>
 
 namespace rtsim {
 
@@ -28,8 +28,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // --check: the golden model over the same image; every pixel must match bit for bit.
-nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run, const SimulatedFrame& r,
-                               uint64_t& mismatches) {
+nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run,
+                               const SimulatedFrame& r, uint64_t& mismatches) {
   TracerOptions opt;
   opt.width = p.scene.width;
   opt.height = p.scene.height;
@@ -43,15 +43,19 @@ nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run, c
     bool same_counts = true;
     for (uint32_t l = 0; l < r.frame.samples.size(); ++l)
       same_counts &= a.occluded_samples[l] == r.frame.occluded_samples(uint32_t(i), l);
-    const bool same = a.hit.tri == b.hit.tri &&
-                      (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
-                                               a.occluded == b.occluded && a.culled == b.culled && same_counts));
+    const bool same =
+        a.hit.tri == b.hit.tri &&
+        (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
+                                 a.occluded == b.occluded && a.culled == b.culled && same_counts));
     if (!same && ++mismatches <= 5)
-      fmt::print(stderr, "pixel {}: reference tri {} t {} occluded {:#x}; model tri {} t {} occluded {:#x}\n", i,
-                 a.hit.tri, a.hit.t, a.occluded, b.hit.tri, b.hit.t, b.occluded);
+      fmt::print(
+          stderr,
+          "pixel {}: reference tri {} t {} occluded {:#x}; model tri {} t {} occluded {:#x}\n", i,
+          a.hit.tri, a.hit.t, a.occluded, b.hit.tri, b.hit.t, b.occluded);
   }
   uint64_t culled_diff = 0;
-  for (size_t l = 0; l < r.shadow_culled.size(); ++l) culled_diff += r.shadow_culled[l] != ref.stats.per_light[l].culled;
+  for (size_t l = 0; l < r.shadow_culled.size(); ++l)
+    culled_diff += r.shadow_culled[l] != ref.stats.per_light[l].culled;
   if (ref.rgb != r.rgb || culled_diff) ++mismatches;
   return {{"pixels", ref.pixels.size()},
           {"mismatched_pixels", mismatches},
@@ -72,7 +76,8 @@ std::vector<ConfigOverride> scene_overrides(const std::vector<std::string>& scen
 // Every model statistic's unit and meaning: name,unit,description.
 std::string glossary_csv(const std::map<std::string, model::StatsRegistry::Glossary>& glossary) {
   std::string csv = "name,unit,description\n";
-  for (const auto& [name, g] : glossary) csv += fmt::format("{},{},\"{}\"\n", name, g.unit, g.description);
+  for (const auto& [name, g] : glossary)
+    csv += fmt::format("{},{},\"{}\"\n", name, g.unit, g.description);
   return csv;
 }
 
@@ -84,11 +89,14 @@ int run_model(const RunArgs& args) {
   model::SimulationHooks hooks;
   if (!args.trace_window.empty() && args.trace_file.empty() && args.mem_trace_file.empty())
     throw InputError("--trace-window needs --trace or --mem-trace");
-  if (!args.trace_file.empty()) hooks.trace = parse_trace_request("--trace", args.trace_file, args.trace_window);
+  if (!args.trace_file.empty())
+    hooks.trace = parse_trace_request("--trace", args.trace_file, args.trace_window);
   if (!args.mem_trace_file.empty())
     hooks.mem_trace = parse_trace_request("--mem-trace", args.mem_trace_file, args.trace_window);
-  // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that ran.
-  PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
+  // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
+  // ran.
+  PreparedScene p = prepare_scene(
+      c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
 
   nlohmann::json lvb_json = nullptr;
   double lvb_seconds = 0;
@@ -101,7 +109,8 @@ int run_model(const RunArgs& args) {
     lvb_seconds = lvb.stats.seconds;
     nlohmann::json per_light = nlohmann::json::array();
     for (const LvbLightStats& s : lvb.stats.per_light)
-      per_light.push_back({{"nonempty_leaves", s.nonempty_leaves}, {"culled_leaves", s.culled_leaves}});
+      per_light.push_back(
+          {{"nonempty_leaves", s.nonempty_leaves}, {"culled_leaves", s.culled_leaves}});
     lvb_json = {{"method", to_string(lp.method)},
                 {"bounds", to_string(lp.bounds)},
                 {"self_occlusion", to_string(lp.self_occlusion)},
@@ -115,11 +124,12 @@ int run_model(const RunArgs& args) {
       at.push_back({{"time"}, YAML::Node(*c.run.lvb_lazy_since), "run.lvb_lazy_since"});
       const Scene before = load_scene_file(c.scene_file, SceneFileOptions{c.scene_root, at}).scene;
       const LvbLazyStats z = lvb_lazy_stats(p.scene, p.tree, lp, lvb_change(before, p.scene));
-      lvb_json["lazy"] = {{"since", *c.run.lvb_lazy_since},       {"moved_triangles", z.moved_triangles},
-                          {"moved_lights", z.moved_lights},         {"pairs", z.pairs},
-                          {"dirty_pairs", z.dirty_pairs},           {"dirty_tests", z.dirty_tests},
-                          {"nodes_visited", z.nodes_visited},       {"region_tests", z.region_tests},
-                          {"pair_tests", z.pair_tests}};
+      lvb_json["lazy"] = {
+          {"since", *c.run.lvb_lazy_since},   {"moved_triangles", z.moved_triangles},
+          {"moved_lights", z.moved_lights},   {"pairs", z.pairs},
+          {"dirty_pairs", z.dirty_pairs},     {"dirty_tests", z.dirty_tests},
+          {"nodes_visited", z.nodes_visited}, {"region_tests", z.region_tests},
+          {"pair_tests", z.pair_tests}};
     }
   }
 
@@ -128,8 +138,8 @@ int run_model(const RunArgs& args) {
   ProgressLine progress(p.scene.name, !args.quiet);
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
   const auto t_sim = std::chrono::steady_clock::now();
-  const SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width,
-                                                           p.scene.height, hooks);
+  const SimulatedFrame r =
+      simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks);
   const double sim_seconds = seconds_since(t_sim);
   progress.finish();
 
@@ -137,8 +147,9 @@ int run_model(const RunArgs& args) {
   uint64_t mismatches = 0;
   if (c.run.check) check = reference_check(p, c.run, r, mismatches);
 
-  // Per-pixel planes of the primary level: hit and occlusion (mask.npy), culled lights (culled.npy).
-  // visibility.npy: per pixel and light, the occluded samples (rays) of the primary hit.
+  // Per-pixel planes of the primary level: hit and occlusion (mask.npy), culled lights
+  // (culled.npy). visibility.npy: per pixel and light, the occluded samples (rays) of the primary
+  // hit.
   std::vector<uint16_t> mask(r.frame.pixel_count()), culled(r.frame.pixel_count());
   const size_t lights = r.frame.samples.size();
   std::vector<uint16_t> visibility(mask.size() * lights);
@@ -146,7 +157,8 @@ int run_model(const RunArgs& args) {
     const model::PixelState& px = r.frame.at(i, 0);
     mask[i] = mask_value(px.hit.tri, px.occluded);
     culled[i] = px.culled;
-    for (uint32_t l = 0; l < lights; ++l) visibility[i * lights + l] = uint16_t(r.frame.occluded_samples(i, l));
+    for (uint32_t l = 0; l < lights; ++l)
+      visibility[i * lights + l] = uint16_t(r.frame.occluded_samples(i, l));
   }
   nlohmann::json per_light = nlohmann::json::array();
   for (size_t l = 0; l < r.shadow_generated.size(); ++l)
@@ -171,18 +183,26 @@ int run_model(const RunArgs& args) {
       {"cycles_total", r.cycles_total},
       {"cycles_primary", r.cycles_primary},
       {"cycles_shadow", r.cycles_shadow},
-      {"frame_ms", {{"all", double(r.cycles_total) / (r.clock_ghz * 1e6)},
-                    {"shadow", double(r.cycles_shadow) / (r.clock_ghz * 1e6)}}},
-      {"rays", {{"primary", r.primary_rays}, {"primary_hits", r.primary_hits}, {"reflection", r.reflection_rays},
-                {"shadow", r.shadow_rays}}},
+      {"frame_ms",
+       {{"all", double(r.cycles_total) / (r.clock_ghz * 1e6)},
+        {"shadow", double(r.cycles_shadow) / (r.clock_ghz * 1e6)}}},
+      {"rays",
+       {{"primary", r.primary_rays},
+        {"primary_hits", r.primary_hits},
+        {"reflection", r.reflection_rays},
+        {"shadow", r.shadow_rays}}},
       {"per_light", per_light},
       {"reference_check", check},
       {"stats", r.stats},
       {"host_seconds", total},
       {"host",
-       {{"seconds", {{"load", p.load_seconds}, {"kdtree", p.tree.stats.build_seconds},
-                     {"image", p.build_seconds - p.tree.stats.build_seconds}, {"lvb", lvb_seconds},
-                     {"simulate", sim_seconds}, {"total", total}}},
+       {{"seconds",
+         {{"load", p.load_seconds},
+          {"kdtree", p.tree.stats.build_seconds},
+          {"image", p.build_seconds - p.tree.stats.build_seconds},
+          {"lvb", lvb_seconds},
+          {"simulate", sim_seconds},
+          {"total", total}}},
         {"rays_per_second", sim_seconds > 0 ? double(rays) / sim_seconds : 0.0},
         {"cycles_per_second", sim_seconds > 0 ? double(r.cycles_total) / sim_seconds : 0.0},
         {"peak_memory_mb", double(usage.ru_maxrss) / 1024.0}}}};
@@ -191,7 +211,8 @@ int run_model(const RunArgs& args) {
   write_png_rgb((out / "render.png").string(), r.rgb, p.scene.width, p.scene.height);
   write_npy_u16((out / "mask.npy").string(), mask, p.scene.height, p.scene.width);
   write_npy_u16((out / "culled.npy").string(), culled, p.scene.height, p.scene.width);
-  write_npy_u16((out / "visibility.npy").string(), visibility, {size_t(p.scene.height), size_t(p.scene.width), lights});
+  write_npy_u16((out / "visibility.npy").string(), visibility,
+                {size_t(p.scene.height), size_t(p.scene.width), lights});
   write_file_atomic((out / "stats.csv").string(), stats_csv(report));
   write_file_atomic((out / "glossary.csv").string(), glossary_csv(r.glossary));
   write_file_atomic((out / "report.md").string(), run_report_markdown(report));
@@ -199,19 +220,26 @@ int run_model(const RunArgs& args) {
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());
 
-  const uint64_t culled_rays = [&] { uint64_t n = 0; for (uint64_t x : r.shadow_culled) n += x; return n; }();
+  const uint64_t culled_rays = [&] {
+    uint64_t n = 0;
+    for (uint64_t x : r.shadow_culled) n += x;
+    return n;
+  }();
   if (!args.quiet) {
-    fmt::print("{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
-               "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, stats.csv, "
-               "glossary.csv, config.json, render.png, mask.npy, culled.npy, visibility.npy{}\n",
-               p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
-               double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
-               c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
-               r.cycles_shadow, rays, r.shadow_rays,
-               culled_rays, sim_seconds, sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out.string(),
-               c.run.plots && plots_note.empty() ? ", plots" : "");
+    fmt::print(
+        "{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
+        "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, "
+        "stats.csv, glossary.csv, config.json, render.png, mask.npy, culled.npy, "
+        "visibility.npy{}\n",
+        p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
+        double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
+        c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
+        r.cycles_shadow, rays, r.shadow_rays, culled_rays, sim_seconds,
+        sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out.string(),
+        c.run.plots && plots_note.empty() ? ", plots" : "");
   }
-  if (!plots_note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
+  if (!plots_note.empty())
+    fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
   if (c.run.check)
     fmt::print("reference check: {} of {} pixels differ, image {}, culled counts {}\n",
                check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>(),

@@ -22,10 +22,13 @@ SplitOverrides split_overrides(const std::vector<std::string>& set) {
     ConfigOverride o = parse_override(text);
     const std::string section = o.keys.front();
     if (o.keys.size() < 2 || (section != "hw" && section != "scene" && section != "run"))
-      throw InputError(fmt::format("--set {}: expected a key path starting with 'hw.', 'scene.' or 'run.'", text));
+      throw InputError(fmt::format(
+          "--set {}: expected a key path starting with 'hw.', 'scene.' or 'run.'", text));
     o.keys.erase(o.keys.begin());
-    if (section == "hw") out.hw.push_back(std::move(o));
-    else if (section == "run") out.run.push_back(std::move(o));
+    if (section == "hw")
+      out.hw.push_back(std::move(o));
+    else if (section == "run")
+      out.run.push_back(std::move(o));
     else {
       out.scene.push_back(std::move(o));
       out.scene_text.push_back(text);
@@ -35,7 +38,8 @@ SplitOverrides split_overrides(const std::vector<std::string>& set) {
 }
 
 template <class Enum>
-Enum read_choice(YamlMap& m, const std::string& key, Enum fallback, std::initializer_list<Enum> choices) {
+Enum read_choice(YamlMap& m, const std::string& key, Enum fallback,
+                 std::initializer_list<Enum> choices) {
   const std::string v = m.get<std::string>(key, to_string(fallback));
   std::string expected;
   for (Enum c : choices) {
@@ -48,8 +52,10 @@ Enum read_choice(YamlMap& m, const std::string& key, Enum fallback, std::initial
 RunSettings read_run_settings(YamlMap m) {
   RunSettings r;
   r.lvb = m.get<bool>("lvb", r.lvb);
-  r.lvb_params.method = read_choice(m, "lvb_method", r.lvb_params.method, {LvbMethod::kHierarchical, LvbMethod::kPaper});
-  r.lvb_params.bounds = read_choice(m, "lvb_bounds", r.lvb_params.bounds, {LvbBounds::kCell, LvbBounds::kGeometry});
+  r.lvb_params.method = read_choice(m, "lvb_method", r.lvb_params.method,
+                                    {LvbMethod::kHierarchical, LvbMethod::kPaper});
+  r.lvb_params.bounds =
+      read_choice(m, "lvb_bounds", r.lvb_params.bounds, {LvbBounds::kCell, LvbBounds::kGeometry});
   r.lvb_params.self_occlusion = read_choice(m, "lvb_self_occlusion", r.lvb_params.self_occlusion,
                                             {LvbSelfOcclusion::kTest, LvbSelfOcclusion::kIgnore});
   r.reflections = m.get_in_range("reflections", r.reflections, 0, 8);
@@ -57,7 +63,8 @@ RunSettings read_run_settings(YamlMap m) {
   r.height = m.get_in_range("height", r.height, 0, 16384);
   r.check = m.get<bool>("check", r.check);
   r.plots = m.get<bool>("plots", r.plots);
-  if (const double since = m.get<double>("lvb_lazy_since", std::nan("")); !std::isnan(since)) r.lvb_lazy_since = since;
+  if (const double since = m.get<double>("lvb_lazy_since", std::nan("")); !std::isnan(since))
+    r.lvb_lazy_since = since;
   m.finish();
   return r;
 }
@@ -74,7 +81,8 @@ RunConfig resolve_run_config(const RunSources& src) {
       throw InputError("give either --config FILE or a scene file and --hw, not both");
     YamlMap doc = YamlMap::load_file(src.config_file);
     c.scene_file = doc.require<std::string>("scene_file");
-    for (const auto& s : doc.get<std::vector<std::string>>("scene_set", {})) c.scene_set.push_back(s);
+    for (const auto& s : doc.get<std::vector<std::string>>("scene_set", {}))
+      c.scene_set.push_back(s);
     c.scene_root = doc.get<std::string>("scene_root", "");
     c.hw_file = doc.get<std::string>("hw_file", "");
     c.hw = read_hw_config(YamlMap::from_node(doc.raw("hw"), src.config_file, "hw", ov.hw));
@@ -95,7 +103,8 @@ RunConfig resolve_run_config(const RunSources& src) {
   for (const auto& kv : src.run_flags)
     run_ov.push_back({{kv.first.as<std::string>()}, kv.second, "--" + kv.first.as<std::string>()});
   run_ov.insert(run_ov.end(), ov.run.begin(), ov.run.end());
-  c.run = read_run_settings(YamlMap::from_node(run_node, run_file, src.config_file.empty() ? "" : "run", run_ov));
+  c.run = read_run_settings(
+      YamlMap::from_node(run_node, run_file, src.config_file.empty() ? "" : "run", run_ov));
   c.hw.lvb_culling = c.run.lvb;
   c.hw.reflection_depth = c.run.reflections;
   return c;
@@ -120,12 +129,15 @@ TraceWindow parse_trace_window(const std::string& window) {
   if (window.empty()) return w;
   unsigned long long a = 0, b = 0;
   char tail = 0;
-  if (std::sscanf(window.c_str(), "%llu:%llu%c", &a, &b, &tail) != 2 || window.find('-') != std::string::npos || b <= a)
-    throw InputError(fmt::format("--trace-window {}: expected START:END in cycles with START < END", window));
+  if (std::sscanf(window.c_str(), "%llu:%llu%c", &a, &b, &tail) != 2 ||
+      window.find('-') != std::string::npos || b <= a)
+    throw InputError(
+        fmt::format("--trace-window {}: expected START:END in cycles with START < END", window));
   return {a, b};
 }
 
-model::TraceRequest parse_trace_request(const char* flag, const std::string& file, const std::string& window) {
+model::TraceRequest parse_trace_request(const char* flag, const std::string& file,
+                                        const std::string& window) {
   // The file is written at the end of the run (a VCD: SystemC opens it only when the simulation
   // starts): check now that it can be.
   check_writable(flag, file, file + ".part.probe");
@@ -152,8 +164,9 @@ nlohmann::json run_settings_json(const RunSettings& r) {
 }
 
 nlohmann::json run_config_json(const RunConfig& c) {
-  return {{"scene_file", c.scene_file}, {"scene_set", c.scene_set}, {"scene_root", c.scene_root},
-          {"hw_file", c.hw_file},       {"hw", hw_config_json(c.hw)},  {"run", run_settings_json(c.run)}};
+  return {{"scene_file", c.scene_file}, {"scene_set", c.scene_set},
+          {"scene_root", c.scene_root}, {"hw_file", c.hw_file},
+          {"hw", hw_config_json(c.hw)}, {"run", run_settings_json(c.run)}};
 }
 
 }  // namespace rtsim

@@ -21,12 +21,13 @@
 namespace rtsim {
 
 struct RunSettings {
-  bool lvb = true;               // shadow-ray culling with the precomputed LVB words
-  LvbParams lvb_params;          // method, bounds, self-occlusion (the exact mode by default)
-  int reflections = 0;           // mirror bounces
-  int width = 0, height = 0;     // 0 = the scene file's resolution (which --set scene.resolution changes)
-  bool check = false;            // compare every pixel with the reference tracer
-  bool plots = true;             // the PNG figures (python3 + matplotlib)
+  bool lvb = true;       // shadow-ray culling with the precomputed LVB words
+  LvbParams lvb_params;  // method, bounds, self-occlusion (the exact mode by default)
+  int reflections = 0;   // mirror bounces
+  // 0 = the scene file's resolution (which --set scene.resolution changes)
+  int width = 0, height = 0;
+  bool check = false;  // compare every pixel with the reference tracer
+  bool plots = true;   // the PNG figures (python3 + matplotlib)
   // The time of an earlier frame: the report's lvb.lazy counts what a lazy rebuild would redo
   // after it (rtsim animate sets the previous frame's; docs/animation.md).
   std::optional<double> lvb_lazy_since;
@@ -59,6 +60,7 @@ struct TraceWindow {
 };
 TraceWindow parse_trace_window(const std::string& window);
 // `flag` FILE (--trace: a VCD; --mem-trace: a CSV of memory transactions) over the window.
-model::TraceRequest parse_trace_request(const char* flag, const std::string& file, const std::string& window);
+model::TraceRequest parse_trace_request(const char* flag, const std::string& file,
+                                        const std::string& window);
 
 }  // namespace rtsim

@@ -30,7 +30,8 @@ Material read_material(YamlMap m) {
 
 std::string lower_extension(const fs::path& p) {
   std::string e = p.extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  std::transform(e.begin(), e.end(), e.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
   return e;
 }
 
@@ -38,8 +39,11 @@ void load_geometry_file(YamlMap& g, const fs::path& root, double time, Scene& sc
   const fs::path rel = g.require<std::string>("file");
   const fs::path path = rel.is_absolute() ? rel : root / rel;
   if (!fs::exists(path))
-    g.fail("file", fmt::format("geometry file '{}' not found (scene root '{}'; set --scene-root or RTSIM_SCENE_ROOT)",
-                               path.string(), root.string()));
+    g.fail(
+        "file",
+        fmt::format(
+            "geometry file '{}' not found (scene root '{}'; set --scene-root or RTSIM_SCENE_ROOT)",
+            path.string(), root.string()));
   const std::string ext = lower_extension(path);
   const bool has_material = g.has("material");
   if (g.has("rotation_keys") && ext != ".aff" && ext != ".nff")
@@ -48,8 +52,10 @@ void load_geometry_file(YamlMap& g, const fs::path& root, double time, Scene& sc
     if (has_material) g.fail("material", "AFF/NFF files carry their own materials");
     const std::string flip = g.get<std::string>("rotation_keys", "bart");
     if (flip != "bart" && flip != "all")
-      g.fail("rotation_keys", "expected 'bart' (flipped as BART's code does) or 'all' (every key the short way)");
-    load_aff(path.string(), time, scene, flip == "bart" ? KbQuatSpline::Flip::kBart : KbQuatSpline::Flip::kAll);
+      g.fail("rotation_keys",
+             "expected 'bart' (flipped as BART's code does) or 'all' (every key the short way)");
+    load_aff(path.string(), time, scene,
+             flip == "bart" ? KbQuatSpline::Flip::kBart : KbQuatSpline::Flip::kAll);
   } else if (ext == ".ply") {
     const Material mat = has_material ? read_material(g.map("material")) : Material{};
     load_ply(path.string(), scene.add_material(mat), scene);
@@ -60,7 +66,10 @@ void load_geometry_file(YamlMap& g, const fs::path& root, double time, Scene& sc
     if (has_material) g.fail("material", "glTF files carry their own materials");
     load_gltf(path.string(), scene);
   } else {
-    g.fail("file", fmt::format("unknown geometry format '{}' (expected .aff, .nff, .ply, .obj, .gltf or .glb)", ext));
+    g.fail(
+        "file",
+        fmt::format("unknown geometry format '{}' (expected .aff, .nff, .ply, .obj, .gltf or .glb)",
+                    ext));
   }
 }
 
@@ -72,7 +81,8 @@ void load_triangles(YamlMap& g, Scene& scene) {
   std::vector<Vec3> v;
   for (size_t i = 0; i < verts.size(); ++i) {
     const YAML::Node n = verts[i];
-    if (!n.IsSequence() || n.size() != 3) t.fail("vertices", fmt::format("entry {}: expected [x, y, z]", i), n);
+    if (!n.IsSequence() || n.size() != 3)
+      t.fail("vertices", fmt::format("entry {}: expected [x, y, z]", i), n);
     try {
       v.emplace_back(n[0].as<float>(), n[1].as<float>(), n[2].as<float>());
     } catch (const YAML::Exception&) {
@@ -81,10 +91,12 @@ void load_triangles(YamlMap& g, Scene& scene) {
     if (!std::isfinite(v.back().x) || !std::isfinite(v.back().y) || !std::isfinite(v.back().z))
       t.fail("vertices", fmt::format("entry {}: expected 3 finite numbers", i), n);
   }
-  const uint32_t mat = scene.add_material(t.has("material") ? read_material(t.map("material")) : Material{});
+  const uint32_t mat =
+      scene.add_material(t.has("material") ? read_material(t.map("material")) : Material{});
   for (size_t i = 0; i < idx.size(); ++i) {
     const YAML::Node n = idx[i];
-    if (!n.IsSequence() || n.size() != 3) t.fail("indices", fmt::format("entry {}: expected [a, b, c]", i), n);
+    if (!n.IsSequence() || n.size() != 3)
+      t.fail("indices", fmt::format("entry {}: expected [a, b, c]", i), n);
     size_t k[3];
     for (int j = 0; j < 3; ++j) {
       long x = -1;
@@ -93,7 +105,8 @@ void load_triangles(YamlMap& g, Scene& scene) {
       } catch (const YAML::Exception&) {
       }
       if (x < 0 || size_t(x) >= v.size())
-        t.fail("indices", fmt::format("entry {}: expected vertex indices in [0, {}]", i, v.size() - 1), n);
+        t.fail("indices",
+               fmt::format("entry {}: expected vertex indices in [0, {}]", i, v.size() - 1), n);
       k[j] = size_t(x);
     }
     scene.triangles.push_back(Triangle{v[k[0]], v[k[1]], v[k[2]], mat});
@@ -116,15 +129,19 @@ void load_procedural(YamlMap& g, Scene& scene) {
 
 // Whatever its source (this file or a geometry file), the camera must make an image.
 void check_camera(YamlMap& top, const Camera& cam) {
-  const auto finite = [](const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); };
+  const auto finite = [](const Vec3& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
   if (!finite(cam.eye) || !finite(cam.dir) || !finite(cam.up) || glm::length(cam.dir) == 0.f)
-    top.fail("camera", "the camera's eye, direction and up must be finite, with a non-zero direction");
+    top.fail("camera",
+             "the camera's eye, direction and up must be finite, with a non-zero direction");
   const Vec3 d = glm::normalize(cam.dir);
   const float up_len = glm::length(cam.up);
   if (!(up_len > 0.f) || glm::length(glm::cross(d, cam.up / up_len)) < 1e-6f)
     top.fail("camera", "the camera's up vector is zero or parallel to the view direction");
   if (!(cam.vfov_deg >= 1e-3f && cam.vfov_deg <= 179.f))
-    top.fail("camera", fmt::format("vertical field of view {} degrees; expected [0.001, 179]", cam.vfov_deg));
+    top.fail("camera",
+             fmt::format("vertical field of view {} degrees; expected [0.001, 179]", cam.vfov_deg));
 }
 
 Camera read_camera(YamlMap c) {
@@ -132,7 +149,8 @@ Camera read_camera(YamlMap c) {
   cam.eye = c.require_vec3("eye");
   if (c.has("dir") == c.has("at")) c.fail("dir", "give exactly one of 'dir' and 'at'");
   const Vec3 dir = c.has("dir") ? c.require_vec3("dir") : c.require_vec3("at") - cam.eye;
-  if (glm::length(dir) == 0.f) c.fail(c.has("dir") ? "dir" : "at", "view direction has zero length");
+  if (glm::length(dir) == 0.f)
+    c.fail(c.has("dir") ? "dir" : "at", "view direction has zero length");
   cam.dir = glm::normalize(dir);
   cam.up = c.get_vec3("up", Vec3(0, 1, 0));
   cam.vfov_deg = c.get_in_range("vfov_deg", 45.f, 1e-3f, 179.f);
@@ -157,10 +175,12 @@ KdTreeParams read_kdtree(YamlMap k) {
 Light read_light(YamlMap& a) {
   Light light;
   light.color = a.get_vec3("color", light.color);
-  if (a.has("position") == a.has("area")) a.fail("position", "expected either 'position' (a point light) or 'area'");
+  if (a.has("position") == a.has("area"))
+    a.fail("position", "expected either 'position' (a point light) or 'area'");
   if (a.has("position")) {
     light.position = a.require_vec3("position");
-    if (a.has("samples")) a.fail("samples", "a point light has one sample; 'samples' needs an 'area' light");
+    if (a.has("samples"))
+      a.fail("samples", "a point light has one sample; 'samples' needs an 'area' light");
   } else {
     YamlMap area = a.map("area");
     light.position = area.require_vec3("corner");
@@ -178,7 +198,8 @@ Light read_light(YamlMap& a) {
 }
 
 // `lights.area_from_points`: every point light becomes a horizontal square area light centred on
-// it, of side `side_fraction` of the scene's diagonal, two-sided unless stated (docs/area-lights.md).
+// it, of side `side_fraction` of the scene's diagonal, two-sided unless stated
+// (docs/area-lights.md).
 void area_from_points(YamlMap m, Scene& scene) {
   const double fraction = m.get_in_range("side_fraction", 0.02, 1e-6, 1.0);
   const int samples = m.get_in_range("samples", kDefaultLightSamples, 1, kMaxLightSamples);
@@ -216,7 +237,8 @@ YamlMap load_with_base(const std::string& path, const std::vector<ConfigOverride
 
 std::string default_scene_root() {
   if (const char* env = std::getenv("RTSIM_SCENE_ROOT"); env && *env) return env;
-  for (const fs::path& p : {fs::path("../shared/scenes"), fs::path(RTSIM_DEFAULT_SOURCE_DIR) / "../shared/scenes"})
+  for (const fs::path& p :
+       {fs::path("../shared/scenes"), fs::path(RTSIM_DEFAULT_SOURCE_DIR) / "../shared/scenes"})
     if (fs::is_directory(p)) return fs::weakly_canonical(p).string();
   return ".";
 }
@@ -231,9 +253,12 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
   for (YamlMap& g : top.list_of_maps("geometry")) {
     const int kinds = g.has("file") + g.has("triangles") + g.has("procedural");
     if (kinds != 1) g.fail("file", "expected exactly one of 'file', 'triangles', 'procedural'");
-    if (g.has("file")) load_geometry_file(g, root, scene.time, scene);
-    else if (g.has("triangles")) load_triangles(g, scene);
-    else load_procedural(g, scene);
+    if (g.has("file"))
+      load_geometry_file(g, root, scene.time, scene);
+    else if (g.has("triangles"))
+      load_triangles(g, scene);
+    else
+      load_procedural(g, scene);
     g.finish();
   }
   if (top.has("camera")) {
@@ -242,7 +267,8 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
   } else {
     top.get<int>("camera", 0);  // an explicit 'camera: ~' means "from the file"
   }
-  if (!scene.has_camera) top.fail("camera", "no camera: the geometry files define none, so give one here");
+  if (!scene.has_camera)
+    top.fail("camera", "no camera: the geometry files define none, so give one here");
   check_camera(top, scene.camera);
 
   if (top.has("lights")) {
@@ -255,7 +281,8 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
   }
   if (scene.lights.empty()) top.fail("lights", "the scene has no light");
   if (scene.lights.size() > size_t(kMaxLights))
-    top.fail("lights", fmt::format("{} lights; at most {} are supported (one mask bit each)", scene.lights.size(), kMaxLights));
+    top.fail("lights", fmt::format("{} lights; at most {} are supported (one mask bit each)",
+                                   scene.lights.size(), kMaxLights));
 
   if (top.has("resolution")) {
     const YAML::Node r = top.raw("resolution");
@@ -264,7 +291,8 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
       if (r.IsSequence() && r.size() == 2) w = r[0].as<int>(), h = r[1].as<int>();
     } catch (const YAML::Exception&) {
     }
-    if (w <= 0 || h <= 0 || w > 16384 || h > 16384) top.fail("resolution", "expected [width, height], each in [1, 16384]");
+    if (w <= 0 || h <= 0 || w > 16384 || h > 16384)
+      top.fail("resolution", "expected [width, height], each in [1, 16384]");
     scene.width = w;
     scene.height = h;
   }
@@ -273,8 +301,9 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
     scene.height = 360;
   }
   if (scene.width < 1 || scene.height < 1 || scene.width > 16384 || scene.height > 16384)
-    top.fail("resolution", fmt::format("the geometry files give {}x{}; expected each side in [1, 16384] "
-                                       "(set 'resolution' here to override)", scene.width, scene.height));
+    top.fail("resolution", fmt::format("the geometry files give {}x{}; expected each side in [1, "
+                                       "16384] (set 'resolution' here to override)",
+                                       scene.width, scene.height));
   if (scene.triangles.empty()) top.fail("geometry", "the scene has no triangles");
   if (top.has("kdtree")) setup.kdtree = read_kdtree(top.map("kdtree"));
   top.finish();

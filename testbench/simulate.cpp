@@ -16,7 +16,8 @@ namespace {
 // The model's report types as this program's errors.
 [[noreturn]] void rethrow(const sc_core::sc_report& r) {
   const std::string type = r.get_msg_type(), msg = r.get_msg();
-  if (type == model::kReportWatchdog) throw std::runtime_error("the accelerator model stopped: " + msg);
+  if (type == model::kReportWatchdog)
+    throw std::runtime_error("the accelerator model stopped: " + msg);
   if (type == model::kReportConfig) throw InputError(msg);
   throw std::runtime_error(type + ": " + msg);
 }
@@ -31,12 +32,14 @@ void run_simulation() {
   }
 }
 
-SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
-                              int width, int height, const model::SimulationHooks& hooks) {
+SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image,
+                              const Camera& camera, int width, int height,
+                              const model::SimulationHooks& hooks) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   SimulatedFrame out;
   try {
-    model::Accelerator accelerator("rtsim", config, image, model::FrameJob{camera, width, height}, hooks);
+    model::Accelerator accelerator("rtsim", config, image, model::FrameJob{camera, width, height},
+                                   hooks);
     run_simulation();
     static_cast<model::AcceleratorResult&>(out) = accelerator.result();
   } catch (const sc_core::sc_report& r) {
@@ -60,9 +63,11 @@ std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const Memor
       Vec3 c = kAmbient * px.diffuse;
       const uint32_t entry = frame.entry(i, level);
       for (uint32_t l = 0; l < h.light_count; ++l)
-        c += light_term(px.surface, px.diffuse, image.light(l), i, uint32_t(level), l,
-                        [&](uint32_t k, const Vec3&) { return frame.sample_occluded(entry, l, k); });
-      if (px.reflectance > 0.f && level + 1 < frame.levels) c = (1.f - px.reflectance) * c + px.reflectance * reflected;
+        c +=
+            light_term(px.surface, px.diffuse, image.light(l), i, uint32_t(level), l,
+                       [&](uint32_t k, const Vec3&) { return frame.sample_occluded(entry, l, k); });
+      if (px.reflectance > 0.f && level + 1 < frame.levels)
+        c = (1.f - px.reflectance) * c + px.reflectance * reflected;
       reflected = c;
     }
     for (int k = 0; k < 3; ++k) rgb[3 * size_t(i) + k] = to_display(reflected[k]);

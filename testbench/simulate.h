@@ -18,10 +18,12 @@ struct SimulatedFrame : model::AcceleratorResult {
 // Simulates one frame of `camera` over `image` at width x height. SystemC elaborates once per
 // process: call this once. A watchdog stop or another model error becomes std::runtime_error, a
 // configuration out of range InputError.
-SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image, const Camera& camera,
-                              int width, int height, const model::SimulationHooks& hooks = {});
+SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image,
+                              const Camera& camera, int width, int height,
+                              const model::SimulationHooks& hooks = {});
 
-// Runs the simulation until it ends (sc_start), mapping the model's sc_reports as simulate_frame does.
+// Runs the simulation until it ends (sc_start), mapping the model's sc_reports as simulate_frame
+// does.
 void run_simulation();
 
 // The pixels, composed exactly as the reference tracer composes them: the local colour of each

@@ -41,7 +41,8 @@ int run_point(const SweepSpec& s, const std::string& dir, const SweepPoint& p) {
 
 const SweepPoint& point_by_index(const SweepSpec& s, int index, const std::string& where) {
   if (index < 0 || size_t(index) >= s.points.size())
-    throw InputError(fmt::format("{}: --point {}: expected 0..{}", where, index, s.points.size() - 1));
+    throw InputError(
+        fmt::format("{}: --point {}: expected 0..{}", where, index, s.points.size() - 1));
   return s.points[size_t(index)];
 }
 
@@ -49,12 +50,14 @@ const SweepPoint& point_by_index(const SweepSpec& s, int index, const std::strin
 pid_t spawn_point(const std::string& dir, const SweepPoint& p) {
   const fs::path out = sweep_point_dir(dir, p);
   fs::create_directories(out);
-  return spawn_self({"sweep", "--out", dir, "--point", std::to_string(p.index)}, (out / "log.txt").string());
+  return spawn_self({"sweep", "--out", dir, "--point", std::to_string(p.index)},
+                    (out / "log.txt").string());
 }
 
 std::string describe(const SweepPoint& p) {
   std::string s = fs::path(p.scene_file).stem().string();
-  for (const auto& [k, v] : p.values.items()) s += ", " + k + "=" + (v.is_string() ? v.get<std::string>() : v.dump());
+  for (const auto& [k, v] : p.values.items())
+    s += ", " + k + "=" + (v.is_string() ? v.get<std::string>() : v.dump());
   return s;
 }
 
@@ -65,8 +68,9 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
   std::vector<const SweepPoint*> missing;
   for (const SweepPoint& p : s.points)
     if (!sweep_point_done(dir, p)) missing.push_back(&p);
-  fmt::print("sweep {}: {} points, {} already done, running {} with {} job{}\n", s.name, s.points.size(),
-             s.points.size() - missing.size(), missing.size(), jobs, jobs == 1 ? "" : "s");
+  fmt::print("sweep {}: {} points, {} already done, running {} with {} job{}\n", s.name,
+             s.points.size(), s.points.size() - missing.size(), missing.size(), jobs,
+             jobs == 1 ? "" : "s");
   std::fflush(stdout);
   size_t finished = 0, failed = 0;
   auto last_write = std::chrono::steady_clock::now();
@@ -76,11 +80,12 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
         const SweepPoint* p = missing[i];
         ++finished;
         if (sweep_point_done(dir, *p)) {
-          fmt::print("[{}/{}] {} done in {:.1f} s ({})\n", finished, missing.size(), p->id, secs, describe(*p));
+          fmt::print("[{}/{}] {} done in {:.1f} s ({})\n", finished, missing.size(), p->id, secs,
+                     describe(*p));
         } else {
           ++failed;
-          fmt::print("[{}/{}] {} FAILED ({}; {}): see {}/log.txt\n", finished, missing.size(), p->id,
-                     describe_exit(status), describe(*p), sweep_point_dir(dir, *p));
+          fmt::print("[{}/{}] {} FAILED ({}; {}): see {}/log.txt\n", finished, missing.size(),
+                     p->id, describe_exit(status), describe(*p), sweep_point_dir(dir, *p));
         }
         std::fflush(stdout);
         // Keep results current while points finish, but do not reread every row after each point.
@@ -102,15 +107,18 @@ int run_sweep_command(const SweepArgs& a) {
   if (!a.merge_dir.empty()) return merge_sweep(a.merge_dir, a.plots);
   if (a.out.empty()) throw InputError("--out DIR is required");
   if (a.point >= 0) {
-    if (!a.file.empty() || !a.set.empty()) throw InputError("--point runs a point of DIR/manifest.json: give only --out");
+    if (!a.file.empty() || !a.set.empty())
+      throw InputError("--point runs a point of DIR/manifest.json: give only --out");
     const std::string file = sweep_manifest_file(a.out);
-    if (!fs::exists(file)) throw InputError(file + ": file not found (emit or start the sweep first)");
+    if (!fs::exists(file))
+      throw InputError(file + ": file not found (emit or start the sweep first)");
     const nlohmann::json manifest = read_json(file);
     const SweepSpec s = spec_from_manifest(manifest, file);
     check_sweep_inputs(manifest, a.out);
     return run_point(s, a.out, point_by_index(s, a.point, file));
   }
-  if (a.file.empty()) throw InputError("expected a sweep file (or --merge DIR, or --out DIR --point I)");
+  if (a.file.empty())
+    throw InputError("expected a sweep file (or --merge DIR, or --out DIR --point I)");
   const SweepSpec s = load_sweep(a.file, a.set);
   if (a.emit == "slurm") return emit_slurm(s, a.out);
   return run_sweep_points(s, a.out, a.jobs, a.plots);

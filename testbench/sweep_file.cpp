@@ -45,12 +45,14 @@ nlohmann::json typed(const YAML::Node& n) {
 
 void check_key_path(YamlMap& m, const std::string& section_key, const std::string& path) {
   if (path.rfind("hw.", 0) != 0 && path.rfind("scene.", 0) != 0 && path.rfind("run.", 0) != 0)
-    m.fail(section_key, fmt::format("'{}': expected a key path starting with 'hw.', 'scene.' or 'run.'", path));
+    m.fail(section_key,
+           fmt::format("'{}': expected a key path starting with 'hw.', 'scene.' or 'run.'", path));
 }
 
 // A map of dotted key paths to values -> "--set" strings, in file order. With `hw` given (a
 // variant), the key `hw` names a hardware file instead (the value as written).
-std::vector<std::pair<std::string, std::string>> read_overrides(YamlMap& parent, const std::string& key,
+std::vector<std::pair<std::string, std::string>> read_overrides(YamlMap& parent,
+                                                                const std::string& key,
                                                                 std::string* hw = nullptr) {
   std::vector<std::pair<std::string, std::string>> out;
   const YAML::Node n = parent.raw(key);
@@ -82,7 +84,9 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   SweepSpec s;
   s.file = path;
   s.name = top.get<std::string>("name", fs::path(path).stem().string());
-  if (s.name.empty() || s.name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
+  if (s.name.empty() ||
+      s.name.find_first_not_of(
+          "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") != std::string::npos)
     top.fail("name", "expected letters, digits, '_', '.' or '-' (it names jobs and files)");
   const YAML::Node scenes = top.raw_sequence("scenes");
   if (scenes.size() == 0) top.fail("scenes", "expected at least one scene file");
@@ -93,7 +97,8 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
     s.scenes.push_back(p.string());
   }
   s.hw_file = beside(path, top.require<std::string>("hw")).string();
-  if (!fs::exists(s.hw_file)) top.fail("hw", fmt::format("hardware file '{}' not found", s.hw_file));
+  if (!fs::exists(s.hw_file))
+    top.fail("hw", fmt::format("hardware file '{}' not found", s.hw_file));
 
   // Points skip their figures unless the sweep asks for them (the sweep draws its own).
   std::vector<std::string> base{"run.plots=false"};
@@ -114,7 +119,8 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
       for (const auto& [k, val] : read_overrides(v, name, &hw)) var.set.push_back(k + "=" + val);
       if (!hw.empty()) {
         var.hw_file = beside(path, hw).string();
-        if (!fs::exists(var.hw_file)) v.fail(name, fmt::format("hardware file '{}' not found", var.hw_file));
+        if (!fs::exists(var.hw_file))
+          v.fail(name, fmt::format("hardware file '{}' not found", var.hw_file));
       }
       variants.push_back(std::move(var));
     }
@@ -138,9 +144,10 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
     if (s.metrics.empty()) top.fail("metrics", "expected at least one metric");
     for (const std::string& m : s.metrics)
       if (!is_sweep_metric(m))
-        top.fail("metrics", fmt::format("'{}': expected a metric name (configs/README.md) or a dotted path into "
-                                        "report.json (cycles_*, frame_ms.*, rays.*, per_light.*, lvb.*, kdtree.*, "
-                                        "scene.*, stats.*)", m));
+        top.fail("metrics", fmt::format("'{}': expected a metric name (configs/README.md) or a "
+                                        "dotted path into report.json (cycles_*, frame_ms.*, "
+                                        "rays.*, per_light.*, lvb.*, kdtree.*, scene.*, stats.*)",
+                                        m));
   } else {
     s.metrics = kDefaultSweepMetrics;
   }
@@ -150,7 +157,8 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
     if (r != "area") top.fail("reports", fmt::format("'{}': expected 'area'", r));
     for (const char* axis : {"scene.lights.area_from_points.samples", "run.lvb"})
       if (std::find(s.columns.begin(), s.columns.end(), axis) == s.columns.end())
-        top.fail("reports", "'area' needs the axes scene.lights.area_from_points.samples and run.lvb");
+        top.fail("reports",
+                 "'area' needs the axes scene.lights.area_from_points.samples and run.lvb");
   }
   top.finish();
 

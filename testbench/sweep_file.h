@@ -14,11 +14,12 @@ namespace rtsim {
 
 struct SweepPoint {
   uint32_t index = 0;
-  std::string id;                  // "p0007"
+  std::string id;  // "p0007"
   std::string scene_file;
-  std::string hw_file;             // the variant's own hardware file ("hw:" in a variant), else empty
-  nlohmann::json values;           // column -> value ("variant", axis names)
-  std::vector<std::string> set;    // the point's overrides, "--set" syntax
+  // The variant's own hardware file ("hw:" in a variant), else empty
+  std::string hw_file;
+  nlohmann::json values;         // column -> value ("variant", axis names)
+  std::vector<std::string> set;  // the point's overrides, "--set" syntax
 };
 
 struct SweepSpec {
@@ -28,7 +29,9 @@ struct SweepSpec {
   std::vector<std::string> metrics;  // names of row metrics (see sweep_metric)
   std::vector<std::string> reports;  // figures beyond the sweep's own, by plots.py mode: "area"
   std::vector<SweepPoint> points;
-  const std::string& hw_of(const SweepPoint& p) const { return p.hw_file.empty() ? hw_file : p.hw_file; }
+  const std::string& hw_of(const SweepPoint& p) const {
+    return p.hw_file.empty() ? hw_file : p.hw_file;
+  }
 };
 
 // `extra_set` ("--set" syntax) applies to every point, after the file's own `set`.

@@ -50,21 +50,23 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
   if (name == "dram_reads") return json_number(r, "stats.dram.reads");
   for (const char* type : {"trv", "list", "ist", "shading"}) {
     for (const char* level : {"l1", "l2"})
-      if (name == fmt::format("{}_{}_hit_rate", type, level)) return json_number(r, fmt::format("stats.{}.{}.hit_rate", type, level));
-    if (name == fmt::format("{}_busy", type))
-      return share(std::string("stats.") + type + ".total");
+      if (name == fmt::format("{}_{}_hit_rate", type, level))
+        return json_number(r, fmt::format("stats.{}.{}.hit_rate", type, level));
+    if (name == fmt::format("{}_busy", type)) return share(std::string("stats.") + type + ".total");
   }
   return json_number(r, name);  // any numeric field of report.json by its dotted path
 }
 
 bool is_sweep_metric(const std::string& name) {
   static const std::vector<std::string> named = [] {
-    std::vector<std::string> v{"frame_ms_all", "frame_ms_shadow", "rays_primary", "rays_shadow", "shadow_culled",
-                               "shadow_culled_rate", "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
+    std::vector<std::string> v{"frame_ms_all",       "frame_ms_shadow",   "rays_primary",
+                               "rays_shadow",        "shadow_culled",     "shadow_culled_rate",
+                               "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
                                "dram_reads"};
     for (const char* type : {"trv", "list", "ist", "shading"}) {
       v.push_back(fmt::format("{}_busy", type));
-      for (const char* level : {"l1", "l2"}) v.push_back(fmt::format("{}_{}_hit_rate", type, level));
+      for (const char* level : {"l1", "l2"})
+        v.push_back(fmt::format("{}_{}_hit_rate", type, level));
     }
     return v;
   }();

@@ -12,9 +12,10 @@ namespace rtsim {
 
 // The metrics of a sweep file without `metrics`.
 inline const std::vector<std::string> kDefaultSweepMetrics = {
-    "cycles_total",     "cycles_shadow",   "frame_ms_all",     "frame_ms_shadow",     "shadow_culled_rate",
-    "trv_l1_hit_rate",  "trv_l2_hit_rate", "list_l1_hit_rate", "ist_l1_hit_rate",     "ist_l2_hit_rate",
-    "trv_busy",         "dram_row_hit_rate", "dram_bandwidth_gbps"};
+    "cycles_total",       "cycles_shadow",   "frame_ms_all",    "frame_ms_shadow",
+    "shadow_culled_rate", "trv_l1_hit_rate", "trv_l2_hit_rate", "list_l1_hit_rate",
+    "ist_l1_hit_rate",    "ist_l2_hit_rate", "trv_busy",        "dram_row_hit_rate",
+    "dram_bandwidth_gbps"};
 
 // A named metric, or a dotted path into report.json's figures (cycles_*, frame_ms.*, stats.*, ...).
 bool is_sweep_metric(const std::string& name);

@@ -78,13 +78,19 @@ SweepSpec spec_from_manifest(const nlohmann::json& m, const std::string& path) {
   }
 }
 
-std::string sweep_manifest_file(const std::string& dir) { return (fs::path(dir) / "manifest.json").string(); }
+std::string sweep_manifest_file(const std::string& dir) {
+  return (fs::path(dir) / "manifest.json").string();
+}
 
 nlohmann::json sweep_manifest(const SweepSpec& s) {
   nlohmann::json points = nlohmann::json::array();
   nlohmann::json inputs = {{s.hw_file, file_digest(s.hw_file)}};
   for (const SweepPoint& p : s.points) {
-    nlohmann::json q = {{"index", p.index}, {"id", p.id}, {"scene_file", p.scene_file}, {"values", p.values}, {"set", p.set}};
+    nlohmann::json q = {{"index", p.index},
+                        {"id", p.id},
+                        {"scene_file", p.scene_file},
+                        {"values", p.values},
+                        {"set", p.set}};
     if (!p.hw_file.empty()) {  // only then: manifests of sweeps without one are unchanged
       q["hw_file"] = p.hw_file;
       inputs[p.hw_file] = file_digest(p.hw_file);
@@ -92,9 +98,9 @@ nlohmann::json sweep_manifest(const SweepSpec& s) {
     points.push_back(q);
   }
   for (const std::string& scene : s.scenes) inputs[scene] = file_digest(scene);
-  nlohmann::json m = {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},     {"hw_file", s.hw_file},
-                      {"scenes", s.scenes},        {"columns", s.columns},  {"metrics", s.metrics}, {"points", points},
-                      {"inputs", inputs}};
+  nlohmann::json m = {{"schema", kManifestSchema}, {"sweep_file", s.file}, {"name", s.name},
+                      {"hw_file", s.hw_file},      {"scenes", s.scenes},   {"columns", s.columns},
+                      {"metrics", s.metrics},      {"points", points},     {"inputs", inputs}};
   if (!s.reports.empty()) m["reports"] = s.reports;
   return m;
 }
@@ -112,9 +118,10 @@ void claim_sweep_directory(const SweepSpec& s, const std::string& dir) {
         j->erase("reports");
       }
     if (theirs != mine)
-      throw InputError(fmt::format("{}: holds the manifest of another sweep (its points, metrics or input files "
-                                   "differ); use another --out",
-                                   file));
+      throw InputError(
+          fmt::format("{}: holds the manifest of another sweep (its points, metrics or input files "
+                      "differ); use another --out",
+                      file));
     return;
   }
   write_json(file, mine);
@@ -124,16 +131,21 @@ void check_sweep_inputs(const nlohmann::json& manifest, const std::string& dir) 
   const nlohmann::json inputs = manifest.value("inputs", nlohmann::json::object());
   for (const auto& [input, digest] : inputs.items())
     if (file_digest(input) != digest.get<std::string>())
-      throw InputError(fmt::format("{}: changed since the sweep in {} began (its points would mix inputs)", input, dir));
+      throw InputError(fmt::format(
+          "{}: changed since the sweep in {} began (its points would mix inputs)", input, dir));
 }
 
-std::string sweep_point_dir(const std::string& dir, const SweepPoint& p) { return (fs::path(dir) / "points" / p.id).string(); }
+std::string sweep_point_dir(const std::string& dir, const SweepPoint& p) {
+  return (fs::path(dir) / "points" / p.id).string();
+}
 
 // A point is finished when its row is written (the last thing its run does).
 std::string sweep_row_file(const std::string& dir, const SweepPoint& p) {
   return (fs::path(sweep_point_dir(dir, p)) / "row.json").string();
 }
-bool sweep_point_done(const std::string& dir, const SweepPoint& p) { return fs::exists(sweep_row_file(dir, p)); }
+bool sweep_point_done(const std::string& dir, const SweepPoint& p) {
+  return fs::exists(sweep_row_file(dir, p));
+}
 
 nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann::json& report) {
   nlohmann::json row = {{"point", p.index}, {"id", p.id}, {"scene", report["scene"]["name"]}};
@@ -141,8 +153,11 @@ nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann
   for (const std::string& m : s.metrics) {
     const double v = sweep_metric(m, report);
     if (std::isnan(v)) row[m] = nullptr;
-    else if (v == std::floor(v) && std::fabs(v) < 9e15) row[m] = int64_t(v);  // counts stay integers
-    else row[m] = v;
+    // Counts stay integers
+    else if (v == std::floor(v) && std::fabs(v) < 9e15)
+      row[m] = int64_t(v);
+    else
+      row[m] = v;
   }
   return row;
 }
@@ -172,9 +187,12 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
     csv += "\n";
   }
   write_file_atomic((fs::path(dir) / "results.csv").string(), csv);
-  write_json((fs::path(dir) / "results.json").string(),
-             {{"schema", kResultsSchema}, {"name", s.name}, {"axes", s.columns}, {"metrics", s.metrics},
-              {"points", s.points.size()}, {"rows", rows}});
+  write_json((fs::path(dir) / "results.json").string(), {{"schema", kResultsSchema},
+                                                         {"name", s.name},
+                                                         {"axes", s.columns},
+                                                         {"metrics", s.metrics},
+                                                         {"points", s.points.size()},
+                                                         {"rows", rows}});
   return rows.size();
 }
 

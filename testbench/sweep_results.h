@@ -28,7 +28,8 @@ bool sweep_point_done(const std::string& dir, const SweepPoint& p);
 
 // One row of results: the point, its scene's name, its column values and its metrics, from the
 // point's report.json.
-nlohmann::json sweep_row(const SweepSpec& spec, const SweepPoint& point, const nlohmann::json& report);
+nlohmann::json sweep_row(const SweepSpec& spec, const SweepPoint& point,
+                         const nlohmann::json& report);
 
 // Writes results.csv and results.json from every point's row.json present; returns the number
 // of points present.

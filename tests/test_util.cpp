@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 #include <systemc>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <atomic>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace rtsim::test {
 
@@ -17,8 +17,9 @@ std::vector<std::string> expected_types;
 
 std::filesystem::path temp_dir(const std::string& tag) {
   static std::atomic<int> counter{0};
-  auto dir = std::filesystem::temp_directory_path() /
-             ("rtsim_test_" + tag + "_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
+  auto dir =
+      std::filesystem::temp_directory_path() /
+      ("rtsim_test_" + tag + "_" + std::to_string(getpid()) + "_" + std::to_string(counter++));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
@@ -66,8 +67,9 @@ void report_handler(const sc_core::sc_report& r, const sc_core::sc_actions& acti
   if (r.get_severity() >= sc_core::SC_WARNING) {
     bool expected = false;
     for (const std::string& t : expected_types) expected = expected || t == r.get_msg_type();
-    if (!expected) ADD_FAILURE() << "SystemC " << (r.get_severity() == sc_core::SC_WARNING ? "warning" : "error") << " "
-                                 << r.get_msg_type() << ": " << r.get_msg();
+    if (!expected)
+      ADD_FAILURE() << "SystemC " << (r.get_severity() == sc_core::SC_WARNING ? "warning" : "error")
+                    << " " << r.get_msg_type() << ": " << r.get_msg();
   }
   sc_core::sc_report_handler::default_handler(r, actions);
 }

@@ -42,7 +42,7 @@ void simulate();
 
 }  // namespace rtsim::test
 
-#define RTSIM_REQUIRE_SHARED_SCENES()                                          \
-  do {                                                                         \
+#define RTSIM_REQUIRE_SHARED_SCENES()                                                \
+  do {                                                                               \
     if (!::rtsim::test::have_shared_scenes()) GTEST_SKIP() << "no ../shared/scenes"; \
   } while (0)

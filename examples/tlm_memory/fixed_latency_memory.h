@@ -6,10 +6,10 @@
 // stand-in for any memory model a platform brings (DRAMSys, a vendor model, one's own).
 #pragma once
 
-#include <systemc>
-#include <tlm>
 #include <tlm_utils/peq_with_get.h>
 #include <tlm_utils/simple_target_socket.h>
+#include <systemc>
+#include <tlm>
 
 #include <algorithm>
 #include <cstdint>
@@ -23,8 +23,13 @@ class FixedLatencyMemory : public sc_core::sc_module {
   tlm_utils::simple_target_socket<FixedLatencyMemory> socket;
 
   SC_HAS_PROCESS(FixedLatencyMemory);
-  FixedLatencyMemory(sc_core::sc_module_name name, std::vector<uint8_t> bytes, sc_core::sc_time latency)
-      : sc_core::sc_module(name), socket("socket"), bytes_(std::move(bytes)), latency_(latency), due_("due") {
+  FixedLatencyMemory(sc_core::sc_module_name name, std::vector<uint8_t> bytes,
+                     sc_core::sc_time latency)
+      : sc_core::sc_module(name),
+        socket("socket"),
+        bytes_(std::move(bytes)),
+        latency_(latency),
+        due_("due") {
     socket.register_nb_transport_fw(this, &FixedLatencyMemory::nb_transport_fw);
     socket.register_transport_dbg(this, &FixedLatencyMemory::transport_dbg);
     SC_METHOD(respond);
@@ -35,10 +40,12 @@ class FixedLatencyMemory : public sc_core::sc_module {
 
  private:
   bool in_range(const tlm::tlm_generic_payload& p) const {
-    return p.get_address() <= bytes_.size() && bytes_.size() - p.get_address() >= p.get_data_length();
+    return p.get_address() <= bytes_.size() &&
+           bytes_.size() - p.get_address() >= p.get_data_length();
   }
 
-  tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+  tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                                     sc_core::sc_time& delay) {
     if (phase == tlm::END_RESP) {  // the held-back responses may go now
       awaiting_end_ = false;
       due_.get_event().notify(sc_core::SC_ZERO_TIME);
@@ -80,8 +87,10 @@ class FixedLatencyMemory : public sc_core::sc_module {
   unsigned transport_dbg(tlm::tlm_generic_payload& p) {
     if (!in_range(p)) return 0;
     uint8_t* at = bytes_.data() + p.get_address();
-    if (p.is_write()) std::memcpy(at, p.get_data_ptr(), p.get_data_length());
-    else std::memcpy(p.get_data_ptr(), at, p.get_data_length());
+    if (p.is_write())
+      std::memcpy(at, p.get_data_ptr(), p.get_data_length());
+    else
+      std::memcpy(p.get_data_ptr(), at, p.get_data_length());
     return p.get_data_length();
   }
 

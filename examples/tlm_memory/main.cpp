@@ -6,7 +6,8 @@
 //   tlm_memory_example triangle LATENCY_NS...   one ray at one triangle (no lights)
 //   tlm_memory_example city LATENCY_NS...       configs/scenes/city.yaml at 160x90
 //
-// The steps a platform takes are the four marked below (docs/model-design.md, "Embedding the model").
+// The steps a platform takes are the four marked below (docs/model-design.md, "Embedding the
+// model").
 #include "examples/tlm_memory/fixed_latency_memory.h"
 
 #include "kernels/kdtree.h"
@@ -34,12 +35,14 @@ Job one_triangle() {
   Job j;
   j.scene.name = "triangle";
   j.scene.add_material(rtsim::Material{});
-  j.scene.triangles.push_back({rtsim::Vec3(-1.f, -1.f, -5.f), rtsim::Vec3(1.f, -1.f, -5.f), rtsim::Vec3(0.f, 1.f, -5.f), 0});
+  j.scene.triangles.push_back({rtsim::Vec3(-1.f, -1.f, -5.f), rtsim::Vec3(1.f, -1.f, -5.f),
+                               rtsim::Vec3(0.f, 1.f, -5.f), 0});
   return j;  // the default camera looks down -z from the origin: the one pixel's ray hits it
 }
 
 Job city() {
-  const rtsim::SceneSetup s = rtsim::load_scene_file(std::string(RTSIM_SOURCE_DIR) + "/configs/scenes/city.yaml");
+  const rtsim::SceneSetup s =
+      rtsim::load_scene_file(std::string(RTSIM_SOURCE_DIR) + "/configs/scenes/city.yaml");
   return {s.scene, s.kdtree, 160, 90};
 }
 
@@ -53,7 +56,8 @@ int sc_main(int argc, char** argv) {
   const Job job = std::string(argv[1]) == "city" ? city() : one_triangle();
   const rtsim::KdTree tree = rtsim::build_kdtree(job.scene.triangles, job.kdtree);
   const rtsim::MemoryImage image(job.scene, tree);
-  const rtsim::model::AcceleratorConfig config;  // the paper's T&I engine (model/accelerator_config.h)
+  // The paper's T&I engine (model/accelerator_config.h)
+  const rtsim::model::AcceleratorConfig config;
   const rtsim::model::FrameJob frame{job.scene.camera, job.width, job.height};
 
   // 1. The model needs a time resolution of 1 ps; the platform sets it.
@@ -65,16 +69,19 @@ int sc_main(int argc, char** argv) {
     latencies.push_back(std::stod(argv[i]));
     const std::string name = "fixed" + std::to_string(i - 2);
     // 2. An accelerator built without its GDDR3 model ...
-    accelerators.push_back(std::make_unique<rtsim::model::Accelerator>(name.c_str(), config, image, frame,
-                                                                       rtsim::model::SimulationHooks{}, false));
-    // 3. ... and a memory holding the image, with room for the frame buffer after it, bound to its socket.
+    accelerators.push_back(std::make_unique<rtsim::model::Accelerator>(
+        name.c_str(), config, image, frame, rtsim::model::SimulationHooks{}, false));
+    // 3. ... and a memory holding the image, with room for the frame buffer after it, bound to its
+    // socket.
     std::vector<uint8_t> bytes(image.bytes());
     bytes.resize(accelerators.back()->memory_bytes(), 0);
     memories.push_back(std::make_unique<example::FixedLatencyMemory>(
-        (name + "_memory").c_str(), std::move(bytes), sc_core::sc_time(latencies.back(), sc_core::SC_NS)));
+        (name + "_memory").c_str(), std::move(bytes),
+        sc_core::sc_time(latencies.back(), sc_core::SC_NS)));
     accelerators.back()->memory_socket().bind(memories.back()->socket);
   }
-  accelerators.push_back(std::make_unique<rtsim::model::Accelerator>("gddr3", config, image, frame));
+  accelerators.push_back(
+      std::make_unique<rtsim::model::Accelerator>("gddr3", config, image, frame));
   // 4. The platform runs the simulation; the model reports errors as sc_reports of type rtsim/*.
   try {
     sc_core::sc_start();

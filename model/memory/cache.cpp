@@ -29,9 +29,11 @@ void CacheConfig::validate() const {
   const uint64_t lines = size_bytes / line_bytes;
   if (ways > lines) bad("ways", "exceeds the number of lines (" + std::to_string(lines) + ")");
   if (lines % ways != 0) bad("size_bytes", "must be a multiple of ways * line_bytes");
-  if (!is_pow2(lines / ways)) bad("size_bytes", "sets (" + std::to_string(lines / ways) + ") must be a power of two");
+  if (!is_pow2(lines / ways))
+    bad("size_bytes", "sets (" + std::to_string(lines / ways) + ") must be a power of two");
   if (!is_pow2(banks) || banks > lines / ways)
-    bad("banks", "must be a power of two of at most the number of sets (" + std::to_string(lines / ways) + ")");
+    bad("banks", "must be a power of two of at most the number of sets (" +
+                     std::to_string(lines / ways) + ")");
 }
 
 Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below)
@@ -96,13 +98,15 @@ uint32_t Cache::find_way(uint64_t line) const {
 
 Tick Cache::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
   if (line & (cfg_.line_bytes - 1))
-    report_error(kReportInternal, std::string(name()) + ": line address " + std::to_string(line) + " not line-aligned");
+    report_error(kReportInternal, std::string(name()) + ": line address " + std::to_string(line) +
+                                      " not line-aligned");
   ++stats_.accesses;
   if (!banks_.empty()) now = lookup_slot(line, now, listener);
   return access(line, now, listener, cookie, now, false);
 }
 
-Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival, bool requeued) {
+Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
+                   bool requeued) {
   const uint32_t base = uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
   for (uint32_t i = base; i < base + cfg_.ways; ++i) {
     if (tags_[i] != line) continue;
@@ -121,14 +125,15 @@ Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t coo
   return miss(line, base, now, listener, cookie, arrival, requeued);
 }
 
-Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
-                 bool requeued) {
+Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie,
+                 Tick arrival, bool requeued) {
   // When can the miss go? It needs an MSHR and a way that are free (not in flight).
   uint32_t mshr = 0;
   Tick mshr_free = kUnknown;
   if (awaiting_ < cfg_.mshrs)  // else every MSHR waits for a fill of unknown time
     for (uint32_t m = 0; m < cfg_.mshrs; ++m)
-      if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;  // earliest, lowest index
+      // Earliest, lowest index
+      if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;
   Tick way_free = kUnknown;
   for (uint32_t i = base; i < base + cfg_.ways; ++i) way_free = std::min(way_free, ready_[i]);
   const Tick issue = std::max({now, mshr_free, way_free});
@@ -173,7 +178,8 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
 void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick when) {
   const uint32_t way = find_way(line);
   if (way == kNoWay || ready_[way] != kUnknown)
-    report_error(kReportInternal, std::string(name()) + ": fill for line " + std::to_string(line) + " that is not awaited");
+    report_error(kReportInternal, std::string(name()) + ": fill for line " + std::to_string(line) +
+                                      " that is not awaited");
   when = fill_slot(line, when);
   std::memcpy(&data_[size_t(way) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
   ++stats_.fills;
@@ -186,7 +192,8 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   // Collect every completion first and call the listeners last, so they may call back in.
   std::vector<Delivery> out;
   out.reserve(m.waiters.size());
-  for (const Waiter& w : m.waiters) out.push_back({w.listener, line, w.cookie, std::max(when, w.earliest)});
+  for (const Waiter& w : m.waiters)
+    out.push_back({w.listener, line, w.cookie, std::max(when, w.earliest)});
   m.waiters.clear();
 
   // The freed MSHR serves the queued requests in arrival order, as accesses made at the fill time.
@@ -201,7 +208,8 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
         queued_.push_back(q);
         continue;
       }
-      const Tick t = access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
+      const Tick t =
+          access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
       if (t != kUnknown) out.push_back({q.listener, q.line, q.cookie, t});
     }
   }
@@ -218,24 +226,33 @@ const uint8_t* Cache::line_data(uint64_t line) const {
 
 void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {
   r.counter(prefix + ".accesses", &stats_.accesses, "count", "line requests received");
-  r.counter(prefix + ".hits", &stats_.hits, "count", "requests finding their line present and delivered");
-  r.counter(prefix + ".misses", &stats_.misses, "count", "requests that allocated a line and asked the level below");
-  r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "count", "requests merged into a line already in flight");
+  r.counter(prefix + ".hits", &stats_.hits, "count",
+            "requests finding their line present and delivered");
+  r.counter(prefix + ".misses", &stats_.misses, "count",
+            "requests that allocated a line and asked the level below");
+  r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "count",
+            "requests merged into a line already in flight");
   r.counter(prefix + ".mshr_stall_events", &stats_.mshr_stall_events, "count",
             "misses that waited for a free MSHR or a way not in flight");
-  r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles", "cycles misses waited for an MSHR or a way");
+  r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles",
+            "cycles misses waited for an MSHR or a way");
   r.counter(prefix + ".fills", &stats_.fills, "count", "lines written into the data array");
   r.counter(prefix + ".evictions", &stats_.evictions, "count", "valid lines replaced");
   const CacheStats* s = &stats_;
-  r.formula(prefix + ".hit_rate", [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; }, "ratio",
-            "hits / accesses");
+  r.formula(
+      prefix + ".hit_rate",
+      [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; }, "ratio",
+      "hits / accesses");
   if (banks_.empty()) return;
-  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "count", "lookups that waited for a slot of their bank");
-  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles", "cycles lookups waited for a bank slot");
-  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles", "cycles fills waited for a bank slot");
+  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "count",
+            "lookups that waited for a slot of their bank");
+  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles",
+            "cycles lookups waited for a bank slot");
+  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles",
+            "cycles fills waited for a bank slot");
   for (size_t t = 0; t < type_names_.size(); ++t)
-    r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t], "cycles",
-              "cycles lookups from " + type_names_[t] + " waited for a bank slot");
+    r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t],
+              "cycles", "cycles lookups from " + type_names_[t] + " waited for a bank slot");
 }
 
 }  // namespace rtsim::model

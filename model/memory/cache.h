@@ -47,11 +47,11 @@
 // are made only after the cache's state is consistent, so a listener may call back into it.
 #pragma once
 
-#include "model/sim/config_description.h"
 #include "model/memory/line_source.h"
-#include "model/sim/time.h"
 #include "model/memory/port_schedule.h"
+#include "model/sim/config_description.h"
 #include "model/sim/stats_registry.h"
+#include "model/sim/time.h"
 
 #include <systemc>
 
@@ -84,11 +84,15 @@ DescribeOf<C, CacheConfig> describe(V& v, C& c) {
   v.kib("size_kb", c.size_bytes, 1, 1 << 20, "capacity");
   v.number("ways", c.ways, 1, 1024, "", "associativity (LRU replacement)");
   v.number("line_bytes", c.line_bytes, 4, 4096, "bytes", "line size, a power of two");
-  v.number("hit_latency", c.hit_latency, 0, 10000, "cycles", "a hit's latency; a miss adds the level below's");
+  v.number("hit_latency", c.hit_latency, 0, 10000, "cycles",
+           "a hit's latency; a miss adds the level below's");
   v.number("mshrs", c.mshrs, 1, 65536, "lines", "misses in flight (distinct lines)");
-  v.number("banks", c.banks, 1, 1024, "banks", "by line number mod banks; a power of two, at most the sets");
-  v.number("ports", c.ports, 0, 64, "per bank and cycle", "lookups a bank serves per cycle; 0: unlimited (ideal)");
-  v.choice("fill_port", c.fill_port, {{"shared", FillPort::kShared}, {"separate", FillPort::kSeparate}},
+  v.number("banks", c.banks, 1, 1024, "banks",
+           "by line number mod banks; a power of two, at most the sets");
+  v.number("ports", c.ports, 0, 64, "per bank and cycle",
+           "lookups a bank serves per cycle; 0: unlimited (ideal)");
+  v.choice("fill_port", c.fill_port,
+           {{"shared", FillPort::kShared}, {"separate", FillPort::kSeparate}},
            "a fill takes one of its bank's slots (shared) or has a port of its own (separate)");
 }
 
@@ -154,7 +158,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     Tick earliest;  // the requester's arrival + hit latency
   };
   struct Mshr {
-    Tick free_at = 0;  // busy while free_at > t; kUnknown until its fill arrives
+    Tick free_at = 0;             // busy while free_at > t; kUnknown until its fill arrives
     std::vector<Waiter> waiters;  // keeps its capacity: no allocation once warmed up
   };
   struct Queued {  // a miss that found no MSHR / way with a known free time
@@ -173,9 +177,10 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   uint32_t find_way(uint64_t line_addr) const;  // global way index or kNoWay
   // The access proper, at time `now`. `arrival` is when the request first arrived (< now for a
   // queued request served at a fill); `requeued` says its stall event was already counted.
-  Tick access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival, bool requeued);
-  Tick miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
-            bool requeued);
+  Tick access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
+              bool requeued);
+  Tick miss(uint64_t line, uint32_t base, Tick now, FillListener* listener, uint64_t cookie,
+            Tick arrival, bool requeued);
   uint64_t ceil_cycles(Tick t) const { return clock_.ceil_cycles(t); }
   // The cycle a lookup by `requester` made at `now` gets a slot of the line's bank.
   Tick lookup_slot(uint64_t line, Tick now, const FillListener* requester);
@@ -191,8 +196,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
 
   // Flat per-way arrays, indexed set * ways + way.
   std::vector<uint64_t> tags_;
-  std::vector<Tick> ready_;      // delivery time of the line's data; kUnknown while awaiting a fill
-  std::vector<uint64_t> lru_;    // last-use stamp; the smallest is the LRU
+  std::vector<Tick> ready_;    // delivery time of the line's data; kUnknown while awaiting a fill
+  std::vector<uint64_t> lru_;  // last-use stamp; the smallest is the LRU
   std::vector<uint32_t> mshr_of_;  // the MSHR serving the way while ready_ is kUnknown
   std::vector<uint8_t> data_;
   uint64_t stamp_ = 0;

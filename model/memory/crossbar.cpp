@@ -14,7 +14,10 @@ void LinkConfig::validate() const {
 
 Crossbar::Crossbar(const char* name, const LinkConfig& config, const Clock& clock, uint32_t sources,
                    uint32_t destinations)
-    : sc_core::sc_object(name), cfg_(config), clock_(clock), latency_ticks_(clock.cycles(config.latency)) {
+    : sc_core::sc_object(name),
+      cfg_(config),
+      clock_(clock),
+      latency_ticks_(clock.cycles(config.latency)) {
   cfg_.validate();
   const uint32_t ports = cfg_.ideal() ? 0 : 1;
   src_out_.assign(sources, PortSchedule(clock_.period(), ports));
@@ -23,16 +26,19 @@ Crossbar::Crossbar(const char* name, const LinkConfig& config, const Clock& cloc
   dst_out_.assign(destinations, PortSchedule(clock_.period(), ports));
 }
 
-Tick Crossbar::transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, Tick t, CrossbarStats& s) {
+Tick Crossbar::transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, Tick t,
+                        CrossbarStats& s) {
   ++s.packets;
   if (cfg_.ideal()) return t + latency_ticks_;
-  const uint32_t flits = std::max<uint32_t>(1, (payload + cfg_.header_bytes + cfg_.bytes_per_cycle - 1) / cfg_.bytes_per_cycle);
+  const uint32_t flits = std::max<uint32_t>(
+      1, (payload + cfg_.header_bytes + cfg_.bytes_per_cycle - 1) / cfg_.bytes_per_cycle);
   s.flits += flits;
   const Tick start = clock_.edge_at_or_after(t);
   Tick sent = 0, received = 0;
   for (uint32_t k = 0; k < flits; ++k) {
     sent = out.reserve(k == 0 ? start : sent + clock_.period());
-    received = in.reserve(k == 0 ? sent + latency_ticks_ : std::max(sent + latency_ticks_, received + clock_.period()));
+    received = in.reserve(k == 0 ? sent + latency_ticks_
+                                 : std::max(sent + latency_ticks_, received + clock_.period()));
   }
   const Tick arrival = received + clock_.period();
   s.queue_cycles += clock_.to_cycles(arrival - (start + latency_ticks_ + clock_.cycles(flits)));
@@ -49,31 +55,39 @@ Tick Crossbar::reply(uint32_t dst, uint32_t src, uint32_t payload, Tick t) {
 
 void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const {
   const uint64_t period = clock_.period();
-  auto network = [&](const std::string& dir, const CrossbarStats& s, const std::vector<PortSchedule>* a,
-                     const std::vector<PortSchedule>* b) {
+  auto network = [&](const std::string& dir, const CrossbarStats& s,
+                     const std::vector<PortSchedule>* a, const std::vector<PortSchedule>* b) {
     const std::string p = prefix + "." + dir;
     r.counter(p + ".packets", &s.packets, "count", dir + " packets");
     r.counter(p + ".flits", &s.flits, "count", dir + " flits");
-    r.counter(p + ".queue_cycles", &s.queue_cycles, "cycles", dir + " cycles packets waited for a port, summed");
-    r.formula(p + ".avg_queue_cycles", [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; }, "cycles",
-              "queue_cycles / packets");
-    r.formula(p + ".max_port_utilization",
-              [a, b, end, period] {
-                const double cycles = double(*end / period);
-                uint64_t most = 0;
-                for (const auto* ports : {a, b})
-                  for (const PortSchedule& q : *ports) most = std::max(most, q.stats().requests);
-                return cycles > 0 && !a->empty() && !a->front().ideal() ? double(most) / cycles : 0.0;
-              }, "ratio",
-              "the busiest port's flits / cycles");
+    r.counter(p + ".queue_cycles", &s.queue_cycles, "cycles",
+              dir + " cycles packets waited for a port, summed");
+    r.formula(
+        p + ".avg_queue_cycles",
+        [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; }, "cycles",
+        "queue_cycles / packets");
+    r.formula(
+        p + ".max_port_utilization",
+        [a, b, end, period] {
+          const double cycles = double(*end / period);
+          uint64_t most = 0;
+          for (const auto* ports : {a, b})
+            for (const PortSchedule& q : *ports) most = std::max(most, q.stats().requests);
+          return cycles > 0 && !a->empty() && !a->front().ideal() ? double(most) / cycles : 0.0;
+        },
+        "ratio", "the busiest port's flits / cycles");
   };
   network("request", request_, &src_out_, &dst_in_);
   network("reply", reply_, &dst_out_, &src_in_);
 }
 
-CrossbarPort::CrossbarPort(Crossbar* crossbar, uint32_t first_source, const LineSource* requester, LineSource* below,
-                           uint32_t line_bytes)
-    : xbar_(crossbar), first_(first_source), requester_(requester), below_(below), line_bytes_(line_bytes) {}
+CrossbarPort::CrossbarPort(Crossbar* crossbar, uint32_t first_source, const LineSource* requester,
+                           LineSource* below, uint32_t line_bytes)
+    : xbar_(crossbar),
+      first_(first_source),
+      requester_(requester),
+      below_(below),
+      line_bytes_(line_bytes) {}
 
 Tick CrossbarPort::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
   if (upstream_ && listener != upstream_)

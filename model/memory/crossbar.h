@@ -3,9 +3,9 @@
 // channels), with separate request and reply networks as in GPGPU-Sim.
 //
 // A packet is its payload plus `header_bytes`, cut into flits of `bytes_per_cycle`; every port
-// sends and receives one flit per cycle per direction (model/memory/port_schedule.h, first come, first
-// served in the calendar's order). Flit k leaves its source port at the first free cycle at or
-// after the previous flit's, and is received at the destination port at the first free cycle at
+// sends and receives one flit per cycle per direction (model/memory/port_schedule.h, first come,
+// first served in the calendar's order). Flit k leaves its source port at the first free cycle at
+// or after the previous flit's, and is received at the destination port at the first free cycle at
 // or after its departure + `latency`; the packet is there one cycle after its last flit is
 // received. So a 64-byte line over a free 32-byte port with no header and no latency takes two
 // cycles, and packets that meet at a port queue there. A read request is a header-only packet, a
@@ -17,11 +17,11 @@
 // sees it as the level below.
 #pragma once
 
-#include "model/sim/config_description.h"
 #include "model/memory/line_source.h"
-#include "model/sim/time.h"
 #include "model/memory/port_schedule.h"
+#include "model/sim/config_description.h"
 #include "model/sim/stats_registry.h"
+#include "model/sim/time.h"
 
 #include <systemc>
 
@@ -58,7 +58,8 @@ struct CrossbarStats {
 
 class Crossbar : public sc_core::sc_object {
  public:
-  Crossbar(const char* name, const LinkConfig& config, const Clock& clock, uint32_t sources, uint32_t destinations);
+  Crossbar(const char* name, const LinkConfig& config, const Clock& clock, uint32_t sources,
+           uint32_t destinations);
   const char* kind() const override { return "rtsim_crossbar"; }
 
   // A request packet with `payload` bytes from source `src` to destination `dst`, ready to leave
@@ -89,11 +90,13 @@ class Crossbar : public sc_core::sc_object {
 // by its own port_of(line). The destination port is the level below's port_of(line).
 class CrossbarPort : public LineSource, public FillListener {
  public:
-  CrossbarPort(Crossbar* crossbar, uint32_t first_source, const LineSource* requester, LineSource* below,
-               uint32_t line_bytes);
+  CrossbarPort(Crossbar* crossbar, uint32_t first_source, const LineSource* requester,
+               LineSource* below, uint32_t line_bytes);
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
-  const uint8_t* line_data(uint64_t line_addr) const override { return below_->line_data(line_addr); }
+  const uint8_t* line_data(uint64_t line_addr) const override {
+    return below_->line_data(line_addr);
+  }
   uint32_t port_of(uint64_t line_addr) const override { return below_->port_of(line_addr); }
   uint32_t port_count() const override { return below_->port_count(); }
   // The level below answered a request whose time it did not know: the reply crosses back.
@@ -102,7 +105,9 @@ class CrossbarPort : public LineSource, public FillListener {
   void set_requester(const LineSource* requester) { requester_ = requester; }
 
  private:
-  uint32_t source(uint64_t line) const { return first_ + (requester_ ? requester_->port_of(line) : 0); }
+  uint32_t source(uint64_t line) const {
+    return first_ + (requester_ ? requester_->port_of(line) : 0);
+  }
 
   Crossbar* xbar_;
   uint32_t first_;

@@ -16,8 +16,9 @@ constexpr uint64_t kMinPageBytes = 4096;  // copy-on-write granularity (at least
 
 }  // namespace
 
-Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::vector<uint8_t>* memory,
-           const Clock& accel_clock, Calendar& calendar, uint64_t extra_bytes)
+Dram::Dram(sc_core::sc_module_name name, const DramConfig& config,
+           const std::vector<uint8_t>* memory, const Clock& accel_clock, Calendar& calendar,
+           uint64_t extra_bytes)
     : sc_core::sc_module(name),
       socket("socket"),
       calendar_(calendar),
@@ -27,7 +28,9 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::ve
       store_bytes_(image_bytes_ + extra_bytes),
       accel_clock_(accel_clock) {
   if (sc_core::sc_get_time_resolution() != sc_core::sc_time(1, sc_core::SC_PS))
-    report_error(kReportConfig, std::string(this->name()) + ": needs a time resolution of 1 ps (sc_set_time_resolution(1, SC_PS) before any sc_time)");
+    report_error(kReportConfig, std::string(this->name()) +
+                                    ": needs a time resolution of 1 ps (sc_set_time_resolution(1, "
+                                    "SC_PS) before any sc_time)");
   const uint64_t line = engine_.config().request_bytes;
   const uint64_t page = std::max<uint64_t>(kMinPageBytes, line);  // both powers of two
   while ((uint64_t(1) << page_shift_) < page) ++page_shift_;
@@ -35,7 +38,8 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config, const std::ve
   zero_line_.assign(line, 0);
   // A line across the image's end (an image whose size is not a multiple of request_bytes, with
   // extra space after it) is neither wholly image nor zeros: give its page a copy now.
-  if (extra_bytes > 0 && image_bytes_ % line != 0) writable_line(image_bytes_ - image_bytes_ % line);
+  if (extra_bytes > 0 && image_bytes_ % line != 0)
+    writable_line(image_bytes_ - image_bytes_ % line);
   socket.register_nb_transport_fw(this, &Dram::nb_transport_fw);
   socket.register_transport_dbg(this, &Dram::transport_dbg);
   calendar_.add(this);
@@ -50,7 +54,8 @@ tlm::tlm_response_status Dram::check(const tlm::tlm_generic_payload& p) const {
   return tlm::TLM_OK_RESPONSE;
 }
 
-tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                                         sc_core::sc_time& delay) {
   if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;  // END_RESP: nothing to do
   const tlm::tlm_response_status status = check(p);
   if (status != tlm::TLM_OK_RESPONSE) {
@@ -59,7 +64,8 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_p
   }
   const uint64_t line = p.get_address();
   const bool write = p.is_write();
-  if (write && store_bytes_ > 0) std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
+  if (write && store_bytes_ > 0)
+    std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
   const uint64_t id = next_id_++;
   requesters_.emplace(id, Requester{line, &p});
   engine_.enqueue(line, calendar_.now() + delay.value(), id, write);
@@ -76,8 +82,10 @@ unsigned Dram::transport_dbg(tlm::tlm_generic_payload& p) {
   for (unsigned done = 0; done < n;) {  // line by line: a line never leaves its page
     const uint64_t at = addr + done;
     const unsigned k = unsigned(std::min<uint64_t>(n - done, bytes - at % bytes));
-    if (p.is_write()) std::memcpy(writable_line(at), p.get_data_ptr() + done, k);
-    else std::memcpy(p.get_data_ptr() + done, line_data(at), k);
+    if (p.is_write())
+      std::memcpy(writable_line(at), p.get_data_ptr() + done, k);
+    else
+      std::memcpy(p.get_data_ptr() + done, line_data(at), k);
     done += k;
   }
   return n;
@@ -98,9 +106,11 @@ const uint8_t* Dram::line_data(uint64_t line_addr) const {
     char addr[24];
     std::snprintf(addr, sizeof addr, "0x%llx", static_cast<unsigned long long>(line_addr));
     std::string where = "the memory image (" + std::to_string(image_bytes_) + " bytes";
-    if (store_bytes_ > image_bytes_) where += " + " + std::to_string(store_bytes_ - image_bytes_) + " bytes after it";
+    if (store_bytes_ > image_bytes_)
+      where += " + " + std::to_string(store_bytes_ - image_bytes_) + " bytes after it";
     report_error(kReportMemory, std::string(name()) + ": line " + addr + " (" +
-                                    std::to_string(engine_.config().request_bytes) + " bytes) is outside " + where + ")");
+                                    std::to_string(engine_.config().request_bytes) +
+                                    " bytes) is outside " + where + ")");
   }
   const uint64_t bytes = engine_.config().request_bytes;
   if (const std::unique_ptr<uint8_t[]>& page = pages_[size_t(line_addr >> page_shift_)])
@@ -117,7 +127,9 @@ uint8_t* Dram::writable_line(uint64_t line_addr) {
   std::unique_ptr<uint8_t[]>& page = pages_[size_t(base >> page_shift_)];
   if (!page) {
     page = std::make_unique<uint8_t[]>(size_t(page_bytes));  // zeroed
-    if (base < image_bytes_) std::memcpy(page.get(), memory_->data() + base, size_t(std::min(page_bytes, image_bytes_ - base)));
+    if (base < image_bytes_)
+      std::memcpy(page.get(), memory_->data() + base,
+                  size_t(std::min(page_bytes, image_bytes_ - base)));
   }
   return page.get() + (line_addr - base);
 }
@@ -149,7 +161,8 @@ void Dram::activate() {
     const Requester r = it->second;
     requesters_.erase(it);
     // The bytes as they are now (writes posted before this moment included).
-    if (store_bytes_ > 0) std::memcpy(r.payload->get_data_ptr(), line_data(r.line), engine_.config().request_bytes);
+    if (store_bytes_ > 0)
+      std::memcpy(r.payload->get_data_ptr(), line_data(r.line), engine_.config().request_bytes);
     respond(*r.payload, 0);
   }
   Tick next = engine_.next_event_time();

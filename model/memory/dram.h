@@ -33,13 +33,13 @@
 #include "model/memory/dram_config.h"
 #include "model/memory/dram_controller.h"
 #include "model/memory/line_source.h"
-#include "model/sim/time.h"
 #include "model/sim/calendar.h"
 #include "model/sim/stats_registry.h"
+#include "model/sim/time.h"
 
+#include <tlm_utils/simple_target_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_target_socket.h>
 
 #include <cstdint>
 #include <memory>
@@ -67,7 +67,7 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
 
   uint64_t store_bytes() const { return store_bytes_; }  // image + extra_bytes
   uint64_t image_bytes() const { return image_bytes_; }
-  uint64_t pages_written() const;                        // pages copied on write so far
+  uint64_t pages_written() const;  // pages copied on write so far
 
   const DramController& engine() const { return engine_; }
   const DramStats& stats() const { return engine_.stats(); }
@@ -86,7 +86,8 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
     bool operator>(const Delivery& o) const { return when != o.when ? when > o.when : id > o.id; }
   };
 
-  tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                                     sc_core::sc_time& delay);
   unsigned transport_dbg(tlm::tlm_generic_payload& p);
   // A request's response status if it is not one request_bytes line inside the store.
   tlm::tlm_response_status check(const tlm::tlm_generic_payload& p) const;
@@ -96,7 +97,7 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
   bool in_store(uint64_t line_addr) const {
     return line_addr <= store_bytes_ && store_bytes_ - line_addr >= engine_.config().request_bytes;
   }
-  uint8_t* writable_line(uint64_t line_addr);                   // copies its page on first write
+  uint8_t* writable_line(uint64_t line_addr);  // copies its page on first write
 
   Calendar& calendar_;
   DramController engine_;

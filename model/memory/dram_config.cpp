@@ -47,27 +47,29 @@ const char* field_name(AddressMapping::Field f) {
 DramConfig gddr3_gt200() {
   DramConfig c;
   c.preset = "gddr3-gt200";
-  c.channels = 8;         // -gpgpu_n_mem 8 (cfg:12)
-  c.banks = 8;            // nbk = 8
-  c.tCK_ps = 1250;        // -gpgpu_clock_domains 325.0:650.0:650.0:800.0, DRAM clock 800 MHz (cfg:13)
-  c.tCCD = 2;             // CCD
-  c.tRRD = 8;             // RRD
-  c.tRCD = 12;            // RCD
-  c.tRAS = 25;            // RAS
-  c.tRP = 10;             // RP
-  c.tRC = 35;             // RC (= tRAS + tRP exactly)
-  c.CL = 10;              // CL
-  c.WL = 7;               // WL
-  c.tCDLR = 6;            // CDLR
-  c.tWR = 11;             // WR
-  c.burst_length = 4;     // -gpgpu_dram_burst_length 4, -dram_data_command_freq_ratio 2 (cfg:66-67):
-                          // DDR, 2 command cycles of data bus
-  c.bus_bytes = 8;        // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
-  c.queue_size = 16;      // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
-                          // FR-FCFS (cfg:54, 60)
-  c.request_bytes = 32;   // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
-                          // accelerator sets its own L2 line size here
-  c.row_policy = RowPolicy::kOpenPage;  // GPGPU-Sim's DRAM model keeps rows open
+  c.channels = 8;  // -gpgpu_n_mem 8 (cfg:12)
+  c.banks = 8;     // nbk = 8
+  // -gpgpu_clock_domains 325.0:650.0:650.0:800.0, DRAM clock 800 MHz (cfg:13)
+  c.tCK_ps = 1250;
+  c.tCCD = 2;   // CCD
+  c.tRRD = 8;   // RRD
+  c.tRCD = 12;  // RCD
+  c.tRAS = 25;  // RAS
+  c.tRP = 10;   // RP
+  c.tRC = 35;   // RC (= tRAS + tRP exactly)
+  c.CL = 10;    // CL
+  c.WL = 7;     // WL
+  c.tCDLR = 6;  // CDLR
+  c.tWR = 11;   // WR
+  // -gpgpu_dram_burst_length 4, -dram_data_command_freq_ratio 2 (cfg:66-67): DDR, 2 command
+  // cycles of data bus
+  c.burst_length = 4;
+  c.bus_bytes = 8;       // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
+  c.queue_size = 16;     // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
+                         // FR-FCFS (cfg:54, 60)
+  c.request_bytes = 32;  // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
+                         // accelerator sets its own L2 line size here
+  c.row_policy = RowPolicy::kOpenPage;       // GPGPU-Sim's DRAM model keeps rows open
   c.address_mapping = kGt200AddressMapping;  // -gpgpu_mem_addr_mapping, verbatim (cfg:69)
   return c;
 }
@@ -80,7 +82,9 @@ DramConfig gddr3_gt200() {
 DramConfig gddr3_gt200_1ghz() {
   DramConfig c = gddr3_gt200();
   c.preset = "gddr3-gt200-1ghz";
-  auto rescale = [&c](uint32_t cycles_at_800) { return uint32_t((uint64_t(cycles_at_800) * c.tCK_ps + 999) / 1000); };
+  auto rescale = [&c](uint32_t cycles_at_800) {
+    return uint32_t((uint64_t(cycles_at_800) * c.tCK_ps + 999) / 1000);
+  };
   c.tRRD = rescale(c.tRRD);    // 10 ns
   c.tRCD = rescale(c.tRCD);    // 15 ns
   c.tRAS = rescale(c.tRAS);    // 31.25 -> 32
@@ -93,7 +97,7 @@ DramConfig gddr3_gt200_1ghz() {
   // satisfy tRC = tRAS + tRP exactly (35 = 25 + 10), so keep that. This changes no timing: a bank
   // cannot ACT again before ACT + tRAS (to PRE) + tRP (to ACT) anyway.
   c.tRC = std::max(rescale(c.tRC), c.tRAS + c.tRP);  // 45
-  c.tCK_ps = 1000;             // tCCD stays 2: a burst of 4 on a DDR bus
+  c.tCK_ps = 1000;                                   // tCCD stays 2: a burst of 4 on a DDR bus
   return c;
 }
 
@@ -116,30 +120,37 @@ void DramConfig::validate() const {
   describe(check, *this);
   require_pow2("channels", channels);
   require_pow2("banks", banks);
-  if (tRC < tRAS) fail("tRC", "must be >= tRAS (" + std::to_string(tRAS) + "), got " + std::to_string(tRC));
+  if (tRC < tRAS)
+    fail("tRC", "must be >= tRAS (" + std::to_string(tRAS) + "), got " + std::to_string(tRC));
   require_pow2("burst_length", burst_length);
   // GPGPU-Sim's derived write turnarounds subtract WL (gpu-sim.h memory_config::init()); both
   // must stay >= 1 cycle.
   if (WL + 1 >= tRCD)
-    fail("WL", "must be < tRCD - 1 (" + std::to_string(tRCD) + " - 1) for an activate-to-write delay tRCD - (WL + 1) >= 1, got " +
+    fail("WL", "must be < tRCD - 1 (" + std::to_string(tRCD) +
+                   " - 1) for an activate-to-write delay tRCD - (WL + 1) >= 1, got " +
                    std::to_string(WL));
   if (WL >= CL + burst_cycles() + kReadToWriteTurnaround)
-    fail("WL", "must be < CL + BL/2 + 2 (" + std::to_string(CL + burst_cycles() + kReadToWriteTurnaround) +
+    fail("WL", "must be < CL + BL/2 + 2 (" +
+                   std::to_string(CL + burst_cycles() + kReadToWriteTurnaround) +
                    ") for a read-to-write delay >= 1, got " + std::to_string(WL));
   require_pow2("bus_bytes", bus_bytes);
   require_pow2("request_bytes", request_bytes);
   if (request_bytes < burst_bytes())
-    fail("request_bytes", "must be at least one burst (" + std::to_string(burst_bytes()) + " bytes), got " +
-                              std::to_string(request_bytes));
-  if (row_policy != RowPolicy::kOpenPage) fail("row_policy", "only the open-page policy is modelled");
+    fail("request_bytes", "must be at least one burst (" + std::to_string(burst_bytes()) +
+                              " bytes), got " + std::to_string(request_bytes));
+  if (row_policy != RowPolicy::kOpenPage)
+    fail("row_policy", "only the open-page policy is modelled");
 
   const AddressMapping map(address_mapping, channels);
-  auto require_bits = [&](AddressMapping::Field f, char letter, uint64_t count, const std::string& why) {
+  auto require_bits = [&](AddressMapping::Field f, char letter, uint64_t count,
+                          const std::string& why) {
     if (map.bits(f) != log2u(count))
-      fail("address_mapping", std::to_string(map.bits(f)) + " " + field_name(f) + " bits (" + letter + "), but " + why +
-                                  " needs " + std::to_string(log2u(count)));
+      fail("address_mapping", std::to_string(map.bits(f)) + " " + field_name(f) + " bits (" +
+                                  letter + "), but " + why + " needs " +
+                                  std::to_string(log2u(count)));
   };
-  require_bits(AddressMapping::kByte, 'S', burst_bytes(), "a " + std::to_string(burst_bytes()) + "-byte burst");
+  require_bits(AddressMapping::kByte, 'S', burst_bytes(),
+               "a " + std::to_string(burst_bytes()) + "-byte burst");
   require_bits(AddressMapping::kBank, 'B', banks, std::to_string(banks) + " banks");
   require_bits(AddressMapping::kChannel, 'D', channels, std::to_string(channels) + " channels");
   // A request must stay within one row of one bank of one channel: its offset bits may only be
@@ -147,8 +158,8 @@ void DramConfig::validate() const {
   for (uint32_t b = 0; b < log2u(request_bytes); ++b) {
     const AddressMapping::Field f = map.field_of(b);
     if (f != AddressMapping::kByte && f != AddressMapping::kColumn)
-      fail("address_mapping", "bit " + std::to_string(b) + " is a " + field_name(f) + " bit, so a " +
-                                  std::to_string(request_bytes) +
+      fail("address_mapping", "bit " + std::to_string(b) + " is a " + field_name(f) +
+                                  " bit, so a " + std::to_string(request_bytes) +
                                   "-byte request (request_bytes) would not stay in one row");
   }
 }
@@ -174,9 +185,11 @@ AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {
   int64_t dramid = -1;
   if (spec.rfind("dramid@", 0) == 0) {
     const size_t semi = spec.find(';');
-    const std::string num = spec.substr(7, semi == std::string::npos ? std::string::npos : semi - 7);
+    const std::string num =
+        spec.substr(7, semi == std::string::npos ? std::string::npos : semi - 7);
     if (semi == std::string::npos || num.empty() || num.size() > 2 ||
-        !std::all_of(num.begin(), num.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
+        !std::all_of(num.begin(), num.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); }))
       bad("expected 'dramid@<bit>;' before the bits");
     dramid = std::stoi(num);
     body = spec.substr(semi + 1);
@@ -186,7 +199,8 @@ AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {
   for (char c : body) {
     if (c == '.' || c == '|' || c == ' ') continue;
     const char u = char(std::toupper(static_cast<unsigned char>(c)));
-    if (std::string("RBCSD0").find(u) == std::string::npos) bad(std::string("unknown character '") + c + "'");
+    if (std::string("RBCSD0").find(u) == std::string::npos)
+      bad(std::string("unknown character '") + c + "'");
     seq += u;
   }
   if (seq.empty()) bad("no bits");
@@ -196,7 +210,8 @@ AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {
     if (!is_pow2(channels)) bad("dramid@ needs a power-of-two channel count");
     chan_bits = log2u(channels);
     if (seq.find('D') != std::string::npos) bad("'D' bits together with dramid@");
-    if (dramid > int64_t(seq.size())) bad("dramid@" + std::to_string(dramid) + " lies above the bits");
+    if (dramid > int64_t(seq.size()))
+      bad("dramid@" + std::to_string(dramid) + " lies above the bits");
   }
 
   bool named_seen = false;
@@ -210,7 +225,11 @@ AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {
     }
     named_seen = true;
     const uint32_t pos = (dramid >= 0 && bit >= uint32_t(dramid)) ? bit + chan_bits : bit;
-    const Field f = c == 'R' ? kRow : c == 'B' ? kBank : c == 'C' ? kColumn : c == 'D' ? kChannel : kByte;
+    const Field f = c == 'R'   ? kRow
+                    : c == 'B' ? kBank
+                    : c == 'C' ? kColumn
+                    : c == 'D' ? kChannel
+                               : kByte;
     positions_[f].push_back(uint8_t(pos));
   }
   for (uint32_t k = 0; k < chan_bits; ++k) positions_[kChannel].push_back(uint8_t(dramid + k));
@@ -222,7 +241,8 @@ AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {
 
 AddressMapping::Field AddressMapping::field_of(uint32_t bit) const {
   for (int f = 0; f < kFields; ++f)
-    if (std::binary_search(positions_[f].begin(), positions_[f].end(), uint8_t(bit))) return Field(f);
+    if (std::binary_search(positions_[f].begin(), positions_[f].end(), uint8_t(bit)))
+      return Field(f);
   return kRow;  // at or above top_: the row extends upwards
 }
 

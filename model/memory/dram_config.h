@@ -20,8 +20,8 @@
 //   holds 64 bursts = 2 KB per channel, and 16 KB of addresses cover one row in every channel.
 #pragma once
 
-#include "model/sim/config_description.h"
 #include "model/memory/line_source.h"
+#include "model/sim/config_description.h"
 
 #include <array>
 #include <cstdint>
@@ -70,7 +70,8 @@ struct DramConfig {
   // (dram_t::issue_col_command and issue_row_command). Defined only for a config that passed
   // validate() (which keeps the two subtractions >= 1).
   uint32_t write_to_read() const { return WL + burst_cycles() + tCDLR; }  // tWTR: WR -> RD, channel
-  uint32_t write_to_precharge() const { return WL + burst_cycles() + tWR; }  // tWTP: WR -> PRE, bank
+  // tWTP: WR -> PRE, bank
+  uint32_t write_to_precharge() const { return WL + burst_cycles() + tWR; }
   // tRTW: RD -> WR, channel. The read's data end at CL + BL/2; the +2 is GPGPU-Sim's fixed bus
   // turnaround, so a write's data (from WR + WL) start 2 cycles after the read's data end.
   uint32_t read_to_write() const { return CL + burst_cycles() + kReadToWriteTurnaround - WL; }
@@ -80,8 +81,9 @@ struct DramConfig {
   uint32_t burst_length = 0;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
   uint32_t bus_bytes = 0;     // data-bus width of one channel
 
-  uint32_t queue_size = 0;     // scheduler queue per channel; excess requests wait in a FIFO
-  uint32_t request_bytes = 0;  // the cache line above; one request = request_bytes / burst_bytes bursts
+  uint32_t queue_size = 0;  // scheduler queue per channel; excess requests wait in a FIFO
+  // The cache line above; one request = request_bytes / burst_bytes bursts
+  uint32_t request_bytes = 0;
   RowPolicy row_policy = RowPolicy::kOpenPage;
   std::string address_mapping;
 
@@ -89,7 +91,9 @@ struct DramConfig {
   uint32_t burst_cycles() const { return burst_length / 2; }
   uint32_t bursts_per_request() const { return request_bytes / burst_bytes(); }
   // channels * bus_bytes * 2 (DDR) / tCK, in GB/s (bytes per ns).
-  double peak_bandwidth_gbps() const { return double(channels) * bus_bytes * 2 * 1000.0 / double(tCK_ps); }
+  double peak_bandwidth_gbps() const {
+    return double(channels) * bus_bytes * 2 * 1000.0 / double(tCK_ps);
+  }
 
   // Throws std::invalid_argument naming the offending field.
   void validate() const;
@@ -99,7 +103,8 @@ struct DramConfig {
 // `preset` is applied first, then these override its values. request_bytes is the L2 line size.
 template <class V, class C>
 DescribeOf<C, DramConfig> describe(V& v, C& c) {
-  v.number("channels", c.channels, 1, 64, "channels", "independent controllers, each with its own command and data bus");
+  v.number("channels", c.channels, 1, 64, "channels",
+           "independent controllers, each with its own command and data bus");
   v.number("banks", c.banks, 1, 64, "banks", "banks per channel");
   v.number("tCK_ps", c.tCK_ps, 1, 100000, "ps", "command-clock period");
   v.number("tRCD", c.tRCD, 1, 1000, "tCK", "ACT -> RD, same bank");
@@ -112,7 +117,8 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
   v.number("WL", c.WL, 1, 1000, "tCK", "WR -> first data beat in");
   v.number("tCDLR", c.tCDLR, 1, 1000, "tCK", "last data in -> RD");
   v.number("tWR", c.tWR, 1, 1000, "tCK", "last data in -> PRE, same bank (write recovery)");
-  v.number("burst_length", c.burst_length, 2, 64, "beats", "beats per burst (DDR: BL/2 cycles of data bus)");
+  v.number("burst_length", c.burst_length, 2, 64, "beats",
+           "beats per burst (DDR: BL/2 cycles of data bus)");
   v.number("bus_bytes", c.bus_bytes, 1, 256, "bytes", "data-bus width of one channel");
   v.number("queue_size", c.queue_size, 1, 4096, "requests", "FR-FCFS scheduler queue per channel");
   v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");

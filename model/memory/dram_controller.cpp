@@ -20,10 +20,13 @@ double DramStats::row_hit_rate() const {
 
 double DramStats::bandwidth_gbps() const {
   if (last_completion_ps <= first_arrival_ps) return 0.0;
-  return double(bytes) * 1000.0 / double(last_completion_ps - first_arrival_ps);  // bytes/ps -> GB/s
+  // bytes/ps -> GB/s
+  return double(bytes) * 1000.0 / double(last_completion_ps - first_arrival_ps);
 }
 
-double DramStats::avg_latency_ns() const { return reads ? double(latency_sum_ps) / double(reads) / 1000.0 : 0.0; }
+double DramStats::avg_latency_ns() const {
+  return reads ? double(latency_sum_ps) / double(reads) / 1000.0 : 0.0;
+}
 
 DramController::DramController(const DramConfig& config)
     : config_(validated(config)), mapping_(config_.address_mapping, config_.channels) {
@@ -37,12 +40,12 @@ DramController::DramController(const DramConfig& config)
       {C::kActivate, C::kActivate, Scope::kChannel, config_.tRRD},
       {C::kPrecharge, C::kActivate, Scope::kBank, config_.tRP},
       {C::kRead, C::kRead, Scope::kChannel, config_.tCCD},
-      {C::kRead, C::kRead, Scope::kChannel, burst},      // the data bus holds one burst at a time
-      {C::kRead, C::kPrecharge, Scope::kBank, burst},    // READ to PRECHARGE
+      {C::kRead, C::kRead, Scope::kChannel, burst},    // the data bus holds one burst at a time
+      {C::kRead, C::kPrecharge, Scope::kBank, burst},  // READ to PRECHARGE
       {C::kRead, C::kWrite, Scope::kChannel, config_.tCCD},
       {C::kRead, C::kWrite, Scope::kChannel, config_.read_to_write()},
       {C::kWrite, C::kWrite, Scope::kChannel, config_.tCCD},
-      {C::kWrite, C::kWrite, Scope::kChannel, burst},    // the data bus, as for reads
+      {C::kWrite, C::kWrite, Scope::kChannel, burst},  // the data bus, as for reads
       {C::kWrite, C::kRead, Scope::kChannel, config_.tCCD},
       {C::kWrite, C::kRead, Scope::kChannel, config_.write_to_read()},
       {C::kWrite, C::kPrecharge, Scope::kBank, config_.write_to_precharge()},
@@ -54,8 +57,10 @@ DramController::DramController(const DramConfig& config)
     const auto same = std::find_if(list.begin(), list.end(), [&r](const TimingRule& o) {
       return o.next == r.next && o.scope == r.scope;
     });
-    if (same == list.end()) list.push_back(r);
-    else same->cycles = std::max(same->cycles, r.cycles);
+    if (same == list.end())
+      list.push_back(r);
+    else
+      same->cycles = std::max(same->cycles, r.cycles);
   }
 
   channels_.resize(config_.channels);
@@ -70,8 +75,9 @@ DramController::DramController(const DramConfig& config)
 void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   const Tick arrival = std::max(now, now_);
   const DramAddress a = mapping_.decode(addr & ~uint64_t(config_.request_bytes - 1));
-  const Request r{id, next_seq_++, arrival, (arrival + config_.tCK_ps - 1) / config_.tCK_ps, a.bank, a.row,
-                  a.column, 0, false, write};
+  const Request r{id,     next_seq_++, arrival,  (arrival + config_.tCK_ps - 1) / config_.tCK_ps,
+                  a.bank, a.row,       a.column, 0,
+                  false,  write};
   const bool first = stats_.requests + stats_.write_requests == 0;
   stats_.first_arrival_ps = first ? arrival : std::min(stats_.first_arrival_ps, arrival);
   ++(write ? stats_.write_requests : stats_.requests);
@@ -115,7 +121,8 @@ DramController::Choice DramController::choose(Channel& ch) {
     if (cycle == best.cycle) {
       const bool col = is_column(cmd), best_col = is_column(best.command);
       const Request& o = ch.queue[best.index];
-      better = col != best_col ? col : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
+      better =
+          col != best_col ? col : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
     }
     if (better) best = Choice{i, cmd, cycle};
   }
@@ -130,9 +137,12 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
 
   if (!r.classified) {
     r.classified = true;
-    if (is_column(c.command)) ++stats_.row_hits;
-    else if (c.command == Command::kActivate) ++stats_.row_misses;
-    else ++stats_.row_conflicts;
+    if (is_column(c.command))
+      ++stats_.row_hits;
+    else if (c.command == Command::kActivate)
+      ++stats_.row_misses;
+    else
+      ++stats_.row_conflicts;
   }
   for (const TimingRule& rule : rules_by_prev_[size_t(c.command)]) {
     Stamps& s = rule.scope == Scope::kBank ? b.earliest : ch.earliest;
@@ -208,7 +218,8 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
 }
 
 std::string DramController::state() const {
-  std::string s = "DRAM at " + std::to_string(now_) + " ps: " + std::to_string(completions_.size()) + " completions due";
+  std::string s = "DRAM at " + std::to_string(now_) +
+                  " ps: " + std::to_string(completions_.size()) + " completions due";
   for (size_t i = 0; i < channels_.size(); ++i) {
     const Channel& ch = channels_[i];
     if (ch.queue.empty() && ch.overflow.empty()) continue;
@@ -234,23 +245,34 @@ void DramController::register_stats(StatsRegistry& reg, const std::string& prefi
   reg.counter(p + "bursts", &s.bursts, "count", "RD commands (one burst each)");
   reg.counter(p + "activates", &s.activates, "count", "ACT commands");
   reg.counter(p + "precharges", &s.precharges, "count", "PRE commands");
-  reg.counter(p + "row_hits", &s.row_hits, "count", "requests (reads and writes) whose row was open");
-  reg.counter(p + "row_misses", &s.row_misses, "count", "requests (reads and writes) that found their bank closed");
-  reg.counter(p + "row_conflicts", &s.row_conflicts, "count", "requests (reads and writes) that found another row open");
+  reg.counter(p + "row_hits", &s.row_hits, "count",
+              "requests (reads and writes) whose row was open");
+  reg.counter(p + "row_misses", &s.row_misses, "count",
+              "requests (reads and writes) that found their bank closed");
+  reg.counter(p + "row_conflicts", &s.row_conflicts, "count",
+              "requests (reads and writes) that found another row open");
   reg.counter(p + "bytes", &s.bytes, "bytes", "bytes read (completed requests)");
-  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "ps", "data-bus busy time (reads and writes) summed over channels (ps)");
-  reg.counter(p + "queue_full_events", &s.queue_full_events, "count", "requests that waited in the overflow FIFO");
-  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "ps", "sum of read arrival-to-data latencies (ps)");
+  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "ps",
+              "data-bus busy time (reads and writes) summed over channels (ps)");
+  reg.counter(p + "queue_full_events", &s.queue_full_events, "count",
+              "requests that waited in the overflow FIFO");
+  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "ps",
+              "sum of read arrival-to-data latencies (ps)");
   reg.counter(p + "write_requests", &s.write_requests, "count", "write requests accepted");
   reg.counter(p + "writes", &s.writes, "count", "write requests completed");
   reg.counter(p + "write_bursts", &s.write_bursts, "count", "WR commands (one burst each)");
   reg.counter(p + "bytes_written", &s.bytes_written, "bytes", "bytes written (completed requests)");
   for (size_t i = 0; i < s.channel_reads.size(); ++i)
-    reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "count", "read requests completed by channel");
-  reg.formula(p + "row_hit_rate", [&s] { return s.row_hit_rate(); }, "ratio", "row_hits / (hits + misses + conflicts)");
-  reg.formula(p + "bandwidth_gbps", [&s] { return s.bandwidth_gbps(); }, "GB/s",
-              "bytes / (last completion - first arrival), GB/s");
-  reg.formula(p + "avg_latency_ns", [&s] { return s.avg_latency_ns(); }, "ns", "latency_sum / reads (ns)");
+    reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "count",
+                "read requests completed by channel");
+  reg.formula(
+      p + "row_hit_rate", [&s] { return s.row_hit_rate(); }, "ratio",
+      "row_hits / (hits + misses + conflicts)");
+  reg.formula(
+      p + "bandwidth_gbps", [&s] { return s.bandwidth_gbps(); }, "GB/s",
+      "bytes / (last completion - first arrival), GB/s");
+  reg.formula(
+      p + "avg_latency_ns", [&s] { return s.avg_latency_ns(); }, "ns", "latency_sum / reads (ns)");
   const double channels = double(config_.channels);
   reg.formula(
       p + "bus_utilization",
@@ -258,8 +280,8 @@ void DramController::register_stats(StatsRegistry& reg, const std::string& prefi
         const uint64_t last = std::max(s.last_completion_ps, s.last_write_completion_ps);
         const uint64_t span = last > s.first_arrival_ps ? last - s.first_arrival_ps : 0;
         return span ? double(s.data_bus_busy_ps) / (channels * double(span)) : 0.0;
-      }, "ratio",
-      "data_bus_busy / (channels * (last read or write completion - first arrival))");
+      },
+      "ratio", "data_bus_busy / (channels * (last read or write completion - first arrival))");
 }
 
 }  // namespace rtsim::model

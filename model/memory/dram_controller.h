@@ -69,29 +69,29 @@
 namespace rtsim::model {
 
 struct DramStats {
-  uint64_t requests = 0;           // read requests accepted by enqueue
-  uint64_t reads = 0;              // read requests completed (reported by advance)
-  uint64_t bursts = 0;             // RD commands
-  uint64_t activates = 0;          // ACT commands
-  uint64_t precharges = 0;         // PRE commands
-  uint64_t row_hits = 0;           // first command was RD or WR (reads and writes)
-  uint64_t row_misses = 0;         // first command was ACT (bank closed)
-  uint64_t row_conflicts = 0;      // first command was PRE (another row open)
-  uint64_t bytes = 0;              // completed reads * request_bytes
-  uint64_t data_bus_busy_ps = 0;   // summed over channels: (bursts + write_bursts) * BL/2 * tCK
-  uint64_t queue_full_events = 0;  // requests that found their channel's queue full
-  uint64_t latency_sum_ps = 0;     // over completed reads: data ready - arrival
-  uint64_t first_arrival_ps = 0;   // of the first request, read or write (0 until one arrives)
-  uint64_t last_completion_ps = 0; // data ready of the latest completed read
-  std::vector<uint64_t> channel_reads;  // completed reads per channel
-  uint64_t write_requests = 0;     // write requests accepted by enqueue
-  uint64_t writes = 0;             // write requests completed (reported by advance)
-  uint64_t write_bursts = 0;       // WR commands
-  uint64_t bytes_written = 0;      // completed writes * request_bytes
+  uint64_t requests = 0;            // read requests accepted by enqueue
+  uint64_t reads = 0;               // read requests completed (reported by advance)
+  uint64_t bursts = 0;              // RD commands
+  uint64_t activates = 0;           // ACT commands
+  uint64_t precharges = 0;          // PRE commands
+  uint64_t row_hits = 0;            // first command was RD or WR (reads and writes)
+  uint64_t row_misses = 0;          // first command was ACT (bank closed)
+  uint64_t row_conflicts = 0;       // first command was PRE (another row open)
+  uint64_t bytes = 0;               // completed reads * request_bytes
+  uint64_t data_bus_busy_ps = 0;    // summed over channels: (bursts + write_bursts) * BL/2 * tCK
+  uint64_t queue_full_events = 0;   // requests that found their channel's queue full
+  uint64_t latency_sum_ps = 0;      // over completed reads: data ready - arrival
+  uint64_t first_arrival_ps = 0;    // of the first request, read or write (0 until one arrives)
+  uint64_t last_completion_ps = 0;  // data ready of the latest completed read
+  std::vector<uint64_t> channel_reads;    // completed reads per channel
+  uint64_t write_requests = 0;            // write requests accepted by enqueue
+  uint64_t writes = 0;                    // write requests completed (reported by advance)
+  uint64_t write_bursts = 0;              // WR commands
+  uint64_t bytes_written = 0;             // completed writes * request_bytes
   uint64_t last_write_completion_ps = 0;  // data in of the latest completed write
 
   double row_hit_rate() const;
-  double bandwidth_gbps() const;   // read bandwidth: bytes / (last completion - first arrival)
+  double bandwidth_gbps() const;  // read bandwidth: bytes / (last completion - first arrival)
   double avg_latency_ns() const;
 };
 
@@ -172,10 +172,10 @@ class DramController {
   struct Channel {
     std::vector<Bank> banks;
     Stamps earliest{};
-    std::vector<Request> queue;   // at most queue_size, in enqueue order
+    std::vector<Request> queue;  // at most queue_size, in enqueue order
     std::deque<Request> overflow;
-    uint64_t free_from = 0;       // first cycle after the last issued command
-    uint64_t next_cycle = kNever; // cycle of the next legal command (cached for next_event_time)
+    uint64_t free_from = 0;        // first cycle after the last issued command
+    uint64_t next_cycle = kNever;  // cycle of the next legal command (cached for next_event_time)
   };
   struct Choice {
     size_t index = 0;

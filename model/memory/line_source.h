@@ -29,7 +29,8 @@ class LineSource {
   // Asks for the line at `line_addr` at time `now`. Returns the time the line is delivered to
   // the requester when that is known now; otherwise kUnknown, and `listener->on_fill` is called
   // at the delivery time with `cookie`.
-  virtual Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) = 0;
+  virtual Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener,
+                          uint64_t cookie) = 0;
   // The bytes of the line (the simulated memory's contents), valid once it is delivered.
   virtual const uint8_t* line_data(uint64_t line_addr) const = 0;
   // Which of the level's ports serves the line (a cache bank, a DRAM channel): where a crossbar

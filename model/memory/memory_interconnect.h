@@ -2,17 +2,17 @@
 // every L2 bank, every shading unit's frame-buffer writes and the shadow culling unit's record
 // reads to the memory channels (GPGPU-Sim's GT200 layout: the L2 banks sit by the memory
 // partitions, so L2 misses cross it to reach a channel), and at its far end the TLM-2.0 boundary
-// (`memory.port`, model/memory/memory_port.h) whose initiator socket the accelerator binds to its GDDR3
-// model, or a platform to its own memory. A line's channel is the DRAM configuration's address
-// mapping (the interconnect routes by it whatever memory model answers).
+// (`memory.port`, model/memory/memory_port.h) whose initiator socket the accelerator binds to its
+// GDDR3 model, or a platform to its own memory. A line's channel is the DRAM configuration's
+// address mapping (the interconnect routes by it whatever memory model answers).
 #pragma once
 
 #include "model/memory/crossbar.h"
 #include "model/memory/dram_config.h"
 #include "model/memory/line_source.h"
 #include "model/memory/memory_port.h"
-#include "model/sim/time.h"
 #include "model/sim/stats_registry.h"
+#include "model/sim/time.h"
 
 #include <systemc>
 
@@ -26,15 +26,16 @@ class MemoryInterconnect : public sc_core::sc_module {
  public:
   // `l2_banks` crossbar sources for the L2s (numbered as the caller assigns them), then one per
   // writer, then the reader. Every transaction is one `dram.request_bytes` line.
-  MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link, const DramConfig& dram, const Clock& clock,
-                     Calendar& calendar, uint32_t l2_banks, uint32_t writers);
+  MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link, const DramConfig& dram,
+                     const Clock& clock, Calendar& calendar, uint32_t l2_banks, uint32_t writers);
 
   // An L2's way to memory, its banks from crossbar source `first_source` on; `initiator` names it
   // in the memory trace.
   std::unique_ptr<CrossbarPort> l2_port(uint32_t first_source, const std::string& initiator);
   // A posted write of a whole line by writer `writer` (`initiator` in the trace): it crosses the
   // crossbar from the writer's port, then goes to memory.
-  void write_line(uint32_t writer, uint64_t line, const uint8_t* data, Tick now, const std::string& initiator);
+  void write_line(uint32_t writer, uint64_t line, const uint8_t* data, Tick now,
+                  const std::string& initiator);
   // The shadow culling unit's way to read the frame buffer (no cache: records are streamed).
   CrossbarPort& record_reader() { return *record_reader_; }
   MemoryPort& port() { return port_; }

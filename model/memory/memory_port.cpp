@@ -10,7 +10,8 @@
 namespace rtsim::model {
 
 struct MemoryPort::Transaction : tlm::tlm_generic_payload {
-  explicit Transaction(tlm::tlm_mm_interface* mm, uint32_t bytes) : tlm::tlm_generic_payload(mm), data(bytes) {}
+  explicit Transaction(tlm::tlm_mm_interface* mm, uint32_t bytes)
+      : tlm::tlm_generic_payload(mm), data(bytes) {}
   std::vector<uint8_t> data;
   uint64_t line = 0;
   Tick requested = 0;  // when it reaches memory
@@ -20,8 +21,8 @@ struct MemoryPort::Transaction : tlm::tlm_generic_payload {
   std::string initiator;  // writes: who wrote
 };
 
-MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping, const Clock& clock,
-                       Calendar& calendar)
+MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
+                       const Clock& clock, Calendar& calendar)
     : sc_core::sc_module(name),
       socket("socket"),
       line_bytes_(line_bytes),
@@ -74,7 +75,8 @@ Tick MemoryPort::fetch_line(uint64_t line_addr, Tick now, FillListener* listener
   return kUnknown;
 }
 
-void MemoryPort::write_line(uint64_t line_addr, const uint8_t* data, Tick now, const std::string& initiator) {
+void MemoryPort::write_line(uint64_t line_addr, const uint8_t* data, Tick now,
+                            const std::string& initiator) {
   Transaction* t = make(line_addr, std::max(now, calendar_.now()), true);
   std::memcpy(t->data.data(), data, line_bytes_);
   t->initiator = initiator;
@@ -94,19 +96,20 @@ void MemoryPort::send(Transaction* t) {
 void MemoryPort::send_now(Transaction* t) {
   const Tick now = calendar_.now();
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
-  sc_core::sc_time delay = sc_core::sc_time::from_value(t->requested > now ? t->requested - now : 0);
+  sc_core::sc_time delay =
+      sc_core::sc_time::from_value(t->requested > now ? t->requested - now : 0);
   switch (socket->nb_transport_fw(*t, phase, delay)) {
     case tlm::TLM_ACCEPTED:
       open_ = t;  // END_REQ comes later
       break;
     // Answered within the request: queued, never delivered inside the requester's fetch_line.
     case tlm::TLM_UPDATED:
-      if (phase == tlm::BEGIN_RESP) response(t, now + delay.value(), false);
-      else if (phase != tlm::END_REQ) open_ = t;
+      if (phase == tlm::BEGIN_RESP)
+        response(t, now + delay.value(), false);
+      else if (phase != tlm::END_REQ)
+        open_ = t;
       break;
-    case tlm::TLM_COMPLETED:
-      response(t, now + delay.value(), false);
-      break;
+    case tlm::TLM_COMPLETED: response(t, now + delay.value(), false); break;
   }
 }
 
@@ -134,7 +137,8 @@ void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
   }
   const Tick edge = clock_.edge_at_or_after(at);
   if (may_deliver_now && edge == calendar_.now() && calendar_.running() && responses_.empty()) {
-    deliver(t);  // from a block on this calendar (our GDDR3), at an edge: already in the fixed order
+    // From a block on this calendar (our GDDR3), at an edge: already in the fixed order
+    deliver(t);
     return;
   }
   responses_.push({edge, seq_++, t});
@@ -169,7 +173,8 @@ void MemoryPort::activate() {
 
 const uint8_t* MemoryPort::line_data(uint64_t line_addr) const {
   const uint64_t block = line_addr & ~uint64_t(line_bytes_ - 1);
-  if (delivering_ && delivering_->line == block) return delivering_->data.data() + (line_addr - block);
+  if (delivering_ && delivering_->line == block)
+    return delivering_->data.data() + (line_addr - block);
   // Not in a response: read it without timing.
   tlm::tlm_generic_payload p;
   p.set_read();
@@ -178,7 +183,8 @@ const uint8_t* MemoryPort::line_data(uint64_t line_addr) const {
   p.set_data_length(line_bytes_);
   p.set_streaming_width(line_bytes_);
   if (const_cast<MemoryPort*>(this)->socket->transport_dbg(p) != line_bytes_)
-    report_error(kReportMemory, std::string(name()) + ": debug read of line " + std::to_string(block) + " failed");
+    report_error(kReportMemory,
+                 std::string(name()) + ": debug read of line " + std::to_string(block) + " failed");
   ++debug_reads_;
   return debug_line_.data() + (line_addr - block);
 }
@@ -191,8 +197,8 @@ void MemoryPort::failed(const Transaction& t) const {
   char addr[24];
   std::snprintf(addr, sizeof addr, "0x%" PRIx64, t.line);
   report_error(kReportMemory, std::string(name()) + ": " + (t.write ? "write" : "read") + " of " +
-                                  std::to_string(line_bytes_) + " bytes at " + addr + " failed: " +
-                                  t.get_response_string());
+                                  std::to_string(line_bytes_) + " bytes at " + addr +
+                                  " failed: " + t.get_response_string());
 }
 
 void MemoryPort::open_trace(const TraceRequest& request) {
@@ -228,19 +234,24 @@ void MemoryPort::trace(const Transaction& t, Tick done) {
   }
   char addr[24];
   std::snprintf(addr, sizeof addr, "0x%" PRIx64, t.line);
-  *trace_ << cycle << ',' << *who << ',' << addr << ',' << line_bytes_ << ',' << (t.write ? 'W' : 'R') << ','
+  *trace_ << cycle << ',' << *who << ',' << addr << ',' << line_bytes_ << ','
+          << (t.write ? 'W' : 'R') << ','
           << clock_.ceil_cycles(done > t.requested ? done - t.requested : 0) << '\n';
 }
 
 void MemoryPort::register_stats(StatsRegistry& r, const std::string& prefix) const {
   r.counter(prefix + ".reads", &stats_.reads, "count", "line reads sent to memory");
   r.counter(prefix + ".writes", &stats_.writes, "count", "line writes sent to memory");
-  r.counter(prefix + ".refused", &stats_.refused, "count", "requests held back until the memory took the previous one");
-  r.counter(prefix + ".debug_reads", &debug_reads_, "count", "lines read with the debug transport (outside a response)");
-  r.counter(prefix + ".latency_cycles", &stats_.latency_cycles, "cycles", "sum over reads of request-to-response cycles");
-  r.formula(prefix + ".avg_latency_cycles",
-            [this] { return stats_.reads ? double(stats_.latency_cycles) / double(stats_.reads) : 0.0; }, "cycles",
-            "mean read latency at the memory boundary");
+  r.counter(prefix + ".refused", &stats_.refused, "count",
+            "requests held back until the memory took the previous one");
+  r.counter(prefix + ".debug_reads", &debug_reads_, "count",
+            "lines read with the debug transport (outside a response)");
+  r.counter(prefix + ".latency_cycles", &stats_.latency_cycles, "cycles",
+            "sum over reads of request-to-response cycles");
+  r.formula(
+      prefix + ".avg_latency_cycles",
+      [this] { return stats_.reads ? double(stats_.latency_cycles) / double(stats_.reads) : 0.0; },
+      "cycles", "mean read latency at the memory boundary");
 }
 
 }  // namespace rtsim::model

@@ -11,8 +11,8 @@
 // the requester is told (FillListener::on_fill) in the order the responses came. So the
 // calendar's fixed order holds whatever the target's processes do. A response that comes from a
 // block of this calendar while it runs, for this very edge, with none queued before it (our
-// GDDR3's, model/memory/dram.h), is already in that order: it is handed over at once, which saves the
-// port an activation per read and gives the same figures.
+// GDDR3's, model/memory/dram.h), is already in that order: it is handed over at once, which saves
+// the port an activation per read and gives the same figures.
 //
 // The data come with the response: a cache asks line_data() for the line being delivered and
 // gets the payload's bytes. A line asked for at any other time (an L1 re-reading a line its L2
@@ -24,14 +24,14 @@
 
 #include "model/memory/dram_config.h"
 #include "model/memory/line_source.h"
-#include "model/sim/time.h"
 #include "model/sim/calendar.h"
 #include "model/sim/stats_registry.h"
+#include "model/sim/time.h"
 #include "model/sim/trace_request.h"
 
+#include <tlm_utils/simple_initiator_socket.h>
 #include <systemc>
 #include <tlm>
-#include <tlm_utils/simple_initiator_socket.h>
 
 #include <cstdint>
 #include <deque>
@@ -58,8 +58,8 @@ class MemoryPort : public sc_core::sc_module,
 
   // `line_bytes`: the size of every transaction; `mapping`: the memory's channel decode (the
   // crossbar's destination ports); `clock`: the accelerator's, on whose edges responses land.
-  MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping, const Clock& clock,
-             Calendar& calendar);
+  MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
+             const Clock& clock, Calendar& calendar);
   ~MemoryPort() override;
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
@@ -90,14 +90,16 @@ class MemoryPort : public sc_core::sc_module,
   };
 
   Transaction* make(uint64_t line, Tick arrival, bool write);
-  void send(Transaction* t);                 // BEGIN_REQ, or queued behind a pending END_REQ
+  void send(Transaction* t);  // BEGIN_REQ, or queued behind a pending END_REQ
   void send_now(Transaction* t);
-  tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay);
+  tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                                     sc_core::sc_time& delay);
   // A response arrived (at `at`); from the target's own call (nb_transport_bw), it may be handed
   // over at once (above).
   void response(Transaction* t, Tick at, bool may_deliver_now);
-  void deliver(Transaction* t);              // tells its requester, now
-  void activate() override;                  // on the calendar: deliver due responses, send held requests
+  void deliver(Transaction* t);  // tells its requester, now
+  // On the calendar: deliver due responses, send held requests
+  void activate() override;
   void free(tlm::tlm_generic_payload* p) override;  // the memory manager: back to the pool
   void trace(const Transaction& t, Tick done);
   [[noreturn]] void failed(const Transaction& t) const;

@@ -5,7 +5,8 @@ namespace rtsim::model {
 // A unit type's shared level, named after the type: its children are the group's `l2` and `icnt`.
 class MemorySystem::TypeModule : public sc_core::sc_module {
  public:
-  TypeModule(sc_core::sc_module_name name, MemorySystem& m, Type t, uint32_t l1_sources) : sc_core::sc_module(name) {
+  TypeModule(sc_core::sc_module_name name, MemorySystem& m, Type t, uint32_t l1_sources)
+      : sc_core::sc_module(name) {
     group = m.build_group(t, 0, l1_sources);
   }
   L2Group group;
@@ -29,12 +30,13 @@ MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock,
     m.cfg = unit_cfg[t];
     m.l2_cfg = t == kShading ? &cfg.ist : m.cfg;
     m.private_l2 = t == kShading ? false : m.cfg->l2_sharing == L2Sharing::kUnit;
-    const uint32_t groups = t == kShading ? (ist_private ? 1 : 0) : (m.private_l2 ? m.cfg->count : 1);
+    const uint32_t groups =
+        t == kShading ? (ist_private ? 1 : 0) : (m.private_l2 ? m.cfg->count : 1);
     m.first_source = sources;
     sources += groups * m.l2_cfg->l2.banks;
   }
-  interconnect_ = std::make_unique<MemoryInterconnect>("memory", cfg.memory_link, cfg.dram, clock, calendar, sources,
-                                                       cfg.shading.count);
+  interconnect_ = std::make_unique<MemoryInterconnect>("memory", cfg.memory_link, cfg.dram, clock,
+                                                       calendar, sources, cfg.shading.count);
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
     if (m.private_l2 || (t == kShading && !ist_private)) continue;
@@ -59,7 +61,8 @@ L2Group MemorySystem::build_group(Type t, uint32_t group, uint32_t l1_sources) {
   return g;
 }
 
-std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, const FillListener* requester) {
+std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index,
+                                                     const FillListener* requester) {
   TypeMemory& m = types_[t];
   auto u = std::make_unique<UnitMemory>();
   // The L2 this L1 reaches, and its source port on that L2's crossbar.
@@ -75,7 +78,8 @@ std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, con
     g = &types_[kIst].shared->group;
     source = types_[kIst].cfg->count + index;
   }
-  u->port = std::make_unique<CrossbarPort>(g->icnt.get(), source, nullptr, g->l2.get(), g->l2->config().line_bytes);
+  u->port = std::make_unique<CrossbarPort>(g->icnt.get(), source, nullptr, g->l2.get(),
+                                           g->l2->config().line_bytes);
   g->l2->name_requester(u->port.get(), type_name(t));
   u->l1 = std::make_unique<Cache>("l1", m.cfg->l1, clock_, u->port.get());
   u->l1->name_requester(requester, type_name(t));
@@ -84,7 +88,8 @@ std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index, con
   return u;
 }
 
-void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const {
+void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& top,
+                                  const Tick* end) const {
   // Totals over a set of caches, beside the per-instance figures.
   auto totals = [&r](const std::string& prefix, std::vector<const Cache*> caches) {
     auto sum = [caches](uint64_t CacheStats::*field) {
@@ -94,12 +99,17 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
         return double(n);
       };
     };
-    for (auto [name, field] : {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
-                               std::pair{"misses", &CacheStats::misses}, std::pair{"mshr_merges", &CacheStats::mshr_merges}})
+    for (auto [name, field] :
+         {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
+          std::pair{"misses", &CacheStats::misses},
+          std::pair{"mshr_merges", &CacheStats::mshr_merges}})
       r.formula(prefix + "." + name, sum(field), "count", "all of " + prefix + ": " + name);
-    r.formula(prefix + ".hit_rate", [h = sum(&CacheStats::hits), a = sum(&CacheStats::accesses)] {
-      return a() > 0 ? h() / a() : 0.0;
-    }, "ratio", "all of " + prefix + ": hits / accesses");
+    r.formula(
+        prefix + ".hit_rate",
+        [h = sum(&CacheStats::hits), a = sum(&CacheStats::accesses)] {
+          return a() > 0 ? h() / a() : 0.0;
+        },
+        "ratio", "all of " + prefix + ": hits / accesses");
   };
   for (int t = 0; t < kTypes; ++t) {
     const TypeMemory& m = types_[t];

@@ -35,7 +35,7 @@ enum class L2Sharing { kType, kUnit };
 struct TypeMemoryConfig {
   uint32_t count = 1;  // units of the type (one L1 each)
   CacheConfig l1, l2;
-  LinkConfig link;     // the crossbar between the type's L1s and its L2 (shading: the IST's)
+  LinkConfig link;  // the crossbar between the type's L1s and its L2 (shading: the IST's)
   L2Sharing l2_sharing = L2Sharing::kType;
 };
 
@@ -66,7 +66,8 @@ class MemorySystem {
   static const char* type_name(Type t);
 
   // Builds, in the current module's scope, the memory interconnect (`memory`, whose port speaks
-  // TLM-2.0 to a memory with the configuration `dram`) and one module per unit type with a shared L2.
+  // TLM-2.0 to a memory with the configuration `dram`) and one module per unit type with a shared
+  // L2.
   MemorySystem(const MemorySystemConfig& cfg, const Clock& clock, Calendar& calendar);
   MemorySystem(const MemorySystem&) = delete;
   MemorySystem& operator=(const MemorySystem&) = delete;
@@ -87,10 +88,10 @@ class MemorySystem {
     const TypeMemoryConfig* cfg = nullptr;     // the type's own configuration (its L1s, counts)
     const TypeMemoryConfig* l2_cfg = nullptr;  // the configuration its L2s use (shading: the IST's)
     bool private_l2 = false;
-    uint32_t first_source = 0;               // its first L2 bank on the memory crossbar
-    std::unique_ptr<TypeModule> shared;      // null with private L2s (or shading on the IST's L2)
-    std::vector<Cache*> l1s;                 // owned by the units
-    std::vector<const Cache*> l2s;           // owned by the units or `shared`
+    uint32_t first_source = 0;           // its first L2 bank on the memory crossbar
+    std::unique_ptr<TypeModule> shared;  // null with private L2s (or shading on the IST's L2)
+    std::vector<Cache*> l1s;             // owned by the units
+    std::vector<const Cache*> l2s;       // owned by the units or `shared`
     std::vector<const Crossbar*> icnts;
   };
   L2Group build_group(Type t, uint32_t group, uint32_t l1_sources);

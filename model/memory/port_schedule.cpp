@@ -13,7 +13,8 @@ Tick sim_time() { return Tick(sc_core::sc_time_stamp().value()); }
 
 }  // namespace
 
-PortSchedule::PortSchedule(Tick period, uint32_t ports) : clock_(Clock::with_period(period)), ports_(ports) {
+PortSchedule::PortSchedule(Tick period, uint32_t ports)
+    : clock_(Clock::with_period(period)), ports_(ports) {
   if (period == 0) throw std::invalid_argument("PortSchedule: zero clock period");
   if (ports_ == 0) return;
   if (ports_ > 255) throw std::invalid_argument("PortSchedule: at most 255 slots per cycle");

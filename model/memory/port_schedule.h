@@ -8,9 +8,9 @@
 //
 // The calendar is a ring of bits, one per cycle, set when the cycle's slots are all taken (with a
 // count per cycle when a port has several slots): the first free cycle is found 64 cycles at a
-// time, and requests piling up on one cycle resume where the previous one found room. The ring holds
-// the cycles from the simulated time (read lazily: it only moves on) onwards, and doubles when
-// reservations reach further ahead.
+// time, and requests piling up on one cycle resume where the previous one found room. The ring
+// holds the cycles from the simulated time (read lazily: it only moves on) onwards, and doubles
+// when reservations reach further ahead.
 //
 // `ports == 0` is the ideal port: every request is served at once and nothing is recorded but the
 // count.
@@ -26,9 +26,9 @@
 namespace rtsim::model {
 
 struct PortStats {
-  uint64_t requests = 0;      // slots asked for
-  uint64_t delayed = 0;       // requests served later than asked
-  uint64_t wait_cycles = 0;   // sum over requests of (cycle served - cycle asked)
+  uint64_t requests = 0;     // slots asked for
+  uint64_t delayed = 0;      // requests served later than asked
+  uint64_t wait_cycles = 0;  // sum over requests of (cycle served - cycle asked)
   uint64_t max_wait_cycles = 0;
 };
 
@@ -65,11 +65,11 @@ class PortSchedule {
   Clock clock_;
   uint32_t ports_;
   static constexpr size_t kInlineWords = 4;
-  uint64_t base_ = 0;           // first cycle held, a multiple of 64; the ring holds 64 * words
+  uint64_t base_ = 0;  // first cycle held, a multiple of 64; the ring holds 64 * words
   // Bit c % 64 of word c / 64: cycle c has no slot left.
   uint64_t inline_[kInlineWords] = {};
   std::vector<uint64_t> heap_;
-  std::vector<uint8_t> used_;   // ports > 1: slots taken per cycle (index c % cycles held)
+  std::vector<uint8_t> used_;  // ports > 1: slots taken per cycle (index c % cycles held)
   // The last request's asked and granted cycles: cycles in between were full and stay full, so a
   // pile-up on one cycle resumes the search where the previous request found room.
   uint64_t last_asked_ = ~uint64_t(0), last_granted_ = 0;

@@ -14,14 +14,16 @@ struct RecordFetch {
   uint32_t pending = 0;  // lines still to come (each will be told through on_fill)
 };
 
-inline RecordFetch fetch_record(Cache& cache, uint64_t addr, uint32_t bytes, Tick now, FillListener* listener,
-                                uint64_t cookie) {
+inline RecordFetch fetch_record(Cache& cache, uint64_t addr, uint32_t bytes, Tick now,
+                                FillListener* listener, uint64_t cookie) {
   const uint64_t line_bytes = cache.config().line_bytes;
   RecordFetch f;
   for (uint64_t line = addr & ~(line_bytes - 1); line < addr + bytes; line += line_bytes) {
     const Tick t = cache.fetch_line(line, now, listener, cookie);
-    if (t == kUnknown) ++f.pending;
-    else f.ready = std::max(f.ready, t);
+    if (t == kUnknown)
+      ++f.pending;
+    else
+      f.ready = std::max(f.ready, t);
   }
   if (f.pending) f.ready = kUnknown;
   return f;

@@ -21,7 +21,9 @@ Calendar::Calendar(sc_core::sc_module_name name) : sc_core::sc_module(name) {
 }
 
 void Calendar::add(Client* c, Tick period) {
-  if (ring_entries_ > 0) report_error(kReportInternal, std::string(name()) + ": blocks must be added before any is scheduled");
+  if (ring_entries_ > 0)
+    report_error(kReportInternal,
+                 std::string(name()) + ": blocks must be added before any is scheduled");
   c->id_ = uint32_t(clients_.size());
   c->period_ = period;
   clients_.push_back(c);
@@ -36,7 +38,8 @@ void Calendar::schedule(Client* c, Tick at) {
   if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;
   c->armed_at_ = at;
   const uint64_t cycle = period_ ? at / period_ : 0;
-  if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at && at - now < kSlots * period_) {
+  if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at &&
+      at - now < kSlots * period_) {
     const uint64_t slot = cycle % kSlots;
     uint64_t& word = ring_[slot * words_ + c->id_ / 64];
     const uint64_t bit = uint64_t(1) << (c->id_ % 64);

@@ -50,7 +50,7 @@ class Calendar : public sc_core::sc_module {
   SC_HAS_PROCESS(Calendar);
   void run();
   void notify_at(Tick at, Tick now);
-  Tick next_time(Tick now);       // the earliest queued time at or after now; kUnknown if none
+  Tick next_time(Tick now);  // the earliest queued time at or after now; kUnknown if none
   bool pop_due(Tick now, uint32_t& id);  // the lowest id queued for `now`
 
   static constexpr uint64_t kSlots = 256;  // cycles ahead held in the ring

@@ -45,7 +45,8 @@ class RangeCheck {
       throw std::invalid_argument(path(key) + ": expected " + range(lo, hi));
   }
   void kib(const char* key, uint32_t bytes, double lo, double hi, const char*) {
-    if (!(bytes / 1024.0 <= hi)) throw std::invalid_argument(path(key) + ": expected " + range(lo, hi) + " KB");
+    if (!(bytes / 1024.0 <= hi))
+      throw std::invalid_argument(path(key) + ": expected " + range(lo, hi) + " KB");
   }
   void flag(const char*, bool, const char*) {}
   void text(const char*, const std::string&, const char*) {}

@@ -27,7 +27,8 @@ class PeriodicProbe : public sc_core::sc_module {
 
  private:
   void run() {
-    if (sample_(Tick(sc_core::sc_time_stamp().value()))) event_.notify(sc_core::sc_time::from_value(period_));
+    if (sample_(Tick(sc_core::sc_time_stamp().value())))
+      event_.notify(sc_core::sc_time::from_value(period_));
   }
 
   Tick period_;

@@ -15,8 +15,8 @@ namespace rtsim::model {
 struct FifoStats {
   uint64_t pushes = 0;
   uint64_t max_occupancy = 0;
-  uint64_t full_events = 0;       // pushes refused because the FIFO was full
-  uint64_t occupancy_ps = 0;      // integral of occupancy over time (entries x ps)
+  uint64_t full_events = 0;   // pushes refused because the FIFO was full
+  uint64_t occupancy_ps = 0;  // integral of occupancy over time (entries x ps)
 };
 
 class RayFifo : public sc_core::sc_object {

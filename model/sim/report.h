@@ -7,11 +7,11 @@
 
 namespace rtsim::model {
 
-inline constexpr const char* kReportConfig = "rtsim/config";        // a configuration out of range
-inline constexpr const char* kReportWatchdog = "rtsim/watchdog";    // a run that stopped moving
-inline constexpr const char* kReportMemory = "rtsim/memory";        // an access outside the memory
-inline constexpr const char* kReportTrace = "rtsim/trace";          // a trace that cannot be written
-inline constexpr const char* kReportInternal = "rtsim/internal";    // a broken invariant: a bug
+inline constexpr const char* kReportConfig = "rtsim/config";      // a configuration out of range
+inline constexpr const char* kReportWatchdog = "rtsim/watchdog";  // a run that stopped moving
+inline constexpr const char* kReportMemory = "rtsim/memory";      // an access outside the memory
+inline constexpr const char* kReportTrace = "rtsim/trace";        // a trace that cannot be written
+inline constexpr const char* kReportInternal = "rtsim/internal";  // a broken invariant: a bug
 
 // SC_REPORT_ERROR(type, message). The default action throws the sc_report; a handler that returns
 // instead cannot let the model continue, so this then throws std::runtime_error.

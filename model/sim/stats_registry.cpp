@@ -12,7 +12,8 @@ std::string stat_prefix(const sc_core::sc_object& block, const sc_core::sc_objec
 }
 
 void StatsRegistry::add(const std::string& name, Entry e) {
-  if (!entries_.emplace(name, std::move(e)).second) throw std::logic_error("statistic registered twice: " + name);
+  if (!entries_.emplace(name, std::move(e)).second)
+    throw std::logic_error("statistic registered twice: " + name);
 }
 
 void StatsRegistry::counter(const std::string& name, const uint64_t* value, const std::string& unit,
@@ -20,8 +21,8 @@ void StatsRegistry::counter(const std::string& name, const uint64_t* value, cons
   add(name, Entry{value, {}, unit, description});
 }
 
-void StatsRegistry::formula(const std::string& name, std::function<double()> value, const std::string& unit,
-                            const std::string& description) {
+void StatsRegistry::formula(const std::string& name, std::function<double()> value,
+                            const std::string& unit, const std::string& description) {
   add(name, Entry{nullptr, std::move(value), unit, description});
 }
 
@@ -40,8 +41,10 @@ nlohmann::json StatsRegistry::values() const {
       start = dot + 1;
     }
     const std::string leaf = name.substr(start);
-    if (e.counter) (*node)[leaf] = *e.counter;
-    else (*node)[leaf] = e.formula();
+    if (e.counter)
+      (*node)[leaf] = *e.counter;
+    else
+      (*node)[leaf] = e.formula();
   }
   return root;
 }

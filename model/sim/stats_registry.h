@@ -22,7 +22,8 @@ std::string stat_prefix(const sc_core::sc_object& block, const sc_core::sc_objec
 
 class StatsRegistry {
  public:
-  void counter(const std::string& name, const uint64_t* value, const std::string& unit, const std::string& description);
+  void counter(const std::string& name, const uint64_t* value, const std::string& unit,
+               const std::string& description);
   void formula(const std::string& name, std::function<double()> value, const std::string& unit,
                const std::string& description);
 
@@ -31,7 +32,9 @@ class StatsRegistry {
   // name -> unit and description, for the report's glossary (glossary.csv).
   struct Glossary {
     std::string unit, description;
-    bool operator==(const Glossary& o) const { return unit == o.unit && description == o.description; }
+    bool operator==(const Glossary& o) const {
+      return unit == o.unit && description == o.description;
+    }
   };
   std::map<std::string, Glossary> glossary() const;
   double value(const std::string& name) const;  // throws std::out_of_range for an unknown name

@@ -8,7 +8,7 @@
 
 namespace rtsim::model {
 
-using Tick = uint64_t;  // picoseconds
+using Tick = uint64_t;                                              // picoseconds
 inline constexpr Tick kUnknown = std::numeric_limits<Tick>::max();  // a time not known yet
 
 // A clock of `ghz` gigahertz: converts cycles to ticks and rounds times up to its edges.
@@ -40,8 +40,8 @@ class Clock {
         exact_below_(period_ == 1 ? 0 : ~uint64_t(0) / period_ - period_) {}
 
   Tick period_;
-  uint64_t inverse_;      // floor(2^64 / period) + 1
-  Tick exact_below_;      // t + period - 1 below 2^64 / period keeps the product exact
+  uint64_t inverse_;  // floor(2^64 / period) + 1
+  Tick exact_below_;  // t + period - 1 below 2^64 / period keeps the product exact
 };
 
 }  // namespace rtsim::model

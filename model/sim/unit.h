@@ -1,14 +1,14 @@
 // The common shape of every pipelined unit: activations on the calendar, only when the
-// unit has work. An activation does one cycle's work (`cycle`), then the unit re-arms itself for the next cycle
-// if more work is ready by then, for the earliest future ready time, or not at all (idle until
-// something calls wake()). Busy, stalled and idle cycles are accounted from these transitions:
-// a cycle is busy when an operation issued, stalled when the unit held work it could not issue
-// (waiting on memory or on a full output), idle otherwise.
+// unit has work. An activation does one cycle's work (`cycle`), then the unit re-arms itself for
+// the next cycle if more work is ready by then, for the earliest future ready time, or not at all
+// (idle until something calls wake()). Busy, stalled and idle cycles are accounted from these
+// transitions: a cycle is busy when an operation issued, stalled when the unit held work it could
+// not issue (waiting on memory or on a full output), idle otherwise.
 #pragma once
 
-#include "model/sim/time.h"
 #include "model/sim/calendar.h"
 #include "model/sim/stats_registry.h"
+#include "model/sim/time.h"
 
 #include <systemc>
 
@@ -53,8 +53,8 @@ class Unit : public sc_core::sc_module, public Calendar::Client {
 
   Calendar& calendar_;
   const Clock& clock_;
-  Tick accounted_to_ = 0;      // cycles before this are classified
-  bool held_work_ = false;     // state of the gap since the last activation
+  Tick accounted_to_ = 0;   // cycles before this are classified
+  bool held_work_ = false;  // state of the gap since the last activation
   Tick last_issue_ = kUnknown;
   UnitStats stats_;
 };

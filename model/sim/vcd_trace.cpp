@@ -7,12 +7,14 @@
 
 namespace rtsim::model {
 
-VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock) : request_(request), clock_(clock) {
+VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock)
+    : request_(request), clock_(clock) {
   // SystemC appends ".vcd"; the file gets its own name only when complete.
   temp_base_ = request_.file + ".part";
   file_ = sc_core::sc_create_vcd_trace_file(temp_base_.c_str());  // opened at sc_start
   file_->set_time_unit(1, sc_core::SC_PS);
-  probe_ = std::make_unique<PeriodicProbe>("vcd_probe", clock_.period(), [this](Tick now) { return sample(now); });
+  probe_ = std::make_unique<PeriodicProbe>("vcd_probe", clock_.period(),
+                                           [this](Tick now) { return sample(now); });
 }
 
 VcdTrace::~VcdTrace() {
@@ -27,13 +29,15 @@ void VcdTrace::add_fifo(const RayFifo* fifo) {
 }
 
 void VcdTrace::add_unit(const Unit* unit) {
-  busy_.push_back({std::make_unique<sc_core::sc_signal<bool>>(sc_core::sc_gen_unique_name("busy")), unit});
+  busy_.push_back(
+      {std::make_unique<sc_core::sc_signal<bool>>(sc_core::sc_gen_unique_name("busy")), unit});
   sc_core::sc_trace(file_, *busy_.back().signal, std::string(unit->name()) + ".busy");
 }
 
 void VcdTrace::add_counter(const std::string& name, std::function<uint64_t()> value) {
-  counters_.push_back({std::make_unique<sc_core::sc_signal<uint64_t>>(sc_core::sc_gen_unique_name("count")),
-                       std::move(value)});
+  counters_.push_back(
+      {std::make_unique<sc_core::sc_signal<uint64_t>>(sc_core::sc_gen_unique_name("count")),
+       std::move(value)});
   sc_core::sc_trace(file_, *counters_.back().signal, name);
 }
 

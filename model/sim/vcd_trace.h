@@ -6,9 +6,9 @@
 // has acted), so outside the window the file holds no changes and the run pays little.
 #pragma once
 
-#include "model/sim/time.h"
 #include "model/sim/periodic_probe.h"
 #include "model/sim/ray_fifo.h"
+#include "model/sim/time.h"
 #include "model/sim/trace_request.h"
 #include "model/sim/unit.h"
 
@@ -29,7 +29,8 @@ class VcdTrace {
   void add_fifo(const RayFifo* fifo);
   void add_unit(const Unit* unit);  // 1 in cycles where an operation issued
   void add_counter(const std::string& name, std::function<uint64_t()> value);
-  // Arms the sampling probe (before sc_start); it stops at the window's end or when nothing is pending.
+  // Arms the sampling probe (before sc_start); it stops at the window's end or when nothing is
+  // pending.
   void start(std::function<bool()> pending);
   void close();  // after the run: completes the file and moves it to its name
 

@@ -1,7 +1,8 @@
 // Stops a run that makes no progress: every `interval` cycles while work is pending it compares a
 // progress count (operations issued, rays retired) with the last one; if nothing moved, it reports
-// an error of type rtsim/watchdog (model/sim/report.h) naming the FIFOs and units that still hold rays
-// (the default sc_report action throws it out of sc_start; the testbench turns it into its message).
+// an error of type rtsim/watchdog (model/sim/report.h) naming the FIFOs and units that still hold
+// rays (the default sc_report action throws it out of sc_start; the testbench turns it into its
+// message).
 #pragma once
 
 #include "model/sim/report.h"
@@ -14,10 +15,14 @@ namespace rtsim::model {
 
 class Watchdog : public Unit {
  public:
-  Watchdog(sc_core::sc_module_name name, Calendar& calendar, const Clock& clock, uint64_t interval_cycles,
-           std::function<uint64_t()> progress, std::function<bool()> pending, std::function<std::string()> describe)
-      : Unit(name, calendar, clock), interval_(interval_cycles), progress_(std::move(progress)),
-        pending_(std::move(pending)), describe_(std::move(describe)) {}
+  Watchdog(sc_core::sc_module_name name, Calendar& calendar, const Clock& clock,
+           uint64_t interval_cycles, std::function<uint64_t()> progress,
+           std::function<bool()> pending, std::function<std::string()> describe)
+      : Unit(name, calendar, clock),
+        interval_(interval_cycles),
+        progress_(std::move(progress)),
+        pending_(std::move(pending)),
+        describe_(std::move(describe)) {}
   void start() { wake(now_ps() + clock().cycles(interval_)); }
   bool fired() const { return !report_.empty(); }
   const std::string& report() const { return report_; }

@@ -11,13 +11,14 @@
 namespace rtsim::model {
 
 struct PixelState {
-  Hit hit;                // tri == kNoHit: the primary ray missed
-  uint32_t lvb = 0;       // LVB word of the hit leaf (from the LVB updater)
+  Hit hit;           // tri == kNoHit: the primary ray missed
+  uint32_t lvb = 0;  // LVB word of the hit leaf (from the LVB updater)
   SurfacePoint surface;
   Vec3 diffuse{0.f};
   float reflectance = 0.f;
-  uint16_t occluded = 0;  // bit i: the shadow ray to light i was blocked (every sample, for an area light)
-  uint16_t culled = 0;    // bit i: the shadow rays to light i were culled (not generated)
+  // Bit i: the shadow ray to light i was blocked (every sample, for an area light)
+  uint16_t occluded = 0;
+  uint16_t culled = 0;  // bit i: the shadow rays to light i were culled (not generated)
 };
 
 // One entry per pixel and bounce: entry level * width * height + pixel holds the hit of the
@@ -28,8 +29,8 @@ struct FrameBuffer {
   std::vector<PixelState> pixels;
   // Lights with several samples (area lights): one occlusion bit per entry, light and sample, so
   // the pixels can be composed in the reference tracer's sample order.
-  std::vector<uint32_t> samples;       // per light
-  std::vector<uint32_t> first_bit;     // per light: its first bit within an entry's words
+  std::vector<uint32_t> samples;    // per light
+  std::vector<uint32_t> first_bit;  // per light: its first bit within an entry's words
   uint32_t words_per_entry = 0;
   std::vector<uint64_t> sample_bits;
 
@@ -64,9 +65,12 @@ struct FrameBuffer {
   void close_samples() {
     for (uint32_t e = 0; e < pixels.size(); ++e)
       for (uint32_t l = 0; l < samples.size(); ++l)
-        if (samples[l] > 1 && occluded_samples(e, l) == samples[l]) pixels[e].occluded |= uint16_t(1u << l);
+        if (samples[l] > 1 && occluded_samples(e, l) == samples[l])
+          pixels[e].occluded |= uint16_t(1u << l);
   }
-  uint32_t entry(uint32_t pixel, int level) const { return uint32_t(size_t(level) * pixel_count() + pixel); }
+  uint32_t entry(uint32_t pixel, int level) const {
+    return uint32_t(size_t(level) * pixel_count() + pixel);
+  }
   PixelState& at(uint32_t pixel, int level) { return pixels[entry(pixel, level)]; }
   const PixelState& at(uint32_t pixel, int level) const { return pixels[entry(pixel, level)]; }
 };

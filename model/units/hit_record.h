@@ -28,7 +28,7 @@ inline constexpr uint32_t kHitRecordBytes = 64;
 struct HitRecordRegion {
   uint64_t base = 0;  // line-aligned, after the image
   uint32_t stride = kHitRecordBytes;
-  uint32_t pixels = 0;                                     // per level
+  uint32_t pixels = 0;                                    // per level
   std::shared_ptr<const std::vector<uint32_t>> pixel_at;  // slot within a level -> pixel
   std::shared_ptr<const std::vector<uint32_t>> slot_of;   // pixel -> slot within a level
 
@@ -52,7 +52,8 @@ struct HitRecord {
 inline void encode_hit_record(const PixelState& px, uint8_t* out) {
   std::memset(out, 0, kHitRecordBytes);
   auto put = [&out](size_t at, const void* v, size_t n) { std::memcpy(out + at, v, n); };
-  const float f[] = {px.surface.p.x, px.surface.p.y, px.surface.p.z, px.surface.n.x, px.surface.n.y, px.surface.n.z};
+  const float f[] = {px.surface.p.x, px.surface.p.y, px.surface.p.z,
+                     px.surface.n.x, px.surface.n.y, px.surface.n.z};
   put(0, f, sizeof f);
   put(24, &px.lvb, 4);
   const uint32_t flags = px.hit.tri != kNoHit ? 1u : 0u;

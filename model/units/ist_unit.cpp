@@ -6,7 +6,10 @@ namespace rtsim::model {
 
 IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
                  MemorySystem& memory, uint32_t index, RayOwners* owners, LvbUpdater* lvb)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kIst, index), latency_(cfg.latency), owners_(owners), lvb_(lvb) {}
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kIst, index),
+      latency_(cfg.latency),
+      owners_(owners),
+      lvb_(lvb) {}
 
 void IstUnit::process(uint32_t id, Tick now) {
   RayState& r = (*ctx_.pool)[id];
@@ -24,10 +27,12 @@ void IstUnit::process(uint32_t id, Tick now) {
     const Hit before = r.trav.hit;
     traversal_hit(r.trav, tri, t_hit);
     const Hit& after = r.trav.hit;
-    if (r.type != RayType::kShadow && (after.tri != before.tri || after.t != before.t || after.leaf != before.leaf))
+    if (r.type != RayType::kShadow &&
+        (after.tri != before.tri || after.t != before.t || after.leaf != before.leaf))
       lvb_->on_closest_hit(r);
   }
-  r.leaf_done_at = std::max<Tick>(r.leaf_done_at, std::max(ready, now) + ctx_.clock.cycles(latency_));
+  r.leaf_done_at =
+      std::max<Tick>(r.leaf_done_at, std::max(ready, now) + ctx_.clock.cycles(latency_));
   if (++r.tests_issued < r.tris.size()) {
     keep(id, now + ctx_.clock.period());  // the next test issues as soon as next cycle
     return;

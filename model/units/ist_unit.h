@@ -21,8 +21,8 @@ struct IstStats {
 class IstUnit : public RayUnit {
  public:
   // Unit `index` of the IST units; rays go back through `owners`, closest hits through `lvb`.
-  IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
-          uint32_t index, RayOwners* owners, LvbUpdater* lvb);
+  IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
+          MemorySystem& memory, uint32_t index, RayOwners* owners, LvbUpdater* lvb);
   const IstStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 

@@ -17,8 +17,8 @@ struct ListStats {
 class ListUnit : public RayUnit {
  public:
   // Unit `index` of the LIST units; its rays go on to `to_ist`.
-  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
-           uint32_t index, RayFifo* to_ist);
+  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
+           MemorySystem& memory, uint32_t index, RayFifo* to_ist);
   const ListStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 

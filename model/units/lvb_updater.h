@@ -3,8 +3,8 @@
 // hardware; here a counter of updates.
 #pragma once
 
-#include "model/units/ray_state.h"
 #include "model/sim/stats_registry.h"
+#include "model/units/ray_state.h"
 
 namespace rtsim::model {
 
@@ -17,7 +17,8 @@ class LvbUpdater : public sc_core::sc_object {
     ++updates_;
   }
   void register_stats(StatsRegistry& reg, const std::string& prefix) const {
-    reg.counter(prefix + ".updates", &updates_, "count", "closest-hit updates that took a leaf's LVB word");
+    reg.counter(prefix + ".updates", &updates_, "count",
+                "closest-hit updates that took a leaf's LVB word");
   }
 
  private:

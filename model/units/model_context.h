@@ -1,5 +1,5 @@
-// What every unit of one accelerator instance shares: its calendar, the ray pool, the memory image's layout,
-// the clock and the numeric constants of the traversal (the reference tracer's).
+// What every unit of one accelerator instance shares: its calendar, the ray pool, the memory
+// image's layout, the clock and the numeric constants of the traversal (the reference tracer's).
 #pragma once
 
 #include "kernels/memory_image.h"

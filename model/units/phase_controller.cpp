@@ -15,8 +15,10 @@ void PhaseController::on_retire(RayType type, Tick when) {
     primary_end_ = std::max(primary_end_, when);
     if (generator_.finished() && primaries_retired_ == generator_.issued()) {
       primaries_done_ = true;
-      if (schedule_ == Schedule::kTwoPhase) culling_.scan_all(std::max(now, primary_end_));
-      else culling_.close(now);
+      if (schedule_ == Schedule::kTwoPhase)
+        culling_.scan_all(std::max(now, primary_end_));
+      else
+        culling_.close(now);
     }
   } else {
     ++shadows_retired_;

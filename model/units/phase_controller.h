@@ -4,10 +4,10 @@
 // waits for a ray slot when one frees, and keeps the times the frame's phases end.
 #pragma once
 
+#include "model/sim/calendar.h"
 #include "model/sim/time.h"
 #include "model/units/ray_generator.h"
 #include "model/units/ray_state.h"
-#include "model/sim/calendar.h"
 #include "model/units/shadow_culling_unit.h"
 
 #include <cstdint>
@@ -20,7 +20,8 @@ enum class Schedule { kTwoPhase, kOnePhase };
 
 class PhaseController {
  public:
-  PhaseController(Schedule schedule, Calendar& calendar, RayGenerator& generator, ShadowCullingUnit& culling)
+  PhaseController(Schedule schedule, Calendar& calendar, RayGenerator& generator,
+                  ShadowCullingUnit& culling)
       : schedule_(schedule), calendar_(calendar), generator_(generator), culling_(culling) {}
 
   // A ray retired at `when` (a shading unit's on_retire).
@@ -30,7 +31,9 @@ class PhaseController {
 
   bool primaries_done() const { return primaries_done_; }
   // Every ray has retired and the culling unit has decided every (hit, light) pair.
-  bool finished() const { return primaries_done_ && culling_.finished() && shadows_retired_ == culling_.generated(); }
+  bool finished() const {
+    return primaries_done_ && culling_.finished() && shadows_retired_ == culling_.generated();
+  }
   uint64_t primaries_retired() const { return primaries_retired_; }
   uint64_t shadows_retired() const { return shadows_retired_; }
   Tick primary_end() const { return primary_end_; }  // the last primary retirement

@@ -12,15 +12,22 @@ std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int til
   for (int ty = 0; ty < height; ty += tile)
     for (int tx = 0; tx < width; tx += tile)
       for (int y = ty; y < std::min(ty + tile, height); ++y)
-        for (int x = tx; x < std::min(tx + tile, width); ++x) pixels.push_back(uint32_t(y * width + x));
+        for (int x = tx; x < std::min(tx + tile, width); ++x)
+          pixels.push_back(uint32_t(y * width + x));
   return pixels;
 }
 
-RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width,
-                           int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs,
-                           uint32_t rays_per_cycle)
-    : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), camera_(camera, width, height), width_(width), height_(height),
-      inputs_(std::move(trv_inputs)), rays_per_cycle_(rays_per_cycle), total_(uint64_t(width) * height),
+RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx,
+                           const Camera& camera, int width, int height, RayOrder order, int tile,
+                           std::vector<RayFifo*> trv_inputs, uint32_t rays_per_cycle)
+    : Unit(name, *ctx.calendar, ctx.clock),
+      ctx_(ctx),
+      camera_(camera, width, height),
+      width_(width),
+      height_(height),
+      inputs_(std::move(trv_inputs)),
+      rays_per_cycle_(rays_per_cycle),
+      total_(uint64_t(width) * height),
       order_(issue_order(width, height, order, tile)) {}
 
 bool RayGenerator::cycle(Tick now) {
@@ -41,7 +48,7 @@ bool RayGenerator::cycle(Tick now) {
 
 Tick RayGenerator::next_ready(Tick from) const {
   if (finished() || ctx_.pool->full()) return kUnknown;  // woken when a ray retires
-  return inputs_.any_free() ? from : kUnknown;  // woken when a TRV input frees a slot
+  return inputs_.any_free() ? from : kUnknown;           // woken when a TRV input frees a slot
 }
 
 }  // namespace rtsim::model

@@ -4,9 +4,9 @@
 #pragma once
 
 #include "kernels/camera.h"
-#include "model/units/model_context.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/unit.h"
+#include "model/units/model_context.h"
 
 #include <vector>
 
@@ -20,8 +20,9 @@ std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int til
 
 class RayGenerator : public Unit {
  public:
-  RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera, int width, int height,
-               RayOrder order, int tile, std::vector<RayFifo*> trv_inputs, uint32_t rays_per_cycle = 1);
+  RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera,
+               int width, int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs,
+               uint32_t rays_per_cycle = 1);
   bool finished() const { return next_ == total_; }
   uint64_t issued() const { return next_; }
 

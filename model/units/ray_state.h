@@ -13,16 +13,15 @@ namespace rtsim::model {
 
 enum class RayType : uint8_t { kPrimary, kReflection, kShadow };
 
-
 struct RayState {
   TraversalState trav;
   RayType type = RayType::kPrimary;
-  uint32_t pixel = 0;      // primary and reflection rays: the pixel; shadow rays: the frame entry
-  uint8_t depth = 0;       // reflection bounces so far
-  uint8_t light = 0;       // shadow rays: which light
-  uint16_t sample = 0;     // shadow rays: which of the light's samples
-  uint16_t trv_unit = 0;   // the TRV unit that owns the ray (it returns there after each leaf)
-  bool started = false;    // traversal_begin done
+  uint32_t pixel = 0;     // primary and reflection rays: the pixel; shadow rays: the frame entry
+  uint8_t depth = 0;      // reflection bounces so far
+  uint8_t light = 0;      // shadow rays: which light
+  uint16_t sample = 0;    // shadow rays: which of the light's samples
+  uint16_t trv_unit = 0;  // the TRV unit that owns the ray (it returns there after each leaf)
+  bool started = false;   // traversal_begin done
   // LVB updater: the LVB word of the leaf being tested, and the word of the leaf holding the
   // current closest hit (taken whenever the closest hit is updated).
   uint32_t leaf_lvb = 0;
@@ -33,15 +32,15 @@ struct RayState {
   // IST progress on the current leaf.
   uint32_t tests_issued = 0;
   Ray leaf_ray;
-  uint64_t leaf_done_at = 0;  // completion time of the latest test issued (ps)
-  uint32_t waiting_lines = 0; // lines of a straddling record still in flight
+  uint64_t leaf_done_at = 0;   // completion time of the latest test issued (ps)
+  uint32_t waiting_lines = 0;  // lines of a straddling record still in flight
   // The record a parked ray waited for has arrived: the next operation reads it without fetching
   // again (the ray accumulation buffer holds the returned data; re-fetching could miss forever
   // when the line is evicted before the ray issues again).
   bool fill_ready = false;
-  uint8_t stage = 0;          // shading: 0 = triangle, 1 = material
-  uint32_t material = 0;      // shading: the hit triangle's material
-  SurfacePoint surface;       // shading: the hit's surface point, from the triangle
+  uint8_t stage = 0;      // shading: 0 = triangle, 1 = material
+  uint32_t material = 0;  // shading: the hit triangle's material
+  SurfacePoint surface;   // shading: the hit's surface point, from the triangle
 };
 
 class RayPool {

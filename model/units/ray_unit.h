@@ -6,11 +6,11 @@
 #pragma once
 
 #include "model/memory/memory_system.h"
-#include "model/units/model_context.h"
 #include "model/memory/record_fetch.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/ready_queue.h"
 #include "model/sim/unit.h"
+#include "model/units/model_context.h"
 
 namespace rtsim::model {
 
@@ -37,9 +37,12 @@ class RayUnit : public Unit, public FillListener {
 
  protected:
   // Builds the unit's input FIFO and its caches (unit `index` of `type` in `memory`).
-  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
-          MemorySystem::Type type, uint32_t index)
-      : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), in_("in", cfg.fifo_depth), capacity_(cfg.capacity) {
+  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
+          MemorySystem& memory, MemorySystem::Type type, uint32_t index)
+      : Unit(name, *ctx.calendar, ctx.clock),
+        ctx_(ctx),
+        in_("in", cfg.fifo_depth),
+        capacity_(cfg.capacity) {
     memory_ = memory.build_unit(type, index, this);
     l1_ = memory_->l1.get();
     in_.connect(nullptr, this);

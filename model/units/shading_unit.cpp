@@ -4,9 +4,12 @@
 
 namespace rtsim::model {
 
-ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-                         MemorySystem& memory, uint32_t index, RayOwners* owners, FrameBuffer* frame)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kShading, index), latency_(cfg.latency), owners_(owners),
+ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
+                         const RayUnitConfig& cfg, MemorySystem& memory, uint32_t index,
+                         RayOwners* owners, FrameBuffer* frame)
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kShading, index),
+      latency_(cfg.latency),
+      owners_(owners),
       frame_(frame) {}
 
 void ShadingUnit::process(uint32_t id, Tick now) {
@@ -15,8 +18,10 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     PixelState& px = frame_->pixels[r.pixel];
     ++stats_.shadow_rays;
     if (r.trav.found) {
-      if (ctx_.light_samples[r.light] > 1) frame_->set_sample_occluded(r.pixel, r.light, r.sample);
-      else px.occluded |= uint16_t(1u << r.light);
+      if (ctx_.light_samples[r.light] > 1)
+        frame_->set_sample_occluded(r.pixel, r.light, r.sample);
+      else
+        px.occluded |= uint16_t(1u << r.light);
       ++stats_.shadow_occluded;
     }
     return retire(id, RayType::kShadow, now);
@@ -86,10 +91,13 @@ void ShadingUnit::register_stats(StatsRegistry& r, const std::string& prefix) co
   register_unit_stats(r, prefix);
   r.counter(prefix + ".primary_rays", &stats_.primary_rays, "count", "primary rays shaded");
   r.counter(prefix + ".primary_hits", &stats_.primary_hits, "count", "primary rays that hit");
-  r.counter(prefix + ".reflection_rays", &stats_.reflection_rays, "count", "reflection rays shaded");
-  r.counter(prefix + ".reflection_hits", &stats_.reflection_hits, "count", "reflection rays that hit");
+  r.counter(prefix + ".reflection_rays", &stats_.reflection_rays, "count",
+            "reflection rays shaded");
+  r.counter(prefix + ".reflection_hits", &stats_.reflection_hits, "count",
+            "reflection rays that hit");
   r.counter(prefix + ".shadow_rays", &stats_.shadow_rays, "count", "shadow rays finished");
-  r.counter(prefix + ".shadow_occluded", &stats_.shadow_occluded, "count", "shadow rays that were blocked");
+  r.counter(prefix + ".shadow_occluded", &stats_.shadow_occluded, "count",
+            "shadow rays that were blocked");
 }
 
 }  // namespace rtsim::model

@@ -24,9 +24,10 @@ struct ShadingStats {
 
 class ShadingUnit : public RayUnit {
  public:
-  // Unit `index` of the shading units; rays go back or retire through `owners`; hits land in `frame`.
-  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
-              uint32_t index, RayOwners* owners, FrameBuffer* frame);
+  // Unit `index` of the shading units; rays go back or retire through `owners`; hits land in
+  // `frame`.
+  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
+              MemorySystem& memory, uint32_t index, RayOwners* owners, FrameBuffer* frame);
   // Called after every retirement (the accelerator's phase control listens).
   std::function<void(RayType, Tick)> on_retire;
   // Called when a hit (frame entry) is shaded, with the time its result is ready (one phase).

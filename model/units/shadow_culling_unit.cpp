@@ -5,11 +5,18 @@
 
 namespace rtsim::model {
 
-ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
-                                     const CullingConfig& config, Cache* l1, FrameBuffer* frame,
-                                     std::vector<RayFifo*> trv_inputs)
-    : Unit(name, *ctx.calendar, ctx.clock), ctx_(ctx), culling_(culling), l1_(l1), frame_(frame), inputs_(std::move(trv_inputs)),
-      lights_(ctx.header.light_count), rate_(config.records_per_cycle), prefetch_(std::max<uint32_t>(1, config.prefetch)) {}
+ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
+                                     bool culling, const CullingConfig& config, Cache* l1,
+                                     FrameBuffer* frame, std::vector<RayFifo*> trv_inputs)
+    : Unit(name, *ctx.calendar, ctx.clock),
+      ctx_(ctx),
+      culling_(culling),
+      l1_(l1),
+      frame_(frame),
+      inputs_(std::move(trv_inputs)),
+      lights_(ctx.header.light_count),
+      rate_(config.records_per_cycle),
+      prefetch_(std::max<uint32_t>(1, config.prefetch)) {}
 
 void ShadowCullingUnit::scan_all(Tick now) {
   scanning_ = closed_ = true;
@@ -47,7 +54,8 @@ void ShadowCullingUnit::on_fill(uint64_t, uint64_t cookie, Tick when) {
     // The record's bytes as they arrive (the window keeps its slot until the entry is taken).
     const uint32_t entry = uint32_t(cookie - 1);
     arrival_[entry % prefetch_] = when;
-    prefetched_[entry % prefetch_] = decode_hit_record(reader_->line_data(region_.slot_address(entry)));
+    prefetched_[entry % prefetch_] =
+        decode_hit_record(reader_->line_data(region_.slot_address(entry)));
     if (entry != entry_) return;
   }
   wake(when);
@@ -117,7 +125,8 @@ bool ShadowCullingUnit::latch_light(Tick now) {
   Tick ready = fl.ready;
   if (light.area) {
     // Its edges are in its second record (docs/memory-image.md).
-    const uint64_t area_addr = ctx_.header.lights.base + uint64_t(ctx_.header.light_count + light_) * image::kLightBytes;
+    const uint64_t area_addr =
+        ctx_.header.lights.base + uint64_t(ctx_.header.light_count + light_) * image::kLightBytes;
     const RecordFetch fa = fetch_record(*l1_, area_addr, image::kLightBytes, now, this, 0);
     if (fa.ready == kUnknown) return false;
     read_record(*l1_, area_addr, image::kLightBytes, bytes);
@@ -147,8 +156,9 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   r.pixel = entry;
   r.light = uint8_t(light_);
   r.sample = uint16_t(sample_);
-  r.trav.ray = shadow_ray(surface, light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
-                          ctx_.shadow_offset);
+  r.trav.ray = shadow_ray(
+      surface, light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
+      ctx_.shadow_offset);
   f->push(id, std::max(latched_ready_, now + clock().period()), now);
   ++lights_[light_].decisions;
   ++lights_[light_].generated;
@@ -156,14 +166,17 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   return true;
 }
 
-bool ShadowCullingUnit::cycle(Tick now) { return rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now); }
+bool ShadowCullingUnit::cycle(Tick now) {
+  return rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now);
+}
 
 bool ShadowCullingUnit::cycle_unlimited(Tick now) {
   if (!has_work() || waiting_ || current_ready() > now) return false;
   // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
   // unit emits the next shadow ray that is not culled.
   bool culled_any = false;
-  while (culling_ && has_work() && current_ready() <= now && !((frame_->pixels[current()].lvb >> light_) & 1u)) {
+  while (culling_ && has_work() && current_ready() <= now &&
+         !((frame_->pixels[current()].lvb >> light_) & 1u)) {
     cull_light();
     culled_any = true;
   }
@@ -178,7 +191,9 @@ bool ShadowCullingUnit::request_records(Tick now) {
     ++record_reads_;
     const Tick t = reader_->fetch_line(region_.slot_address(entry), now, this, uint64_t(entry) + 1);
     arrival_[entry % prefetch_] = t;
-    if (t != kUnknown) prefetched_[entry % prefetch_] = decode_hit_record(reader_->line_data(region_.slot_address(entry)));
+    if (t != kUnknown)
+      prefetched_[entry % prefetch_] =
+          decode_hit_record(reader_->line_data(region_.slot_address(entry)));
     any = true;
   }
   return any;
@@ -214,7 +229,7 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
 }
 
 Tick ShadowCullingUnit::next_ready(Tick from) const {
-  if (rate_ > 0 && can_request()) return from;  // keep the reads flowing
+  if (rate_ > 0 && can_request()) return from;   // keep the reads flowing
   if (!has_work() || waiting_) return kUnknown;  // woken by add() or a fill
   if (ctx_.pool->full()) return kUnknown;        // woken when a ray retires
   if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
@@ -223,13 +238,15 @@ Tick ShadowCullingUnit::next_ready(Tick from) const {
 }
 
 std::string ShadowCullingUnit::state() const {
-  std::string s = "culling unit: " + std::to_string(done_) + " of " + std::to_string(added_) + " hits decided";
+  std::string s =
+      "culling unit: " + std::to_string(done_) + " of " + std::to_string(added_) + " hits decided";
   if (!has_work()) return s + (closed_ ? ", done" : ", waiting for hits");
   s += ", at entry " + std::to_string(current()) + " light " + std::to_string(light_);
   if (ctx_.light_samples[light_] > 1) s += " sample " + std::to_string(sample_);
   if (waiting_) s += ", waiting for a light record";
   const Tick ready = current_ready();
-  s += ready == kUnknown ? ", its record not arrived" : ", its record ready at " + std::to_string(ready) + " ps";
+  s += ready == kUnknown ? ", its record not arrived"
+                         : ", its record ready at " + std::to_string(ready) + " ps";
   if (from_memory()) s += ", " + std::to_string(requested_) + " records asked for";
   return s;
 }
@@ -242,11 +259,14 @@ uint64_t ShadowCullingUnit::generated() const {
 
 void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".records_taken", &records_taken_, "count", "hit records taken (limited rate only)");
-  r.counter(prefix + ".record_reads", &record_reads_, "count", "hit-record lines read from the frame buffer");
+  r.counter(prefix + ".records_taken", &records_taken_, "count",
+            "hit records taken (limited rate only)");
+  r.counter(prefix + ".record_reads", &record_reads_, "count",
+            "hit-record lines read from the frame buffer");
   for (size_t i = 0; i < lights_.size(); ++i) {
     const std::string p = prefix + ".light" + std::to_string(i);
-    r.counter(p + ".decisions", &lights_[i].decisions, "count", "shadow rays decided (a hit's samples of the light)");
+    r.counter(p + ".decisions", &lights_[i].decisions, "count",
+              "shadow rays decided (a hit's samples of the light)");
     r.counter(p + ".generated", &lights_[i].generated, "count", "shadow rays emitted");
     r.counter(p + ".culled", &lights_[i].culled, "count", "shadow rays culled by the LVB");
   }

@@ -12,18 +12,18 @@
 // Its rate: it takes at most `records_per_cycle` hit records per cycle (a record with several
 // lights to shoot holds it one cycle per ray). In two phases with read_records_from(), it reads
 // every entry's record from the frame buffer in memory (model/units/hit_record.h), up to `prefetch`
-// lines ahead in the order they lie in memory (model/units/hit_record.h), and builds the rays from the
-// fetched bytes; an entry without a hit costs its read and a record slot too. `records_per_cycle == 0` is the ideal unit: any number of records per
-// cycle, taken from the host-side frame without memory traffic, and entries without a hit skipped
-// for free.
+// lines ahead in the order they lie in memory (model/units/hit_record.h), and builds the rays from
+// the fetched bytes; an entry without a hit costs its read and a record slot too.
+// `records_per_cycle == 0` is the ideal unit: any number of records per cycle, taken from the
+// host-side frame without memory traffic, and entries without a hit skipped for free.
 #pragma once
 
 #include "model/memory/cache.h"
+#include "model/sim/ray_fifo.h"
+#include "model/sim/unit.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
 #include "model/units/model_context.h"
-#include "model/sim/ray_fifo.h"
-#include "model/sim/unit.h"
 
 #include <deque>
 #include <vector>
@@ -31,7 +31,8 @@
 namespace rtsim::model {
 
 struct LightStats {
-  uint64_t decisions = 0;  // shadow rays decided: per hit, the light's samples (1 for a point light)
+  // Shadow rays decided: per hit, the light's samples (1 for a point light)
+  uint64_t decisions = 0;
   uint64_t generated = 0;  // shadow rays emitted
   uint64_t culled = 0;     // shadow rays culled by the LVB
 };
@@ -45,15 +46,17 @@ struct CullingConfig {
 template <class V, class C>
 DescribeOf<C, CullingConfig> describe(V& v, C& c) {
   v.number("records_per_cycle", c.records_per_cycle, 0, 64, "records",
-           "hit records taken per cycle, read back from the frame buffer in two phases; 0: unlimited, from the "
-           "host-side frame (ideal)");
-  v.number("prefetch", c.prefetch, 1, 65536, "lines", "record lines in flight when reading the frame buffer");
+           "hit records taken per cycle, read back from the frame buffer in two phases; 0: "
+           "unlimited, from the host-side frame (ideal)");
+  v.number("prefetch", c.prefetch, 1, 65536, "lines",
+           "record lines in flight when reading the frame buffer");
 }
 
 class ShadowCullingUnit : public Unit, public FillListener {
  public:
-  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling, const CullingConfig& config,
-                    Cache* l1, FrameBuffer* frame, std::vector<RayFifo*> trv_inputs);
+  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
+                    const CullingConfig& config, Cache* l1, FrameBuffer* frame,
+                    std::vector<RayFifo*> trv_inputs);
   // Two phases, limited rate: read the records through `reader` from `region` (else from the host).
   void read_records_from(LineSource* reader, const HitRecordRegion& region) {
     reader_ = reader;
@@ -89,17 +92,20 @@ class ShadowCullingUnit : public Unit, public FillListener {
   }
   Tick current_ready() const;
   bool from_memory() const { return scanning_ && rate_ > 0 && reader_; }
-  void advance();      // the next (hit, light, sample)
-  void next_light();   // the next (hit, light) pair
-  void cull_light();   // the current light's bit is 0: all its samples culled
-  void next_entry();   // the next hit
+  void advance();     // the next (hit, light, sample)
+  void next_light();  // the next (hit, light) pair
+  void cull_light();  // the current light's bit is 0: all its samples culled
+  void next_entry();  // the next hit
   bool cycle_unlimited(Tick now);
   bool cycle_limited(Tick now);
-  bool request_records(Tick now);   // memory reads for the coming entries; true if any issued
-  bool can_request() const { return from_memory() && requested_ < frame_->pixels.size() && requested_ < entry_ + prefetch_; }
+  bool request_records(Tick now);  // memory reads for the coming entries; true if any issued
+  bool can_request() const {
+    return from_memory() && requested_ < frame_->pixels.size() && requested_ < entry_ + prefetch_;
+  }
   // Emits the shadow ray of the current (hit, light) pair from `surface`: true if it went.
   bool emit(const SurfacePoint& surface, Tick now);
-  // Reads the current light's records through the L1 into latched_: false while a line is on its way.
+  // Reads the current light's records through the L1 into latched_: false while a line is on its
+  // way.
   bool latch_light(Tick now);
 
   const ModelContext& ctx_;
@@ -131,8 +137,8 @@ class ShadowCullingUnit : public Unit, public FillListener {
   HitRecord record_;          // ... and its contents
   LineSource* reader_ = nullptr;
   HitRecordRegion region_;
-  size_t requested_ = 0;      // the next entry whose record is to be read
-  std::vector<Tick> arrival_; // per entry in the window (entry % prefetch): when its record is in
+  size_t requested_ = 0;       // the next entry whose record is to be read
+  std::vector<Tick> arrival_;  // per entry in the window (entry % prefetch): when its record is in
   std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came
   uint64_t record_reads_ = 0, records_taken_ = 0;
 };

@@ -6,8 +6,12 @@ namespace rtsim::model {
 
 TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
                  MemorySystem& memory, uint32_t index, RayFifo* to_list, RayOwners* owners)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kTrv, index), latency_(cfg.latency), capacity_(cfg.capacity),
-      index_(uint16_t(index)), to_list_(to_list), owners_(owners) {}
+    : RayUnit(name, ctx, cfg, memory, MemorySystem::kTrv, index),
+      latency_(cfg.latency),
+      capacity_(cfg.capacity),
+      index_(uint16_t(index)),
+      to_list_(to_list),
+      owners_(owners) {}
 
 void TrvUnit::admitted(uint32_t ray) {
   ++owned_;
@@ -22,7 +26,8 @@ void TrvUnit::process(uint32_t id, Tick now) {
     const bool any_hit = r.type == RayType::kShadow;
     if (!traversal_begin(r.trav, r.trav.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps)) {
       ++stats_.rays_done;
-      emit(owners_->shading_input(id), id, now + ctx_.clock.cycles(latency_), now);  // misses the scene
+      // Misses the scene
+      emit(owners_->shading_input(id), id, now + ctx_.clock.cycles(latency_), now);
       return;
     }
   }
@@ -34,9 +39,7 @@ void TrvUnit::process(uint32_t id, Tick now) {
   const TraversalStep step = traversal_node(r.trav, image::decode_node(bytes));
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
   switch (step) {
-    case TraversalStep::kFetchNode:
-      keep(id, done_at);
-      break;
+    case TraversalStep::kFetchNode: keep(id, done_at); break;
     case TraversalStep::kLeaf:
       r.prims_fetched = 0;
       r.prim_count = 0;
@@ -55,7 +58,8 @@ void TrvUnit::process(uint32_t id, Tick now) {
 void TrvUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
   r.counter(prefix + ".node_fetches", &stats_.node_fetches, "count", "kd-tree nodes fetched");
-  r.counter(prefix + ".rays_started", &stats_.rays_started, "count", "rays that began traversal here");
+  r.counter(prefix + ".rays_started", &stats_.rays_started, "count",
+            "rays that began traversal here");
   r.counter(prefix + ".rays_done", &stats_.rays_done, "count", "rays whose traversal ended here");
 }
 

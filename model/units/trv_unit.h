@@ -19,9 +19,10 @@ struct TrvStats {
 
 class TrvUnit : public RayUnit {
  public:
-  // Unit `index` of the TRV units; its rays go to `to_list`, and to their shading unit via `owners`.
-  TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg, MemorySystem& memory,
-          uint32_t index, RayFifo* to_list, RayOwners* owners);
+  // Unit `index` of the TRV units; its rays go to `to_list`, and to their shading unit via
+  // `owners`.
+  TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
+          MemorySystem& memory, uint32_t index, RayFifo* to_list, RayOwners* owners);
   // IST hands a ray back after its leaf: it continues at `when`.
   void return_ray(uint32_t ray, Tick when) { take_back(ray, when); }
   // The ray retired (shading took it): its slot frees.

@@ -29,7 +29,8 @@ std::vector<Triangle> random_soup(int n, uint32_t seed, float size = 0.6f) {
   std::vector<Triangle> out;
   for (int i = 0; i < n; ++i) {
     Vec3 c(pos(rng), pos(rng), pos(rng));
-    out.push_back(tri(c + Vec3(off(rng), off(rng), off(rng)), c + Vec3(off(rng), off(rng), off(rng)),
+    out.push_back(tri(c + Vec3(off(rng), off(rng), off(rng)),
+                      c + Vec3(off(rng), off(rng), off(rng)),
                       c + Vec3(off(rng), off(rng), off(rng))));
   }
   return out;
@@ -55,8 +56,10 @@ std::vector<Triangle> grid_mesh(int nx, int ny, bool flat, uint32_t seed = 7) {
 // The 12 triangles of an axis-aligned box's surface.
 void add_box(std::vector<Triangle>& out, Vec3 lo, Vec3 hi) {
   Vec3 c[8];
-  for (int i = 0; i < 8; ++i) c[i] = Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-  const int f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1}, {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
+  for (int i = 0; i < 8; ++i)
+    c[i] = Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+  const int f[6][4] = {{0, 2, 6, 4}, {1, 5, 7, 3}, {0, 4, 5, 1},
+                       {2, 3, 7, 6}, {0, 1, 3, 2}, {4, 6, 7, 5}};
   for (const auto& q : f) {
     out.push_back(tri(c[q[0]], c[q[1]], c[q[2]]));
     out.push_back(tri(c[q[0]], c[q[2]], c[q[3]]));
@@ -101,7 +104,8 @@ void check_coverage(const std::vector<Triangle>& tris, const KdTree& t) {
       if (!triangle_overlaps_box(tris[i], leaf.cell)) return;
       ++checked;
       if (!in_leaf(t, leaf, i) && ++failures <= 10)
-        ADD_FAILURE() << "triangle " << i << " overlaps leaf " << node.leaf_index() << " but is not in it";
+        ADD_FAILURE() << "triangle " << i << " overlaps leaf " << node.leaf_index()
+                      << " but is not in it";
     };
     if (t.bounds.overlaps(tb)) visit(0);
   }
@@ -117,7 +121,8 @@ double volume(const AABB& b) {
 }
 
 // Depth-first layout, leaf numbering, cells, leaf lists and the statistics.
-void check_structure(const std::vector<Triangle>& tris, const KdTree& t, const KdTreeParams& p = {}) {
+void check_structure(const std::vector<Triangle>& tris, const KdTree& t,
+                     const KdTreeParams& p = {}) {
   ASSERT_FALSE(t.nodes.empty());
   ASSERT_EQ(t.leaves.size(), t.stats.leaves);
   uint32_t next_leaf = 0, inner = 0, empty = 0, max_count = 0;
@@ -126,7 +131,8 @@ void check_structure(const std::vector<Triangle>& tris, const KdTree& t, const K
   uint64_t refs = 0;
   const double root_sa = t.bounds.empty() ? 0.0 : double(t.bounds.surface_area());
   // Returns the index one past the subtree of node n (depth-first: subtrees are contiguous).
-  std::function<uint32_t(uint32_t, const AABB&, int)> walk = [&](uint32_t n, const AABB& cell, int depth) -> uint32_t {
+  std::function<uint32_t(uint32_t, const AABB&, int)> walk = [&](uint32_t n, const AABB& cell,
+                                                                 int depth) -> uint32_t {
     EXPECT_LT(n, t.nodes.size());
     const KdNode node = t.nodes[n];
     const double rel = root_sa > 0 ? double(cell.surface_area()) / root_sa : 0.0;
@@ -222,7 +228,8 @@ TEST(Clip, HandComputedBoxes) {
   // Right triangle x + y <= 2 in the plane z = 0.
   const Triangle t = tri({0, 0, 0}, {2, 0, 0}, {0, 2, 0});
   expect_box(clip_triangle_bounds(t, AABB{Vec3(0.f), Vec3(1.f)}), {0, 0, 0}, {1, 1, 0});
-  expect_box(clip_triangle_bounds(t, AABB{{0.5f, 0.5f, -1}, {1.5f, 1.5f, 1}}), {0.5f, 0.5f, 0}, {1.5f, 1.5f, 0});
+  expect_box(clip_triangle_bounds(t, AABB{{0.5f, 0.5f, -1}, {1.5f, 1.5f, 1}}), {0.5f, 0.5f, 0},
+             {1.5f, 1.5f, 0});
   expect_box(clip_triangle_bounds(t, AABB{{1.5f, -1, -1}, {3, 3, 1}}), {1.5f, 0, 0}, {2, 0.5f, 0});
   // Touches the box at its corner (1, 1, 0) only.
   expect_box(clip_triangle_bounds(t, AABB{{1, 1, -1}, {2, 2, 1}}), {1, 1, 0}, {1, 1, 0});
@@ -255,7 +262,8 @@ TEST(Clip, ClippedBoundsContainTheClippedTriangle) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(-3.f, 3.f), w(0.f, 1.f);
   for (int iter = 0; iter < 2000; ++iter) {
-    const Triangle t = tri({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
+    const Triangle t =
+        tri({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
     Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
     const AABB box{glm::min(a, b), glm::max(a, b)};
     const AABB c = clip_triangle_bounds(t, box);
@@ -287,7 +295,8 @@ TEST(Overlap, TouchingOverlappingSeparated) {
   const AABB unit{Vec3(0.f), Vec3(1.f)};
   // In the plane of the top face.
   EXPECT_TRUE(triangle_overlaps_box(tri({0.2f, 0.2f, 1}, {3, 0.2f, 1}, {0.2f, 3, 1}), unit));
-  EXPECT_FALSE(triangle_overlaps_box(tri({0.2f, 0.2f, 1.000001f}, {3, 0.2f, 1.000001f}, {0.2f, 3, 1.000001f}), unit));
+  EXPECT_FALSE(triangle_overlaps_box(
+      tri({0.2f, 0.2f, 1.000001f}, {3, 0.2f, 1.000001f}, {0.2f, 3, 1.000001f}), unit));
   // A vertex on an edge of the box, a vertex on a corner.
   EXPECT_TRUE(triangle_overlaps_box(tri({1, 0.5f, 1}, {2, 0.5f, 2}, {2, 1.5f, 1}), unit));
   EXPECT_TRUE(triangle_overlaps_box(tri({1, 1, 1}, {2, 1, 1}, {1, 2, 2}), unit));
@@ -303,16 +312,19 @@ TEST(Overlap, TouchingOverlappingSeparated) {
   // Far away; separated along a face normal.
   EXPECT_FALSE(triangle_overlaps_box(tri({2, 0, 0}, {3, 0, 0}, {2, 1, 0}), unit));
   // Flat boxes and unbounded boxes work.
-  EXPECT_TRUE(triangle_overlaps_box(tri({-1, -1, -1}, {2, 0, 2}, {0, 2, 1}), AABB{{0, 0, 0.5f}, {1, 1, 0.5f}}));
+  EXPECT_TRUE(triangle_overlaps_box(tri({-1, -1, -1}, {2, 0, 2}, {0, 2, 1}),
+                                    AABB{{0, 0, 0.5f}, {1, 1, 0.5f}}));
   const float inf = INFINITY;
-  EXPECT_TRUE(triangle_overlaps_box(tri({5, 5, 5}, {6, 5, 5}, {5, 6, 5}), AABB{{0, -inf, -inf}, {inf, inf, inf}}));
+  EXPECT_TRUE(triangle_overlaps_box(tri({5, 5, 5}, {6, 5, 5}, {5, 6, 5}),
+                                    AABB{{0, -inf, -inf}, {inf, inf, inf}}));
 }
 
 TEST(Overlap, MonotoneInTheBox) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<float> u(-2.f, 2.f), g(0.f, 0.5f);
   for (int iter = 0; iter < 20000; ++iter) {
-    const Triangle t = tri({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
+    const Triangle t =
+        tri({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
     Vec3 a(u(rng), u(rng), u(rng)), b(u(rng), u(rng), u(rng));
     const AABB box{glm::min(a, b), glm::max(a, b)};
     const AABB big{box.lo - Vec3(g(rng), g(rng), g(rng)), box.hi + Vec3(g(rng), g(rng), g(rng))};
@@ -326,7 +338,8 @@ TEST(Overlap, MonotoneInTheBox) {
 // The tree
 
 TEST(KdTree, EmptyScene) {
-  for (const auto& tris : {std::vector<Triangle>{}, std::vector<Triangle>{tri({0, 0, 0}, {1, 1, 1}, {2, 2, 2})}}) {
+  for (const auto& tris :
+       {std::vector<Triangle>{}, std::vector<Triangle>{tri({0, 0, 0}, {1, 1, 1}, {2, 2, 2})}}) {
     const KdTree t = build_kdtree(tris);
     ASSERT_EQ(t.nodes.size(), 1u);
     ASSERT_EQ(t.leaves.size(), 1u);
@@ -394,11 +407,14 @@ TEST(KdTree, PlanarTrianglesGoToOneSide) {
   // A floor at z = 0 between clouds of triangles above and below. Cells are closed, so a plane
   // exactly at z = 0 would put the floor on both sides; the builder instead offers planes just
   // below and just above it (the paper's choice of side) and the floor stays on one side.
-  std::vector<Triangle> tris{tri({0, 0, 0}, {10, 0, 0}, {10, 10, 0}), tri({0, 0, 0}, {10, 10, 0}, {0, 10, 0})};
+  std::vector<Triangle> tris{tri({0, 0, 0}, {10, 0, 0}, {10, 10, 0}),
+                             tri({0, 0, 0}, {10, 10, 0}, {0, 10, 0})};
   for (const Triangle& t : random_soup(400, 5, 0.3f)) {
     const Vec3 up(0.f, 0.f, 0.5f);
-    tris.push_back(tri(t.v0 * Vec3(1, 1, 0.1f) + up, t.v1 * Vec3(1, 1, 0.1f) + up, t.v2 * Vec3(1, 1, 0.1f) + up));
-    tris.push_back(tri(t.v0 * Vec3(1, 1, -0.1f) - up, t.v1 * Vec3(1, 1, -0.1f) - up, t.v2 * Vec3(1, 1, -0.1f) - up));
+    tris.push_back(tri(t.v0 * Vec3(1, 1, 0.1f) + up, t.v1 * Vec3(1, 1, 0.1f) + up,
+                       t.v2 * Vec3(1, 1, 0.1f) + up));
+    tris.push_back(tri(t.v0 * Vec3(1, 1, -0.1f) - up, t.v1 * Vec3(1, 1, -0.1f) - up,
+                       t.v2 * Vec3(1, 1, -0.1f) - up));
   }
   const KdTree t = build_kdtree(tris);
   check_structure(tris, t);

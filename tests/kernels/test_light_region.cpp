@@ -44,7 +44,8 @@ TEST(LightRegion, EachFrustumPlaneHoldsTheLightAndAFaceEdgeWithTheFaceInside) {
           const Frustum& f = lf.frusta[i];
           const int a = f.axis, b = (a + 1) % 3, c = (a + 2) % 3;
           // The base is the face towards the light.
-          EXPECT_TRUE(light[a] > kBox.hi[a] ? f.face_center[a] == kBox.hi[a] : f.face_center[a] == kBox.lo[a]);
+          EXPECT_TRUE(light[a] > kBox.hi[a] ? f.face_center[a] == kBox.hi[a]
+                                            : f.face_center[a] == kBox.lo[a]);
           for (const Plane& p : f.sides) {
             ASSERT_FALSE(p.degenerate());
             const double scale = glm::length(p.n);
@@ -63,10 +64,12 @@ TEST(LightRegion, EachFrustumPlaneHoldsTheLightAndAFaceEdgeWithTheFaceInside) {
                 p0[b] = kBox.lo[b];
                 p1[b] = kBox.hi[b];
               }
-              edges_on_plane += std::abs(p.eval(p0)) / scale < 1e-12 && std::abs(p.eval(p1)) / scale < 1e-12;
+              edges_on_plane +=
+                  std::abs(p.eval(p0)) / scale < 1e-12 && std::abs(p.eval(p1)) / scale < 1e-12;
             }
             EXPECT_EQ(edges_on_plane, 1);
-            // The base face lies on the inner side; a plane on the silhouette has the whole box there.
+            // The base face lies on the inner side; a plane on the silhouette has the whole box
+            // there.
             int box_outside = 0;
             for (int k = 0; k < 8; ++k) {
               const DVec3 v = kBox.corner(k);
@@ -100,12 +103,16 @@ TEST(LightRegion, FrustaCoverExactlyTheRegionBetweenBoxAndLight) {
           const DVec3 p = glm::mix(on_box, light, 0.05 + 0.9 * u(rng));
           const double eps = 1e-9;
           const DBox tiny(p - eps, p + eps);
-          if (p.x > 0 && p.x < 1 && p.y > 0 && p.y < 2 && p.z > 0 && p.z < 3) continue;  // inside the box
+          // Inside the box
+          if (p.x > 0 && p.x < 1 && p.y > 0 && p.y < 2 && p.z > 0 && p.z < 3) continue;
           bool in_some = false;
-          for (int k = 0; k < lf.count; ++k) in_some |= frustum_may_intersect_open(lf.frusta[k], tiny);
-          EXPECT_TRUE(in_some && boxes_overlap_open(e, tiny)) << "point between box and light missed";
+          for (int k = 0; k < lf.count; ++k)
+            in_some |= frustum_may_intersect_open(lf.frusta[k], tiny);
+          EXPECT_TRUE(in_some && boxes_overlap_open(e, tiny))
+              << "point between box and light missed";
           const DVec3 beyond = light + (light - on_box) * (0.1 + u(rng));
-          EXPECT_FALSE(boxes_overlap_open(e, DBox(beyond - eps, beyond + eps))) << "beyond the light";
+          EXPECT_FALSE(boxes_overlap_open(e, DBox(beyond - eps, beyond + eps)))
+              << "beyond the light";
         }
       }
 }
@@ -113,9 +120,10 @@ TEST(LightRegion, FrustaCoverExactlyTheRegionBetweenBoxAndLight) {
 TEST(LightRegion, SeparatingAxisTestOnTouchingOverlappingAndSeparatedBoxes) {
   const DBox a(DVec3(0, 0, 0), DVec3(1, 1, 1));
   EXPECT_TRUE(boxes_overlap_open(a, DBox(DVec3(0.5, 0.5, 0.5), DVec3(2, 2, 2))));  // overlapping
-  EXPECT_TRUE(boxes_overlap_open(a, DBox(DVec3(0.2, 0.2, 0.2), DVec3(0.3, 0.3, 0.3))));  // contained
-  EXPECT_FALSE(boxes_overlap_open(a, DBox(DVec3(1, 0, 0), DVec3(2, 1, 1))));  // touching a face
-  EXPECT_FALSE(boxes_overlap_open(a, DBox(DVec3(1, 1, 1), DVec3(2, 2, 2))));  // touching a corner
+  // Contained
+  EXPECT_TRUE(boxes_overlap_open(a, DBox(DVec3(0.2, 0.2, 0.2), DVec3(0.3, 0.3, 0.3))));
+  EXPECT_FALSE(boxes_overlap_open(a, DBox(DVec3(1, 0, 0), DVec3(2, 1, 1))));    // touching a face
+  EXPECT_FALSE(boxes_overlap_open(a, DBox(DVec3(1, 1, 1), DVec3(2, 2, 2))));    // touching a corner
   EXPECT_FALSE(boxes_overlap_open(a, DBox(DVec3(0, 0, 1.5), DVec3(1, 1, 2))));  // separated on z
   // The closed hull test counts touching, and a gap within the tolerance, as intersecting.
   const DVec3 light(0.5, 5, 0.5);
@@ -142,7 +150,8 @@ TEST(LightRegion, HullTestAgreesWithSampledPoints) {
     // the box's enclosing slab structure in that direction (it is past the light).
     const DVec3 w = light + (light - p) * (0.2 + v(rng));
     const DBox e = enclosing_box(kBox, light);
-    const bool outside_enclosing = w.x < e.lo.x || w.x > e.hi.x || w.y < e.lo.y || w.y > e.hi.y || w.z < e.lo.z || w.z > e.hi.z;
+    const bool outside_enclosing = w.x < e.lo.x || w.x > e.hi.x || w.y < e.lo.y || w.y > e.hi.y ||
+                                   w.z < e.lo.z || w.z > e.hi.z;
     if (outside_enclosing) {
       EXPECT_FALSE(hull_intersects_box(kBox, light, DBox(w, w), 1e-12));
     }
@@ -159,7 +168,8 @@ TEST(LightRegion, AreaHullTestAgreesWithSampledPoints) {
     const DVec3 corner(u(rng), 5 + v(rng), u(rng));
     light.edge1 = DVec3(0.5 + v(rng), 0.2 * (v(rng) - 0.5), 0);
     light.edge2 = DVec3(0.1 * v(rng), 0, 0.5 + v(rng));
-    light.corners = {corner, corner + light.edge1, corner + light.edge1 + light.edge2, corner + light.edge2};
+    light.corners = {corner, corner + light.edge1, corner + light.edge1 + light.edge2,
+                     corner + light.edge2};
     const HullTest hull(kBox, light, 1e-12);
     const DVec3 p = kBox.lo + DVec3(v(rng), v(rng), v(rng)) * (kBox.hi - kBox.lo);
     const DVec3 l = corner + v(rng) * light.edge1 + v(rng) * light.edge2;

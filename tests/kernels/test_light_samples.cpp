@@ -10,9 +10,9 @@ namespace rtsim {
 namespace {
 
 TEST(LightSamples, GridIsTheSquarestFactorisation) {
-  const std::pair<uint32_t, SampleGrid> cases[] = {{1, {1, 1}}, {2, {1, 2}}, {4, {2, 2}},   {6, {2, 3}},
-                                                   {7, {1, 7}}, {16, {4, 4}}, {64, {8, 8}}, {256, {16, 16}},
-                                                   {200, {10, 20}}};
+  const std::pair<uint32_t, SampleGrid> cases[] = {{1, {1, 1}},  {2, {1, 2}},     {4, {2, 2}},
+                                                   {6, {2, 3}},  {7, {1, 7}},     {16, {4, 4}},
+                                                   {64, {8, 8}}, {256, {16, 16}}, {200, {10, 20}}};
   for (const auto& [n, g] : cases) {
     const SampleGrid got = sample_grid(n);
     EXPECT_EQ(got.rows, g.rows) << n;
@@ -31,7 +31,8 @@ TEST(LightSamples, OneSamplePerStratumAndDeterministic) {
         ASSERT_LE(s.u, 1.f);
         ASSERT_GE(s.v, 0.f);
         ASSERT_LE(s.v, 1.f);
-        // The cell the sample lies in (a sample on a cell's upper edge belongs to the cell below it).
+        // The cell the sample lies in (a sample on a cell's upper edge belongs to the cell below
+        // it).
         const int cu = std::min(int(s.u * float(g.cols)), int(g.cols) - 1);
         const int cv = std::min(int(s.v * float(g.rows)), int(g.rows) - 1);
         cells.insert({cu, cv});

@@ -29,8 +29,8 @@ Scene random_scene(uint32_t seed) {
   if (seed % 2 == 0) {  // a floor of 4x4 coplanar quads
     for (int i = 0; i < 4; ++i)
       for (int k = 0; k < 4; ++k) {
-        const Vec3 a(i * 0.25f, 0.f, k * 0.25f), b = a + Vec3(0.25f, 0, 0), c = a + Vec3(0.25f, 0, 0.25f),
-                   d = a + Vec3(0, 0, 0.25f);
+        const Vec3 a(i * 0.25f, 0.f, k * 0.25f),
+            b = a + Vec3(0.25f, 0, 0), c = a + Vec3(0.25f, 0, 0.25f), d = a + Vec3(0, 0, 0.25f);
         s.triangles.push_back({a, b, c, 0});
         s.triangles.push_back({a, c, d, 0});
       }
@@ -48,7 +48,8 @@ Scene random_scene(uint32_t seed) {
     quad({hi.x, lo.y, lo.z}, {hi.x, lo.y, hi.z}, {hi.x, hi.y, hi.z}, {hi.x, hi.y, lo.z});
   }
   const int lights = 1 + int(u(rng) * 3);
-  for (int i = 0; i < lights; ++i) s.lights.push_back({Vec3(3 * u(rng) - 1, 3 * u(rng) - 1, 3 * u(rng) - 1), Vec3(1)});
+  for (int i = 0; i < lights; ++i)
+    s.lights.push_back({Vec3(3 * u(rng) - 1, 3 * u(rng) - 1, 3 * u(rng) - 1), Vec3(1)});
   s.camera.eye = Vec3(0.5f, 0.5f, -2.f);
   return s;
 }
@@ -73,7 +74,8 @@ bool brute_occluded(const Scene& s, const Ray& ray) {
 
 // Shadow rays from random points of every bit-0 leaf's triangles inside its cell, built as the
 // reference tracer builds them, must hit nothing. Returns the number of rays checked.
-int check_never_wrong(const Scene& s, const KdTree& t, const LvbResult& r, std::mt19937& rng, int& wrong) {
+int check_never_wrong(const Scene& s, const KdTree& t, const LvbResult& r, std::mt19937& rng,
+                      int& wrong) {
   std::uniform_real_distribution<float> u(0.f, 1.f);
   const float offset = float(lvb_shadow_offset(t));
   int checked = 0;
@@ -86,7 +88,8 @@ int check_never_wrong(const Scene& s, const KdTree& t, const LvbResult& r, std::
       const Light& light_def = s.lights[li];
       for (int i = 0; i <= (light_def.is_area() ? 4 : 0); ++i)
         for (int j = 0; j <= (light_def.is_area() ? 4 : 0); ++j)
-          points.push_back(light_def.position + (0.25f * i) * light_def.edge1 + (0.25f * j) * light_def.edge2);
+          points.push_back(light_def.position + (0.25f * i) * light_def.edge1 +
+                           (0.25f * j) * light_def.edge2);
       for (uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) {
         const Triangle& tri = s.triangles[t.prims[k]];
         for (int sample = 0, tries = 0; sample < 6 && tries < 60; ++tries) {
@@ -129,7 +132,8 @@ TEST(Lvb, RandomScenesExactModeNeverWrongAndMethodsAgree) {
       for (LvbBounds b : {LvbBounds::kCell, LvbBounds::kGeometry}) {
         const LvbResult paper = run(s, t, LvbMethod::kPaper, b, so);
         const LvbResult hier = run(s, t, LvbMethod::kHierarchical, b, so);
-        ASSERT_EQ(paper.words, hier.words) << "seed " << seed << " bounds " << to_string(b) << " " << to_string(so);
+        ASSERT_EQ(paper.words, hier.words)
+            << "seed " << seed << " bounds " << to_string(b) << " " << to_string(so);
         if (so == LvbSelfOcclusion::kTest) {
           checked += check_never_wrong(s, t, hier, rng, wrong_exact);
           (b == LvbBounds::kCell ? culled_cell : culled_geometry) += culled(hier);
@@ -140,18 +144,21 @@ TEST(Lvb, RandomScenesExactModeNeverWrongAndMethodsAgree) {
       }
     }
     // Geometry bounds never decide 1 where cell bounds decide 0.
-    const LvbResult c = run(s, t, LvbMethod::kHierarchical, LvbBounds::kCell, LvbSelfOcclusion::kTest);
-    const LvbResult g = run(s, t, LvbMethod::kHierarchical, LvbBounds::kGeometry, LvbSelfOcclusion::kTest);
+    const LvbResult c =
+        run(s, t, LvbMethod::kHierarchical, LvbBounds::kCell, LvbSelfOcclusion::kTest);
+    const LvbResult g =
+        run(s, t, LvbMethod::kHierarchical, LvbBounds::kGeometry, LvbSelfOcclusion::kTest);
     for (size_t l = 0; l < c.words.size(); ++l)
       EXPECT_EQ(g.words[l] & ~c.words[l], 0u) << "seed " << seed << " leaf " << l;
   }
   EXPECT_EQ(wrong_exact, 0) << "of " << checked << " shadow rays from culled leaves";
   EXPECT_GT(checked, 10000) << "the scenes must give the exact mode something to cull";
   EXPECT_GE(culled_geometry, culled_cell);
-  std::printf("exact mode: %d rays checked, %llu / %llu leaf-lights culled (cell / geometry); "
-              "paper mode: %llu culled, %d wrong\n",
-              checked, (unsigned long long)culled_cell, (unsigned long long)culled_geometry,
-              (unsigned long long)culled_paper, wrong_paper);
+  std::printf(
+      "exact mode: %d rays checked, %llu / %llu leaf-lights culled (cell / geometry); paper mode: "
+      "%llu culled, %d wrong\n",
+      checked, (unsigned long long)culled_cell, (unsigned long long)culled_geometry,
+      (unsigned long long)culled_paper, wrong_paper);
 }
 
 // Area lights: the random scenes with each light made a parallelogram of random size and
@@ -167,7 +174,8 @@ TEST(Lvb, AreaLightsRandomScenesExactModeNeverWrongAndMethodsAgree) {
     for (Light& l : s.lights) {
       const float size = 0.05f + 0.2f * (u(rng) + 1.f);
       l.edge1 = size * glm::normalize(Vec3(u(rng), u(rng), u(rng)) + Vec3(0.01f));
-      l.edge2 = size * glm::normalize(glm::cross(l.edge1, Vec3(u(rng), u(rng), u(rng)) + Vec3(0.02f)));
+      l.edge2 =
+          size * glm::normalize(glm::cross(l.edge1, Vec3(u(rng), u(rng), u(rng)) + Vec3(0.02f)));
       l.samples = 4;
     }
     const KdTree t = build_kdtree(s.triangles);
@@ -175,7 +183,8 @@ TEST(Lvb, AreaLightsRandomScenesExactModeNeverWrongAndMethodsAgree) {
       for (LvbBounds b : {LvbBounds::kCell, LvbBounds::kGeometry}) {
         const LvbResult paper = run(s, t, LvbMethod::kPaper, b, so);
         const LvbResult hier = run(s, t, LvbMethod::kHierarchical, b, so);
-        ASSERT_EQ(paper.words, hier.words) << "seed " << seed << " bounds " << to_string(b) << " " << to_string(so);
+        ASSERT_EQ(paper.words, hier.words)
+            << "seed " << seed << " bounds " << to_string(b) << " " << to_string(so);
         if (so == LvbSelfOcclusion::kTest) {
           checked += check_never_wrong(s, t, hier, rng, wrong);
           culled_area += culled(hier);
@@ -199,7 +208,8 @@ TEST(Lvb, InternalLightSetsTheBitInThePapersMethod) {
   ASSERT_EQ(t.leaves.size(), 1u);
   EXPECT_EQ(r.words[0], 1u) << "light 0 internal (bit 1); light 1 unobstructed (bit 0)";
   // The exact mode sees that one triangle cannot shadow itself, even from a light in its plane.
-  const LvbResult e = run(s, t, LvbMethod::kHierarchical, LvbBounds::kCell, LvbSelfOcclusion::kTest);
+  const LvbResult e =
+      run(s, t, LvbMethod::kHierarchical, LvbBounds::kCell, LvbSelfOcclusion::kTest);
   EXPECT_EQ(e.words[0], 0u);
 }
 
@@ -210,7 +220,8 @@ Scene floor_and_roof(float roof_x) {
   s.add_material(Material{});
   for (int i = 0; i < 8; ++i)
     for (int k = 0; k < 8; ++k) {
-      const Vec3 a(float(i), 0.f, float(k)), b = a + Vec3(1, 0, 0), c = a + Vec3(1, 0, 1), d = a + Vec3(0, 0, 1);
+      const Vec3 a(float(i), 0.f, float(k)), b = a + Vec3(1, 0, 0), c = a + Vec3(1, 0, 1),
+                                             d = a + Vec3(0, 0, 1);
       s.triangles.push_back({a, b, c, 0});
       s.triangles.push_back({a, c, d, 0});
     }
@@ -236,7 +247,8 @@ TEST(Lvb, OccluderBetweenLeafAndLightSetsTheBit) {
       const Vec3 c = leaf.cell.center();
       const bool floor_leaf = leaf.cell.hi.y < 1.f;
       const bool under_roof = c.x > 3.2f && c.x < 4.8f && c.z > 3.2f && c.z < 4.8f;
-      if (floor_leaf && under_roof) EXPECT_EQ(r.words[l] & 1u, 1u) << to_string(so) << " leaf " << l;
+      if (floor_leaf && under_roof)
+        EXPECT_EQ(r.words[l] & 1u, 1u) << to_string(so) << " leaf " << l;
       if (floor_leaf && (c.x < 1.f || c.x > 7.f)) culled_far += !(r.words[l] & 1u);
     }
     EXPECT_GT(culled_far, 0) << to_string(so);
@@ -274,7 +286,8 @@ TEST(Lvb, LazyRebuildRedoesOnlyThePairsAMoveCanReach) {
   AABB swept;
   for (const Scene* sc : {&before, &now})
     for (size_t i = sc->triangles.size() - 2; i < sc->triangles.size(); ++i)
-      for (const Vec3& v : {sc->triangles[i].v0, sc->triangles[i].v1, sc->triangles[i].v2}) swept.extend(v);
+      for (const Vec3& v : {sc->triangles[i].v0, sc->triangles[i].v1, sc->triangles[i].v2})
+        swept.extend(v);
   uint64_t touching = 0;
   for (const KdLeaf& l : t.leaves) touching += l.count > 0 && !l.cell.intersect(swept).empty();
   EXPECT_GE(roof.dirty_pairs, 2 * touching);

@@ -23,8 +23,8 @@ Scene random_scene(int n, uint32_t seed) {
   s.add_material(m);
   for (int i = 0; i < n; ++i) {
     Vec3 c(u(rng), u(rng), u(rng));
-    s.triangles.push_back({c, c + 0.1f * Vec3(u(rng), u(rng), u(rng)), c + 0.1f * Vec3(u(rng), u(rng), u(rng)),
-                           uint32_t(i % 2)});
+    s.triangles.push_back({c, c + 0.1f * Vec3(u(rng), u(rng), u(rng)),
+                           c + 0.1f * Vec3(u(rng), u(rng), u(rng)), uint32_t(i % 2)});
   }
   s.lights.push_back({Vec3(0, 5, 0), Vec3(1, 0.5f, 0.25f)});
   s.lights.push_back({Vec3(3, 5, 1), Vec3(1)});
@@ -81,7 +81,8 @@ TEST(MemoryImage, RecordsDecodeToWhatWasEncoded) {
 }
 
 TEST(MemoryImage, NodeRecordsAreTheDocumentedBytes) {
-  // Inner node: split float bits, then (above_child << 2 | axis); leaf: index, then (count << 2 | 3).
+  // Inner node: split float bits, then (above_child << 2 | axis); leaf: index, then (count << 2 |
+  // 3).
   const KdNode inner = KdNode::inner(2, 1.5f, 77);
   EXPECT_EQ(inner.word0, 0x3fc00000u);
   EXPECT_EQ(inner.word1, (77u << 2) | 2u);

@@ -39,7 +39,8 @@ bool brute_occluded(const std::vector<Triangle>& tris, const Ray& ray) {
   const RayShear s(ray.d);
   float t;
   for (const Triangle& tri : tris)
-    if (!triangle_is_degenerate(tri) && intersect_triangle(ray, s, tri.v0, tri.v1, tri.v2, t)) return true;
+    if (!triangle_is_degenerate(tri) && intersect_triangle(ray, s, tri.v0, tri.v1, tri.v2, t))
+      return true;
   return false;
 }
 
@@ -65,7 +66,8 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
   for (int i = 0; i < rays; ++i) {
     Ray ray;
     if (i % 2 == 0) {
-      ray = cam.ray(int(u(rng) * scene.width) % scene.width, int(u(rng) * scene.height) % scene.height);
+      ray = cam.ray(int(u(rng) * scene.width) % scene.width,
+                    int(u(rng) * scene.height) % scene.height);
     } else {
       ray.o = box.lo + Vec3(u(rng), u(rng), u(rng)) * box.extent();
       ray.d = random_unit(rng);
@@ -74,13 +76,14 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
     const BruteHit b = brute_closest(scene.triangles, ray);
     if (h.tri != b.tri || (b.tri != kNoHit && h.t != b.t)) {
       if (++mismatches <= 5)
-        ADD_FAILURE() << "ray " << i << ": kd-tree tri " << h.tri << " t " << h.t << ", brute force tri " << b.tri
-                      << " t " << b.t;
+        ADD_FAILURE() << "ray " << i << ": kd-tree tri " << h.tri << " t " << h.t
+                      << ", brute force tri " << b.tri << " t " << b.t;
       continue;
     }
     if (b.tri == kNoHit) continue;
     ++hits;
-    // The leaf credited with the hit must hold the hit point (its LVB word is the one that applies).
+    // The leaf credited with the hit must hold the hit point (its LVB word is the one that
+    // applies).
     ASSERT_NE(h.leaf, kNoHit);
     const AABB cell = tree.leaves[h.leaf].cell;
     const Vec3 p = ray.o + h.t * ray.d;
@@ -93,7 +96,8 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
     shadow.o = p - 1e-4f * ray.d * glm::length(box.extent());
     shadow.d = light - shadow.o;
     shadow.tmax = 1.f;
-    EXPECT_EQ(tracer.occluded(shadow), brute_occluded(scene.triangles, shadow)) << "shadow ray " << i;
+    EXPECT_EQ(tracer.occluded(shadow), brute_occluded(scene.triangles, shadow))
+        << "shadow ray " << i;
   }
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(hits, rays / 10) << "too few rays hit anything for the test to mean much";
@@ -104,7 +108,9 @@ SceneSetup load_setup(const std::string& name) {
                          SceneFileOptions{test::shared_scenes().string()});
 }
 
-TEST(ReferenceTracer, MatchesBruteForceOnCity) { check_against_brute_force(load_setup("city"), 10000, 1); }
+TEST(ReferenceTracer, MatchesBruteForceOnCity) {
+  check_against_brute_force(load_setup("city"), 10000, 1);
+}
 
 TEST(ReferenceTracer, MatchesBruteForceOnBunny) {
   RTSIM_REQUIRE_SHARED_SCENES();
@@ -267,7 +273,9 @@ TEST(ReferenceTracer, AreaLightSamplesCastPenumbraeCountedPerPixel) {
       const SurfacePoint sp = surface_point(ray, px.hit.t, t.v0, t.v1, t.v2);
       uint16_t blocked = 0;
       for (uint32_t k = 0; k < 16; ++k)
-        blocked += brute_occluded(scene.triangles, shadow_ray(sp, light_sample_point(image.light(0), idx, 0, 0, k), offset));
+        blocked += brute_occluded(
+            scene.triangles,
+            shadow_ray(sp, light_sample_point(image.light(0), idx, 0, 0, k), offset));
       ASSERT_EQ(px.occluded_samples[0], blocked) << x << "," << y;
       EXPECT_EQ(px.occluded & 1u, blocked == 16 ? 1u : 0u);
       umbra += blocked == 16;

@@ -3,8 +3,8 @@
 // equal bit for bit. (One SystemC simulation per executable.)
 #include "kernels/lvb.h"
 #include "kernels/reference_tracer.h"
-#include "testbench/simulate.h"
 #include "testbench/scene_file.h"
+#include "testbench/simulate.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
@@ -13,7 +13,8 @@ namespace rtsim {
 namespace {
 
 TEST(ModelEquivalence, CityWithCullingMatchesTheReferenceBitForBit) {
-  const SceneSetup setup = load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string());
+  const SceneSetup setup =
+      load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string());
   const Scene& scene = setup.scene;
   const KdTree tree = build_kdtree(scene.triangles, setup.kdtree);
   MemoryImage image(scene, tree);
@@ -40,12 +41,14 @@ TEST(ModelEquivalence, CityWithCullingMatchesTheReferenceBitForBit) {
   for (size_t i = 0; i < ref.pixels.size(); ++i) {
     const PixelRecord& a = ref.pixels[i];
     const model::PixelState& b = sim.frame.pixels[i];
-    const bool same = a.hit.tri == b.hit.tri && (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
-                                                                         a.occluded == b.occluded && a.culled == b.culled));
+    const bool same = a.hit.tri == b.hit.tri &&
+                      (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
+                                               a.occluded == b.occluded && a.culled == b.culled));
     if (!same && ++mismatches <= 5)
-      ADD_FAILURE() << "pixel " << i << ": reference tri " << a.hit.tri << " t " << a.hit.t << " occluded " << a.occluded
-                    << " culled " << a.culled << "; model tri " << b.hit.tri << " t " << b.hit.t << " occluded "
-                    << b.occluded << " culled " << b.culled;
+      ADD_FAILURE() << "pixel " << i << ": reference tri " << a.hit.tri << " t " << a.hit.t
+                    << " occluded " << a.occluded << " culled " << a.culled << "; model tri "
+                    << b.hit.tri << " t " << b.hit.t << " occluded " << b.occluded << " culled "
+                    << b.culled;
   }
   EXPECT_EQ(mismatches, 0);
   EXPECT_EQ(sim.rgb, ref.rgb);
@@ -60,8 +63,9 @@ TEST(ModelEquivalence, CityWithCullingMatchesTheReferenceBitForBit) {
   EXPECT_EQ(sim.primary_rays, uint64_t(kW * kH));
   EXPECT_GT(sim.cycles_shadow, 0u);
   EXPECT_EQ(sim.cycles_total, sim.cycles_primary + sim.cycles_shadow);
-  std::printf("city %dx%d: %llu cycles (%llu primary, %llu shadow)\n", kW, kH, (unsigned long long)sim.cycles_total,
-              (unsigned long long)sim.cycles_primary, (unsigned long long)sim.cycles_shadow);
+  std::printf("city %dx%d: %llu cycles (%llu primary, %llu shadow)\n", kW, kH,
+              (unsigned long long)sim.cycles_total, (unsigned long long)sim.cycles_primary,
+              (unsigned long long)sim.cycles_shadow);
 }
 
 }  // namespace

@@ -12,10 +12,10 @@
 #include <nlohmann/json.hpp>
 #include <systemc>
 
-#include <fstream>
-#include <memory>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <fstream>
+#include <memory>
 
 namespace rtsim {
 namespace {
@@ -42,13 +42,17 @@ nlohmann::json figures(model::Accelerator& a) {
   const model::AcceleratorResult r = a.result();
   nlohmann::json occluded = nlohmann::json::array();
   for (const model::PixelState& px : r.frame.pixels) occluded.push_back(px.occluded);
-  return {{"cycles_total", r.cycles_total}, {"cycles_primary", r.cycles_primary}, {"stats", r.stats},
-          {"shadow_culled", r.shadow_culled}, {"occluded", occluded}};
+  return {{"cycles_total", r.cycles_total},
+          {"cycles_primary", r.cycles_primary},
+          {"stats", r.stats},
+          {"shadow_culled", r.shadow_culled},
+          {"occluded", occluded}};
 }
 
 struct Fixture {
   Fixture() {
-    const SceneSetup s = load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string());
+    const SceneSetup s =
+        load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string());
     scene = s.scene;
     tree = build_kdtree(scene.triangles, s.kdtree);
     image = std::make_unique<MemoryImage>(scene, tree);
@@ -84,8 +88,8 @@ TEST(TwoAccelerators, SideBySideEachHasTheFiguresItHasAlone) {
   model::Accelerator a("a", config_a(), *f.image, f.job());
   model::Accelerator b("b", config_b(), *f.image, f.job());
   // Names: hierarchical name = the statistic's prefix, below each accelerator.
-  for (const char* name : {"a.trv3.l1", "a.trv.l2", "a.trv3.in", "a.memory.icnt", "a.memory.port", "a.dram",
-                           "a.calendar", "b.trv3.l2", "b.shading1.l1", "b.lvb_updater"})
+  for (const char* name : {"a.trv3.l1", "a.trv.l2", "a.trv3.in", "a.memory.icnt", "a.memory.port",
+                           "a.dram", "a.calendar", "b.trv3.l2", "b.shading1.l1", "b.lvb_updater"})
     EXPECT_NE(sc_core::sc_find_object(name), nullptr) << name;
   EXPECT_EQ(sc_core::sc_find_object("b.trv.l2"), nullptr) << "b's TRV L2s are private";
   test::simulate();

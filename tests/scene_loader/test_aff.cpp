@@ -104,7 +104,7 @@ TEST(KbSpline, ClampsOutsideSecondAndNextToLastKeys) {
   EXPECT_DOUBLE_EQ(s.evaluate(-100.0), 1.0);
   EXPECT_DOUBLE_EQ(s.evaluate(0.0), 1.0);
   EXPECT_DOUBLE_EQ(s.evaluate(2.0), 2.0);
-  EXPECT_DOUBLE_EQ(s.evaluate(2.5), 2.0);   // between next-to-last and last: next-to-last
+  EXPECT_DOUBLE_EQ(s.evaluate(2.5), 2.0);  // between next-to-last and last: next-to-last
   EXPECT_DOUBLE_EQ(s.evaluate(100.0), 2.0);
 }
 
@@ -156,7 +156,8 @@ std::vector<KbKey<glm::dquat>> rotation_keys(const std::vector<glm::dvec3>& axes
 }
 
 TEST(KbQuatSpline, HitsKeysAndStaysUnit) {
-  std::vector<glm::dvec3> axes = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 1}, {1, -2, 3}, {0, 1, 1}};
+  std::vector<glm::dvec3> axes = {{1, 0, 0}, {0, 1, 0},  {1, 1, 0},
+                                  {0, 0, 1}, {1, -2, 3}, {0, 1, 1}};
   std::vector<double> deg = {10, 40, -70, 120, 200, 5};
   auto keys = rotation_keys(axes, deg);
   KbQuatSpline s(keys);
@@ -172,7 +173,8 @@ TEST(KbQuatSpline, EvenStepsAboutOneAxisInterpolateLinearly) {
   // Equal steps about one axis make every tangent equal to the step, so squad reduces to
   // slerp: 15 degrees halfway between the 10 and 20 degree keys. Key 2 is given as -q (the
   // same rotation) to check that the spline still takes the short way round.
-  auto keys = rotation_keys({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}}, {0, 10, 20, 30, 40});
+  auto keys =
+      rotation_keys({{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}}, {0, 10, 20, 30, 40});
   keys[2].value = -keys[2].value;
   KbQuatSpline s(keys);
   glm::dquat q = s.evaluate(1.5);
@@ -225,7 +227,7 @@ TEST(AffScenes, KitchenAtTimeZero) {
   EXPECT_EQ(s.height, 600);
 
   ASSERT_EQ(s.lights.size(), 6u);
-  const double pos[6][3] = {{2.15, 2, 0.9}, {2.35, 2, 0.9}, {2.15, 2, 1.1},
+  const double pos[6][3] = {{2.15, 2, 0.9}, {2.35, 2, 0.9},   {2.15, 2, 1.1},
                             {2.35, 2, 1.1}, {4.35, 1.4, 1.0}, {0.25, 1.4, 1.0}};
   for (int i = 0; i < 6; ++i) {
     expect_vec(s.lights[i].position, pos[i][0], pos[i][1], pos[i][2], 1e-6);
@@ -262,7 +264,8 @@ TEST(AffScenes, RobotsCameraAtTimeTenIsBarts) {
   load_aff((test::shared_scenes() / "bart/robots/Robot.aff").string(), 10.0, s);
   expect_vec(s.camera.dir, -0.5153, -0.2569, -0.8176, 5e-4);
   Scene all;  // the other rule, a scene file's `rotation_keys: all`
-  load_aff((test::shared_scenes() / "bart/robots/Robot.aff").string(), 10.0, all, KbQuatSpline::Flip::kAll);
+  load_aff((test::shared_scenes() / "bart/robots/Robot.aff").string(), 10.0, all,
+           KbQuatSpline::Flip::kAll);
   expect_vec(all.camera.dir, -0.350, -0.236, -0.906, 5e-4);
 }
 
@@ -332,23 +335,11 @@ TEST(AffLoader, StaticTransformsComposeOuterTimesInner) {
 }
 
 TEST(AffLoader, AnimatedTransformUsesLaterKeysAndVisibility) {
-  std::string text = std::string("x mover {\n") + kOneTriangle +
-                     "}\n"
-                     "k mover {\n"
-                     "  transl 4\n"
-                     "   -1  0 0 0  0 0 0\n"
-                     "    0  0 0 0  0 0 0\n"
-                     "    2  4 0 0  0 0 0\n"
-                     "    3  4 0 0  0 0 0\n"
-                     "  rot 4\n"
-                     "   -1  0 0 1 0  0 0 0\n"
-                     "    0  0 0 1 0  0 0 0\n"
-                     "    2  0 0 1 90  0 0 0\n"
-                     "    3  0 0 1 90  0 0 0\n"
-                     "  visibility 2\n"
-                     "    5 0\n"
-                     "    7 1\n"
-                     "}\n";
+  std::string text =
+      std::string("x mover {\n") + kOneTriangle +
+      "}\nk mover {\n  transl 4\n   -1  0 0 0  0 0 0\n    0  0 0 0  0 0 0\n    2  4 0 0  0 0 0\n   "
+      " 3  4 0 0  0 0 0\n  rot 4\n   -1  0 0 1 0  0 0 0\n    0  0 0 1 0  0 0 0\n    2  0 0 1 90  0 "
+      "0 0\n    3  0 0 1 90  0 0 0\n  visibility 2\n    5 0\n    7 1\n}\n";
   Scene s0 = load_text(text, 0.0);
   expect_vec(s0.triangles.at(0).v0, 1, 0, 0, 1e-6);
   // t = 2: rotate (1,0,0) by 90 deg about Z -> (0,1,0), then translate by (4,0,0).
@@ -364,7 +355,8 @@ TEST(AffLoader, AnimatedTransformUsesLaterKeysAndVisibility) {
 }
 
 // tpa: each triangle is the linear interpolation of its two samples around the load time,
-// clamped to the first and last; a thousand of them, five samples each, load as BART files hold them.
+// clamped to the first and last; a thousand of them, five samples each, load as BART files hold
+// them.
 TEST(AffLoader, AnimatedTrianglesInterpolateTheirSamplesLinearly) {
   constexpr int kTris = 1000, kSamples = 5;
   const double times[kSamples] = {0.0, 1.0, 2.5, 3.0, 6.0};
@@ -377,7 +369,8 @@ TEST(AffLoader, AnimatedTrianglesInterpolateTheirSamplesLinearly) {
       text += std::to_string(times[k]) + "\n";
       for (int j = 0; j < 3; ++j) {
         const glm::dvec3 v = vertex(i, j, k);
-        text += std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) + "  0 0 1\n";
+        text += std::to_string(v.x) + " " + std::to_string(v.y) + " " + std::to_string(v.z) +
+                "  0 0 1\n";
       }
     }
   }
@@ -386,24 +379,31 @@ TEST(AffLoader, AnimatedTrianglesInterpolateTheirSamplesLinearly) {
     ASSERT_EQ(s.triangles.size(), size_t(kTris)) << t;
     int k = 0;
     while (k + 1 < kSamples && times[k + 1] <= t) ++k;
-    const double w = k + 1 < kSamples && t > times[k] ? (t - times[k]) / (times[k + 1] - times[k]) : 0.0;
+    const double w =
+        k + 1 < kSamples && t > times[k] ? (t - times[k]) / (times[k + 1] - times[k]) : 0.0;
     for (int i : {0, 417, 999}) {
       const Vec3* got[3] = {&s.triangles[i].v0, &s.triangles[i].v1, &s.triangles[i].v2};
       for (int j = 0; j < 3; ++j) {
-        const glm::dvec3 want = k + 1 < kSamples ? (1 - w) * vertex(i, j, k) + w * vertex(i, j, k + 1) : vertex(i, j, k);
+        const glm::dvec3 want = k + 1 < kSamples
+                                    ? (1 - w) * vertex(i, j, k) + w * vertex(i, j, k + 1)
+                                    : vertex(i, j, k);
         expect_vec(*got[j], want.x, want.y, want.z, 1e-3);
       }
     }
   }
   // Bad input: a missing vertex, a time out of order.
-  expect_text_error("tpa 2\n0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n", 8,
-                    "end of file");
-  expect_text_error("tpa 2\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0.5\n", 6, "expected increasing times");
+  expect_text_error(
+      "tpa 2\n0\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n", 8,
+      "end of file");
+  expect_text_error("tpa 2\n1\n0 0 0 0 0 1\n1 0 0 0 0 1\n0 1 0 0 0 1\n0.5\n", 6,
+                    "expected increasing times");
 }
 
 // la NAME: a light placed by the keyframes NAME, given before or after it; none is an error.
 TEST(AffLoader, AnimatedLightsFollowTheirKeyframes) {
-  const std::string keys = "k lamp {\n  transl 4\n  -1 0 0 0 0 0 0\n  0 0 0 0 0 0 0\n  2 4 0 0 0 0 0\n  3 4 0 0 0 0 0\n}\n";
+  const std::string keys =
+      "k lamp {\n  transl 4\n  -1 0 0 0 0 0 0\n  0 0 0 0 0 0 0\n  2 4 0 0 0 0 0\n  3 4 0 0 0 0 "
+      "0\n}\n";
   const Scene s = load_text("la lamp 1 2 3 0.5 0.5 0.5\n" + keys, 2.0);
   ASSERT_EQ(s.lights.size(), 1u);
   expect_vec(s.lights[0].position, 5, 2, 3, 1e-6);  // (1, 2, 3) moved by (4, 0, 0)
@@ -433,9 +433,8 @@ TEST(AffLoader, DetailLevelsChooseIncludesAndTexturedPatchesLoad) {
 }
 
 TEST(AffLoader, InvisibleParentHidesChildrenButNotSiblings) {
-  std::string text = std::string("x outer {\n x inner {\n") + kOneTriangle + " }\n" +
-                     kOneTriangle + "}\n" + kOneTriangle +
-                     "k outer { visibility 1  0 0 }\n";
+  std::string text = std::string("x outer {\n x inner {\n") + kOneTriangle + " }\n" + kOneTriangle +
+                     "}\n" + kOneTriangle + "k outer { visibility 1  0 0 }\n";
   EXPECT_EQ(load_text(text, 1.0).triangles.size(), 1u);
   EXPECT_EQ(load_text(text, -1.0).triangles.size(), 3u);
 }
@@ -454,10 +453,10 @@ TEST(AffLoader, CameraFromViewAndFromCameraKeys) {
   EXPECT_EQ(s.height, 480);
 
   // k camera overrides v: rotation 90 deg about Y turns -Z into -X.
-  Scene k = load_text(view +
-                      "k camera {\n transl 4\n -1 9 9 9 0 0 0\n 0 5 6 7 0 0 0\n 1 5 6 7 0 0 0\n"
-                      " 2 9 9 9 0 0 0\n rot 4\n -1 0 1 0 90 0 0 0\n 0 0 1 0 90 0 0 0\n"
-                      " 1 0 1 0 90 0 0 0\n 2 0 1 0 0 0 0 0\n}\n");
+  Scene k = load_text(
+      view +
+      "k camera {\n transl 4\n -1 9 9 9 0 0 0\n 0 5 6 7 0 0 0\n 1 5 6 7 0 0 0\n 2 9 9 9 0 0 0\n "
+      "rot 4\n -1 0 1 0 90 0 0 0\n 0 0 1 0 90 0 0 0\n 1 0 1 0 90 0 0 0\n 2 0 1 0 0 0 0 0\n}\n");
   expect_vec(k.camera.eye, 5, 6, 7, 1e-6);
   expect_vec(k.camera.dir, -1, 0, 0, 1e-6);
   expect_vec(k.camera.up, 0, 1, 0, 1e-6);
@@ -465,13 +464,10 @@ TEST(AffLoader, CameraFromViewAndFromCameraKeys) {
 }
 
 TEST(AffLoader, MaterialsAreGlobalInParseOrder) {
-  std::string text = std::string(
-                         "f 1 0.5 0.25  0.8 0.2  30 0.1 1.5\n") +
-                     kOneTriangle +
-                     "xs 1 1 1 1 0 0 0 0 0 0 {\n"
-                     "  fm 0.1 0.1 0.1  0.9 0.8 0.7  0.3 0.6 0.9  12 0 1.3\n"
-                     "}\n" +
-                     kOneTriangle;
+  std::string text =
+      std::string("f 1 0.5 0.25  0.8 0.2  30 0.1 1.5\n") + kOneTriangle +
+      "xs 1 1 1 1 0 0 0 0 0 0 {\n  fm 0.1 0.1 0.1  0.9 0.8 0.7  0.3 0.6 0.9  12 0 1.3\n}\n" +
+      kOneTriangle;
   Scene s = load_text(text);
   ASSERT_EQ(s.triangles.size(), 2u);
   ASSERT_EQ(s.materials.size(), 2u);
@@ -492,18 +488,11 @@ TEST(AffLoader, MaterialsAreGlobalInParseOrder) {
 
 TEST(AffLoader, PrimitivesLightsCommentsAndMeshSections) {
   std::string text =
-      "# comment line\n"
-      "% another comment\n"
-      "l 1 2 3\n"
-      "l 4 5 6  0.5 0.25 1\n"
-      "b 0 0 0\nam 1 1 1\na 0 10 100\n"
-      "p 5  0 0 0  1 0 0  2 1 0  1 2 0  0 1 0\n"
-      "pp 3  0 0 0 0 0 1  1 0 0 0 0 1  0 1 0 0 0 1\n"
-      "tt tex.ppm 0 0 0 0 0  1 0 0 1 0  0 1 0 0 1\n"
-      "m vertices 4  0 0 0  1 0 0  1 1 0  0 1 0\n"
-      "  normals 1  0 0 1\n"
-      "  texturecoords 4 missing_texture.ppm  0 0 1 0 1 1 0 1\n"
-      "  triangles 2  0 1 2  0 0 0  0 1 2   0 2 3  0 0 0  0 2 3\n";
+      "# comment line\n% another comment\nl 1 2 3\nl 4 5 6  0.5 0.25 1\nb 0 0 0\nam 1 1 1\na 0 10 "
+      "100\np 5  0 0 0  1 0 0  2 1 0  1 2 0  0 1 0\npp 3  0 0 0 0 0 1  1 0 0 0 0 1  0 1 0 0 0 "
+      "1\ntt tex.ppm 0 0 0 0 0  1 0 0 1 0  0 1 0 0 1\nm vertices 4  0 0 0  1 0 0  1 1 0  0 1 0\n  "
+      "normals 1  0 0 1\n  texturecoords 4 missing_texture.ppm  0 0 1 0 1 1 0 1\n  triangles 2  0 "
+      "1 2  0 0 0  0 1 2   0 2 3  0 0 0  0 2 3\n";
   Scene s = load_text(text);
   EXPECT_EQ(s.triangles.size(), 3u + 1u + 1u + 2u);
   ASSERT_EQ(s.lights.size(), 2u);
@@ -558,9 +547,9 @@ TEST(AffLoader, AppendsToExistingScene) {
 // ---- malformed input -------------------------------------------------------------------------
 
 TEST(AffErrors, TruncatedMesh) {
-  expect_text_error("fm 0 0 0 1 1 1 0 0 0 1 0 1\n"
-                    "m\nvertices 3\n0 0 0\n1 0 0\n0 1 0\ntriangles 2\n0 1 2\n0 1\n",
-                    9, "end of file");
+  expect_text_error(
+      "fm 0 0 0 1 1 1 0 0 0 1 0 1\nm\nvertices 3\n0 0 0\n1 0 0\n0 1 0\ntriangles 2\n0 1 2\n0 1\n",
+      9, "end of file");
   expect_text_error("m\nvertices 3\n0 0 0\n1 0\n", 4, "end of file");
 }
 
@@ -571,9 +560,10 @@ TEST(AffErrors, TruncatedViewBlock) {
 
 TEST(AffErrors, UnknownKeyword) {
   expect_text_error("b 0 0 0\n\nsphere 1 2 3 4\n", 3, "unknown keyword");
-  expect_text_error("k cam {\n transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 2 0 0 0 0 0 0\n"
-                    " 3 0 0 0 0 0 0\n spin 4\n}\n",
-                    7, "'spin'");
+  expect_text_error(
+      "k cam {\n transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 2 0 0 0 0 0 0\n 3 0 0 0 0 0 0\n spin "
+      "4\n}\n",
+      7, "'spin'");
 }
 
 TEST(AffErrors, MissingIncludeNamesIncludingFileAndLine) {
@@ -583,7 +573,8 @@ TEST(AffErrors, MissingIncludeNamesIncludingFileAndLine) {
 TEST(AffErrors, ErrorInsideIncludeNamesThatFile) {
   fs::path dir = test::temp_dir("aff_inc_err");
   write_file(dir / "top.aff", "i 0 child.aff\n");
-  write_file(dir / "child.aff", std::string(kOneTriangle) + "\n\nm vertices 1 0 0 0 triangles 1 0 0 7\n");
+  write_file(dir / "child.aff",
+             std::string(kOneTriangle) + "\n\nm vertices 1 0 0 0 triangles 1 0 0 7\n");
   expect_input_error((dir / "top.aff").string(), "child.aff", 4, "vertex index");
 }
 
@@ -627,7 +618,8 @@ TEST(AffErrors, EveryKeywordMalformedNamesItsLineAndField) {
       {"i x child.aff\n", 2, "include detail level"},
       {"xs 1 1 1 0 1 0 90 0 0 x {\n}\n", 2, "a number"},
       {"x car\n}\n", 3, "'{'"},
-      {"k car {\n transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 2 0 0 0 0 0 0\n 3 0 0 0 0 0 x\n}\n", 7, "a number"},
+      {"k car {\n transl 4\n 0 0 0 0 0 0 0\n 1 0 0 0 0 0 0\n 2 0 0 0 0 0 0\n 3 0 0 0 0 0 x\n}\n", 7,
+       "a number"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.text);
@@ -636,9 +628,9 @@ TEST(AffErrors, EveryKeywordMalformedNamesItsLineAndField) {
 }
 
 TEST(AffErrors, MissingTextureFileDoesNotThrow) {
-  EXPECT_NO_THROW(load_text("m vertices 3 0 0 0 1 0 0 0 1 0\n"
-                            "texturecoords 3 /no/such/texture.ppm 0 0 1 0 0 1\n"
-                            "triangles 1 0 1 2 0 1 2\n"));
+  EXPECT_NO_THROW(
+      load_text("m vertices 3 0 0 0 1 0 0 0 1 0\ntexturecoords 3 /no/such/texture.ppm 0 0 1 0 0 "
+                "1\ntriangles 1 0 1 2 0 1 2\n"));
 }
 
 }  // namespace

@@ -43,7 +43,8 @@ std::string input_error(const std::function<void()>& f) {
 bool same_triangles(const std::vector<Triangle>& a, const std::vector<Triangle>& b) {
   if (a.size() != b.size()) return false;
   for (size_t i = 0; i < a.size(); ++i)
-    if (a[i].v0 != b[i].v0 || a[i].v1 != b[i].v1 || a[i].v2 != b[i].v2 || a[i].material != b[i].material)
+    if (a[i].v0 != b[i].v0 || a[i].v1 != b[i].v1 || a[i].v2 != b[i].v2 ||
+        a[i].material != b[i].material)
       return false;
   return true;
 }
@@ -79,45 +80,60 @@ void put_binary(std::string& out, const std::string& type, double value, bool bi
     n = sizeof v;
     std::memcpy(b, &v, n);
   };
-  if (type == "char" || type == "int8") store(static_cast<int8_t>(value));
-  else if (type == "uchar" || type == "uint8") store(static_cast<uint8_t>(value));
-  else if (type == "short" || type == "int16") store(static_cast<int16_t>(value));
-  else if (type == "ushort" || type == "uint16") store(static_cast<uint16_t>(value));
-  else if (type == "int" || type == "int32") store(static_cast<int32_t>(value));
-  else if (type == "uint" || type == "uint32") store(static_cast<uint32_t>(value));
-  else if (type == "float" || type == "float32") store(static_cast<float>(value));
-  else store(value);
+  if (type == "char" || type == "int8")
+    store(static_cast<int8_t>(value));
+  else if (type == "uchar" || type == "uint8")
+    store(static_cast<uint8_t>(value));
+  else if (type == "short" || type == "int16")
+    store(static_cast<int16_t>(value));
+  else if (type == "ushort" || type == "uint16")
+    store(static_cast<uint16_t>(value));
+  else if (type == "int" || type == "int32")
+    store(static_cast<int32_t>(value));
+  else if (type == "uint" || type == "uint32")
+    store(static_cast<uint32_t>(value));
+  else if (type == "float" || type == "float32")
+    store(static_cast<float>(value));
+  else
+    store(value);
   if (big) std::reverse(b, b + n);  // the tests run on little-endian hosts
   out.append(reinterpret_cast<const char*>(b), n);
 }
 
 std::string ascii_value(const std::string& type, double value) {
   char buf[64];
-  if (type == "float" || type == "float32") std::snprintf(buf, sizeof buf, "%.9g", static_cast<float>(value));
-  else if (type == "double" || type == "float64") std::snprintf(buf, sizeof buf, "%.17g", value);
-  else std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(value));
+  if (type == "float" || type == "float32")
+    std::snprintf(buf, sizeof buf, "%.9g", static_cast<float>(value));
+  else if (type == "double" || type == "float64")
+    std::snprintf(buf, sizeof buf, "%.17g", value);
+  else
+    std::snprintf(buf, sizeof buf, "%lld", static_cast<long long>(value));
   return buf;
 }
 
 void write_ply(const fs::path& path, const PlyMesh& mesh, Encoding enc, const PlyTypes& t = {}) {
-  const char* format = enc == Encoding::kAscii ? "ascii" : enc == Encoding::kLittle ? "binary_little_endian"
-                                                                                     : "binary_big_endian";
-  std::string out = std::string("ply\nformat ") + format + " 1.0\ncomment written by test_loaders\n" +
-                    "element material 2\nproperty list uchar float values\n" +
-                    "element vertex " + std::to_string(mesh.vertices.size()) + "\n" +
-                    "property uint8 red\nproperty " + t.coord + " x\nproperty " + t.coord + " y\n" +
-                    "property float64 quality\nproperty " + t.coord + " z\n" +
-                    "element face " + std::to_string(mesh.faces.size()) + "\n" +
-                    "property list " + t.count + " " + t.index + " vertex_indices\nproperty int16 flags\n" +
-                    "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+  const char* format = enc == Encoding::kAscii    ? "ascii"
+                       : enc == Encoding::kLittle ? "binary_little_endian"
+                                                  : "binary_big_endian";
+  std::string out =
+      std::string("ply\nformat ") + format + " 1.0\ncomment written by test_loaders\n" +
+      "element material 2\nproperty list uchar float values\n" + "element vertex " +
+      std::to_string(mesh.vertices.size()) + "\n" + "property uint8 red\nproperty " + t.coord +
+      " x\nproperty " + t.coord + " y\n" + "property float64 quality\nproperty " + t.coord +
+      " z\n" + "element face " + std::to_string(mesh.faces.size()) + "\n" + "property list " +
+      t.count + " " + t.index + " vertex_indices\nproperty int16 flags\n" +
+      "element edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
   // One row per element instance: (type, value) pairs.
   std::vector<std::vector<std::pair<std::string, double>>> rows;
   rows.push_back({{"uchar", 2}, {"float", 0.5}, {"float", 1.5}});
   rows.push_back({{"uchar", 0}});
   for (size_t i = 0; i < mesh.vertices.size(); ++i) {
     const auto& v = mesh.vertices[i];
-    rows.push_back(
-        {{"uchar", double(i % 256)}, {t.coord, v[0]}, {t.coord, v[1]}, {"double", 0.25 * i}, {t.coord, v[2]}});
+    rows.push_back({{"uchar", double(i % 256)},
+                    {t.coord, v[0]},
+                    {t.coord, v[1]},
+                    {"double", 0.25 * i},
+                    {t.coord, v[2]}});
   }
   for (const auto& f : mesh.faces) {
     std::vector<std::pair<std::string, double>> row{{t.count, double(f.size())}};
@@ -128,8 +144,10 @@ void write_ply(const fs::path& path, const PlyMesh& mesh, Encoding enc, const Pl
   rows.push_back({{"int", 0}, {"int", 1}});
   for (const auto& row : rows) {
     for (size_t i = 0; i < row.size(); ++i) {
-      if (enc == Encoding::kAscii) out += (i ? " " : "") + ascii_value(row[i].first, row[i].second);
-      else put_binary(out, row[i].first, row[i].second, enc == Encoding::kBig);
+      if (enc == Encoding::kAscii)
+        out += (i ? " " : "") + ascii_value(row[i].first, row[i].second);
+      else
+        put_binary(out, row[i].first, row[i].second, enc == Encoding::kBig);
     }
     if (enc == Encoding::kAscii) out += "\n";
   }
@@ -141,9 +159,11 @@ PlyMesh grid_mesh() {
   PlyMesh m;
   const int n = 6;
   for (int j = 0; j < n; ++j)
-    for (int i = 0; i < n; ++i) m.vertices.push_back({0.1 * i - 0.3, 0.37 * j + 1e-3 * i * j, std::sin(0.5 * i + j)});
+    for (int i = 0; i < n; ++i)
+      m.vertices.push_back({0.1 * i - 0.3, 0.37 * j + 1e-3 * i * j, std::sin(0.5 * i + j)});
   for (int j = 0; j + 1 < n; ++j)
-    for (int i = 0; i + 1 < n; ++i) m.faces.push_back({j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i});
+    for (int i = 0; i + 1 < n; ++i)
+      m.faces.push_back({j * n + i, j * n + i + 1, (j + 1) * n + i + 1, (j + 1) * n + i});
   m.faces.push_back({0, 7, 14});
   m.faces.push_back({0, 1, 2, 8, 13});
   return m;
@@ -158,7 +178,8 @@ std::vector<Triangle> fan(const PlyMesh& m, uint32_t material) {
   };
   std::vector<Triangle> tris;
   for (const auto& f : m.faces)
-    for (size_t k = 2; k < f.size(); ++k) tris.push_back(Triangle{p(f[0]), p(f[k - 1]), p(f[k]), material});
+    for (size_t k = 2; k < f.size(); ++k)
+      tris.push_back(Triangle{p(f[0]), p(f[k - 1]), p(f[k]), material});
   return tris;
 }
 
@@ -176,7 +197,8 @@ TEST(PlyLoader, BunnyHas69451Triangles) {
   ASSERT_EQ(s.triangles.size(), 69451u);
   EXPECT_EQ(s.triangles[0].material, 3u);
   const AABB b = s.bounds();
-  EXPECT_NEAR(b.lo.y, 0.0329874f, 1e-6f);  // the ground quad in the README sits at the bunny's min y
+  // The ground quad in the README sits at the bunny's min y
+  EXPECT_NEAR(b.lo.y, 0.0329874f, 1e-6f);
 }
 
 TEST(PlyLoader, BunnyBinaryRewriteLoadsIdentically) {
@@ -199,8 +221,10 @@ TEST(PlyLoader, BunnyBinaryRewriteLoadsIdentically) {
 TEST(PlyLoader, AsciiAndBinaryEncodingsLoadIdentically) {
   const PlyMesh m = grid_mesh();
   const fs::path dir = test::temp_dir("ply_enc");
-  const PlyTypes variants[] = {{"float", "uchar", "int"}, {"float32", "uint8", "uint32"},
-                               {"double", "int16", "ushort"}, {"float64", "int", "int"}};
+  const PlyTypes variants[] = {{"float", "uchar", "int"},
+                               {"float32", "uint8", "uint32"},
+                               {"double", "int16", "ushort"},
+                               {"float64", "int", "int"}};
   for (const PlyTypes& t : variants) {
     SCOPED_TRACE(t.coord + " " + t.count + " " + t.index);
     write_ply(dir / "a.ply", m, Encoding::kAscii, t);
@@ -227,22 +251,9 @@ TEST(PlyLoader, AppendsToTheScene) {
 
 // A 4-vertex ASCII PLY: header lines 1-9, vertices on lines 10-13, faces from line 14.
 const char* kSmallPlyHeader =
-    "ply\n"
-    "format ascii 1.0\n"
-    "element vertex 4\n"
-    "property float x\n"
-    "property float y\n"
-    "property float z\n"
-    "element face %d\n"
-    "property list uchar int vertex_indices\n"
-    "end_header\n";
-const char* kSmallPlyData =
-    "0 0 0\n"
-    "1 0 0\n"
-    "1 1 0\n"
-    "0 1 0\n"
-    "3 0 1 2\n"
-    "3 0 2 3\n";
+    "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float "
+    "z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n";
+const char* kSmallPlyData = "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
 
 std::string small_ply(int faces, const std::string& data = kSmallPlyData) {
   char header[512];
@@ -257,7 +268,8 @@ TEST(PlyLoader, SmallAsciiFile) {
   ASSERT_EQ(tris.size(), 2u);
   EXPECT_EQ(tris[1].v2, Vec3(0, 1, 0));
   // Windows line ends and trailing blank lines are fine.
-  write_text(dir / "crlf.ply", std::regex_replace(small_ply(2), std::regex("\n"), "\r\n") + "\r\n\n");
+  write_text(dir / "crlf.ply",
+             std::regex_replace(small_ply(2), std::regex("\n"), "\r\n") + "\r\n\n");
   EXPECT_TRUE(same_triangles(load_ply_triangles(dir / "crlf.ply"), tris));
   fs::remove_all(dir);
 }
@@ -268,12 +280,18 @@ TEST(PlyLoader, ElementCountWrongNamesFileAndLine) {
 
   // Declares 3 faces, has 2: the file ends after line 15 (the last face).
   write_text(file, small_ply(3));
-  std::string msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  std::string msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ":15: expected 3 faces, file ends after 2"), std::string::npos) << msg;
 
   // Declares 1 face, has 2: the second face (line 15) is data after the last element.
   write_text(file, small_ply(1));
-  msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ":15:"), std::string::npos) << msg;
   EXPECT_NE(msg.find("element counts are wrong"), std::string::npos) << msg;
 
@@ -281,7 +299,10 @@ TEST(PlyLoader, ElementCountWrongNamesFileAndLine) {
   std::string text = small_ply(2);
   text.replace(text.find("vertex 4"), 8, "vertex 5");
   write_text(file, text);
-  msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ":14:"), std::string::npos) << msg;
 
   // Truncated binary: names the element and byte offset.
@@ -290,9 +311,13 @@ TEST(PlyLoader, ElementCountWrongNamesFileAndLine) {
   {
     std::ifstream in(file, std::ios::binary);
     std::string data((std::istreambuf_iterator<char>(in)), {});
-    write_text(file, data.substr(0, data.find("end_header\n") + 11 + 10 + 100));  // 2 materials, then 100 bytes
+    // 2 materials, then 100 bytes
+    write_text(file, data.substr(0, data.find("end_header\n") + 11 + 10 + 100));
   }
-  msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ": vertex 4 at byte "), std::string::npos) << msg;
   EXPECT_NE(msg.find("expected 36 vertices, file ends after 4"), std::string::npos) << msg;
 
@@ -302,7 +327,10 @@ TEST(PlyLoader, ElementCountWrongNamesFileAndLine) {
     std::ofstream out(file, std::ios::binary | std::ios::app);
     out << "xx";
   }
-  msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ": 2 bytes of data after the last element"), std::string::npos) << msg;
   fs::remove_all(dir);
 }
@@ -323,27 +351,40 @@ TEST(PlyLoader, BadHeaderNamesFileAndLine) {
       {"element face 2", "element face many", 7},
       {"property float z\n", "property float z\nbogus line\n", 7},
       {"element vertex 4\n", "property float w\nelement vertex 4\n", 3},
-      {"end_header\n", "", 9},    // data read as header: '0' is no keyword
+      {"end_header\n", "", 9},        // data read as header: '0' is no keyword
       {"format ascii 1.0\n", "", 8},  // reported at end_header
   };
   for (const Case& c : cases) {
     std::string text = small_ply(2);
     text.replace(text.find(c.from), c.from.size(), c.to);
     write_text(file, text);
-    const std::string msg = input_error([&] { Scene s; load_ply(file, 0, s); });
-    EXPECT_NE(msg.find(file + ":" + std::to_string(c.line) + ":"), std::string::npos) << c.to << " -> " << msg;
+    const std::string msg = input_error([&] {
+      Scene s;
+      load_ply(file, 0, s);
+    });
+    EXPECT_NE(msg.find(file + ":" + std::to_string(c.line) + ":"), std::string::npos)
+        << c.to << " -> " << msg;
   }
   write_text(file, "ply\nformat ascii 1.0\nelement vertex 1\n");
-  EXPECT_NE(input_error([&] { Scene s; load_ply(file, 0, s); }).find(file + ":3: the header has no 'end_header'"),
+  EXPECT_NE(input_error([&] {
+              Scene s;
+              load_ply(file, 0, s);
+            }).find(file + ":3: the header has no 'end_header'"),
             std::string::npos);
   // Missing x/y/z or vertex_indices: named at the element's header line.
   std::string text = small_ply(2);
   text.replace(text.find("property float z"), 16, "property float w");
   write_text(file, text);
-  EXPECT_NE(input_error([&] { Scene s; load_ply(file, 0, s); }).find(file + ":3: element 'vertex' needs"),
+  EXPECT_NE(input_error([&] {
+              Scene s;
+              load_ply(file, 0, s);
+            }).find(file + ":3: element 'vertex' needs"),
             std::string::npos);
   // Not there at all.
-  EXPECT_NE(input_error([&] { Scene s; load_ply(file + ".missing", 0, s); }).find(file + ".missing"),
+  EXPECT_NE(input_error([&] {
+              Scene s;
+              load_ply(file + ".missing", 0, s);
+            }).find(file + ".missing"),
             std::string::npos);
   fs::remove_all(dir);
 }
@@ -352,16 +393,27 @@ TEST(PlyLoader, IndexOutOfRangeNamesFileAndLine) {
   const fs::path dir = test::temp_dir("ply_index");
   const std::string file = (dir / "i.ply").string();
   write_text(file, small_ply(2, "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 4\n"));
-  std::string msg = input_error([&] { Scene s; load_ply(file, 0, s); });
-  EXPECT_NE(msg.find(file + ":15: face 1: vertex index 4 out of range (4 vertices)"), std::string::npos) << msg;
+  std::string msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
+  EXPECT_NE(msg.find(file + ":15: face 1: vertex index 4 out of range (4 vertices)"),
+            std::string::npos)
+      << msg;
   write_text(file, small_ply(2, "0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 -1\n3 0 2 3\n"));
-  msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ":14: face 0: vertex index -1 out of range"), std::string::npos) << msg;
 
   PlyMesh m = grid_mesh();
   m.faces[3][1] = 36;
   write_ply(file, m, Encoding::kBig);
-  msg = input_error([&] { Scene s; load_ply(file, 0, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_ply(file, 0, s);
+  });
   EXPECT_NE(msg.find(file + ": face 3 at byte "), std::string::npos) << msg;
   EXPECT_NE(msg.find("vertex index 36 out of range (36 vertices)"), std::string::npos) << msg;
   fs::remove_all(dir);
@@ -371,13 +423,22 @@ TEST(PlyLoader, BadValuesNameTheLine) {
   const fs::path dir = test::temp_dir("ply_values");
   const std::string file = (dir / "v.ply").string();
   write_text(file, small_ply(2, "0 0 0\n1 0 0\n1 x 0\n0 1 0\n3 0 1 2\n3 0 2 3\n"));
-  EXPECT_NE(input_error([&] { Scene s; load_ply(file, 0, s); }).find(file + ":12: vertex 2: property 'y'"),
+  EXPECT_NE(input_error([&] {
+              Scene s;
+              load_ply(file, 0, s);
+            }).find(file + ":12: vertex 2: property 'y'"),
             std::string::npos);
   write_text(file, small_ply(2, "0 0 0\n1 0 0\n1 1 0\n0 1 0 7\n3 0 1 2\n3 0 2 3\n"));
-  EXPECT_NE(input_error([&] { Scene s; load_ply(file, 0, s); }).find(file + ":13: vertex 3: unexpected value"),
+  EXPECT_NE(input_error([&] {
+              Scene s;
+              load_ply(file, 0, s);
+            }).find(file + ":13: vertex 3: unexpected value"),
             std::string::npos);
   write_text(file, small_ply(2, "0 0 0\n1 0 0\n1 1 0\n0 1 0\n300 0 1 2\n3 0 2 3\n"));
-  EXPECT_NE(input_error([&] { Scene s; load_ply(file, 0, s); }).find(file + ":14: face 0: property 'vertex_indices'"),
+  EXPECT_NE(input_error([&] {
+              Scene s;
+              load_ply(file, 0, s);
+            }).find(file + ":14: face 0: property 'vertex_indices'"),
             std::string::npos);
   fs::remove_all(dir);
 }
@@ -388,24 +449,11 @@ TEST(PlyLoader, BadValuesNameTheLine) {
 TEST(ObjLoader, LoadsFacesAndMtlMaterials) {
   const fs::path dir = test::temp_dir("obj");
   write_text(dir / "m.mtl",
-             "newmtl red\nKd 1 0 0\nKs 0.5 0.25 0.125\nNs 32\n"
-             "newmtl blue\nKd 0 0 1\n");
-  write_text(dir / "m.obj",
-             "# test\n"
-             "mtllib m.mtl\n"
-             "v 0 0 0\n"
-             "v 1 0 0\n"
-             "v 1 1 0\n"
-             "v 0 1 0\n"
-             "v 0 0 1\n"
-             "vn 0 0 1\n"
-             "usemtl red\n"
-             "f 1//1 2//1 3//1 4//1\n"
-             "usemtl blue\n"
-             "f 1 2 5\n"
-             "g other\n"
-             "usemtl none\n"
-             "f -3 -2 -1\n");
+             "newmtl red\nKd 1 0 0\nKs 0.5 0.25 0.125\nNs 32\nnewmtl blue\nKd 0 0 1\n");
+  write_text(
+      dir / "m.obj",
+      "# test\nmtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nvn 0 0 1\nusemtl red\nf "
+      "1//1 2//1 3//1 4//1\nusemtl blue\nf 1 2 5\ng other\nusemtl none\nf -3 -2 -1\n");
   Scene s;
   s.add_material(Material{});  // loaders append after what is there
   load_obj((dir / "m.obj").string(), s);
@@ -447,16 +495,29 @@ TEST(ObjLoader, IndexOutOfRangeNamesFileAndLine) {
   const fs::path dir = test::temp_dir("obj_bad");
   const std::string file = (dir / "bad.obj").string();
   write_text(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n\nf 1 2 9\nf 1 2 3\n");
-  std::string msg = input_error([&] { Scene s; load_obj(file, s); });
-  EXPECT_NE(msg.find(file + ":6: face vertex index 9 is out of range (the file has 3 vertices)"), std::string::npos)
+  std::string msg = input_error([&] {
+    Scene s;
+    load_obj(file, s);
+  });
+  EXPECT_NE(msg.find(file + ":6: face vertex index 9 is out of range (the file has 3 vertices)"),
+            std::string::npos)
       << msg;
   write_text(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n");
-  msg = input_error([&] { Scene s; load_obj(file, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_obj(file, s);
+  });
   EXPECT_NE(msg.find(file + ":4: face vertex index -4"), std::string::npos) << msg;
   write_text(file, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n");  // tinyobjloader's own error
-  msg = input_error([&] { Scene s; load_obj(file, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_obj(file, s);
+  });
   EXPECT_NE(msg.find(file + ":4:"), std::string::npos) << msg;
-  msg = input_error([&] { Scene s; load_obj(file + ".missing", s); });
+  msg = input_error([&] {
+    Scene s;
+    load_obj(file + ".missing", s);
+  });
   EXPECT_NE(msg.find(file + ".missing: cannot open"), std::string::npos) << msg;
   fs::remove_all(dir);
 }
@@ -473,8 +534,10 @@ struct Trs {
     const double v[3] = {p.x * s[0], p.y * s[1], p.z * s[2]};
     // v' = v + 2w (q x v) + 2 q x (q x v)
     const double q[3] = {r[0], r[1], r[2]}, w = r[3];
-    const double c1[3] = {q[1] * v[2] - q[2] * v[1], q[2] * v[0] - q[0] * v[2], q[0] * v[1] - q[1] * v[0]};
-    const double c2[3] = {q[1] * c1[2] - q[2] * c1[1], q[2] * c1[0] - q[0] * c1[2], q[0] * c1[1] - q[1] * c1[0]};
+    const double c1[3] = {q[1] * v[2] - q[2] * v[1], q[2] * v[0] - q[0] * v[2],
+                          q[0] * v[1] - q[1] * v[0]};
+    const double c2[3] = {q[1] * c1[2] - q[2] * c1[1], q[2] * c1[0] - q[0] * c1[2],
+                          q[0] * c1[1] - q[1] * c1[0]};
     return Vec3(static_cast<float>(v[0] + 2 * w * c1[0] + 2 * c2[0] + t[0]),
                 static_cast<float>(v[1] + 2 * w * c1[1] + 2 * c2[1] + t[1]),
                 static_cast<float>(v[2] + 2 * w * c1[2] + 2 * c2[2] + t[2]));
@@ -504,7 +567,8 @@ struct GltfFixture {
     light_node.t = {0, 5, 0};
     camera_node.t = {0, 1, 10};
     camera_node.r = {std::sin(-M_PI / 36), 0, 0, std::cos(-M_PI / 36)};  // -10 degrees about +X
-    matrix = {0, 1, 0, 0,  -1, 0, 0, 0,  0, 0, 1, 0,  5, 0, 0, 1};  // 90 degrees about +Z, then x += 5
+    // 90 degrees about +Z, then x += 5
+    matrix = {0, 1, 0, 0, -1, 0, 0, 0, 0, 0, 1, 0, 5, 0, 0, 1};
     quad = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
     tri = {{0, 0, 0}, {0, 2, 0}, {0, 0, 2}};
     strip = {{0, 0, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 2}};
@@ -518,7 +582,8 @@ struct GltfFixture {
       v.byteLength = n;
       v.byteStride = stride;
       v.target = target;
-      data.insert(data.end(), static_cast<const unsigned char*>(p), static_cast<const unsigned char*>(p) + n);
+      data.insert(data.end(), static_cast<const unsigned char*>(p),
+                  static_cast<const unsigned char*>(p) + n);
       model.bufferViews.push_back(v);
       return static_cast<int>(model.bufferViews.size() - 1);
     };
@@ -534,16 +599,18 @@ struct GltfFixture {
     auto positions = [&](const std::vector<Vec3>& pts, size_t stride) {
       std::vector<float> f(pts.size() * stride / 4, -99.f);  // padding that must not be read
       for (size_t i = 0; i < pts.size(); ++i) std::memcpy(&f[i * stride / 4], &pts[i], 12);
-      return add_accessor(add_view(f.data(), f.size() * 4, stride == 12 ? 0 : stride, TINYGLTF_TARGET_ARRAY_BUFFER),
-                          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, pts.size());
+      return add_accessor(
+          add_view(f.data(), f.size() * 4, stride == 12 ? 0 : stride, TINYGLTF_TARGET_ARRAY_BUFFER),
+          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, pts.size());
     };
 
     const uint16_t quad_idx[6] = {0, 1, 2, 0, 2, 3};
     const uint8_t strip_idx[4] = {0, 1, 2, 3};
     tinygltf::Primitive pq;
     pq.attributes["POSITION"] = positions(quad, 16);
-    pq.indices = add_accessor(add_view(quad_idx, sizeof quad_idx, 0, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, 6);
+    pq.indices =
+        add_accessor(add_view(quad_idx, sizeof quad_idx, 0, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, TINYGLTF_TYPE_SCALAR, 6);
     pq.material = 0;
     pq.mode = TINYGLTF_MODE_TRIANGLES;
     tinygltf::Primitive pt;
@@ -552,8 +619,9 @@ struct GltfFixture {
     pt.mode = TINYGLTF_MODE_TRIANGLES;
     tinygltf::Primitive ps;
     ps.attributes["POSITION"] = positions(strip, 12);
-    ps.indices = add_accessor(add_view(strip_idx, sizeof strip_idx, 0, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
-                              TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_SCALAR, 4);
+    ps.indices =
+        add_accessor(add_view(strip_idx, sizeof strip_idx, 0, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                     TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TYPE_SCALAR, 4);
     ps.material = 1;
     ps.mode = TINYGLTF_MODE_TRIANGLE_STRIP;
     tinygltf::Primitive pp = pt;
@@ -578,7 +646,8 @@ struct GltfFixture {
       n.scale = {t.s[0], t.s[1], t.s[2]};
       return n;
     };
-    tinygltf::Node n0 = trs_node(root), n1 = trs_node(quad_node), n2, n3, n4 = trs_node(camera_node);
+    tinygltf::Node n0 = trs_node(root), n1 = trs_node(quad_node), n2, n3,
+                   n4 = trs_node(camera_node);
     n0.children = {1, 2};
     n1.mesh = 0;
     n2.matrix = matrix;
@@ -619,7 +688,9 @@ struct GltfFixture {
     out.push_back({mesh1_world(strip[1]), mesh1_world(strip[3]), mesh1_world(strip[2]), 1});
     return out;
   }
-  Vec3 light_position() const { return root.apply(apply_matrix(matrix, light_node.apply(Vec3(0.f)))); }
+  Vec3 light_position() const {
+    return root.apply(apply_matrix(matrix, light_node.apply(Vec3(0.f))));
+  }
 };
 
 void expect_fixture_scene(const GltfFixture& f, const Scene& s) {
@@ -631,7 +702,8 @@ void expect_fixture_scene(const GltfFixture& f, const Scene& s) {
     expect_near(s.triangles[i].v0, want[i].v0);
     expect_near(s.triangles[i].v1, want[i].v1);
     expect_near(s.triangles[i].v2, want[i].v2);
-    EXPECT_EQ(s.materials[s.triangles[i].material].diffuse, want[i].material ? Vec3(0, 1, 0) : Vec3(1, 0, 0));
+    EXPECT_EQ(s.materials[s.triangles[i].material].diffuse,
+              want[i].material ? Vec3(0, 1, 0) : Vec3(1, 0, 0));
   }
   ASSERT_EQ(s.lights.size(), 1u);
   expect_near(s.lights[0].position, f.light_position());
@@ -648,8 +720,10 @@ TEST(GltfLoader, GltfAndGlbLoadTheSameWorldSpaceScene) {
   GltfFixture f;
   const fs::path dir = test::temp_dir("gltf");
   tinygltf::TinyGLTF writer;
-  ASSERT_TRUE(writer.WriteGltfSceneToFile(&f.model, (dir / "s.gltf").string(), true, true, true, false));
-  ASSERT_TRUE(writer.WriteGltfSceneToFile(&f.model, (dir / "s.glb").string(), true, true, false, true));
+  ASSERT_TRUE(
+      writer.WriteGltfSceneToFile(&f.model, (dir / "s.gltf").string(), true, true, true, false));
+  ASSERT_TRUE(
+      writer.WriteGltfSceneToFile(&f.model, (dir / "s.glb").string(), true, true, false, true));
   Scene a, b;
   load_gltf((dir / "s.gltf").string(), a);
   load_gltf((dir / "s.glb").string(), b);
@@ -671,7 +745,8 @@ TEST(GltfLoader, NoSceneMeansAllRootNodes) {
   f.model.defaultScene = -1;
   const fs::path dir = test::temp_dir("gltf_noscene");
   tinygltf::TinyGLTF writer;
-  ASSERT_TRUE(writer.WriteGltfSceneToFile(&f.model, (dir / "s.gltf").string(), true, true, true, false));
+  ASSERT_TRUE(
+      writer.WriteGltfSceneToFile(&f.model, (dir / "s.gltf").string(), true, true, true, false));
   Scene s;
   load_gltf((dir / "s.gltf").string(), s);
   expect_fixture_scene(f, s);
@@ -682,24 +757,36 @@ TEST(GltfLoader, ErrorsNameTheFile) {
   const fs::path dir = test::temp_dir("gltf_bad");
   const std::string file = (dir / "bad.gltf").string();
   write_text(file, "{ \"asset\": {\"version\": \"2.0\"}, \"nodes\": [ ");
-  std::string msg = input_error([&] { Scene s; load_gltf(file, s); });
+  std::string msg = input_error([&] {
+    Scene s;
+    load_gltf(file, s);
+  });
   EXPECT_EQ(msg.rfind(file + ": tinygltf: ", 0), 0u) << msg;
 
   GltfFixture f;
   f.model.nodes[1].mesh = 7;
   tinygltf::TinyGLTF writer;
   ASSERT_TRUE(writer.WriteGltfSceneToFile(&f.model, file, true, true, true, false));
-  msg = input_error([&] { Scene s; load_gltf(file, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_gltf(file, s);
+  });
   EXPECT_EQ(msg.rfind(file + ": ", 0), 0u) << msg;
   EXPECT_NE(msg.find("mesh 7 out of range"), std::string::npos) << msg;
 
   GltfFixture g;
   g.model.nodes[2].children = {3, 0};  // a cycle
   ASSERT_TRUE(writer.WriteGltfSceneToFile(&g.model, file, true, true, true, false));
-  msg = input_error([&] { Scene s; load_gltf(file, s); });
+  msg = input_error([&] {
+    Scene s;
+    load_gltf(file, s);
+  });
   EXPECT_NE(msg.find("cycle"), std::string::npos) << msg;
 
-  msg = input_error([&] { Scene s; load_gltf(file + ".missing.glb", s); });
+  msg = input_error([&] {
+    Scene s;
+    load_gltf(file + ".missing.glb", s);
+  });
   EXPECT_NE(msg.find(file + ".missing.glb"), std::string::npos) << msg;
   fs::remove_all(dir);
 }
@@ -731,7 +818,8 @@ TEST(Procedural, DefaultCityHashIsStable) {
   make_city(CityParams{}, s);
   uint64_t h = 1469598103934665603ull;  // FNV-1a
   auto mix = [&](const void* p, size_t n) {
-    for (size_t i = 0; i < n; ++i) h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ull;
+    for (size_t i = 0; i < n; ++i)
+      h = (h ^ static_cast<const unsigned char*>(p)[i]) * 1099511628211ull;
   };
   for (const Triangle& t : s.triangles) {
     mix(&t.v0, 12);
@@ -793,8 +881,10 @@ TEST(Procedural, ParamsAreValidated) {
   };
   EXPECT_NE(bad([](CityParams& p) { p.blocks = 0; }).find("blocks"), std::string::npos);
   EXPECT_NE(bad([](CityParams& p) { p.blocks = 65; }).find("blocks"), std::string::npos);
-  EXPECT_NE(bad([](CityParams& p) { p.sphere_segments = 3; }).find("sphere_segments"), std::string::npos);
-  EXPECT_NE(bad([](CityParams& p) { p.sphere_segments = 257; }).find("sphere_segments"), std::string::npos);
+  EXPECT_NE(bad([](CityParams& p) { p.sphere_segments = 3; }).find("sphere_segments"),
+            std::string::npos);
+  EXPECT_NE(bad([](CityParams& p) { p.sphere_segments = 257; }).find("sphere_segments"),
+            std::string::npos);
   EXPECT_NE(bad([](CityParams& p) { p.lights = 0; }).find("lights"), std::string::npos);
   EXPECT_NE(bad([](CityParams& p) { p.lights = 16; }).find("lights"), std::string::npos);
 }

@@ -8,8 +8,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <sys/wait.h>
+#include <fstream>
 
 namespace rtsim {
 namespace {
@@ -35,7 +35,8 @@ nlohmann::json lookup(const nlohmann::json& j, const std::string& path) {
   size_t start = 0;
   while (start <= path.size()) {
     const size_t dot = path.find('.', start);
-    const std::string part = path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
+    const std::string part =
+        path.substr(start, dot == std::string::npos ? std::string::npos : dot - start);
     if (!node->is_object() || !node->contains(part)) return nullptr;
     node = &(*node)[part];
     if (dot == std::string::npos) break;
@@ -47,7 +48,8 @@ nlohmann::json lookup(const nlohmann::json& j, const std::string& path) {
 class Golden : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(Golden, FiguresAreUnchanged) {
-  const nlohmann::json golden = read_json(test::source_dir() / "tests/golden" / (GetParam() + ".json"));
+  const nlohmann::json golden =
+      read_json(test::source_dir() / "tests/golden" / (GetParam() + ".json"));
   ASSERT_TRUE(golden.contains("expect")) << "no figures yet: run scripts/update-goldens.py";
   const fs::path out = test::temp_dir("golden");
   std::string cmd = "cd '" + test::source_dir().string() + "' && '" + RTSIM_BINARY + "'";
@@ -64,13 +66,12 @@ TEST_P(Golden, FiguresAreUnchanged) {
   fs::remove_all(out);
 }
 
-INSTANTIATE_TEST_SUITE_P(City, Golden, ::testing::ValuesIn(golden_files()),
-                         [](const auto& info) {
-                           std::string n = info.param;
-                           for (char& c : n)
-                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
-                           return n;
-                         });
+INSTANTIATE_TEST_SUITE_P(City, Golden, ::testing::ValuesIn(golden_files()), [](const auto& info) {
+  std::string n = info.param;
+  for (char& c : n)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return n;
+});
 
 }  // namespace
 }  // namespace rtsim

@@ -42,7 +42,9 @@ struct Fill {
   uint64_t line;
   uint64_t cookie;
   Tick when;
-  bool operator==(const Fill& o) const { return line == o.line && cookie == o.cookie && when == o.when; }
+  bool operator==(const Fill& o) const {
+    return line == o.line && cookie == o.cookie && when == o.when;
+  }
 };
 std::ostream& operator<<(std::ostream& os, const Fill& f) {
   return os << "{line " << f.line << ", cookie " << f.cookie << ", when " << f.when << "}";
@@ -126,7 +128,8 @@ TEST(CacheBanks, KRequestsToOneSinglePortedBankCompleteOneCycleApart) {
   for (uint64_t line : {0, 256, 512, 768}) c.fetch_line(line, 0, nullptr, 0);
   const CacheStats before = c.stats();
   const Tick t = 1000 * kNs;
-  for (uint64_t k = 0; k < 4; ++k) EXPECT_EQ(c.fetch_line(k * 256, t, nullptr, 0), t + (4 + k) * kNs);
+  for (uint64_t k = 0; k < 4; ++k)
+    EXPECT_EQ(c.fetch_line(k * 256, t, nullptr, 0), t + (4 + k) * kNs);
   EXPECT_EQ(c.stats().bank_stall_events - before.bank_stall_events, 3u);
   EXPECT_EQ(c.stats().bank_stall_cycles - before.bank_stall_cycles, 1u + 2 + 3);
 }
@@ -228,14 +231,14 @@ TEST(Cache, LruReplacementGivesExactHitsAndMisses) {
   };
   // Under FIFO the 4th access (C) would evict A, not B, and everything after would differ.
   const std::vector<Step> steps = {
-      {A, false}, {B, false}, {A, true},   // set 0: A B
-      {C, false},                          // evicts B (A used more recently)
-      {B, false},                          // evicts A (C newer)
-      {A, false},                          // evicts C
-      {B, true},                           //
-      {C, false},                          // evicts A (B newer)
-      {A, false},                          // evicts B
-      {D, false}, {D, true},               // the other set is independent
+      {A, false}, {B, false}, {A, true},  // set 0: A B
+      {C, false},                         // evicts B (A used more recently)
+      {B, false},                         // evicts A (C newer)
+      {A, false},                         // evicts C
+      {B, true},                          //
+      {C, false},                         // evicts A (B newer)
+      {A, false},                         // evicts B
+      {D, false}, {D, true},              // the other set is independent
   };
   Tick t = 0;
   for (size_t i = 0; i < steps.size(); ++i, t += 100 * kNs) {
@@ -494,8 +497,8 @@ TEST(Cache, RegistersItsStatisticsByName) {
   c.fetch_line(0, 100 * kNs, nullptr, 0);
   c.fetch_line(0, 200 * kNs, nullptr, 0);
   c.fetch_line(64, 300 * kNs, nullptr, 0);
-  for (const char* n : {"accesses", "hits", "misses", "mshr_merges", "mshr_stall_events", "mshr_stall_cycles",
-                        "fills", "evictions", "hit_rate"})
+  for (const char* n : {"accesses", "hits", "misses", "mshr_merges", "mshr_stall_events",
+                        "mshr_stall_cycles", "fills", "evictions", "hit_rate"})
     EXPECT_TRUE(r.has(std::string("trv.l1.3.") + n)) << n;
   EXPECT_DOUBLE_EQ(r.value("trv.l1.3.accesses"), 4.0);
   EXPECT_DOUBLE_EQ(r.value("trv.l1.3.hits"), 2.0);

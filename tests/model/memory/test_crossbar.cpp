@@ -63,7 +63,9 @@ TEST(Crossbar, TheIdealWireAddsOnlyItsLatency) {
 // A memory answering every line after a fixed latency.
 class FixedMemory : public LineSource {
  public:
-  Tick fetch_line(uint64_t, Tick now, FillListener*, uint64_t) override { return now + 10 * kCycle; }
+  Tick fetch_line(uint64_t, Tick now, FillListener*, uint64_t) override {
+    return now + 10 * kCycle;
+  }
   const uint8_t* line_data(uint64_t) const override { return bytes.data(); }
   std::vector<uint8_t> bytes = std::vector<uint8_t>(64, 7);
 };
@@ -83,7 +85,7 @@ CacheConfig banked(uint32_t banks, uint32_t ports) {
 TEST(CrossbarPort, RepliesFromOneBankQueueAtItsPortAndFromTwoBanksDoNot) {
   FixedMemory mem;
   Cache l2("l2", banked(2, 0), Clock(), &mem);
-  l2.fetch_line(0, 0, nullptr, 0);   // lines 0 (bank 0), 64 (bank 1), 128 (bank 0) present by 14
+  l2.fetch_line(0, 0, nullptr, 0);  // lines 0 (bank 0), 64 (bank 1), 128 (bank 0) present by 14
   l2.fetch_line(64, 0, nullptr, 0);
   l2.fetch_line(128, 0, nullptr, 0);
   Crossbar x("x", link(32), Clock(), 2, 2);
@@ -91,8 +93,8 @@ TEST(CrossbarPort, RepliesFromOneBankQueueAtItsPortAndFromTwoBanksDoNot) {
   // Request: one flit (1 cycle); L2 hit: 4; reply: 2 flits.
   const Tick t = 100 * kCycle;
   EXPECT_EQ(a.fetch_line(0, t, nullptr, 0), t + 7 * kCycle);
-  EXPECT_EQ(b.fetch_line(64, t, nullptr, 0), t + 7 * kCycle);    // the other bank: in parallel
-  EXPECT_EQ(b.fetch_line(128, t, nullptr, 0), t + 9 * kCycle);   // bank 0's reply port is busy
+  EXPECT_EQ(b.fetch_line(64, t, nullptr, 0), t + 7 * kCycle);   // the other bank: in parallel
+  EXPECT_EQ(b.fetch_line(128, t, nullptr, 0), t + 9 * kCycle);  // bank 0's reply port is busy
 }
 
 }  // namespace

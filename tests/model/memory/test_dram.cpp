@@ -106,8 +106,9 @@ TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
   const DramConfig k = dram_preset("gddr3-gt200-1ghz-cycles");
   EXPECT_EQ(k.preset, "gddr3-gt200-1ghz-cycles");
   EXPECT_EQ(k.tCK_ps, 1000u);
-  for (auto f : {&DramConfig::tCCD, &DramConfig::tRRD, &DramConfig::tRCD, &DramConfig::tRAS, &DramConfig::tRP,
-                 &DramConfig::tRC, &DramConfig::CL, &DramConfig::WL, &DramConfig::tCDLR, &DramConfig::tWR})
+  for (auto f : {&DramConfig::tCCD, &DramConfig::tRRD, &DramConfig::tRCD, &DramConfig::tRAS,
+                 &DramConfig::tRP, &DramConfig::tRC, &DramConfig::CL, &DramConfig::WL,
+                 &DramConfig::tCDLR, &DramConfig::tWR})
     EXPECT_EQ(k.*f, g.*f);
   EXPECT_EQ(k.write_to_read(), 15u);
   EXPECT_EQ(k.write_to_precharge(), 20u);
@@ -118,8 +119,8 @@ TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
 }
 
 TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
-  EXPECT_EQ(dram_preset_names(),
-            (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"}));
+  EXPECT_EQ(dram_preset_names(), (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz",
+                                                           "gddr3-gt200-1ghz-cycles"}));
   try {
     dram_preset("ddr9");
     FAIL() << "unknown preset accepted";
@@ -224,7 +225,8 @@ TEST(DramAddressMapping, Gt200ChannelBitsAreInsertedAtBit8) {
   EXPECT_EQ(m.decode(2048).column, 8u);   // ... in the next column group of the same row
   EXPECT_EQ(m.decode(kBank1 * 5).bank, 5u);
   EXPECT_EQ(m.decode(kRow1 * 9).row, 9u);
-  EXPECT_EQ(m.decode(uint64_t(1) << 31).row, uint64_t(1) << 14);  // bits above the string extend the row
+  // Bits above the string extend the row
+  EXPECT_EQ(m.decode(uint64_t(1) << 31).row, uint64_t(1) << 14);
   const DramAddress a = m.decode(0x12345678);
   EXPECT_EQ(a.byte, 0x18u);
   EXPECT_EQ(a.column, ((0x12345678u >> 5) & 7u) | (((0x12345678u >> 11) & 7u) << 3));
@@ -269,7 +271,8 @@ std::vector<Tick> idle_latencies(DramController& e, bool write = false) {
   EXPECT_EQ(done.size(), 3u);
   for (const auto& c : done) EXPECT_EQ(c.write, write);
   std::vector<Tick> latency;
-  for (uint64_t i = 0; i < addrs.size(); ++i) latency.push_back(ready_of(done, i + 1) - i * 100 * kNs);
+  for (uint64_t i = 0; i < addrs.size(); ++i)
+    latency.push_back(ready_of(done, i + 1) - i * 100 * kNs);
   return latency;
 }
 
@@ -293,9 +296,11 @@ TEST(DramController, OneGigahertzPresetIdleLatencies) {
   EXPECT_EQ(c.tRCD, 15u);
   EXPECT_EQ(c.CL, 13u);
   EXPECT_EQ(c.tRP, 13u);
-  EXPECT_EQ(c.tRC, 45u);  // 43.75 ns rounds to 44, raised to tRAS + tRP = 32 + 13 (no timing changes)
+  // 43.75 ns rounds to 44, raised to tRAS + tRP = 32 + 13 (no timing changes)
+  EXPECT_EQ(c.tRC, 45u);
   DramController e(c);
-  // Closed bank tRCD + CL + BL/2 = 30 cycles, row hit CL + BL/2 = 15, conflict tRP + tRCD + CL + BL/2 = 43.
+  // Closed bank tRCD + CL + BL/2 = 30 cycles, row hit CL + BL/2 = 15, conflict tRP + tRCD + CL +
+  // BL/2 = 43.
   EXPECT_EQ(idle_latencies(e), (std::vector<Tick>{30 * kNs, 15 * kNs, 43 * kNs}));
 }
 
@@ -304,7 +309,8 @@ TEST(DramController, OneGigahertzCyclesPresetIdleLatencies) {
   DramConfig c = dram_preset("gddr3-gt200-1ghz-cycles");
   c.request_bytes = 32;
   DramController e(c);
-  // Closed bank tRCD + CL + BL/2 = 24 cycles, row hit CL + BL/2 = 12, conflict tRP + tRCD + CL + BL/2 = 34.
+  // Closed bank tRCD + CL + BL/2 = 24 cycles, row hit CL + BL/2 = 12, conflict tRP + tRCD + CL +
+  // BL/2 = 34.
   EXPECT_EQ(idle_latencies(e), (std::vector<Tick>{24 * kNs, 12 * kNs, 34 * kNs}));
 }
 
@@ -335,7 +341,7 @@ TEST(DramController, ActivatesToDifferentBanksAreTrrdApart) {
   e.enqueue(0, 0, 1);
   e.enqueue(kBank1, 0, 2);
   const auto done = drain(e);
-  EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 8 * kTck}));     // tRRD
+  EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 8 * kTck}));       // tRRD
   EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{12 * kTck, 20 * kTck}));  // tRCD each
   EXPECT_EQ(ready_of(done, 1), 24 * kTck);
   EXPECT_EQ(ready_of(done, 2), 32 * kTck);
@@ -350,8 +356,9 @@ TEST(DramController, SameBankConflictHonoursTrasAndTrc) {
     e.enqueue(0, 0, 1);
     e.enqueue(kRow1, 0, 2);
     const auto done = drain(e);
-    EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 35 * kTck}));  // tRAS + tRP = tRC
-    EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{25 * kTck}));     // tRAS
+    // tRAS + tRP = tRC
+    EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 35 * kTck}));
+    EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{25 * kTck}));  // tRAS
     EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{12 * kTck, 47 * kTck}));
     EXPECT_EQ(ready_of(done, 2), 59 * kTck);
   }
@@ -499,7 +506,8 @@ TEST(DramController, OpenRowIsNotClosedWhileItHasQueuedHits) {
   e.enqueue(kRow1, 100 * kNs, 2);      // conflict, older than the second hit
   e.enqueue(2 * kCol1, 100 * kNs, 3);  // hit
   drain(e);
-  EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{86 * kTck}));  // after RD 84 + BL/2
+  // After RD 84 + BL/2
+  EXPECT_EQ(times_of(trace, Cmd::kPrecharge), (std::vector<Tick>{86 * kTck}));
   EXPECT_EQ(e.stats().row_hits, 2u);
   EXPECT_EQ(e.stats().row_conflicts, 1u);
 }
@@ -558,11 +566,13 @@ void stream(uint32_t request_bytes) {
   const DramStats& s = e.stats();
   EXPECT_EQ(s.bytes, bytes);
   EXPECT_GT(s.queue_full_events, 0u);
-  EXPECT_GE(s.bandwidth_gbps(), 0.95 * c.peak_bandwidth_gbps()) << "request_bytes " << request_bytes;
+  EXPECT_GE(s.bandwidth_gbps(), 0.95 * c.peak_bandwidth_gbps())
+      << "request_bytes " << request_bytes;
   EXPECT_LE(s.bandwidth_gbps(), c.peak_bandwidth_gbps() * (1 + 1e-9));
   EXPECT_GT(s.row_hit_rate(), 0.9);
   EXPECT_EQ(s.row_misses + s.row_conflicts, bytes / 2048);  // one activate per 2 KB row
-  for (uint32_t ch = 0; ch < c.channels; ++ch) EXPECT_EQ(s.channel_reads[ch], bytes / request_bytes / c.channels);
+  for (uint32_t ch = 0; ch < c.channels; ++ch)
+    EXPECT_EQ(s.channel_reads[ch], bytes / request_bytes / c.channels);
 }
 
 TEST(DramController, SequentialStreamingReachesPeakBandwidth) {
@@ -670,8 +680,8 @@ TEST(DramController, ReadAfterWriteWaitsForTheWriteToReadTurnaround) {
     for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
     EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{80 * kTck}));
     EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{(80 + 15) * kTck})) << read_addr;
-    EXPECT_EQ(ready_of(done, 1), (80 + 9) * kTck);       // WR + WL + BL/2
-    EXPECT_EQ(ready_of(done, 2), (95 + 12) * kTck);      // RD + CL + BL/2
+    EXPECT_EQ(ready_of(done, 1), (80 + 9) * kTck);   // WR + WL + BL/2
+    EXPECT_EQ(ready_of(done, 2), (95 + 12) * kTck);  // RD + CL + BL/2
     EXPECT_EQ(trace.size(), 2u);
   }
   // Another channel is not held up.
@@ -693,9 +703,11 @@ TEST(DramController, WriteAfterReadWaitsForTheReadToWriteTurnaround) {
   open_rows(e);
   std::vector<DramController::CommandRecord> trace;
   e.set_command_trace(&trace);
-  e.enqueue(kCol1, 100 * kNs, 1);            // RD at 80
-  e.enqueue(2 * kCol1, 100 * kNs, 2, true);  // WR no earlier than the last RD + tRTW (CL + BL/2 + 2 - WL = 7)
-  e.enqueue(3 * kCol1, 100 * kNs, 3);        // younger, but its RD is legal first (82 < 87): it goes
+  e.enqueue(kCol1, 100 * kNs, 1);  // RD at 80
+  // WR no earlier than the last RD + tRTW (CL + BL/2 + 2 - WL = 7)
+  e.enqueue(2 * kCol1, 100 * kNs, 2, true);
+  // Younger, but its RD is legal first (82 < 87): it goes
+  e.enqueue(3 * kCol1, 100 * kNs, 3);
   std::vector<DramController::Completion> done;
   for (Tick t = e.next_event_time(); t != kUnknown; t = e.next_event_time()) e.advance(t, done);
   EXPECT_EQ(times_of(trace, Cmd::kRead), (std::vector<Tick>{80 * kTck, 82 * kTck}));
@@ -749,7 +761,8 @@ TEST(DramController, MultiBurstWriteIsCompleteAfterItsLastBurst) {
   for (const auto& r : trace)
     if (r.command == Cmd::kWrite) cols.push_back(r.column);
   EXPECT_EQ(cols, (std::vector<uint64_t>{4, 5, 6, 7}));
-  EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{4 * kTck, 6 * kTck, 8 * kTck, 10 * kTck}));
+  EXPECT_EQ(times_of(trace, Cmd::kWrite),
+            (std::vector<Tick>{4 * kTck, 6 * kTck, 8 * kTck, 10 * kTck}));
   ASSERT_EQ(done.size(), 1u);
   EXPECT_TRUE(done[0].write);
   EXPECT_EQ(done[0].data_ready, (10 + 7 + 2) * kTck);

@@ -1,7 +1,7 @@
 // The Dram sc_module, a TLM-2.0 target, under the SystemC kernel and driven through the
-// accelerator's TLM-2.0 initiator (model/memory/memory_port.h): idle latencies seen by a requester on the
-// 1 GHz accelerator clock, the data carried by the responses, and posted writes into a store that
-// extends past the memory image. SystemC elaborates once per process, so one simulation holds
+// accelerator's TLM-2.0 initiator (model/memory/memory_port.h): idle latencies seen by a requester
+// on the 1 GHz accelerator clock, the data carried by the responses, and posted writes into a store
+// that extends past the memory image. SystemC elaborates once per process, so one simulation holds
 // both scenarios: independent Dram modules on the one calendar, built (with the checks that must
 // run before sc_start) and run once by the first test; each test then checks its own module.
 #include "model/memory/dram.h"
@@ -22,8 +22,8 @@ namespace {
 
 struct Fill {
   uint64_t line, cookie;
-  Tick when;      // the time on_fill reports
-  Tick sim_time;  // the simulation time of the call
+  Tick when;                   // the time on_fill reports
+  Tick sim_time;               // the simulation time of the call
   std::vector<uint8_t> bytes;  // the line's bytes as the response brought them
 };
 
@@ -33,7 +33,8 @@ class Recorder : public FillListener {
   std::vector<Fill> fills;
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override {
     const uint8_t* p = port_->line_data(line_addr);
-    fills.push_back({line_addr, cookie, when, Tick(sc_core::sc_time_stamp().value()), std::vector<uint8_t>(p, p + 32)});
+    fills.push_back({line_addr, cookie, when, Tick(sc_core::sc_time_stamp().value()),
+                     std::vector<uint8_t>(p, p + 32)});
   }
 
  private:
@@ -42,13 +43,16 @@ class Recorder : public FillListener {
 
 Tick sim_now() { return Tick(sc_core::sc_time_stamp().value()); }
 
-std::vector<uint8_t> bytes_of(const uint8_t* p, size_t n = 32) { return std::vector<uint8_t>(p, p + n); }
+std::vector<uint8_t> bytes_of(const uint8_t* p, size_t n = 32) {
+  return std::vector<uint8_t>(p, p + n);
+}
 
 // Issues one read at each of 0, 100, 200 and 300 ns.
 class ReadDriver : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(ReadDriver);
-  ReadDriver(sc_core::sc_module_name name, MemoryPort& port, Recorder& rec) : sc_module(name), port_(port), rec_(rec) {
+  ReadDriver(sc_core::sc_module_name name, MemoryPort& port, Recorder& rec)
+      : sc_module(name), port_(port), rec_(rec) {
     SC_THREAD(run);
   }
   std::vector<Tick> returned;
@@ -79,8 +83,9 @@ class WriteDriver : public sc_core::sc_module {
       : sc_module(name), port_(port), dram_(dram), rec_(rec) {
     SC_THREAD(run);
   }
-  std::vector<uint8_t> a, b;         // the bytes written
-  std::vector<uint8_t> right_after;  // line_data(kLine) right after write_line, before any DRAM time
+  std::vector<uint8_t> a, b;  // the bytes written
+  // line_data(kLine) right after write_line, before any DRAM time
+  std::vector<uint8_t> right_after;
 
  private:
   void run() {
@@ -114,7 +119,7 @@ struct Scenario {
   std::unique_ptr<MemoryPort> wport;
   std::unique_ptr<Recorder> wrec;
   std::unique_ptr<WriteDriver> wdriver;
-  std::unique_ptr<Dram> odd;  // built only for its store's layout; never accessed in time
+  std::unique_ptr<Dram> odd;          // built only for its store's layout; never accessed in time
   std::unique_ptr<MemoryPort> oport;  // (its socket must be bound all the same)
 
   Scenario() {
@@ -160,9 +165,11 @@ struct Scenario {
     EXPECT_EQ(wdram->store_bytes(), kImageBytes + kExtraBytes);
     EXPECT_EQ(wdram->line_data(kImageBytes - 32), image.data() + kImageBytes - 32);
     EXPECT_EQ(bytes_of(wdram->line_data(kImageBytes)), std::vector<uint8_t>(32, 0));
-    EXPECT_EQ(bytes_of(wdram->line_data(kImageBytes + kExtraBytes - 32)), std::vector<uint8_t>(32, 0));
+    EXPECT_EQ(bytes_of(wdram->line_data(kImageBytes + kExtraBytes - 32)),
+              std::vector<uint8_t>(32, 0));
     EXPECT_THROW(wdram->line_data(kImageBytes + kExtraBytes), sc_core::sc_report);
-    EXPECT_THROW(wport->write_line(kImageBytes + kExtraBytes, image.data(), 0, "test"), sc_core::sc_report);
+    EXPECT_THROW(wport->write_line(kImageBytes + kExtraBytes, image.data(), 0, "test"),
+                 sc_core::sc_report);
     EXPECT_THROW(wport->write_line(kImageBytes + 16, image.data(), 0, "test"), sc_core::sc_report);
     EXPECT_EQ(wdram->pages_written(), 0u);
     // A line across the image's end holds the image's bytes, then zeros.

@@ -1,6 +1,6 @@
-// The accelerator's TLM-2.0 initiator (model/memory/memory_port.h) against targets that use the base
-// protocol's other answers: one that takes a request only later (TLM_ACCEPTED, then END_REQ), so
-// the port must hold the following requests back, in order; and one that completes a request
+// The accelerator's TLM-2.0 initiator (model/memory/memory_port.h) against targets that use the
+// base protocol's other answers: one that takes a request only later (TLM_ACCEPTED, then END_REQ),
+// so the port must hold the following requests back, in order; and one that completes a request
 // inside the call (TLM_COMPLETED), whose response must still reach the requester at a clock edge
 // after the call, never inside fetch_line. The bytes come with the responses.
 #include "model/memory/memory_port.h"
@@ -8,9 +8,9 @@
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
-#include <systemc>
 #include <tlm_utils/peq_with_get.h>
 #include <tlm_utils/simple_target_socket.h>
+#include <systemc>
 
 #include <memory>
 #include <vector>
@@ -23,7 +23,8 @@ constexpr uint32_t kLine = 64;
 
 // Fills a read's bytes with the line address's low byte.
 void fill(tlm::tlm_generic_payload& p) {
-  for (uint32_t i = 0; i < p.get_data_length(); ++i) p.get_data_ptr()[i] = uint8_t(p.get_address() + i);
+  for (uint32_t i = 0; i < p.get_data_length(); ++i)
+    p.get_data_ptr()[i] = uint8_t(p.get_address() + i);
   p.set_response_status(tlm::TLM_OK_RESPONSE);
 }
 
@@ -33,7 +34,12 @@ class AcceptLater : public sc_core::sc_module {
   tlm_utils::simple_target_socket<AcceptLater> socket;
   SC_HAS_PROCESS(AcceptLater);
   AcceptLater(sc_core::sc_module_name n, sc_core::sc_time accept, sc_core::sc_time latency)
-      : sc_module(n), socket("socket"), accept_(accept), latency_(latency), accepting_("accepting"), done_("done") {
+      : sc_module(n),
+        socket("socket"),
+        accept_(accept),
+        latency_(latency),
+        accepting_("accepting"),
+        done_("done") {
     socket.register_nb_transport_fw(this, &AcceptLater::fw);
     SC_METHOD(end_request);
     sensitive << accepting_.get_event();
@@ -45,7 +51,8 @@ class AcceptLater : public sc_core::sc_module {
   std::vector<Tick> begin_req;
 
  private:
-  tlm::tlm_sync_enum fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+  tlm::tlm_sync_enum fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                        sc_core::sc_time& delay) {
     if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;
     begin_req.push_back(Tick((sc_core::sc_time_stamp() + delay).value()));
     accepting_.notify(p, delay + accept_);
@@ -75,12 +82,14 @@ class AcceptLater : public sc_core::sc_module {
 class CompleteAtOnce : public sc_core::sc_module {
  public:
   tlm_utils::simple_target_socket<CompleteAtOnce> socket;
-  CompleteAtOnce(sc_core::sc_module_name n, sc_core::sc_time latency) : sc_module(n), socket("socket"), latency_(latency) {
+  CompleteAtOnce(sc_core::sc_module_name n, sc_core::sc_time latency)
+      : sc_module(n), socket("socket"), latency_(latency) {
     socket.register_nb_transport_fw(this, &CompleteAtOnce::fw);
   }
 
  private:
-  tlm::tlm_sync_enum fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase, sc_core::sc_time& delay) {
+  tlm::tlm_sync_enum fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
+                        sc_core::sc_time& delay) {
     if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;
     fill(p);
     delay += latency_;
@@ -100,7 +109,8 @@ class Recorder : public FillListener {
  public:
   explicit Recorder(const LineSource& port) : port_(port) {}
   void on_fill(uint64_t line, uint64_t, Tick when) override {
-    fills.push_back({line, when, Tick(sc_core::sc_time_stamp().value()), port_.line_data(line)[0], fetching});
+    fills.push_back(
+        {line, when, Tick(sc_core::sc_time_stamp().value()), port_.line_data(line)[0], fetching});
   }
   std::vector<Fill> fills;
   bool fetching = false;
@@ -113,7 +123,8 @@ class Recorder : public FillListener {
 class Driver : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Driver);
-  Driver(sc_core::sc_module_name n, MemoryPort& port, Recorder& rec, int reads) : sc_module(n), port_(port), rec_(rec), reads_(reads) {
+  Driver(sc_core::sc_module_name n, MemoryPort& port, Recorder& rec, int reads)
+      : sc_module(n), port_(port), rec_(rec), reads_(reads) {
     SC_THREAD(run);
   }
   std::vector<Tick> returned;
@@ -138,7 +149,8 @@ struct Scenario {
     mapping.request_bytes = kLine;
     calendar = std::make_unique<Calendar>("calendar");
     slow_port = std::make_unique<MemoryPort>("slow_port", kLine, mapping, Clock(1.0), *calendar);
-    slow = std::make_unique<AcceptLater>("slow", sc_core::sc_time(10, sc_core::SC_NS), sc_core::sc_time(50, sc_core::SC_NS));
+    slow = std::make_unique<AcceptLater>("slow", sc_core::sc_time(10, sc_core::SC_NS),
+                                         sc_core::sc_time(50, sc_core::SC_NS));
     slow_port->socket.bind(slow->socket);
     slow_rec = std::make_unique<Recorder>(*slow_port);
     slow_driver = std::make_unique<Driver>("slow_driver", *slow_port, *slow_rec, 3);

@@ -27,7 +27,7 @@ TEST(PortSchedule, TwoPortsServeTwoPerCycle) {
 TEST(PortSchedule, AnEarlierTimeAskedLaterFindsTheIdleCyclesBeforeALaterReservation) {
   PortSchedule p(kCycle, 1);
   EXPECT_EQ(p.reserve(20 * kCycle), 20 * kCycle);
-  EXPECT_EQ(p.reserve(5 * kCycle), 5 * kCycle);    // not pushed behind cycle 20
+  EXPECT_EQ(p.reserve(5 * kCycle), 5 * kCycle);  // not pushed behind cycle 20
   EXPECT_EQ(p.reserve(19 * kCycle), 19 * kCycle);
   EXPECT_EQ(p.reserve(19 * kCycle), 21 * kCycle);  // 19 and 20 are taken
   EXPECT_EQ(p.reserve(5 * kCycle), 6 * kCycle);

@@ -62,7 +62,8 @@ TEST(Calendar, RunsTheLowestIdFirstAndHonoursEarlierArmings) {
   test::simulate();
 
   const std::vector<std::pair<Tick, int>> expected = {
-      {0, 0}, {0, 1}, {0, 2}, {kCycle, 2}, {2500, 4}, {4 * kCycle, 1}, {4 * kCycle, 4}, {300 * kCycle, 3}};
+      {0, 0},    {0, 1},          {0, 2},          {kCycle, 2},
+      {2500, 4}, {4 * kCycle, 1}, {4 * kCycle, 4}, {300 * kCycle, 3}};
   EXPECT_EQ(activations, expected);
 }
 

@@ -10,7 +10,9 @@ TEST(StatsRegistry, DumpsCountersAndFormulasByDottedName) {
   uint64_t hits = 3, misses = 1;
   r.counter("trv.l1.hits", &hits, "count", "L1 hits");
   r.counter("trv.l1.misses", &misses, "count", "L1 misses");
-  r.formula("trv.l1.hit_rate", [&] { return double(hits) / double(hits + misses); }, "ratio", "hits / accesses");
+  r.formula(
+      "trv.l1.hit_rate", [&] { return double(hits) / double(hits + misses); }, "ratio",
+      "hits / accesses");
   hits = 6;  // counters are read at dump time
   const nlohmann::json j = r.values();
   EXPECT_EQ(j["trv"]["l1"]["hits"], 6);

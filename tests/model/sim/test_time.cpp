@@ -13,8 +13,8 @@ TEST(Clock, CyclesAndEdgesEqualPlainDivision) {
   for (double ghz : {1.0, 0.8, 0.65, 1.5, 2.0, 3.0, 0.001, 1000.0}) {
     const Clock c(ghz);
     const Tick p = c.period();
-    for (Tick t : {Tick(0), Tick(1), p - 1, p, p + 1, 5 * p, 5 * p + 1, Tick(1) << 40, (Tick(1) << 54) + 3,
-                   ~Tick(0) / p - p - 1, ~Tick(0) - p})
+    for (Tick t : {Tick(0), Tick(1), p - 1, p, p + 1, 5 * p, 5 * p + 1, Tick(1) << 40,
+                   (Tick(1) << 54) + 3, ~Tick(0) / p - p - 1, ~Tick(0) - p})
       ASSERT_EQ(c.to_cycles(t), t / p) << ghz << " GHz, t " << t;
     for (int k = 0; k < 100000; ++k) {
       const Tick t = rng() >> (rng() % 64);

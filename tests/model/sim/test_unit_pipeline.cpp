@@ -15,7 +15,8 @@ namespace {
 // Issues one operation per cycle from `fifo_in` (all ready at t = 0), completing after `latency`.
 class PipeUnit : public Unit {
  public:
-  PipeUnit(sc_core::sc_module_name n, Calendar& s, const Clock& c, RayFifo* in, RayFifo* out, int latency)
+  PipeUnit(sc_core::sc_module_name n, Calendar& s, const Clock& c, RayFifo* in, RayFifo* out,
+           int latency)
       : Unit(n, s, c), in_(in), out_(out), latency_(latency) {}
   std::vector<Tick> done;
 
@@ -94,7 +95,8 @@ TEST(UnitPipeline, FullPipelineRetiresOnePerCycleAndBackPressureStalls) {
   EXPECT_EQ(sink.taken, uint64_t(kOps));
   EXPECT_EQ(pipe.unit_stats().busy_cycles, uint64_t(kOps));
   EXPECT_GT(pipe.unit_stats().stalled_cycles, 0u) << "back-pressure from the slow sink";
-  EXPECT_EQ(pipe.unit_stats().busy_cycles + pipe.unit_stats().stalled_cycles + pipe.unit_stats().idle_cycles,
+  EXPECT_EQ(pipe.unit_stats().busy_cycles + pipe.unit_stats().stalled_cycles +
+                pipe.unit_stats().idle_cycles,
             clock.to_cycles(end));
   EXPECT_EQ(mid.stats().max_occupancy, 4u);
   // Before the FIFO filled, issues were one per cycle: the first five at cycles 0..4.

@@ -37,7 +37,8 @@ TEST(Watchdog, FiresAfterAnIntervalWithoutProgressAndDescribesTheState) {
   EXPECT_NE(dog.report().find("no progress for 1000 cycles"), std::string::npos) << dog.report();
   EXPECT_NE(dog.report().find("trv0.in (3)"), std::string::npos);
   EXPECT_EQ(looks, 4);
-  EXPECT_EQ(sc_core::sc_time_stamp().value(), 4 * clock.cycles(1000)) << "it looked every 1000 cycles";
+  EXPECT_EQ(sc_core::sc_time_stamp().value(), 4 * clock.cycles(1000))
+      << "it looked every 1000 cycles";
 }
 
 }  // namespace

@@ -37,7 +37,9 @@ constexpr uint64_t kA = 10, kB = 300, kC = 600, kD = 900, kE = 1200;
 
 struct IstBench : Bench {
   IstBench(sc_core::sc_module_name name, const MemoryImage& image)
-      : Bench(name, image, config()), lvb("lvb_updater"), ist("ist0", ctx, cfg.ist, memory, 0, this, &lvb) {}
+      : Bench(name, image, config()),
+        lvb("lvb_updater"),
+        ist("ist0", ctx, cfg.ist, memory, 0, this, &lvb) {}
   LvbUpdater lvb;
   IstUnit ist;
 };
@@ -52,10 +54,12 @@ struct Scenario {
 
   // A ray down -z from (x, 0, 0) at a leaf (number `leaf`, LVB word `lvb`) listing `tris`, as
   // LIST hands it over.
-  uint32_t ray(float x, std::vector<uint32_t> tris, uint32_t lvb, uint64_t cycle, RayType type = RayType::kPrimary) {
+  uint32_t ray(float x, std::vector<uint32_t> tris, uint32_t lvb, uint64_t cycle,
+               RayType type = RayType::kPrimary) {
     const uint32_t id = b->add_ray({Vec3(x, 0.f, 0.f), Vec3(0.f, 0.f, -1.f)}, type);
     RayState& r = b->pool[id];
-    EXPECT_TRUE(traversal_begin(r.trav, r.trav.ray, type == RayType::kShadow, image.header().bounds, b->ctx.abs_eps));
+    EXPECT_TRUE(traversal_begin(r.trav, r.trav.ray, type == RayType::kShadow, image.header().bounds,
+                                b->ctx.abs_eps));
     r.trav.leaf = 7;
     r.leaf_lvb = lvb;
     r.tris = std::move(tris);
@@ -65,11 +69,11 @@ struct Scenario {
 
   Scenario() {
     b = std::make_unique<IstBench>("bench", image);
-    a = ray(0.f, {0}, 0x1, kA);                         // cold: triangle 0's line from memory
-    bb = ray(0.f, {0, 1}, 0x2, kB);                     // far then near: line 1 is cold
-    c = ray(0.f, {1, 0}, 0x4, kC);                      // near then far: all warm
-    d = ray(0.f, {0}, 0x8, kD, RayType::kShadow);       // any hit: no LVB update
-    e = ray(5.f, {0}, 0x10, kE);                        // misses; a cell is still on its stack
+    a = ray(0.f, {0}, 0x1, kA);                    // cold: triangle 0's line from memory
+    bb = ray(0.f, {0, 1}, 0x2, kB);                // far then near: line 1 is cold
+    c = ray(0.f, {1, 0}, 0x4, kC);                 // near then far: all warm
+    d = ray(0.f, {0}, 0x8, kD, RayType::kShadow);  // any hit: no LVB update
+    e = ray(5.f, {0}, 0x10, kE);                   // misses; a cell is still on its stack
     RayState& re = b->pool[e];
     re.trav.stack[re.trav.sp++] = {0, re.trav.tmin, re.trav.tmax};
     test::simulate();
@@ -96,7 +100,8 @@ TEST(IstUnit, KeepsTheClosestHitAndSendsTheRayToShadingWhenTheLastTestCompletes)
   // D: a shadow ray stops after the leaf with its hit.
   EXPECT_EQ(r.to_shading[3], std::make_pair(r.d, kD + kL1Hit + kLatency));
 
-  const RayState &a = r.b->pool[r.a], &b = r.b->pool[r.bb], &c = r.b->pool[r.c], &d = r.b->pool[r.d];
+  const RayState &a = r.b->pool[r.a], &b = r.b->pool[r.bb], &c = r.b->pool[r.c],
+                 &d = r.b->pool[r.d];
   EXPECT_EQ(a.trav.hit.tri, 0u);
   EXPECT_EQ(a.trav.hit.t, 5.f);
   for (const RayState* s : {&b, &c}) {  // the near one, whatever the order of the tests

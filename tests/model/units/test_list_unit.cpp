@@ -25,19 +25,22 @@ Scene cluster_and_lone() {
   Scene s;
   s.add_material(Material{});
   for (int k = 0; k < 20; ++k)
-    s.triangles.push_back({Vec3(-1.f, -1.f, -5.f), Vec3(1.f, -1.f, -5.f), Vec3(0.f, 1.f + 0.01f * k, -5.f), 0});
+    s.triangles.push_back(
+        {Vec3(-1.f, -1.f, -5.f), Vec3(1.f, -1.f, -5.f), Vec3(0.f, 1.f + 0.01f * k, -5.f), 0});
   s.triangles.push_back({Vec3(9.f, -1.f, -5.f), Vec3(11.f, -1.f, -5.f), Vec3(10.f, 1.f, -5.f), 0});
   return s;
 }
 
-constexpr uint64_t kLatency = 2;   // the LIST pipeline (the paper's)
-constexpr uint32_t kLvb = 0x5;     // the cluster leaf's LVB word, written into the image
-constexpr uint64_t kCold = 10;     // one ray, every line cold
-constexpr uint64_t kWarm = 300;    // two rays at once, every line in L1
+constexpr uint64_t kLatency = 2;  // the LIST pipeline (the paper's)
+constexpr uint32_t kLvb = 0x5;    // the cluster leaf's LVB word, written into the image
+constexpr uint64_t kCold = 10;    // one ray, every line cold
+constexpr uint64_t kWarm = 300;   // two rays at once, every line in L1
 
 struct ListBench : Bench {
   ListBench(sc_core::sc_module_name name, const MemoryImage& image)
-      : Bench(name, image, config()), to_ist("to_ist", 64), list("list0", ctx, cfg.list, memory, 0, &to_ist) {}
+      : Bench(name, image, config()),
+        to_ist("to_ist", 64),
+        list("list0", ctx, cfg.list, memory, 0, &to_ist) {}
   RayFifo to_ist;
   ListUnit list;
 };
@@ -92,7 +95,8 @@ TEST(ListUnit, EmitsTheLeafsPrimitiveIdsAndItsLvbWord) {
   const KdLeaf& l = r.tree.leaves[r.leaf()];
   ASSERT_EQ(l.count, 20u) << "the cluster should be one leaf";
   ASSERT_GE(r.lines(), 2u) << "the list should span lines";
-  const std::vector<uint32_t> expected(r.tree.prims.begin() + l.first, r.tree.prims.begin() + l.first + l.count);
+  const std::vector<uint32_t> expected(r.tree.prims.begin() + l.first,
+                                       r.tree.prims.begin() + l.first + l.count);
   ASSERT_EQ(r.out.size(), 3u);
   for (const auto& [ray, cycle] : r.out) {
     const RayState& s = r.b->pool[ray];
@@ -127,7 +131,8 @@ TEST(ListUnit, BusyStalledAndIdleCyclesAddUpToTheElapsedCycles) {
   // The cold ray issues every step twice (the miss, then the re-issue when its line came); a warm
   // ray once. The unit holds work from a ray's first issue to its last (the emit).
   const uint64_t cold_span = steps * kMiss + (steps - 1) * kLatency + 1;
-  const uint64_t warm_span = 1 + (steps - 1) * (kL1Hit + kLatency) + 1;  // the second ray's last issue
+  // The second ray's last issue
+  const uint64_t warm_span = 1 + (steps - 1) * (kL1Hit + kLatency) + 1;
   EXPECT_EQ(s.busy_cycles, 2 * steps + 2 * steps);
   EXPECT_EQ(s.stalled_cycles, cold_span + warm_span - s.busy_cycles);
   EXPECT_EQ(s.idle_cycles, kEndCycle - cold_span - warm_span);

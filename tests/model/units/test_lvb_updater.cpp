@@ -1,11 +1,11 @@
 // The LVB updater (the paper's Fig. 5): whenever IST updates a ray's closest hit, the ray takes
 // the LVB word of the leaf being tested, so a finished ray carries the word of the leaf that holds
-// its hit. Checked on its own, and in a real TRV -> LIST -> IST chain (tests/model/units/unit_bench.h;
-// the bench hands rays IST returns back to TRV, as the accelerator does) over a small kd-tree
-// whose leaves carry distinct words in the memory image: LIST reads the word from the fetched leaf
-// record, and each hit ray ends with its hit leaf's word. The updater has no timing of its own
-// (two registers and a mux): the chain's cold ray leaves IST at the sum of the three units'
-// closed forms, with nothing added for the update.
+// its hit. Checked on its own, and in a real TRV -> LIST -> IST chain
+// (tests/model/units/unit_bench.h; the bench hands rays IST returns back to TRV, as the accelerator
+// does) over a small kd-tree whose leaves carry distinct words in the memory image: LIST reads the
+// word from the fetched leaf record, and each hit ray ends with its hit leaf's word. The updater
+// has no timing of its own (two registers and a mux): the chain's cold ray leaves IST at the sum of
+// the three units' closed forms, with nothing added for the update.
 #include "model/units/ist_unit.h"
 #include "model/units/list_unit.h"
 #include "model/units/lvb_updater.h"
@@ -30,8 +30,11 @@ constexpr uint64_t kOthers = 500;  // the rest, once the first is through
 
 struct ChainBench : Bench {
   ChainBench(sc_core::sc_module_name name, const MemoryImage& image)
-      : Bench(name, image, config()), lvb("lvb_updater"), ist("ist0", ctx, cfg.ist, memory, 0, this, &lvb),
-        list("list0", ctx, cfg.list, memory, 0, ist.input()), trv("trv0", ctx, cfg.trv, memory, 0, list.input(), this) {
+      : Bench(name, image, config()),
+        lvb("lvb_updater"),
+        ist("ist0", ctx, cfg.ist, memory, 0, this, &lvb),
+        list("list0", ctx, cfg.list, memory, 0, ist.input()),
+        trv("trv0", ctx, cfg.trv, memory, 0, list.input(), this) {
     ist.input()->connect(&list, nullptr);
     list.input()->connect(&trv, nullptr);
   }
@@ -123,7 +126,8 @@ TEST(LvbUpdater, TheUpdateAddsNoCycle) {
     path.push_back(Vec3(0.f, 0.f, -5.f)[n.axis()] < n.split() ? path.back() + 1 : n.above_child());
   }
   const uint32_t leaf = r.tree.nodes[path.back()].leaf_index();
-  ASSERT_EQ(r.tree.leaves[leaf].count, 1u) << "the closed form assumes one triangle in ray 0's leaf";
+  ASSERT_EQ(r.tree.leaves[leaf].count, 1u)
+      << "the closed form assumes one triangle in ray 0's leaf";
   uint64_t trv = 0, line = ~uint64_t(0);
   for (uint32_t node : path) {
     trv += 8 + (node / 8 != line ? kMiss : kL1Hit);

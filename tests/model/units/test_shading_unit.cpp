@@ -1,5 +1,5 @@
-// The shading unit on its own (tests/model/units/unit_bench.h): a finished ray with a hit fetches its
-// triangle, then the triangle's material, through its L1 (which sits on the IST's L2), writes
+// The shading unit on its own (tests/model/units/unit_bench.h): a finished ray with a hit fetches
+// its triangle, then the triangle's material, through its L1 (which sits on the IST's L2), writes
 // the hit into the FrameBuffer and its 64-byte record to memory through write_line at the time
 // the shading completes, and retires; a mirror hands the ray back to its TRV unit as its
 // reflection; a shadow ray only records whether it was blocked. Timing (docs/model-design.md):
@@ -41,8 +41,9 @@ constexpr uint32_t kLvb = 0x3;
 
 struct ShadingBench : Bench {
   ShadingBench(sc_core::sc_module_name name, const MemoryImage& image)
-      : Bench(name, image, config()), shading("shading0", ctx, cfg.shading, memory, 0, this, &frame) {
-    frame.levels = 2;  // one mirror bounce
+      : Bench(name, image, config()),
+        shading("shading0", ctx, cfg.shading, memory, 0, this, &frame) {
+    frame.levels = 2;                // one mirror bounce
     ctx.light_samples.assign(2, 1);  // the shadow rays below go to lights 0 and 1, points
     frame.allocate(ctx.light_samples);
     shading.records = records;
@@ -65,7 +66,8 @@ struct Scenario {
   uint32_t p = 0, q = 0, m = 0, s = 0, n = 0;
 
   // A ray down -z from (x, 0, 0) whose traversal ended, with a hit on `tri` at t = 5 or none.
-  uint32_t ray(float x, uint32_t tri, uint32_t pixel, uint64_t cycle, RayType type = RayType::kPrimary) {
+  uint32_t ray(float x, uint32_t tri, uint32_t pixel, uint64_t cycle,
+               RayType type = RayType::kPrimary) {
     const uint32_t id = b->add_ray({Vec3(x, 0.f, 0.f), Vec3(0.f, 0.f, -1.f)}, type, pixel);
     RayState& r = b->pool[id];
     r.trav.found = tri != kNoHit;
@@ -78,11 +80,11 @@ struct Scenario {
 
   Scenario() {
     b = std::make_unique<ShadingBench>("bench", image);
-    p = ray(0.f, 0, 3, kP);                     // cold: the triangle's and the material's lines
-    q = ray(0.f, 0, 5, kQ);                     // warm
-    m = ray(4.f, 1, 7, kM);                     // a mirror: its triangle's second line is cold
-    s = ray(0.f, 0, 3, kS, RayType::kShadow);   // blocked on the way to light 1 (entry 3)
-    n = ray(0.f, kNoHit, 9, kN);                // a primary ray without a hit
+    p = ray(0.f, 0, 3, kP);                    // cold: the triangle's and the material's lines
+    q = ray(0.f, 0, 5, kQ);                    // warm
+    m = ray(4.f, 1, 7, kM);                    // a mirror: its triangle's second line is cold
+    s = ray(0.f, 0, 3, kS, RayType::kShadow);  // blocked on the way to light 1 (entry 3)
+    n = ray(0.f, kNoHit, 9, kN);               // a primary ray without a hit
     test::simulate();
     b->shading.finish_accounting(at(kEndCycle));
   }
@@ -105,7 +107,7 @@ TEST(ShadingUnit, CompletesAtTheMaterialsDeliveryPlusThePipelineAndRetires) {
   EXPECT_EQ(r.b->retirements[2], std::make_pair(RayType::kShadow, at(kS)));
   EXPECT_EQ(r.b->retirements[3], std::make_pair(RayType::kPrimary, at(kN)));
   EXPECT_EQ(r.b->retired, (std::vector<uint32_t>{r.p, r.q, r.s, r.n}));
-  EXPECT_EQ(r.b->pool.in_flight(), 1u);  // the mirror's ray goes on as its reflection
+  EXPECT_EQ(r.b->pool.in_flight(), 1u);              // the mirror's ray goes on as its reflection
   EXPECT_EQ(r.b->shading.stats().primary_rays, 4u);  // P, Q, the mirror's (before it reflects), N
   EXPECT_EQ(r.b->shading.stats().primary_hits, 3u);
   EXPECT_EQ(r.b->shading.stats().shadow_occluded, 1u);

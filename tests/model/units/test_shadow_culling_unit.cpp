@@ -49,9 +49,11 @@ class FixedMemory : public LineSource {
 };
 
 struct Scenario {
-  Scenario(const char* name, uint32_t rate, uint32_t lvb, size_t hits, size_t misses, bool from_memory,
-           uint32_t samples = 1)
-      : calendar((std::string(name) + "_calendar").c_str()), pool(4096), memory(samples),
+  Scenario(const char* name, uint32_t rate, uint32_t lvb, size_t hits, size_t misses,
+           bool from_memory, uint32_t samples = 1)
+      : calendar((std::string(name) + "_calendar").c_str()),
+        pool(4096),
+        memory(samples),
         l1((std::string(name) + "_l1").c_str(), cache_config(), Clock(), &memory) {
     ctx.calendar = &calendar;
     ctx.pool = &pool;
@@ -78,8 +80,8 @@ struct Scenario {
     CullingConfig cfg;
     cfg.records_per_cycle = rate;
     cfg.prefetch = 8;
-    unit = std::make_unique<ShadowCullingUnit>(name, ctx, true, cfg, &l1, &frame,
-                                               std::vector<RayFifo*>{fifos[0].get(), fifos[1].get()});
+    unit = std::make_unique<ShadowCullingUnit>(
+        name, ctx, true, cfg, &l1, &frame, std::vector<RayFifo*>{fifos[0].get(), fifos[1].get()});
     if (from_memory) unit->read_records_from(&memory, region);
   }
   static CacheConfig cache_config() {
@@ -115,7 +117,8 @@ TEST(ShadowCullingUnit, TakesAtMostItsRateOfRecordsPerCycleAndOneRayPerCycle) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   // 12 hits whose lights are all culled, handed over in one phase: rate 1 takes 12 cycles, rate 4
   // takes 3, the ideal unit one.
-  Scenario one("rate1", 1, 0u, 12, 0, false), four("rate4", 4, 0u, 12, 0, false), ideal("ideal", 0, 0u, 12, 0, false);
+  Scenario one("rate1", 1, 0u, 12, 0, false), four("rate4", 4, 0u, 12, 0, false),
+      ideal("ideal", 0, 0u, 12, 0, false);
   // Reading the frame buffer: 3 hits with both lights to shoot, 5 misses, at one record per cycle.
   Scenario mem("memory", 1, 0b11u, 3, 5, true);
   // Area lights of 4 samples, light 1 culled: each (hit, light) pair shot reads its two records
@@ -144,7 +147,8 @@ TEST(ShadowCullingUnit, TakesAtMostItsRateOfRecordsPerCycleAndOneRayPerCycle) {
   EXPECT_EQ(mem.unit->generated(), 6u);
   const std::vector<Ray> rays = mem.rays();
   ASSERT_EQ(rays.size(), 6u);
-  for (const Ray& r : rays) EXPECT_EQ(r.o.y, 1000.f) << "a ray built from the host's copy, not the fetched bytes";
+  for (const Ray& r : rays)
+    EXPECT_EQ(r.o.y, 1000.f) << "a ray built from the host's copy, not the fetched bytes";
   StatsRegistry reg;
   mem.unit->register_stats(reg, "c");
   EXPECT_EQ(reg.value("c.record_reads"), 8.0);

@@ -1,5 +1,5 @@
-// The TRV unit on its own (tests/model/units/unit_bench.h): a ray walks a small SAH kd-tree to the leaf
-// that holds the triangle it points at, one node per operation, and leaves for LIST when the
+// The TRV unit on its own (tests/model/units/unit_bench.h): a ray walks a small SAH kd-tree to the
+// leaf that holds the triangle it points at, one node per operation, and leaves for LIST when the
 // closed form of the documented rules says: the pipeline latency (8), one operation per cycle,
 // and each node's delivery (8 nodes a line: a line's first node comes from memory, the rest hit
 // in L1). Two TRV units share one L2, so on the second unit a line's first node is an L1 miss
@@ -21,9 +21,10 @@ namespace {
 
 using namespace bench;
 
-constexpr uint32_t kTarget = 2;     // the triangle the rays aim at
-constexpr uint64_t kLatency = 8;    // the TRV pipeline (the paper's)
-constexpr uint64_t kStep = kL1Hit + kLatency;  // a node that hits in L1: delivered, then the pipeline
+constexpr uint32_t kTarget = 2;   // the triangle the rays aim at
+constexpr uint64_t kLatency = 8;  // the TRV pipeline (the paper's)
+// A node that hits in L1: delivered, then the pipeline
+constexpr uint64_t kStep = kL1Hit + kLatency;
 constexpr uint64_t kStart0 = 10;    // trv0's first ray (cold)
 constexpr uint64_t kBatch = 200;    // trv0: four identical rays at once (warm L1)
 constexpr uint64_t kStart1 = 300;   // trv1's ray (cold L1, warm L2)
@@ -32,8 +33,11 @@ constexpr int kBatchRays = 4;       // <= kStep: the rays never compete for an i
 
 struct TrvBench : Bench {
   TrvBench(sc_core::sc_module_name name, const MemoryImage& image, const AcceleratorConfig& c)
-      : Bench(name, image, c), list0("list0", 64), list1("list1", 64),
-        trv0("trv0", ctx, cfg.trv, memory, 0, &list0, this), trv1("trv1", ctx, cfg.trv, memory, 1, &list1, this) {}
+      : Bench(name, image, c),
+        list0("list0", 64),
+        list1("list1", 64),
+        trv0("trv0", ctx, cfg.trv, memory, 0, &list0, this),
+        trv1("trv1", ctx, cfg.trv, memory, 1, &list1, this) {}
   RayFifo list0, list1;
   TrvUnit trv0, trv1;
 };
@@ -62,7 +66,8 @@ struct Scenario {
     warm_l2 = b->add_ray(down_at(x));
     b->feed(b->trv1.input(), warm_l2, kStart1);
     test::simulate();
-    for (Unit* u : {static_cast<Unit*>(&b->trv0), static_cast<Unit*>(&b->trv1)}) u->finish_accounting(at(kEndCycle));
+    for (Unit* u : {static_cast<Unit*>(&b->trv0), static_cast<Unit*>(&b->trv1)})
+      u->finish_accounting(at(kEndCycle));
     out0 = Bench::drain(b->list0);
     out1 = Bench::drain(b->list1);
     to_shading = Bench::drain(b->done);
@@ -89,7 +94,9 @@ struct Scenario {
   }
   // TRV's closed form for the walk: each node is delivered (`first` for a line's first node,
   // kL1Hit after), then the pipeline's 8 cycles.
-  uint64_t walk(uint64_t first) const { return nodes() * kLatency + lines() * first + (nodes() - lines()) * kL1Hit; }
+  uint64_t walk(uint64_t first) const {
+    return nodes() * kLatency + lines() * first + (nodes() - lines()) * kL1Hit;
+  }
 };
 
 Scenario& run() {
@@ -109,8 +116,9 @@ TEST(TrvUnit, AColdRayReachesTheLeafOfItsTriangleOneNodePerStepAMissPerNewLine) 
   const uint32_t leaf = r.b->pool[r.cold].trav.leaf;
   EXPECT_EQ(leaf, locate_leaf(r.tree, Vec3(4.f * kTarget, 0.f, -5.f)));
   const KdLeaf& l = r.tree.leaves[leaf];
-  EXPECT_NE(std::find(r.tree.prims.begin() + l.first, r.tree.prims.begin() + l.first + l.count, kTarget),
-            r.tree.prims.begin() + l.first + l.count);
+  EXPECT_NE(
+      std::find(r.tree.prims.begin() + l.first, r.tree.prims.begin() + l.first + l.count, kTarget),
+      r.tree.prims.begin() + l.first + l.count);
 }
 
 TEST(TrvUnit, RaysBackToBackIssueOnePerCycle) {

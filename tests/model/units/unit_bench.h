@@ -1,18 +1,19 @@
-// A bench for testing one unit of the model on its own (tests/model/units/test_{trv,list,ist,shading}_unit.cpp,
-// test_lvb_updater.cpp): an sc_module holding what an Accelerator gives its units, built for real
-// but small and with round timing. Its calendar, ray pool and ModelContext; a real MemorySystem
-// (one unit per type, ideal links and banks, so no crossbar hop and no port wait) whose TLM-2.0
-// socket is bound to a FixedLatencyMemory holding the image; a FrameBuffer; and a fake RayOwners
-// that records what the units hand back, with a FIFO `done` standing for the shading unit's
-// input. The unit under test is built by the test inside the bench's constructor (so the bench's
-// scope names it), and fed through its input FIFO. Several benches run side by side in one
-// simulation, each with its own calendar.
+// A bench for testing one unit of the model on its own
+// (tests/model/units/test_{trv,list,ist,shading}_unit.cpp, test_lvb_updater.cpp): an sc_module
+// holding what an Accelerator gives its units, built for real but small and with round timing. Its
+// calendar, ray pool and ModelContext; a real MemorySystem (one unit per type, ideal links and
+// banks, so no crossbar hop and no port wait) whose TLM-2.0 socket is bound to a FixedLatencyMemory
+// holding the image; a FrameBuffer; and a fake RayOwners that records what the units hand back,
+// with a FIFO `done` standing for the shading unit's input. The unit under test is built by the
+// test inside the bench's constructor (so the bench's scope names it), and fed through its input
+// FIFO. Several benches run side by side in one simulation, each with its own calendar.
 //
 // Timing (docs/model-design.md, "Memory accesses"): a hit costs the level's hit latency, a miss
 // its tag check plus the delivery time of the level below, so with these settings
 //   L1 hit          = kL1Hit                     cycles
 //   L1 miss, L2 hit = kL1Hit + kL2Hit            cycles
-//   cold line       = kL1Hit + kL2Hit + kMemory  cycles (kMiss: the memory answers kMemory ns later,
+//   cold line       = kL1Hit + kL2Hit + kMemory  cycles (kMiss: the memory answers kMemory ns
+//   later,
 //                     an accelerator clock edge at 1 GHz)
 #pragma once
 
@@ -20,13 +21,13 @@
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator_config.h"
+#include "model/memory/memory_system.h"
+#include "model/sim/calendar.h"
+#include "model/sim/ray_fifo.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
-#include "model/memory/memory_system.h"
 #include "model/units/model_context.h"
-#include "model/sim/ray_fifo.h"
 #include "model/units/ray_owners.h"
-#include "model/sim/calendar.h"
 
 #include <systemc>
 
@@ -76,7 +77,8 @@ class Bench : public sc_core::sc_module, public RayOwners {
         calendar("calendar"),
         pool(64),
         memory(cfg.memory_system(), Clock(), calendar),
-        ram("ram", memory_bytes(image, frame_entries), sc_core::sc_time(double(kMemory), sc_core::SC_NS)),
+        ram("ram", memory_bytes(image, frame_entries),
+            sc_core::sc_time(double(kMemory), sc_core::SC_NS)),
         done("done", 64) {
     cfg.validate();
     ctx.calendar = &calendar;
@@ -85,7 +87,8 @@ class Bench : public sc_core::sc_module, public RayOwners {
     ctx.clock = Clock();
     ctx.abs_eps = 1e-6f * ctx.header.bounds.diagonal();  // the reference tracer's constants
     ctx.shadow_offset = 1e-5f * ctx.header.bounds.diagonal();
-    for (uint32_t l = 0; l < ctx.header.light_count; ++l) ctx.light_samples.push_back(image.light(l).samples);
+    for (uint32_t l = 0; l < ctx.header.light_count; ++l)
+      ctx.light_samples.push_back(image.light(l).samples);
     memory.interconnect().port().socket.bind(ram.socket);
     frame.width = int(frame_entries);
     frame.height = 1;
@@ -126,7 +129,9 @@ class Bench : public sc_core::sc_module, public RayOwners {
     return out;
   }
 
-  static uint64_t records_base(const MemoryImage& image) { return (image.bytes().size() + 4095) / 4096 * 4096; }
+  static uint64_t records_base(const MemoryImage& image) {
+    return (image.bytes().size() + 4095) / 4096 * 4096;
+  }
 
   AcceleratorConfig cfg;
   Calendar calendar;
@@ -147,7 +152,8 @@ class Bench : public sc_core::sc_module, public RayOwners {
     uint64_t cycle;
   };
   void feeder() {
-    std::stable_sort(feeds_.begin(), feeds_.end(), [](const Feed& a, const Feed& b) { return a.cycle < b.cycle; });
+    std::stable_sort(feeds_.begin(), feeds_.end(),
+                     [](const Feed& a, const Feed& b) { return a.cycle < b.cycle; });
     for (const Feed& f : feeds_) {
       const Tick now = Tick(sc_core::sc_time_stamp().value());
       if (at(f.cycle) > now) wait(sc_core::sc_time::from_value(at(f.cycle) - now));
@@ -165,7 +171,8 @@ class Bench : public sc_core::sc_module, public RayOwners {
 
 // The host's walk of the ray to its first non-empty leaf over the image's nodes (what TRV would
 // do): sets up a ray for LIST or IST. False if the ray reaches no leaf.
-inline bool walk_to_leaf(const MemoryImage& image, RayState& r, float abs_eps, bool any_hit = false) {
+inline bool walk_to_leaf(const MemoryImage& image, RayState& r, float abs_eps,
+                         bool any_hit = false) {
   if (!traversal_begin(r.trav, r.trav.ray, any_hit, image.header().bounds, abs_eps)) return false;
   r.started = true;
   for (;;) {
@@ -193,7 +200,8 @@ inline Scene row_of_triangles() {
   s.add_material(Material{});
   for (int k = 0; k < 4; ++k) {
     const float x = 4.f * float(k);
-    s.triangles.push_back({Vec3(x - 1.f, -1.f, -5.f), Vec3(x + 1.f, -1.f, -5.f), Vec3(x, 1.f, -5.f), 0});
+    s.triangles.push_back(
+        {Vec3(x - 1.f, -1.f, -5.f), Vec3(x + 1.f, -1.f, -5.f), Vec3(x, 1.f, -5.f), 0});
   }
   return s;
 }
