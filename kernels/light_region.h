@@ -96,10 +96,10 @@ class HullTest {
 
  private:
   struct Axis {
-    DVec3 u;
-    double lo, hi;  // the hull's projection, widened by the tolerance
+    DVec3 u{0.0};
+    double lo = 0, hi = 0;  // the hull's projection, widened by the tolerance
   };
-  DBox enclosing_;  // widened by the tolerance
+  DBox enclosing_{DVec3(0.0), DVec3(0.0)};  // widened by the tolerance
   std::array<Axis, 12> axes_;
   int count_ = 0;
   std::vector<Axis> area_axes_;  // an area light's axes (empty for a point light)

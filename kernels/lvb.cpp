@@ -164,13 +164,13 @@ class Preprocessor {
       const Light& l = scene.lights[i];
       if (!l.is_area()) continue;
       AreaLight a;
-      const DVec3 p(l.position), e1(l.edge1), e2(l.edge2);
-      a.polygon.corners = {p, p + e1, p + e1 + e2, p + e2};
+      const DVec3 c(l.position), e1(l.edge1), e2(l.edge2);
+      a.polygon.corners = {c, c + e1, c + e1 + e2, c + e2};
       a.polygon.edge1 = e1;
       a.polygon.edge2 = e2;
       // Each of the two products and sums rounds once: a few ulps of the largest magnitude.
       const double m = std::max(
-          {glm::compMax(glm::abs(p)), glm::compMax(glm::abs(e1)), glm::compMax(glm::abs(e2))});
+          {glm::compMax(glm::abs(c)), glm::compMax(glm::abs(e1)), glm::compMax(glm::abs(e2))});
       a.error = 8.0 * std::ldexp(m, -23);
       areas_[i] = a;
     }

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs every build and run dependency of rtsim from Debian 12 packages.
 # Run as root (or with sudo). Idempotent: apt-get skips what is already there.
+#   bash scripts/install-deps.sh          what building and running need
+#   bash scripts/install-deps.sh --test   and what the test suite needs besides (clang-format)
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -12,6 +14,7 @@ PKGS=(
   libtinyobjloader-dev libgtest-dev
   procps python3 python3-numpy python3-matplotlib python3-pil
 )
+if [ "${1:-}" = "--test" ]; then PKGS+=(clang-format); fi
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -4,9 +4,10 @@
 #   bash scripts/test.sh --sanitize   AddressSanitizer + UBSan build in build-asan/
 set -euo pipefail
 cd "$(dirname "$0")/.."
-bash scripts/install-deps.sh
+bash scripts/install-deps.sh --test
 build=build
-flags=(-DCMAKE_BUILD_TYPE=Release)
+# A warning fails the build here and in CI (plain builds only warn).
+flags=(-DCMAKE_BUILD_TYPE=Release -DRTSIM_WERROR=ON)
 retry=()
 skip=()
 if [ "${1:-}" = "--sanitize" ]; then
@@ -18,7 +19,7 @@ if [ "${1:-}" = "--sanitize" ]; then
   # run the same traversal code as the city one, which stays: the Release pass runs all four.
   skip=(-E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$')
   build=build-asan
-  flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTSIM_SANITIZE=ON -DRTSIM_BUILD_BENCH=OFF)
+  flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTSIM_SANITIZE=ON -DRTSIM_BUILD_BENCH=OFF -DRTSIM_WERROR=ON)
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 fi

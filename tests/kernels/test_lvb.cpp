@@ -247,8 +247,9 @@ TEST(Lvb, OccluderBetweenLeafAndLightSetsTheBit) {
       const Vec3 c = leaf.cell.center();
       const bool floor_leaf = leaf.cell.hi.y < 1.f;
       const bool under_roof = c.x > 3.2f && c.x < 4.8f && c.z > 3.2f && c.z < 4.8f;
-      if (floor_leaf && under_roof)
+      if (floor_leaf && under_roof) {
         EXPECT_EQ(r.words[l] & 1u, 1u) << to_string(so) << " leaf " << l;
+      }
       if (floor_leaf && (c.x < 1.f || c.x > 7.f)) culled_far += !(r.words[l] & 1u);
     }
     EXPECT_GT(culled_far, 0) << to_string(so);

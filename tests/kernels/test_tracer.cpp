@@ -105,7 +105,7 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
 
 SceneSetup load_setup(const std::string& name) {
   return load_scene_file((test::source_dir() / "configs/scenes" / (name + ".yaml")).string(),
-                         SceneFileOptions{test::shared_scenes().string()});
+                         SceneFileOptions{test::shared_scenes().string(), {}});
 }
 
 TEST(ReferenceTracer, MatchesBruteForceOnCity) {

@@ -581,10 +581,10 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
   // Table 4 gives the culled-leaf rate of the non-empty leaves and of all leaves (the paper's).
   EXPECT_NE(md.find("rate of all leaves"), std::string::npos);
   auto commas = [](uint64_t v) {  // report.md's integers: thousands separated by commas
-    std::string d = std::to_string(v), out;
+    std::string d = std::to_string(v), s;
     for (size_t i = 0; i < d.size(); ++i)
-      out += (i > 0 && (d.size() - i) % 3 == 0 ? "," : "") + d.substr(i, 1);
-    return out;
+      s += (i > 0 && (d.size() - i) % 3 == 0 ? "," : "") + d.substr(i, 1);
+    return s;
   };
   const uint64_t all = rep["kdtree"]["leaves"].get<uint64_t>();
   for (size_t l = 0; l < rep["lvb"]["per_light"].size(); ++l) {
@@ -649,9 +649,9 @@ TEST(Cli, ParamsTableInConfigsReadmeIsCurrent) {
   EXPECT_EQ(line, "name,unit,description");
   std::map<std::string, std::string> unit;
   while (std::getline(glossary, line)) {
-    const size_t a = line.find(','), b = line.find(',', a + 1);
-    unit[line.substr(0, a)] = line.substr(a + 1, b - a - 1);
-    EXPECT_GT(line.size(), b + 3) << "no description: " << line;
+    const size_t c1 = line.find(','), c2 = line.find(',', c1 + 1);
+    unit[line.substr(0, c1)] = line.substr(c1 + 1, c2 - c1 - 1);
+    EXPECT_GT(line.size(), c2 + 3) << "no description: " << line;
   }
   EXPECT_EQ(unit["trv3.busy_cycles"], "cycles");
   EXPECT_EQ(unit["trv.l2.hit_rate"], "ratio");

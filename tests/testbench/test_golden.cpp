@@ -66,8 +66,8 @@ TEST_P(Golden, FiguresAreUnchanged) {
   fs::remove_all(out);
 }
 
-INSTANTIATE_TEST_SUITE_P(City, Golden, ::testing::ValuesIn(golden_files()), [](const auto& info) {
-  std::string n = info.param;
+INSTANTIATE_TEST_SUITE_P(City, Golden, ::testing::ValuesIn(golden_files()), [](const auto& p) {
+  std::string n = p.param;
   for (char& c : n)
     if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
   return n;

@@ -23,8 +23,8 @@ class FakeMemory : public LineSource {
     FillListener* listener;
     uint64_t cookie;
   };
-  explicit FakeMemory(size_t bytes = 1 << 16) : bytes(bytes) {
-    for (size_t i = 0; i < bytes; ++i) this->bytes[i] = uint8_t(i * 131 + (i >> 8) * 7 + 1);
+  explicit FakeMemory(size_t size = 1 << 16) : bytes(size) {
+    for (size_t i = 0; i < size; ++i) bytes[i] = uint8_t(i * 131 + (i >> 8) * 7 + 1);
   }
   Tick fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) override {
     requests.push_back({line, now, listener, cookie});

@@ -633,8 +633,10 @@ TEST(DramController, IdleWriteLatencies) {
   EXPECT_EQ(idle_latencies(e, true), (std::vector<Tick>{16250, 11250, 28750}));
   EXPECT_EQ(times_of(trace, Cmd::kWrite), (std::vector<Tick>{4 * kTck, 80 * kTck, 174 * kTck}));
   EXPECT_EQ(times_of(trace, Cmd::kRead), std::vector<Tick>{});
-  for (const auto& r : trace)
-    if (r.command == Cmd::kWrite) EXPECT_EQ(r.column, r.id == 2 ? 1u : 0u);
+  for (const auto& r : trace) {
+    if (r.command != Cmd::kWrite) continue;
+    EXPECT_EQ(r.column, r.id == 2 ? 1u : 0u);
+  }
   const DramStats& s = e.stats();
   EXPECT_EQ(s.write_requests, 3u);
   EXPECT_EQ(s.writes, 3u);

@@ -19,7 +19,9 @@ TEST(Clock, CyclesAndEdgesEqualPlainDivision) {
     for (int k = 0; k < 100000; ++k) {
       const Tick t = rng() >> (rng() % 64);
       ASSERT_EQ(c.to_cycles(t), t / p) << ghz << " GHz, t " << t;
-      if (t < ~Tick(0) - p) ASSERT_EQ(c.edge_at_or_after(t), (t + p - 1) / p * p);
+      if (t < ~Tick(0) - p) {
+        ASSERT_EQ(c.edge_at_or_after(t), (t + p - 1) / p * p);
+      }
     }
   }
   const Clock one = Clock::with_period(1);
