@@ -22,6 +22,7 @@ ReferenceTracer::ReferenceTracer(const MemoryImage& image)
 template <bool kAnyHit>
 bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const {
   TraversalState s;
+  TraversalResult result = traversal_result_begin(ray);
   if (!traversal_begin(s, ray, kAnyHit, h_.bounds, abs_eps_)) return false;
   TraversalStep step = TraversalStep::kFetchNode;
   while (step != TraversalStep::kDone) {
@@ -30,11 +31,11 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) c
       ++c.nodes;
     else
       ++c.leaves;
-    step = traversal_node(s, node);
+    step = traversal_node(s, result, node);
     if (step != TraversalStep::kLeaf) continue;
     const image::LeafRecord leaf =
         image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
-    const Ray r = traversal_leaf_ray(s);
+    const Ray r = traversal_leaf_ray(s, result);
     for (uint32_t k = 0; k < leaf.prim_count; ++k) {
       const uint32_t tri =
           image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
@@ -43,13 +44,13 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) c
       ++c.tri_tests;
       float t_hit;
       if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
-      traversal_hit(s, tri, t_hit);
+      traversal_hit(result, s, tri, t_hit);
       if (kAnyHit) break;
     }
-    step = traversal_pop(s);
+    step = traversal_pop(s, result);
   }
-  hit = s.hit;
-  return s.found;
+  hit = result.hit;
+  return result.found;
 }
 
 Hit ReferenceTracer::closest_hit(const Ray& ray, TraversalCounters* counters) const {

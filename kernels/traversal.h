@@ -1,6 +1,11 @@
 // One ray's walk through the kd-tree as a state machine fed with the records it asks for. The
 // reference tracer drives it in a loop; the TRV/LIST/IST units of the model drive it one fetched
 // record at a time. Sharing the steps is what makes their per-ray results equal bit for bit.
+//
+// Two parts, as the hardware splits them: the walk (TraversalState: the current cell and the
+// stack, which traversal_begin, traversal_node and traversal_pop advance) and what the
+// intersection tests found (TraversalResult, which only traversal_hit changes). The walk reads
+// the result (a traversal stops once its cells lie beyond the best hit) but never writes it.
 #pragma once
 
 #include "kernels/kdtree.h"
@@ -40,10 +45,21 @@ struct TraversalState {
   uint32_t leaf = 0;         // the leaf being tested (after kLeaf)
   Entry stack[kTraversalStackDepth];
   int sp = 0;
-  float best = 0;
+};
+
+// The closest hit so far (the first one, for an any-hit ray).
+struct TraversalResult {
+  float best = 0;  // the closest hit's t, or the ray's tmax while there is none
   bool found = false;
   Hit hit;
 };
+
+// A ray's result before any test.
+inline TraversalResult traversal_result_begin(const Ray& ray) {
+  TraversalResult r;
+  r.best = ray.tmax;
+  return r;
+}
 
 // Slab test against the root cell; NaN (0 * inf) comparisons fall through and keep the range.
 inline bool clip_ray_to_box(const Ray& ray, const Vec3& inv, const AABB& box, float& t0,
@@ -77,18 +93,15 @@ inline bool traversal_begin(TraversalState& s, const Ray& ray, bool any_hit, con
   s.abs_eps = abs_eps;
   s.node = 0;
   s.sp = 0;
-  s.best = ray.tmax;
-  s.found = false;
-  s.hit = Hit{};
   return clip_ray_to_box(ray, s.inv, root, s.tmin, s.tmax);
 }
 
 // Pops the next cell front to back; done once it starts beyond the best hit.
-inline TraversalStep traversal_pop(TraversalState& s) {
-  if (s.any_hit && s.found) return TraversalStep::kDone;
+inline TraversalStep traversal_pop(TraversalState& s, const TraversalResult& r) {
+  if (s.any_hit && r.found) return TraversalStep::kDone;
   if (s.sp == 0) return TraversalStep::kDone;
   const TraversalState::Entry& e = s.stack[--s.sp];
-  if (s.found && e.tmin * (1.f - kLeafRelEps) - s.abs_eps > s.best) return TraversalStep::kDone;
+  if (r.found && e.tmin * (1.f - kLeafRelEps) - s.abs_eps > r.best) return TraversalStep::kDone;
   s.node = e.node;
   s.tmin = e.tmin;
   s.tmax = e.tmax;
@@ -96,9 +109,10 @@ inline TraversalStep traversal_pop(TraversalState& s) {
 }
 
 // Consumes the fetched node `s.node`: descends an inner node, enters a non-empty leaf, or pops.
-inline TraversalStep traversal_node(TraversalState& s, const KdNode& node) {
+inline TraversalStep traversal_node(TraversalState& s, const TraversalResult& r,
+                                    const KdNode& node) {
   if (node.is_leaf()) {
-    if (node.prim_count() == 0) return traversal_pop(s);
+    if (node.prim_count() == 0) return traversal_pop(s, r);
     s.leaf = node.leaf_index();
     return TraversalStep::kLeaf;
   }
@@ -126,27 +140,28 @@ inline TraversalStep traversal_node(TraversalState& s, const KdNode& node) {
 
 // The ray as the current leaf tests its triangles: only hits inside this cell (with slack) belong
 // to it, and only hits not beyond the best so far (equal t may still win on a lower index).
-inline Ray traversal_leaf_ray(const TraversalState& s) {
+inline Ray traversal_leaf_ray(const TraversalState& s, const TraversalResult& result) {
   Ray r = s.ray;
   if (!s.any_hit) {
     r.tmin = std::max(s.ray.tmin, s.tmin * (1.f - kLeafRelEps) - s.abs_eps);
-    r.tmax = std::nextafter(std::min(s.best, s.tmax * (1.f + kLeafRelEps) + s.abs_eps), INFINITY);
+    r.tmax =
+        std::nextafter(std::min(result.best, s.tmax * (1.f + kLeafRelEps) + s.abs_eps), INFINITY);
   }
   return r;
 }
 
 // Records a hit of triangle `tri` at `t` found by the current leaf. Ties in t go to the lower
 // triangle index, so the result does not depend on the order of the tests.
-inline void traversal_hit(TraversalState& s, uint32_t tri, float t) {
+inline void traversal_hit(TraversalResult& r, const TraversalState& s, uint32_t tri, float t) {
   if (s.any_hit) {
-    if (!s.found) s.hit = Hit{tri, t, s.leaf};
-    s.found = true;
+    if (!r.found) r.hit = Hit{tri, t, s.leaf};
+    r.found = true;
     return;
   }
-  if (!s.found || t < s.best || (t == s.best && tri < s.hit.tri)) {
-    s.best = t;
-    s.hit = Hit{tri, t, s.leaf};
-    s.found = true;
+  if (!r.found || t < r.best || (t == r.best && tri < r.hit.tri)) {
+    r.best = t;
+    r.hit = Hit{tri, t, s.leaf};
+    r.found = true;
   }
 }
 

@@ -10,6 +10,7 @@
 #include "model/units/list_unit.h"
 #include "model/units/lvb_updater.h"
 #include "model/units/phase_controller.h"
+#include "model/units/ray_router.h"
 #include "model/units/shading_unit.h"
 #include "model/units/shadow_culling_unit.h"
 #include "model/units/trv_unit.h"
@@ -19,13 +20,6 @@
 namespace rtsim::model {
 
 namespace {
-
-template <typename T>
-std::vector<std::unique_ptr<T>> reserve(uint32_t n) {
-  std::vector<std::unique_ptr<T>> v;
-  v.reserve(n);
-  return v;
-}
 
 template <typename T>
 std::vector<const Unit*> raw(const std::vector<std::unique_ptr<T>>& units) {
@@ -53,21 +47,35 @@ HitRecordRegion record_region(const AcceleratorConfig& cfg, const MemoryImage& i
 
 }  // namespace
 
-// Every block of one accelerator, built in the accelerator's scope (so each is its child) and in
-// the calendar's fixed order: the DRAM, the memory port, then the IST, LIST, TRV and shading
-// units, the ray generator, the culling unit and the watchdog (a block's calendar id is its
-// construction rank).
-struct Accelerator::Netlist : RayOwners {
+// The calendar's same-time order (docs/model-design.md, "Same-time order"): among the blocks due
+// at one time the memory acts first, then the units from the end of a ray's walk (IST) back to
+// its start (TRV), so that a slot a unit frees is seen by its producer in the same cycle; then
+// shading, the generator and the culling unit, which start rays, and the watchdog, which looks
+// at what all the others did. Units of one type act in the order of their index.
+enum Rank : uint32_t {
+  kDramRank,
+  kMemoryPortRank,
+  kIstRank,
+  kListRank,
+  kTrvRank,
+  kShadingRank,
+  kRayGeneratorRank,
+  kCullingRank,
+  kWatchdogRank,
+};
+
+// Every block of one accelerator, built in the accelerator's scope (so each is its child) in the
+// order a ray meets them, then connected: every hop of a ray is a port bound here, once.
+struct Accelerator::Netlist {
   Netlist(Accelerator& top, const AcceleratorConfig& cfg, const MemoryImage& image,
           const FrameJob& job, const SimulationHooks& hooks, bool builtin_memory);
 
-  void return_ray(uint32_t ray, Tick when) override {
-    trv[(*ctx.pool)[ray].trv_unit]->return_ray(ray, when);
-  }
-  void retire(uint32_t ray) override { trv[(*ctx.pool)[ray].trv_unit]->retire(ray); }
-  RayFifo* shading_input(uint32_t ray) override {
-    return shading_of_trv[(*ctx.pool)[ray].trv_unit];
-  }
+  void build_memory(const MemoryImage& image, bool builtin_memory);
+  void build_units();
+  void bind_ray_path();
+  void bind_control_and_memory();
+  void declare_order();
+  void build_observers();
 
   bool pending() const {
     return pool.in_flight() > 0 || !generator->finished() || !culling->finished();
@@ -88,16 +96,15 @@ struct Accelerator::Netlist : RayOwners {
   Calendar calendar;
   std::unique_ptr<Dram> dram;
   std::unique_ptr<MemorySystem> memory;
-  LvbUpdater lvb;
-  std::vector<std::unique_ptr<IstUnit>> ist;
-  std::vector<std::unique_ptr<ListUnit>> list;
-  std::vector<std::unique_ptr<TrvUnit>> trv;
-  std::vector<std::unique_ptr<ShadingUnit>> shading;
-  // The rays of TRV unit i finish in shading unit i * shading / trv
-  std::vector<RayFifo*> shading_of_trv;
   std::unique_ptr<RayGenerator> generator;
+  std::vector<std::unique_ptr<TrvUnit>> trv;
+  std::vector<std::unique_ptr<ListUnit>> list;
+  std::vector<std::unique_ptr<IstUnit>> ist;
+  LvbUpdater lvb;
+  std::vector<std::unique_ptr<ShadingUnit>> shading;
   std::unique_ptr<ShadowCullingUnit> culling;
-  std::unique_ptr<PhaseController> phases;
+  RayRouter router;
+  PhaseController phases;
   std::unique_ptr<Watchdog> watchdog;
   std::unique_ptr<PeriodicProbe> progress;
   std::unique_ptr<VcdTrace> trace;
@@ -118,7 +125,9 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
       pool(config.ray_pool),
       hooks(observers),
       calendar("calendar"),
-      lvb("lvb_updater") {
+      lvb("lvb_updater"),
+      router("router", ctx),
+      phases("phases", config.schedule, calendar) {
   const image::Header& h = image.header();
   ctx.calendar = &calendar;
   ctx.pool = &pool;
@@ -128,100 +137,125 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
   ctx.shadow_offset = 1e-5f * h.bounds.diagonal();
   for (uint32_t l = 0; l < h.light_count; ++l) ctx.light_samples.push_back(image.light(l).samples);
-
-  DramConfig dram_cfg = cfg.dram;
-  dram_cfg.request_bytes = cfg.trv.l2.line_bytes;
-  // The frame buffer of hit records follows the image (model/units/hit_record.h).
-  const uint64_t entries =
-      uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
-  records = record_region(cfg, image, job, dram_cfg.request_bytes);
-  memory_bytes = records.base + entries * records.stride;
-  if (builtin_memory)
-    dram = std::make_unique<Dram>("dram", dram_cfg, &image.bytes(), ctx.clock, calendar,
-                                  memory_bytes - image.bytes().size());
-  memory = std::make_unique<MemorySystem>(cfg.memory_system(), ctx.clock, calendar);
-  if (dram) memory->interconnect().port().socket.bind(dram->socket);
-  if (!hooks.mem_trace.file.empty()) memory->interconnect().port().open_trace(hooks.mem_trace);
-
   frame.width = job.width;
   frame.height = job.height;
   frame.levels = cfg.reflection_depth + 1;
   frame.allocate(ctx.light_samples);
 
-  ist = reserve<IstUnit>(cfg.ist.count);
+  build_memory(image, builtin_memory);
+  build_units();
+  bind_ray_path();
+  bind_control_and_memory();
+  declare_order();
+  build_observers();
+  register_stats();
+}
+
+// The memory (the built-in GDDR3, unless the platform binds its own) and the hierarchy in front
+// of it; the frame buffer of hit records follows the image (model/units/hit_record.h).
+void Accelerator::Netlist::build_memory(const MemoryImage& image, bool builtin_memory) {
+  const MemorySystemConfig mem = cfg.memory_system();
+  const uint64_t entries =
+      uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
+  records = record_region(cfg, image, job, mem.dram.request_bytes);
+  memory_bytes = records.base + entries * records.stride;
+  if (builtin_memory)
+    dram = std::make_unique<Dram>("dram", mem.dram, &image.bytes(), ctx.clock, calendar,
+                                  memory_bytes - image.bytes().size());
+  memory = std::make_unique<MemorySystem>(mem, ctx.clock, calendar);
+  if (dram) memory->interconnect().port().socket.bind(dram->socket);
+  if (!hooks.mem_trace.file.empty()) memory->interconnect().port().open_trace(hooks.mem_trace);
+}
+
+void Accelerator::Netlist::build_units() {
+  generator = std::make_unique<RayGenerator>("raygen", ctx, job.camera, job.width, job.height,
+                                             cfg.order, cfg.tile, cfg.raygen_rays_per_cycle);
+  for (uint32_t i = 0; i < cfg.trv.count; ++i)
+    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, *memory, i));
+  for (uint32_t j = 0; j < cfg.list.count; ++j)
+    list.push_back(
+        std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list, *memory, j));
   for (uint32_t k = 0; k < cfg.ist.count; ++k)
-    ist.push_back(
-        std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist, *memory, k, this, &lvb));
-  list = reserve<ListUnit>(cfg.list.count);
-  for (uint32_t j = 0; j < cfg.list.count; ++j) {
-    IstUnit& to = *ist[j * cfg.ist.count / cfg.list.count];
-    list.push_back(std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list, *memory, j,
-                                              to.input()));
-    to.input()->connect(list.back().get(), nullptr);
-  }
-  trv = reserve<TrvUnit>(cfg.trv.count);
-  for (uint32_t i = 0; i < cfg.trv.count; ++i) {
-    ListUnit& to = *list[i * cfg.list.count / cfg.trv.count];
-    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, *memory, i,
-                                            to.input(), this));
-    to.input()->connect(trv.back().get(), nullptr);
-  }
-  shading = reserve<ShadingUnit>(cfg.shading.count);
-  for (uint32_t s = 0; s < cfg.shading.count; ++s) {
+    ist.push_back(std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist, *memory, k));
+  for (uint32_t s = 0; s < cfg.shading.count; ++s)
     shading.push_back(std::make_unique<ShadingUnit>(indexed("shading", s).c_str(), ctx, cfg.shading,
-                                                    *memory, s, this, &frame));
-    for (auto& u : ist) shading.back()->input()->connect(u.get(), nullptr);
-  }
-  for (uint32_t i = 0; i < cfg.trv.count; ++i) {
-    shading_of_trv.push_back(shading[i * cfg.shading.count / cfg.trv.count]->input());
-    shading_of_trv.back()->connect(trv[i].get(), nullptr);
-  }
-
-  std::vector<RayFifo*> trv_inputs;
-  for (auto& u : trv) trv_inputs.push_back(u->input());
-  generator =
-      std::make_unique<RayGenerator>("raygen", ctx, job.camera, job.width, job.height, cfg.order,
-                                     cfg.tile, trv_inputs, cfg.raygen_rays_per_cycle);
-  // The culling unit reads the lights through the first shading unit's L1.
-  Cache& culling_l1 = shading[0]->l1();
+                                                    *memory, s, &frame, records));
   culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.lvb_culling, cfg.culling,
-                                                &culling_l1, &frame, trv_inputs);
-  culling_l1.name_requester(culling.get(), "culling");
-  for (RayFifo* f : trv_inputs) {
-    f->connect(generator.get(), nullptr);
-    f->connect(culling.get(), nullptr);
-  }
-  if (cfg.write_records)
-    for (uint32_t s = 0; s < cfg.shading.count; ++s) {
-      shading[s]->records = records;
-      shading[s]->write_line = [m = &memory->interconnect(), s, who = indexed("shading", s)](
-                                   uint64_t line, const uint8_t* data, Tick when) {
-        m->write_line(s, line, data, when, who);
-      };
-    }
-  if (cfg.schedule == Schedule::kTwoPhase && cfg.culling.records_per_cycle > 0)
-    culling->read_records_from(&memory->interconnect().record_reader(), records);
+                                                memory.get(), &frame, records);
+}
 
-  phases = std::make_unique<PhaseController>(cfg.schedule, calendar, *generator, *culling);
+// Forward: generator -> TRV -> LIST -> IST -> shading (TRV unit i -> LIST unit i x list / trv
+// -> IST unit j x ist / list); culling -> TRV. Back: IST and shading -> router -> the ray's TRV
+// unit, and IST -> router -> its TRV unit's shading unit; retirement through the router.
+void Accelerator::Netlist::bind_ray_path() {
+  for (uint32_t i = 0; i < cfg.trv.count; ++i) {
+    TrvUnit& t = *trv[i];
+    generator->to_trv.bind(t.in);
+    culling->to_trv.bind(t.in);
+    t.to_list.bind(list[i * cfg.list.count / cfg.trv.count]->in);
+    t.to_shading.bind(shading[i * cfg.shading.count / cfg.trv.count]->in);
+    router.owners.bind(t.owner);
+  }
+  for (uint32_t j = 0; j < cfg.list.count; ++j)
+    list[j]->to_ist.bind(ist[j * cfg.ist.count / cfg.list.count]->in);
+  for (auto& u : ist) {
+    u->back.bind(router.returns);
+    u->to_shading.bind(router.finished);
+    u->lvb.bind(lvb);
+  }
   for (auto& u : shading) {
-    u->on_retire = [p = phases.get()](RayType type, Tick when) { p->on_retire(type, when); };
-    if (cfg.schedule == Schedule::kOnePhase)
-      u->on_hit = [p = phases.get()](uint32_t entry, Tick ready) { p->on_hit(entry, ready); };
+    u->back.bind(router.returns);
+    router.shading.bind(u->in);
+    if (cfg.schedule == Schedule::kOnePhase) u->hits.bind(culling->hits);
   }
+  router.phases.bind(phases.retirements);
+}
 
-  for (auto& u : shading) fifos.push_back(u->input());
-  for (auto& u : trv) fifos.push_back(u->input());
-  for (auto& u : list) fifos.push_back(u->input());
-  for (auto& u : ist) fifos.push_back(u->input());
+// The phase controller's reach, and the memory the shading and culling units use besides their
+// caches: the frame buffer's writes and reads, and the L1 the culling unit reads the lights
+// through (shading unit 0's single port unless it has its own).
+void Accelerator::Netlist::bind_control_and_memory() {
+  phases.primaries.bind(generator->control);
+  phases.shadows.bind(culling->control);
+  if (cfg.write_records)
+    for (uint32_t s = 0; s < cfg.shading.count; ++s)
+      shading[s]->records.bind(memory->interconnect().writer(s));
+  if (cfg.schedule == Schedule::kTwoPhase && cfg.culling.records_per_cycle > 0)
+    culling->records.bind(memory->interconnect().record_reader());
+  if (Cache* own = culling->own_l1()) {
+    culling->l1.bind(*own);
+  } else {
+    shading[0]->l1().name_requester(culling.get(), "culling");
+    culling->l1.bind(shading[0]->l1());
+  }
+}
+
+void Accelerator::Netlist::declare_order() {
+  if (dram) calendar.set_rank(*dram, kDramRank);
+  calendar.set_rank(memory->interconnect().port(), kMemoryPortRank);
+  for (auto& u : ist) calendar.set_rank(*u, kIstRank);
+  for (auto& u : list) calendar.set_rank(*u, kListRank);
+  for (auto& u : trv) calendar.set_rank(*u, kTrvRank);
+  for (auto& u : shading) calendar.set_rank(*u, kShadingRank);
+  calendar.set_rank(*generator, kRayGeneratorRank);
+  calendar.set_rank(*culling, kCullingRank);
+}
+
+// The watchdog (a run that stops moving names what is stuck), and what only observes: progress
+// reports and the VCD trace.
+void Accelerator::Netlist::build_observers() {
+  for (auto& u : shading) fifos.push_back(&u->in);
+  for (auto& u : trv) fifos.push_back(&u->in);
+  for (auto& u : list) fifos.push_back(&u->in);
+  for (auto& u : ist) fifos.push_back(&u->in);
   for (auto& u : trv) ray_units.push_back(u.get());
   for (auto& u : list) ray_units.push_back(u.get());
   for (auto& u : ist) ray_units.push_back(u.get());
   for (auto& u : shading) ray_units.push_back(u.get());
-
-  // The watchdog: a run that stops moving names what is stuck.
   watchdog = std::make_unique<Watchdog>(
       "watchdog", calendar, ctx.clock, cfg.watchdog_cycles, [this] { return progress_count(); },
       [this] { return pending(); }, [this] { return describe_stall(); });
+  calendar.set_rank(*watchdog, kWatchdogRank);
   if (hooks.progress)
     progress = std::make_unique<PeriodicProbe>("progress", ctx.clock.cycles(hooks.progress_cycles),
                                                [this](Tick now) {
@@ -229,7 +263,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
                                                  return pending();
                                                });
   if (!hooks.trace.file.empty()) {
-    trace = std::make_unique<VcdTrace>(hooks.trace, ctx.clock);
+    trace = std::make_unique<VcdTrace>(hooks.trace, ctx.clock, [this] { return pending(); });
     for (const RayFifo* f : fifos) trace->add_fifo(f);
     trace->add_unit(generator.get());
     for (const RayUnit* u : ray_units) trace->add_unit(u);
@@ -237,13 +271,12 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
     trace->add_counter(std::string(top.name()) + ".rays_in_flight",
                        [this] { return uint64_t(pool.in_flight()); });
   }
-  register_stats();
 }
 
 uint64_t Accelerator::Netlist::progress_count() const {
   // A DRAM draining its queues (a backlog of posted writes) is progress too.
   const MemoryPortStats& port = memory->interconnect().port().stats();
-  uint64_t n = phases->primaries_retired() + phases->shadows_retired() +
+  uint64_t n = phases.primaries_retired() + phases.shadows_retired() +
                generator->unit_stats().busy_cycles + culling->unit_stats().busy_cycles +
                (dram ? dram->stats().reads + dram->stats().writes : port.responses);
   for (const RayUnit* u : ray_units) n += u->unit_stats().busy_cycles;
@@ -262,12 +295,12 @@ std::string Accelerator::Netlist::describe_stall() const {
 
 void Accelerator::Netlist::report_progress(Tick now) const {
   Progress p;
-  p.phase = phases->primaries_done() ? 2 : 1;
+  p.phase = phases.primaries_done() ? 2 : 1;
   p.cycle = ctx.clock.to_cycles(now);
   p.pixels = uint64_t(job.width) * uint64_t(job.height);
-  p.primaries_retired = phases->primaries_retired();
+  p.primaries_retired = phases.primaries_retired();
   p.shadows_generated = culling->generated();
-  p.shadows_retired = phases->shadows_retired();
+  p.shadows_retired = phases.shadows_retired();
   p.culling_scanned = culling->decided_fraction();
   hooks.progress(p);
 }
@@ -323,10 +356,10 @@ void Accelerator::start() {
   n.generator->wake(0);
   n.watchdog->start();
   if (n.progress) n.progress->start_at(0);
-  if (n.trace) n.trace->start([&n] { return n.pending(); });
+  if (n.trace) n.trace->start();
 }
 
-bool Accelerator::finished() const { return net_->phases->finished(); }
+bool Accelerator::finished() const { return net_->phases.finished(); }
 
 const StatsRegistry& Accelerator::stats() const { return net_->stats; }
 
@@ -345,7 +378,7 @@ AcceleratorResult Accelerator::result() {
     if (n.trace) n.trace->close();
     n.memory->interconnect().port().close_trace();
     // The frame ends with the last retirement (the watchdog's last look may come later).
-    n.end = n.phases->end();
+    n.end = n.phases.end();
     n.generator->finish_accounting(n.end);
     n.culling->finish_accounting(n.end);
     for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
@@ -356,7 +389,7 @@ AcceleratorResult Accelerator::result() {
   AcceleratorResult out;
   out.clock_ghz = n.cfg.clock_ghz;
   out.cycles_total = n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.end));
-  out.cycles_primary = n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases->primary_end()));
+  out.cycles_primary = n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end()));
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
   for (const auto& u : n.shading) {
     out.primary_rays += u->stats().primary_rays;

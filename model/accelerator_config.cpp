@@ -32,6 +32,7 @@ MemorySystemConfig AcceleratorConfig::memory_system() const {
   m.list = list;
   m.ist = ist;
   m.shading = shading;
+  m.culling_l1 = culling.l1 == CullingL1::kOwn;
   m.memory_link = memory_link;
   m.dram = dram;
   m.dram.request_bytes = trv.l2.line_bytes;  // one L2 line per memory transaction

@@ -125,6 +125,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // The cache's own copy when it holds the line's bytes; otherwise (evicted since its delivery,
   // or not yet arrived) the level below's, which is identical because data are read-only.
   const uint8_t* line_data(uint64_t line_addr) const override;
+  uint32_t line_bytes() const override { return cfg_.line_bytes; }
   // A fill from below for a line this cache asked for with an unknown time.
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
 

@@ -94,6 +94,7 @@ class CrossbarPort : public LineSource, public FillListener {
                LineSource* below, uint32_t line_bytes);
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
+  uint32_t line_bytes() const override { return line_bytes_; }
   const uint8_t* line_data(uint64_t line_addr) const override {
     return below_->line_data(line_addr);
   }

@@ -10,6 +10,8 @@
 
 #include "model/sim/time.h"
 
+#include <systemc>
+
 #include <cstdint>
 
 namespace rtsim::model {
@@ -22,10 +24,10 @@ class FillListener {
   virtual void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) = 0;
 };
 
-// A level of the memory hierarchy below a cache (an L2, or the DRAM).
-class LineSource {
+// A level of the memory hierarchy (a cache, a crossbar in front of one, the memory port), as the
+// level above or a unit sees it; an sc_interface, so a block may reach one through an sc_port.
+class LineSource : public virtual sc_core::sc_interface {
  public:
-  virtual ~LineSource() = default;
   // Asks for the line at `line_addr` at time `now`. Returns the time the line is delivered to
   // the requester when that is known now; otherwise kUnknown, and `listener->on_fill` is called
   // at the delivery time with `cookie`.
@@ -33,10 +35,18 @@ class LineSource {
                           uint64_t cookie) = 0;
   // The bytes of the line (the simulated memory's contents), valid once it is delivered.
   virtual const uint8_t* line_data(uint64_t line_addr) const = 0;
+  virtual uint32_t line_bytes() const = 0;
   // Which of the level's ports serves the line (a cache bank, a DRAM channel): where a crossbar
   // in front of it delivers the request.
   virtual uint32_t port_of(uint64_t /*line_addr*/) const { return 0; }
   virtual uint32_t port_count() const { return 1; }
+};
+
+// Posted writes of whole lines to memory (the frame buffer's hit records).
+class LineWriter : public virtual sc_core::sc_interface {
+ public:
+  // Writes line_bytes from `data` (copied) at `line_addr`, leaving the writer at `when`.
+  virtual void write_line(uint64_t line_addr, const uint8_t* data, Tick when) = 0;
 };
 
 }  // namespace rtsim::model

@@ -19,23 +19,25 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace rtsim::model {
 
 class MemoryInterconnect : public sc_core::sc_module {
  public:
   // `l2_banks` crossbar sources for the L2s (numbered as the caller assigns them), then one per
-  // writer, then the reader. Every transaction is one `dram.request_bytes` line.
+  // writer, then the reader. Every transaction is one `dram.request_bytes` line. Writer `s` is
+  // shading unit s (`initiator` shading<s> in the memory trace).
   MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link, const DramConfig& dram,
                      const Clock& clock, Calendar& calendar, uint32_t l2_banks, uint32_t writers);
+  ~MemoryInterconnect() override;
 
   // An L2's way to memory, its banks from crossbar source `first_source` on; `initiator` names it
   // in the memory trace.
   std::unique_ptr<CrossbarPort> l2_port(uint32_t first_source, const std::string& initiator);
-  // A posted write of a whole line by writer `writer` (`initiator` in the trace): it crosses the
-  // crossbar from the writer's port, then goes to memory.
-  void write_line(uint32_t writer, uint64_t line, const uint8_t* data, Tick now,
-                  const std::string& initiator);
+  // Writer `s`'s way to memory (the sc_object `writer<s>`): a posted write of a whole line
+  // crosses the crossbar from the writer's port, then goes to memory.
+  LineWriter& writer(uint32_t s);
   // The shadow culling unit's way to read the frame buffer (no cache: records are streamed).
   CrossbarPort& record_reader() { return *record_reader_; }
   MemoryPort& port() { return port_; }
@@ -45,11 +47,13 @@ class MemoryInterconnect : public sc_core::sc_module {
   }
 
  private:
+  class Writer;
+
   MemoryPort port_;
   Crossbar icnt_;
-  uint32_t first_writer_;
   uint32_t line_bytes_;
   std::unique_ptr<CrossbarPort> record_reader_;
+  std::vector<std::unique_ptr<Writer>> writers_;
 };
 
 }  // namespace rtsim::model

@@ -66,6 +66,7 @@ class MemoryPort : public sc_core::sc_module,
   // A posted write of line_bytes from `data` (copied), by `initiator` (for the trace).
   void write_line(uint64_t line_addr, const uint8_t* data, Tick now, const std::string& initiator);
   const uint8_t* line_data(uint64_t line_addr) const override;
+  uint32_t line_bytes() const override { return line_bytes_; }
   uint32_t port_of(uint64_t line_addr) const override { return mapping_.decode(line_addr).channel; }
   uint32_t port_count() const override { return channels_; }
 

@@ -13,14 +13,17 @@ class MemorySystem::TypeModule : public sc_core::sc_module {
 };
 
 const char* MemorySystem::type_name(Type t) {
-  static const char* names[kTypes] = {"trv", "list", "ist", "shading"};
+  static const char* names[kTypes] = {"trv", "list", "ist", "shading", "culling"};
   return names[t];
 }
 
 MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock, Calendar& calendar)
     : cfg_(config), clock_(clock) {
   const MemorySystemConfig& cfg = cfg_;
-  const TypeMemoryConfig* unit_cfg[kTypes] = {&cfg.trv, &cfg.list, &cfg.ist, &cfg.shading};
+  // The culling unit's L1 is a shading L1 (and its L2 the shading units').
+  const TypeMemoryConfig* unit_cfg[kTypes] = {&cfg.trv, &cfg.list, &cfg.ist, &cfg.shading,
+                                              &cfg.shading};
+  const uint32_t culling_l1s = cfg.culling_l1 ? 1 : 0;
   const bool ist_private = cfg.ist.l2_sharing == L2Sharing::kUnit;
   // The L2 configuration and the number of L2s of each type (the shading unit has its own L2 only
   // when the IST's are private; otherwise its L1 is one more source on the IST's crossbar).
@@ -28,10 +31,11 @@ MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock,
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
     m.cfg = unit_cfg[t];
-    m.l2_cfg = t == kShading ? &cfg.ist : m.cfg;
-    m.private_l2 = t == kShading ? false : m.cfg->l2_sharing == L2Sharing::kUnit;
-    const uint32_t groups =
-        t == kShading ? (ist_private ? 1 : 0) : (m.private_l2 ? m.cfg->count : 1);
+    const bool on_shading_l2 = t == kShading || t == kCulling;
+    m.l2_cfg = on_shading_l2 ? &cfg.ist : m.cfg;
+    m.private_l2 = on_shading_l2 ? false : m.cfg->l2_sharing == L2Sharing::kUnit;
+    uint32_t groups = m.private_l2 ? m.cfg->count : 1;
+    if (on_shading_l2) groups = t == kShading && ist_private ? 1 : 0;
     m.first_source = sources;
     sources += groups * m.l2_cfg->l2.banks;
   }
@@ -39,8 +43,10 @@ MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock,
                                                        calendar, sources, cfg.shading.count);
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
-    if (m.private_l2 || (t == kShading && !ist_private)) continue;
-    const uint32_t l1s = m.cfg->count + (t == kIst && !ist_private ? cfg.shading.count : 0);
+    if (m.private_l2 || t == kCulling || (t == kShading && !ist_private)) continue;
+    uint32_t l1s = m.cfg->count;  // the sources on its crossbar: its L1s, then the shading ones
+    if (t == kIst && !ist_private) l1s += cfg.shading.count + culling_l1s;
+    if (t == kShading) l1s += culling_l1s;
     m.shared = std::make_unique<TypeModule>(type_name(Type(t)), *this, Type(t), l1s);
   }
 }
@@ -74,9 +80,12 @@ std::unique_ptr<UnitMemory> MemorySystem::build_unit(Type t, uint32_t index,
     source = 0;
   } else if (m.shared) {
     g = &m.shared->group;
-  } else {  // shading on the IST's shared L2, after the IST units' ports
+  } else if (t == kCulling && types_[kShading].shared) {  // after the shading units' ports
+    g = &types_[kShading].shared->group;
+    source = cfg_.shading.count;
+  } else {  // shading (and culling) on the IST's shared L2, after the IST units' ports
     g = &types_[kIst].shared->group;
-    source = types_[kIst].cfg->count + index;
+    source = cfg_.ist.count + (t == kCulling ? cfg_.shading.count : index);
   }
   u->port = std::make_unique<CrossbarPort>(g->icnt.get(), source, nullptr, g->l2.get(),
                                            g->l2->config().line_bytes);
@@ -115,7 +124,9 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
     const TypeMemory& m = types_[t];
     const std::string type = type_name(Type(t));
     for (const Cache* c : m.l1s) c->register_stats(r, stat_prefix(*c, top));
-    if (!m.l1s.empty()) totals(type + ".l1", std::vector<const Cache*>(m.l1s.begin(), m.l1s.end()));
+    // (The culling unit's one L1 is culling.l1 itself.)
+    if (!m.l1s.empty() && t != kCulling)
+      totals(type + ".l1", std::vector<const Cache*>(m.l1s.begin(), m.l1s.end()));
     for (const Cache* c : m.l2s) c->register_stats(r, stat_prefix(*c, top));
     for (const Crossbar* x : m.icnts) x->register_stats(r, stat_prefix(*x, top), end);
     if (m.private_l2) totals(type + ".l2", m.l2s);

@@ -42,6 +42,8 @@ struct TypeMemoryConfig {
 struct MemorySystemConfig {
   // The shading units' l2 and link are not used: their L1s sit on the IST's L2.
   TypeMemoryConfig trv, list, ist, shading;
+  // The shadow culling unit has an L1 of its own, a shading L1 on the shading units' L2.
+  bool culling_l1 = false;
   LinkConfig memory_link;  // the crossbar between the L2 banks and the memory channels
   DramConfig dram;         // the memory's address mapping (the channels) and its request size
 };
@@ -62,7 +64,7 @@ struct UnitMemory {
 
 class MemorySystem {
  public:
-  enum Type { kTrv, kList, kIst, kShading, kTypes };
+  enum Type { kTrv, kList, kIst, kShading, kCulling, kTypes };
   static const char* type_name(Type t);
 
   // Builds, in the current module's scope, the memory interconnect (`memory`, whose port speaks
@@ -74,7 +76,8 @@ class MemorySystem {
   ~MemorySystem();
 
   // Called from the constructor of unit `index` of type `t`, which owns the result: its L1 (`l1`)
-  // and, when the type's L2s are private, `l2` and `icnt`, as children of that unit.
+  // and, when the type's L2s are private, `l2` and `icnt`, as children of that unit. (kCulling:
+  // the culling unit's own L1, when the configuration has one.)
   std::unique_ptr<UnitMemory> build_unit(Type t, uint32_t index, const FillListener* requester);
 
   MemoryInterconnect& interconnect() { return *interconnect_; }

@@ -1,8 +1,9 @@
-// A record read through a cache: the lines covering it are fetched (a record may straddle two),
-// and its bytes are assembled from the cache's copies of those lines.
+// A record read through a level of the memory hierarchy (a unit's L1): the lines covering it are
+// fetched (a record may straddle two), and its bytes are assembled from that level's copies of
+// those lines.
 #pragma once
 
-#include "model/memory/cache.h"
+#include "model/memory/line_source.h"
 
 #include <algorithm>
 #include <cstring>
@@ -14,12 +15,12 @@ struct RecordFetch {
   uint32_t pending = 0;  // lines still to come (each will be told through on_fill)
 };
 
-inline RecordFetch fetch_record(Cache& cache, uint64_t addr, uint32_t bytes, Tick now,
+inline RecordFetch fetch_record(LineSource& source, uint64_t addr, uint32_t bytes, Tick now,
                                 FillListener* listener, uint64_t cookie) {
-  const uint64_t line_bytes = cache.config().line_bytes;
+  const uint64_t line_bytes = source.line_bytes();
   RecordFetch f;
   for (uint64_t line = addr & ~(line_bytes - 1); line < addr + bytes; line += line_bytes) {
-    const Tick t = cache.fetch_line(line, now, listener, cookie);
+    const Tick t = source.fetch_line(line, now, listener, cookie);
     if (t == kUnknown)
       ++f.pending;
     else
@@ -30,14 +31,14 @@ inline RecordFetch fetch_record(Cache& cache, uint64_t addr, uint32_t bytes, Tic
 }
 
 // The record's bytes, once every line was delivered (or is known to be).
-inline void read_record(const Cache& cache, uint64_t addr, uint32_t bytes, uint8_t* out) {
-  const uint64_t line_bytes = cache.config().line_bytes;
+inline void read_record(const LineSource& source, uint64_t addr, uint32_t bytes, uint8_t* out) {
+  const uint64_t line_bytes = source.line_bytes();
   uint32_t done = 0;
   while (done < bytes) {
     const uint64_t a = addr + done;
     const uint64_t line = a & ~(line_bytes - 1);
     const uint32_t n = uint32_t(std::min<uint64_t>(bytes - done, line + line_bytes - a));
-    std::memcpy(out + done, cache.line_data(line) + (a - line), n);
+    std::memcpy(out + done, source.line_data(line) + (a - line), n);
     done += n;
   }
 }

@@ -21,18 +21,32 @@ Calendar::Calendar(sc_core::sc_module_name name) : sc_core::sc_module(name) {
 }
 
 void Calendar::add(Client* c, Tick period) {
-  if (ring_entries_ > 0)
+  if (fixed_)
     report_error(kReportInternal,
                  std::string(name()) + ": blocks must be added before any is scheduled");
-  c->id_ = uint32_t(clients_.size());
   c->period_ = period;
   clients_.push_back(c);
   if (period_ == 0) period_ = period;
+}
+
+void Calendar::set_rank(Client& c, uint32_t rank) {
+  if (fixed_)
+    report_error(kReportInternal,
+                 std::string(name()) + ": ranks must be given before any block is scheduled");
+  c.rank_ = rank;
+}
+
+void Calendar::fix_order() {
+  std::stable_sort(clients_.begin(), clients_.end(),
+                   [](const Client* a, const Client* b) { return a->rank_ < b->rank_; });
+  for (size_t i = 0; i < clients_.size(); ++i) clients_[i]->id_ = uint32_t(i);
   words_ = (clients_.size() + 63) / 64;
   ring_.assign(kSlots * words_, 0);
+  fixed_ = true;
 }
 
 void Calendar::schedule(Client* c, Tick at) {
+  if (!fixed_) fix_order();
   const Tick now = this->now();
   if (at < now) at = now;
   if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;

@@ -1,9 +1,12 @@
 // The simulation's calendar. Every unit and the DRAM arm their activations here instead of on
 // SystemC events of their own: one SC_METHOD, at each simulated time with work, runs every block
-// due then in a fixed order (registration order). Blocks that act in the same cycle therefore
-// always act in the same order, whatever observers (progress, traces) exist, and a cycle with N
-// active blocks costs one SystemC activation instead of N. Each accelerator owns its calendar (a
-// child named `calendar`), so several accelerators in one simulation keep their own order.
+// due then in a fixed order: by the rank each block is given (its owner declares them: the
+// accelerator's table is in docs/model-design.md), blocks of one rank in the order they were
+// added. Blocks that act in the same cycle therefore always act in the same order, whatever
+// observers (progress, traces) exist and whatever order the blocks were built in, and a cycle
+// with N active blocks costs one SystemC activation instead of N. Each accelerator owns its
+// calendar (a child named `calendar`), so several accelerators in one simulation keep their own
+// order.
 //
 // Most activations are clock edges a few cycles ahead, so those live in a ring of per-cycle
 // bitsets (one bit per block); other times (the DRAM's own clock, far-off watchdog looks) go to a
@@ -30,14 +33,19 @@ class Calendar : public sc_core::sc_module {
 
    private:
     friend class Calendar;
-    uint32_t id_ = 0;
+    uint32_t id_ = 0;  // its place in the same-time order (set when the order is fixed)
+    uint32_t rank_ = kLastRank;
     Tick period_ = 0;  // the clock it acts on (0: any time)
     Tick armed_at_ = kUnknown;
   };
+  static constexpr uint32_t kLastRank = ~0u;  // a block given no rank acts after the ranked ones
 
   explicit Calendar(sc_core::sc_module_name name);
   // `period`: the clock period of the block's activations (0 when they fall at any time).
   void add(Client* c, Tick period = 0);
+  // The block's place among those due at the same time: lower ranks act first. Given before
+  // anything is scheduled (the order is fixed then; rtsim/internal otherwise).
+  void set_rank(Client& c, uint32_t rank);
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
   // the past) stands; a later one is replaced.
   void schedule(Client* c, Tick at);
@@ -50,6 +58,7 @@ class Calendar : public sc_core::sc_module {
   SC_HAS_PROCESS(Calendar);
   void run();
   void notify_at(Tick at, Tick now);
+  void fix_order();          // ids by (rank, order added), at the first schedule
   Tick next_time(Tick now);  // the earliest queued time at or after now; kUnknown if none
   bool pop_due(Tick now, uint32_t& id);  // the lowest id queued for `now`
 
@@ -59,7 +68,8 @@ class Calendar : public sc_core::sc_module {
     uint32_t id;
     bool operator>(const Entry& o) const { return at != o.at ? at > o.at : id > o.id; }
   };
-  std::vector<Client*> clients_;
+  std::vector<Client*> clients_;  // by id once the order is fixed
+  bool fixed_ = false;
   Tick period_ = 0;                   // the ring's clock: the first block's
   size_t words_ = 1;                  // 64-bit words per ring slot
   std::vector<uint64_t> ring_;        // kSlots x words_ bits: slot = cycle % kSlots

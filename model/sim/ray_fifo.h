@@ -1,16 +1,65 @@
-// A bounded FIFO of ray ids between two units. A push wakes the consumer at the entry's ready
-// time; a pop that frees a slot in a full FIFO wakes the producer (back-pressure). Occupancy is
-// integrated over time for the mean, and its maximum kept. An sc_object (the consumer's child
-// `in`), so its name is its statistics prefix and its VCD scope.
+// Rays between blocks: a bounded FIFO of ray ids, the interfaces its two sides offer, and the port
+// a producer binds to it.
+//
+// A push wakes the consumer at the entry's ready time; a pop that frees a slot in a full FIFO
+// wakes its producers (back-pressure). Occupancy is integrated over time for the mean, and its
+// maximum kept. The FIFO is an sc_object (the consumer's child `in`), so its name is its
+// statistics prefix and its VCD scope.
+//
+// A producer reaches its consumers through a RayOut (or, dealing rays to several FIFOs, a RayDeal)
+// port, bound once at elaboration (`trv3.to_list.bind(list1.in)`). At the end of elaboration the
+// port registers its unit with everything it is bound to, so a refused push is retried when room
+// frees, whatever the port was bound to: a FIFO, or a block that routes each ray to one.
 #pragma once
 
 #include "model/sim/unit.h"
 
+#include <systemc>
+
+#include <algorithm>
 #include <deque>
 #include <string>
 #include <vector>
 
 namespace rtsim::model {
+
+// The producer side of a ray channel.
+class RaySink : public virtual sc_core::sc_interface {
+ public:
+  // Offers `ray`, visible to the consumer from `ready`. False when it cannot enter now: the
+  // producer keeps the ray and tries again when woken.
+  virtual bool push(uint32_t ray, Tick ready, Tick now) = 0;
+  // `producer` is woken whenever a refused push may succeed again.
+  virtual void add_producer(Unit* producer) = 0;
+};
+
+// A FIFO's producer side, which also tells whether it has room (for dealing rays to the FIFOs
+// with room, in turn).
+class RayQueueIn : public RaySink {
+ public:
+  virtual bool full() const = 0;
+};
+
+// A producer's port: `P` says whether it must be bound.
+template <class IF, int N = 1, sc_core::sc_port_policy P = sc_core::SC_ONE_OR_MORE_BOUND>
+class ProducerPort : public sc_core::sc_port<IF, N, P> {
+ public:
+  ProducerPort(const char* name, Unit* producer)
+      : sc_core::sc_port<IF, N, P>(name), producer_(producer) {}
+
+ protected:
+  void end_of_elaboration() override {
+    for (int i = 0; i < this->size(); ++i) (*this)[i]->add_producer(producer_);
+  }
+
+ private:
+  Unit* producer_;
+};
+
+// To one consumer.
+using RayOut = ProducerPort<RaySink>;
+// To several FIFOs, each ray to the next one with room (RoundRobin).
+using RayDeal = ProducerPort<RayQueueIn, 0>;
 
 struct FifoStats {
   uint64_t pushes = 0;
@@ -19,21 +68,16 @@ struct FifoStats {
   uint64_t occupancy_ps = 0;  // integral of occupancy over time (entries x ps)
 };
 
-class RayFifo : public sc_core::sc_object {
+class RayFifo : public sc_core::sc_object, public RayQueueIn {
  public:
-  RayFifo(const char* name, uint32_t depth) : sc_core::sc_object(name), depth_(depth) {}
+  // `consumer` (may be null: a test draining it by hand) is woken when an entry arrives.
+  RayFifo(const char* name, uint32_t depth, Unit* consumer)
+      : sc_core::sc_object(name), depth_(depth), consumer_(consumer) {}
   const char* kind() const override { return "rtsim_ray_fifo"; }
 
-  void connect(Unit* producer, Unit* consumer) {
-    if (producer) producers_.push_back(producer);
-    if (consumer) consumer_ = consumer;
-  }
-  bool full() const { return entries_.size() >= depth_; }
-  bool empty() const { return entries_.empty(); }
-  size_t size() const { return entries_.size(); }
-
-  // False (and counted) when full: the producer keeps the ray and retries when woken.
-  bool push(uint32_t ray, Tick ready, Tick now) {
+  // RayQueueIn. A refused push is counted.
+  bool full() const override { return entries_.size() >= depth_; }
+  bool push(uint32_t ray, Tick ready, Tick now) override {
     if (full()) {
       ++stats_.full_events;
       return false;
@@ -45,6 +89,14 @@ class RayFifo : public sc_core::sc_object {
     if (consumer_) consumer_->wake(ready);
     return true;
   }
+  void add_producer(Unit* producer) override {
+    if (std::find(producers_.begin(), producers_.end(), producer) == producers_.end())
+      producers_.push_back(producer);
+  }
+
+  // The consumer's side.
+  bool empty() const { return entries_.empty(); }
+  size_t size() const { return entries_.size(); }
   // The time the head entry becomes visible; kUnknown when empty.
   Tick head_ready() const { return entries_.empty() ? kUnknown : entries_.front().ready; }
   uint32_t pop(Tick now) {
@@ -56,6 +108,7 @@ class RayFifo : public sc_core::sc_object {
       for (Unit* p : producers_) p->wake(now);
     return ray;
   }
+
   void finish_accounting(Tick end) { integrate(end); }
   const FifoStats& stats() const { return stats_; }
   // <prefix>.pushes, .max_occupancy, .full_events and .mean_occupancy over [0, *end).
@@ -74,33 +127,35 @@ class RayFifo : public sc_core::sc_object {
   uint32_t depth_;
   std::deque<Entry> entries_;
   std::vector<Unit*> producers_;  // woken when a full FIFO frees a slot
-  Unit* consumer_ = nullptr;
+  Unit* consumer_;
   Tick last_change_ = 0;
   FifoStats stats_;
 };
 
-// Inputs served in turn: the next FIFO with room, starting after the last one used.
+// The FIFOs of a RayDeal port served in turn: the next one with room, starting after the last one
+// used (in the order the port was bound).
 class RoundRobin {
  public:
-  explicit RoundRobin(std::vector<RayFifo*> fifos) : fifos_(std::move(fifos)) {}
-  RayFifo* next_free() {
-    for (size_t i = 0; i < fifos_.size(); ++i) {
-      RayFifo* f = fifos_[(next_ + i) % fifos_.size()];
+  explicit RoundRobin(RayDeal& port) : port_(port) {}
+  RayQueueIn* next_free() {
+    const size_t n = size_t(port_.size());
+    for (size_t i = 0; i < n; ++i) {
+      RayQueueIn* f = port_[int((next_ + i) % n)];
       if (!f->full()) {
-        next_ = (next_ + i + 1) % fifos_.size();
+        next_ = (next_ + i + 1) % n;
         return f;
       }
     }
     return nullptr;
   }
   bool any_free() const {
-    for (const RayFifo* f : fifos_)
-      if (!f->full()) return true;
+    for (int i = 0; i < port_.size(); ++i)
+      if (!port_[i]->full()) return true;
     return false;
   }
 
  private:
-  std::vector<RayFifo*> fifos_;
+  RayDeal& port_;
   size_t next_ = 0;
 };
 

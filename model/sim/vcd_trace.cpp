@@ -7,8 +7,8 @@
 
 namespace rtsim::model {
 
-VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock)
-    : request_(request), clock_(clock) {
+VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock, std::function<bool()> pending)
+    : request_(request), clock_(clock), pending_(std::move(pending)) {
   // SystemC appends ".vcd"; the file gets its own name only when complete.
   temp_base_ = request_.file + ".part";
   file_ = sc_core::sc_create_vcd_trace_file(temp_base_.c_str());  // opened at sc_start
@@ -41,8 +41,7 @@ void VcdTrace::add_counter(const std::string& name, std::function<uint64_t()> va
   sc_core::sc_trace(file_, *counters_.back().signal, name);
 }
 
-void VcdTrace::start(std::function<bool()> pending) {
-  pending_ = std::move(pending);
+void VcdTrace::start() {
   probe_->start_at(clock_.cycles(request_.start_cycle) + clock_.period() / 2);
 }
 

@@ -24,14 +24,14 @@ namespace rtsim::model {
 
 class VcdTrace {
  public:
-  VcdTrace(const TraceRequest& request, const Clock& clock);
+  // Sampling stops at the window's end, or once `pending` says nothing is left to do.
+  VcdTrace(const TraceRequest& request, const Clock& clock, std::function<bool()> pending);
   ~VcdTrace();
   void add_fifo(const RayFifo* fifo);
   void add_unit(const Unit* unit);  // 1 in cycles where an operation issued
   void add_counter(const std::string& name, std::function<uint64_t()> value);
-  // Arms the sampling probe (before sc_start); it stops at the window's end or when nothing is
-  // pending.
-  void start(std::function<bool()> pending);
+  // Arms the sampling probe, at the start of the simulation.
+  void start();
   void close();  // after the run: completes the file and moves it to its name
 
  private:
@@ -39,6 +39,7 @@ class VcdTrace {
 
   TraceRequest request_;
   const Clock& clock_;
+  std::function<bool()> pending_;
   std::string temp_base_;
   sc_core::sc_trace_file* file_ = nullptr;
   struct Counter {
@@ -52,7 +53,6 @@ class VcdTrace {
   std::vector<Counter> counters_;
   std::vector<Busy> busy_;
   std::unique_ptr<PeriodicProbe> probe_;
-  std::function<bool()> pending_;
 };
 
 }  // namespace rtsim::model

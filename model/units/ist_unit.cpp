@@ -1,20 +1,28 @@
 #include "model/units/ist_unit.h"
 
-#include "model/memory/record_fetch.h"
-
 namespace rtsim::model {
 
 IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-                 MemorySystem& memory, uint32_t index, RayOwners* owners, LvbUpdater* lvb)
+                 MemorySystem& memory, uint32_t index)
     : RayUnit(name, ctx, cfg, memory, MemorySystem::kIst, index),
-      latency_(cfg.latency),
-      owners_(owners),
-      lvb_(lvb) {}
+      back("back"),
+      to_shading("to_shading", this),
+      lvb("lvb"),
+      latency_(cfg.latency) {}
+
+void IstUnit::admitted(uint32_t ray) {
+  // A new leaf (LIST sends a ray here once per leaf).
+  IstState& s = ray_state(ray).ist;
+  s.tests_issued = 0;
+  s.leaf_done_at = 0;
+}
 
 void IstUnit::process(uint32_t id, Tick now) {
-  RayState& r = (*ctx_.pool)[id];
-  if (r.tests_issued == 0) r.leaf_ray = traversal_leaf_ray(r.trav);
-  const uint32_t tri = r.tris[r.tests_issued];
+  RayState& r = ray_state(id);
+  IstState& s = r.ist;
+  const TraversalState& walk = r.trv.walk;
+  if (s.tests_issued == 0) s.leaf_ray = traversal_leaf_ray(walk, s.result);
+  const uint32_t tri = r.list.tris[s.tests_issued];
   const uint64_t addr = ctx_.header.triangles.base + uint64_t(tri) * image::kTriangleBytes;
   uint8_t bytes[image::kTriangleBytes];
   const Tick ready = load(l1(), id, addr, image::kTriangleBytes, bytes, now);
@@ -22,28 +30,27 @@ void IstUnit::process(uint32_t id, Tick now) {
   const image::TriangleRecord t = image::decode_triangle(bytes);
   ++stats_.tests;
   float t_hit;
-  if (intersect_triangle(r.leaf_ray, r.trav.shear, t.v0, t.v1, t.v2, t_hit)) {
+  if (intersect_triangle(s.leaf_ray, walk.shear, t.v0, t.v1, t.v2, t_hit)) {
     ++stats_.hits;
-    const Hit before = r.trav.hit;
-    traversal_hit(r.trav, tri, t_hit);
-    const Hit& after = r.trav.hit;
-    if (r.type != RayType::kShadow &&
-        (after.tri != before.tri || after.t != before.t || after.leaf != before.leaf))
-      lvb_->on_closest_hit(r);
+    const Hit before = s.result.hit;
+    traversal_hit(s.result, walk, tri, t_hit);
+    const Hit& after = s.result.hit;
+    const bool updated =
+        after.tri != before.tri || after.t != before.t || after.leaf != before.leaf;
+    if (r.info.type != RayType::kShadow && updated) s.lvb = lvb->closest_hit(r.list.leaf_lvb);
   }
-  r.leaf_done_at =
-      std::max<Tick>(r.leaf_done_at, std::max(ready, now) + ctx_.clock.cycles(latency_));
-  if (++r.tests_issued < r.tris.size()) {
+  s.leaf_done_at =
+      std::max<Tick>(s.leaf_done_at, std::max(ready, now) + ctx_.clock.cycles(latency_));
+  if (++s.tests_issued < r.list.tris.size()) {
     keep(id, now + ctx_.clock.period());  // the next test issues as soon as next cycle
     return;
   }
-  // The leaf is done when its last test completes.
-  if (traversal_pop(r.trav) == TraversalStep::kFetchNode) {
+  // The leaf is done when its last test completes: the ray's TRV unit takes it back, or its
+  // traversal is over.
+  if (back->leaf_done(id, s.leaf_done_at))
     release();
-    owners_->return_ray(id, r.leaf_done_at);
-  } else {
-    emit(owners_->shading_input(id), id, r.leaf_done_at, now);
-  }
+  else
+    emit(to_shading, id, s.leaf_done_at, now);
 }
 
 void IstUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {

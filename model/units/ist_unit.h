@@ -1,15 +1,15 @@
 // IST: one ray-triangle test per operation (36-cycle pipeline): the 48-byte triangle record is
 // fetched through the unit's L1 (two lines when it straddles) and tested with the watertight test
-// on the leaf's acceptance window. Closest-hit updates go through the LVB updater. After a leaf's
-// last test the ray goes back to its TRV unit, or to shading when its traversal is over.
+// on the leaf's acceptance window. Closest-hit updates go through the LVB updater. When a leaf's
+// last test completes the ray goes back to its TRV unit, which pops its stack; if its traversal
+// is over it goes to shading instead.
+//
+// Ports: `back` (RayReturn: to the ray's TRV unit), `to_shading`, `lvb` (the LVB updater).
 #pragma once
 
 #include "model/memory/cache.h"
-#include "model/units/lvb_updater.h"
-#include "model/units/ray_owners.h"
+#include "model/units/ray_ports.h"
 #include "model/units/ray_unit.h"
-
-#include <vector>
 
 namespace rtsim::model {
 
@@ -20,19 +20,23 @@ struct IstStats {
 
 class IstUnit : public RayUnit {
  public:
-  // Unit `index` of the IST units; rays go back through `owners`, closest hits through `lvb`.
+  sc_core::sc_port<RayReturn> back;
+  RayOut to_shading;
+  sc_core::sc_port<LvbUpdate> lvb;
+
+  // Unit `index` of the IST units.
   IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-          MemorySystem& memory, uint32_t index, RayOwners* owners, LvbUpdater* lvb);
+          MemorySystem& memory, uint32_t index);
   const IstStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
  protected:
   void process(uint32_t ray, Tick now) override;
+  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).ist.fetch; }
+  void admitted(uint32_t ray) override;
 
  private:
   uint32_t latency_;
-  RayOwners* owners_;
-  LvbUpdater* lvb_;
   IstStats stats_;
 };
 

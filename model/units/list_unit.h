@@ -1,6 +1,6 @@
 // LIST: fetches a leaf's record (primitive-list offset and count, and its LVB word) and then the
 // primitive list itself, one line per operation (2-cycle pipeline), and passes the ray with its
-// triangle ids to IST.
+// triangle ids to IST through `to_ist`.
 #pragma once
 
 #include "model/memory/cache.h"
@@ -16,18 +16,21 @@ struct ListStats {
 
 class ListUnit : public RayUnit {
  public:
-  // Unit `index` of the LIST units; its rays go on to `to_ist`.
+  RayOut to_ist;
+
+  // Unit `index` of the LIST units.
   ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-           MemorySystem& memory, uint32_t index, RayFifo* to_ist);
+           MemorySystem& memory, uint32_t index);
   const ListStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
  protected:
   void process(uint32_t ray, Tick now) override;
+  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).list.fetch; }
+  void admitted(uint32_t ray) override;
 
  private:
   uint32_t latency_;
-  RayFifo* to_ist_;
   ListStats stats_;
 };
 

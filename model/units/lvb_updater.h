@@ -1,20 +1,24 @@
 // LVB updater (the paper's Fig. 5): whenever a ray's closest hit is updated after an intersection
 // test, the ray takes the LVB word of the leaf that holds the new hit. Two registers and a mux in
-// hardware; here a counter of updates.
+// hardware; here a counter of updates. The IST units reach it through their `lvb` ports.
 #pragma once
 
 #include "model/sim/stats_registry.h"
-#include "model/units/ray_state.h"
+#include "model/units/ray_ports.h"
+
+#include <systemc>
+
+#include <string>
 
 namespace rtsim::model {
 
-class LvbUpdater : public sc_core::sc_object {
+class LvbUpdater : public sc_core::sc_object, public LvbUpdate {
  public:
   explicit LvbUpdater(const char* name) : sc_core::sc_object(name) {}
   const char* kind() const override { return "rtsim_lvb_updater"; }
-  void on_closest_hit(RayState& r) {
-    r.lvb = r.leaf_lvb;
+  uint32_t closest_hit(uint32_t leaf_lvb) override {
     ++updates_;
+    return leaf_lvb;
   }
   void register_stats(StatsRegistry& reg, const std::string& prefix) const {
     reg.counter(prefix + ".updates", &updates_, "count",

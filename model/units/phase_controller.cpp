@@ -4,25 +4,36 @@
 
 namespace rtsim::model {
 
-void PhaseController::on_retire(RayType type, Tick when) {
+PhaseController::PhaseController(sc_core::sc_module_name name, Schedule schedule,
+                                 Calendar& calendar)
+    : sc_core::sc_module(name),
+      retirements("retirements"),
+      primaries("primaries"),
+      shadows("shadows"),
+      schedule_(schedule),
+      calendar_(calendar) {
+  retirements.bind(*this);
+}
+
+void PhaseController::retired(RayType type, Tick when) {
   const Tick now = calendar_.now();
   end_ = std::max(end_, when);
   // A ray slot is free: whoever waits for one.
-  if (!generator_.finished()) generator_.wake(now);
-  if (schedule_ == Schedule::kOnePhase) culling_.wake(now);
-  if (type == RayType::kPrimary) {
-    ++primaries_retired_;
-    primary_end_ = std::max(primary_end_, when);
-    if (generator_.finished() && primaries_retired_ == generator_.issued()) {
-      primaries_done_ = true;
-      if (schedule_ == Schedule::kTwoPhase)
-        culling_.scan_all(std::max(now, primary_end_));
-      else
-        culling_.close(now);
-    }
-  } else {
+  if (!primaries->finished()) primaries->slot_freed(now);
+  if (schedule_ == Schedule::kOnePhase) shadows->slot_freed(now);
+  if (type == RayType::kShadow) {
     ++shadows_retired_;
-    culling_.wake(now);
+    shadows->slot_freed(now);
+    return;
+  }
+  ++primaries_retired_;
+  primary_end_ = std::max(primary_end_, when);
+  if (primaries->finished() && primaries_retired_ == primaries->issued()) {
+    primaries_done_ = true;
+    if (schedule_ == Schedule::kTwoPhase)
+      shadows->scan_all(std::max(now, primary_end_));
+    else
+      shadows->close(now);
   }
 }
 

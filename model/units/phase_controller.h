@@ -2,13 +2,16 @@
 // unit starts its scan of the frame when the last primary ray retires; in one phase it takes each
 // hit as it is shaded and learns at that moment that no more will come. It also wakes whoever
 // waits for a ray slot when one frees, and keeps the times the frame's phases end.
+//
+// Export: `retirements` (the router tells it of every retirement). Ports: `primaries` (the ray
+// generator), `shadows` (the shadow culling unit).
 #pragma once
 
 #include "model/sim/calendar.h"
 #include "model/sim/time.h"
-#include "model/units/ray_generator.h"
-#include "model/units/ray_state.h"
-#include "model/units/shadow_culling_unit.h"
+#include "model/units/ray_ports.h"
+
+#include <systemc>
 
 #include <cstdint>
 
@@ -18,21 +21,22 @@ namespace rtsim::model {
 // their hit is shaded (one phase: primary and shadow rays overlap).
 enum class Schedule { kTwoPhase, kOnePhase };
 
-class PhaseController {
+class PhaseController : public sc_core::sc_module, public RetireListener {
  public:
-  PhaseController(Schedule schedule, Calendar& calendar, RayGenerator& generator,
-                  ShadowCullingUnit& culling)
-      : schedule_(schedule), calendar_(calendar), generator_(generator), culling_(culling) {}
+  sc_core::sc_export<RetireListener> retirements;
+  sc_core::sc_port<PrimaryRays> primaries;
+  sc_core::sc_port<ShadowRays> shadows;
 
-  // A ray retired at `when` (a shading unit's on_retire).
-  void on_retire(RayType type, Tick when);
-  // A hit (frame entry) is shaded by `ready` (one phase: a shading unit's on_hit).
-  void on_hit(uint32_t entry, Tick ready) { culling_.add(entry, ready); }
+  PhaseController(sc_core::sc_module_name name, Schedule schedule, Calendar& calendar);
+  const char* kind() const override { return "rtsim_phase_controller"; }
+
+  // RetireListener: a ray retired at `when`; a primary or reflection ray ends its pixel's chain.
+  void retired(RayType type, Tick when) override;
 
   bool primaries_done() const { return primaries_done_; }
   // Every ray has retired and the culling unit has decided every (hit, light) pair.
   bool finished() const {
-    return primaries_done_ && culling_.finished() && shadows_retired_ == culling_.generated();
+    return primaries_done_ && shadows->finished() && shadows_retired_ == shadows->generated();
   }
   uint64_t primaries_retired() const { return primaries_retired_; }
   uint64_t shadows_retired() const { return shadows_retired_; }
@@ -42,8 +46,6 @@ class PhaseController {
  private:
   Schedule schedule_;
   Calendar& calendar_;
-  RayGenerator& generator_;
-  ShadowCullingUnit& culling_;
   bool primaries_done_ = false;
   uint64_t primaries_retired_ = 0, shadows_retired_ = 0;
   Tick primary_end_ = 0, end_ = 0;

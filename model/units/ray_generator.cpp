@@ -19,29 +19,30 @@ std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int til
 
 RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx,
                            const Camera& camera, int width, int height, RayOrder order, int tile,
-                           std::vector<RayFifo*> trv_inputs, uint32_t rays_per_cycle)
+                           uint32_t rays_per_cycle)
     : Unit(name, *ctx.calendar, ctx.clock),
+      to_trv("to_trv", this),
+      control("control"),
       ctx_(ctx),
       camera_(camera, width, height),
       width_(width),
       height_(height),
-      inputs_(std::move(trv_inputs)),
+      inputs_(to_trv),
       rays_per_cycle_(rays_per_cycle),
       total_(uint64_t(width) * height),
-      order_(issue_order(width, height, order, tile)) {}
+      order_(issue_order(width, height, order, tile)) {
+  control.bind(*this);
+}
 
 bool RayGenerator::cycle(Tick now) {
   uint32_t issued = 0;
   for (; issued < rays_per_cycle_ && !finished() && !ctx_.pool->full(); ++issued) {
-    RayFifo* f = inputs_.next_free();
+    RayQueueIn* f = inputs_.next_free();
     if (!f) break;
-    const uint32_t pixel = pixel_of(next_++);
-    const uint32_t id = ctx_.pool->allocate();
-    RayState& r = (*ctx_.pool)[id];
-    r.type = RayType::kPrimary;
-    r.pixel = pixel;
-    r.trav.ray = camera_.ray(int(pixel % width_), int(pixel / width_));
-    f->push(id, now + clock().period(), now);
+    RayInfo info;
+    info.pixel = pixel_of(next_++);
+    info.ray = camera_.ray(int(info.pixel % width_), int(info.pixel / width_));
+    f->push(ctx_.pool->create(info), now + clock().period(), now);
   }
   return issued > 0;
 }

@@ -1,12 +1,14 @@
 // Ray generator: up to `rays_per_cycle` primary rays per cycle (the T&I engine's dispatcher issues
-// one), through pixel centres in scanline or square-tile order, dealt round-robin to the TRV
-// units' input FIFOs, as long as the ray pool has a free slot.
+// one), through pixel centres in scanline or square-tile order, dealt in turn to the TRV units'
+// input FIFOs (`to_trv`), as long as the ray pool has a free slot. The phase controller drives it
+// through the export `control`.
 #pragma once
 
 #include "kernels/camera.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/unit.h"
 #include "model/units/model_context.h"
+#include "model/units/ray_ports.h"
 
 #include <vector>
 
@@ -18,13 +20,18 @@ enum class RayOrder { kScanline, kTiles };
 // a tile (partial tiles at the edges).
 std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int tile);
 
-class RayGenerator : public Unit {
+class RayGenerator : public Unit, public PrimaryRays {
  public:
+  RayDeal to_trv;
+  sc_core::sc_export<PrimaryRays> control;
+
   RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera,
-               int width, int height, RayOrder order, int tile, std::vector<RayFifo*> trv_inputs,
-               uint32_t rays_per_cycle = 1);
-  bool finished() const { return next_ == total_; }
-  uint64_t issued() const { return next_; }
+               int width, int height, RayOrder order, int tile, uint32_t rays_per_cycle = 1);
+
+  // PrimaryRays.
+  bool finished() const override { return next_ == total_; }
+  uint64_t issued() const override { return next_; }
+  void slot_freed(Tick now) override { wake(now); }
 
  protected:
   bool cycle(Tick now) override;
@@ -37,7 +44,7 @@ class RayGenerator : public Unit {
   const ModelContext& ctx_;
   PinholeCamera camera_;
   int width_, height_;
-  RoundRobin inputs_;  // the TRV units' input FIFOs
+  RoundRobin inputs_;  // over to_trv
   uint32_t rays_per_cycle_;
   uint64_t next_ = 0, total_ = 0;
   std::vector<uint32_t> order_;  // pixels in issue order

@@ -1,10 +1,12 @@
-// A ray in flight in the model: its traversal state (the shared state machine of
-// kernels/traversal.h), where it came from, and the per-leaf work the LIST and IST units do on it.
-// FIFOs carry ray ids; the pool owns the state.
+// A ray in flight in the model, in a pool of slots indexed by a 32-bit id (FIFOs and ports carry
+// ids). Its state is split by who writes it: what the ray is (its creator's), and one part per
+// stage on its path, each written by that stage alone (the others may read it). A stage sets up
+// its own part when the ray enters it; the pool sets up a new ray's result (no hit yet).
 #pragma once
 
 #include "kernels/shading.h"
 #include "kernels/traversal.h"
+#include "model/sim/time.h"
 
 #include <cstdint>
 #include <vector>
@@ -13,34 +15,66 @@ namespace rtsim::model {
 
 enum class RayType : uint8_t { kPrimary, kReflection, kShadow };
 
-struct RayState {
-  TraversalState trav;
+// What a ray is, written once by the block that makes it: the ray generator (primary rays), the
+// shadow culling unit (shadow rays) or a shading unit (a reflection, in its ray's slot).
+struct RayInfo {
+  Ray ray;
   RayType type = RayType::kPrimary;
-  uint32_t pixel = 0;     // primary and reflection rays: the pixel; shadow rays: the frame entry
-  uint8_t depth = 0;      // reflection bounces so far
-  uint8_t light = 0;      // shadow rays: which light
-  uint16_t sample = 0;    // shadow rays: which of the light's samples
-  uint16_t trv_unit = 0;  // the TRV unit that owns the ray (it returns there after each leaf)
-  bool started = false;   // traversal_begin done
-  // LVB updater: the LVB word of the leaf being tested, and the word of the leaf holding the
-  // current closest hit (taken whenever the closest hit is updated).
-  uint32_t leaf_lvb = 0;
-  uint32_t lvb = 0;
-  // LIST -> IST: the current leaf's primitive list, filled by the LIST unit.
+  uint32_t pixel = 0;   // primary and reflection rays: the pixel; shadow rays: the frame entry
+  uint8_t depth = 0;    // reflection bounces so far
+  uint8_t light = 0;    // shadow rays: which light
+  uint16_t sample = 0;  // shadow rays: which of the light's samples
+};
+
+// A unit's hold on a ray waiting for memory: its entry in the unit's ray accumulation buffer.
+// Empty again whenever the ray leaves the unit.
+struct FetchState {
+  uint32_t waiting_lines = 0;  // lines of a straddling record still in flight
+  // The record the ray waited for has arrived: its next operation reads it without fetching
+  // again (re-fetching could miss forever when the line is evicted before the ray issues again).
+  bool fill_ready = false;
+};
+
+// TRV: the walk through the kd-tree, and which TRV unit owns the ray's slot.
+struct TrvState {
+  TraversalState walk;
+  uint16_t owner = 0;
+  bool started = false;  // traversal_begin done
+  FetchState fetch;
+};
+
+// LIST: the current leaf's record and primitive list.
+struct ListState {
+  uint32_t leaf_lvb = 0;  // the leaf's LVB word
   uint32_t prim_offset = 0, prim_count = 0, prims_fetched = 0;
   std::vector<uint32_t> tris;
-  // IST progress on the current leaf.
+  FetchState fetch;
+};
+
+// IST (with its LVB updater): the closest hit so far and the current leaf's tests.
+struct IstState {
+  TraversalResult result;
+  uint32_t lvb = 0;  // the LVB word of the leaf holding the closest hit
   uint32_t tests_issued = 0;
   Ray leaf_ray;
-  uint64_t leaf_done_at = 0;   // completion time of the latest test issued (ps)
-  uint32_t waiting_lines = 0;  // lines of a straddling record still in flight
-  // The record a parked ray waited for has arrived: the next operation reads it without fetching
-  // again (the ray accumulation buffer holds the returned data; re-fetching could miss forever
-  // when the line is evicted before the ray issues again).
-  bool fill_ready = false;
-  uint8_t stage = 0;      // shading: 0 = triangle, 1 = material
-  uint32_t material = 0;  // shading: the hit triangle's material
-  SurfacePoint surface;   // shading: the hit's surface point, from the triangle
+  Tick leaf_done_at = 0;  // completion of the latest test issued
+  FetchState fetch;
+};
+
+// Shading: the hit's surface, read from its triangle, then its material.
+struct ShadingState {
+  uint8_t stage = 0;  // 0: the triangle next, 1: the material
+  uint32_t material = 0;
+  SurfacePoint surface;
+  FetchState fetch;
+};
+
+struct RayState {
+  RayInfo info;
+  TrvState trv;
+  ListState list;
+  IstState ist;
+  ShadingState shading;
 };
 
 class RayPool {
@@ -51,18 +85,19 @@ class RayPool {
   }
   bool full() const { return free_.empty(); }
   uint32_t in_flight() const { return uint32_t(rays_.size() - free_.size()); }
-  uint32_t allocate() {
+  // A new ray in a free slot.
+  uint32_t create(const RayInfo& info) {
     const uint32_t id = free_.back();
     free_.pop_back();
-    RayState& r = rays_[id];
-    r.started = false;
-    r.tris.clear();
-    r.lvb = r.leaf_lvb = 0;
-    r.waiting_lines = 0;
-    r.fill_ready = false;
-    r.stage = 0;
-    r.depth = 0;
+    renew(id, info);
     return id;
+  }
+  // From now on slot `id` holds a new ray (a reflection goes on in its ray's slot).
+  void renew(uint32_t id, const RayInfo& info) {
+    RayState& r = rays_[id];
+    r.info = info;
+    r.ist.result = traversal_result_begin(info.ray);
+    r.ist.lvb = 0;
   }
   void release(uint32_t id) { free_.push_back(id); }
   RayState& operator[](uint32_t id) { return rays_[id]; }

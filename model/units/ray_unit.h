@@ -1,8 +1,9 @@
-// The shape shared by the units that work on rays (TRV, LIST, IST, shading): rays enter from an
-// input FIFO, wait in a ready queue ordered by issue time, park while a line comes from DRAM
-// (on_fill puts them back: the T&I engine's ray accumulation buffer), and leave through an
-// output FIFO; a full output blocks the unit until the consumer frees a slot. A unit's children
-// are its input FIFO `in` and its caches (`l1`, and `l2` and `icnt` when L2s are private).
+// The shape shared by the units that work on rays (TRV, LIST, IST, shading): rays enter from the
+// input FIFO `in`, wait in a ready queue ordered by issue time, park while a line comes from
+// memory (on_fill puts them back: the T&I engine's ray accumulation buffer), and leave through an
+// output port; a refused push blocks the unit until the consumer frees a slot. A unit's children
+// are its input FIFO `in`, its ports and its caches (`l1`, and `l2` and `icnt` when L2s are
+// private).
 #pragma once
 
 #include "model/memory/memory_system.h"
@@ -23,15 +24,16 @@ struct RayUnitConfig {
 
 class RayUnit : public Unit, public FillListener {
  public:
+  RayFifo in;
+
   // A line a parked ray waited for arrived; the ray may issue again at `when`.
   void on_fill(uint64_t, uint64_t ray, Tick when) override {
-    RayState& r = (*ctx_.pool)[uint32_t(ray)];
-    if (r.waiting_lines > 0 && --r.waiting_lines > 0) return;
-    r.fill_ready = true;
+    FetchState& f = fetch_state(uint32_t(ray));
+    if (f.waiting_lines > 0 && --f.waiting_lines > 0) return;
+    f.fill_ready = true;
     ready_.push(when, uint32_t(ray));
     wake(when);
   }
-  RayFifo* input() { return &in_; }
   Cache& l1() const { return *l1_; }
   uint32_t held() const { return held_; }
 
@@ -40,29 +42,31 @@ class RayUnit : public Unit, public FillListener {
   RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
           MemorySystem& memory, MemorySystem::Type type, uint32_t index)
       : Unit(name, *ctx.calendar, ctx.clock),
+        in("in", cfg.fifo_depth, this),
         ctx_(ctx),
-        in_("in", cfg.fifo_depth),
         capacity_(cfg.capacity) {
     memory_ = memory.build_unit(type, index, this);
     l1_ = memory_->l1.get();
-    in_.connect(nullptr, this);
   }
 
   // Works on one ready ray at `now`.
   virtual void process(uint32_t ray, Tick now) = 0;
+  // This unit's entry for `ray` in its ray accumulation buffer (its part of the ray's state).
+  virtual FetchState& fetch_state(uint32_t ray) = 0;
   // Whether a new ray may enter from the input FIFO (default: room inside the unit).
   virtual bool can_admit() const { return held_ < capacity_; }
+  // A ray entered from the input FIFO: the unit sets up its part of the ray's state.
   virtual void admitted(uint32_t) {}
 
   bool cycle(Tick now) override {
-    if (blocked_.fifo) {
-      if (!blocked_.fifo->push(blocked_.ray, std::max(blocked_.when, now), now)) return false;
-      blocked_.fifo = nullptr;
+    if (blocked_.out) {
+      if (!blocked_.out->push(blocked_.ray, std::max(blocked_.when, now), now)) return false;
+      blocked_.out = nullptr;
       --held_;
     }
-    while (!in_.empty() && in_.head_ready() <= now && can_admit()) {
-      const Tick t = in_.head_ready();
-      const uint32_t ray = in_.pop(now);
+    while (!in.empty() && in.head_ready() <= now && can_admit()) {
+      const Tick t = in.head_ready();
+      const uint32_t ray = in.pop(now);
       ready_.push(t, ray);
       ++held_;
       admitted(ray);
@@ -72,28 +76,29 @@ class RayUnit : public Unit, public FillListener {
     return true;
   }
   Tick next_ready(Tick from) const override {
-    if (blocked_.fifo) return kUnknown;  // the consumer wakes us when it frees a slot
+    if (blocked_.out) return kUnknown;  // the consumer wakes us when it frees a slot
     Tick t = ready_.next_time();
-    if (!in_.empty() && can_admit()) t = std::min(t, in_.head_ready());
+    if (!in.empty() && can_admit()) t = std::min(t, in.head_ready());
     return t == kUnknown ? kUnknown : std::max(t, from);
   }
-  bool holds_work() const override { return held_ > 0 || !in_.empty(); }
+  bool holds_work() const override { return held_ > 0 || !in.empty(); }
 
+  RayState& ray_state(uint32_t ray) const { return (*ctx_.pool)[ray]; }
   // The ray stays in this unit and may issue again at `when`.
   void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
   // The ray waits for `lines` fills (told through on_fill).
-  void park(uint32_t ray, uint32_t lines) { (*ctx_.pool)[ray].waiting_lines = lines; }
+  void park(uint32_t ray, uint32_t lines) { fetch_state(ray).waiting_lines = lines; }
   // Fetches a record for `ray`, unless a fill the ray waited for already brought it.
   RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
-    RayState& r = (*ctx_.pool)[ray];
-    if (r.fill_ready) {
-      r.fill_ready = false;
+    FetchState& f = fetch_state(ray);
+    if (f.fill_ready) {
+      f.fill_ready = false;
       return {now, 0};
     }
     return fetch_record(cache, addr, bytes, now, this, ray);
   }
-  // Reads a record for `ray` into `out` and returns when it is there; kUnknown when a line is still
-  // to come (the ray is parked until it arrives, then issues again and reads it).
+  // Reads a record for `ray` into `out` and returns when it is there; kUnknown when a line is
+  // still to come (the ray is parked until it arrives, then issues again and reads it).
   Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, uint8_t* out, Tick now) {
     const RecordFetch f = fetch(cache, ray, addr, bytes, now);
     if (f.ready == kUnknown) {
@@ -104,12 +109,13 @@ class RayUnit : public Unit, public FillListener {
     return f.ready;
   }
   // The ray leaves this unit through `out`, visible from `when`.
-  void emit(RayFifo* out, uint32_t ray, Tick when, Tick now) {
-    if (out->push(ray, when, now)) {
+  void emit(RayOut& out, uint32_t ray, Tick when, Tick now) {
+    RaySink* sink = out[0];
+    if (sink->push(ray, when, now)) {
       --held_;
       return;
     }
-    blocked_ = {out, ray, when};
+    blocked_ = {sink, ray, when};
   }
   // The ray leaves this unit by another way (handed back to its owner, or retired).
   void release() { --held_; }
@@ -121,22 +127,17 @@ class RayUnit : public Unit, public FillListener {
   }
 
   const ModelContext& ctx_;
-  RayFifo in_;
 
  private:
-  std::unique_ptr<UnitMemory> memory_;
-  Cache* l1_ = nullptr;
-  struct Blocked {
-    RayFifo* fifo = nullptr;
+  struct Blocked {  // a ray its consumer refused, retried when woken
+    RaySink* out = nullptr;
     uint32_t ray = 0;
     Tick when = 0;
   };
+  std::unique_ptr<UnitMemory> memory_;
+  Cache* l1_ = nullptr;
   uint32_t capacity_;
-
- protected:
   uint32_t held_ = 0;
-
- private:
   Blocked blocked_;
   ReadyQueue ready_;
 };

@@ -1,17 +1,20 @@
-// Shading: takes every ray whose traversal is over. For a primary or reflection ray it fetches
-// the hit triangle and its material through its L1, computes the surface point and keeps it with
-// the hit leaf's LVB word for the shadow phase; on a mirror material, while the depth allows, the
-// ray goes on as its reflection (same slot). For a shadow ray it records whether the light was
-// blocked. A ray that ends retires and its TRV slot frees.
+// Shading: takes every ray whose traversal is over. For a primary or reflection ray with a hit it
+// fetches the hit triangle and its material through its L1, computes the surface point and keeps
+// it with the hit leaf's LVB word for the shadow phase (the frame entry, and the entry's hit
+// record written to the frame buffer in memory); on a mirror material, while the depth allows,
+// the ray goes on as its reflection (same slot). For a shadow ray it records whether the light
+// was blocked. A ray that ends retires.
+//
+// Ports: `back` (RayReturn: reflections and retirements), `hits` (one phase: the culling unit
+// takes each shaded hit), `records` (the frame buffer's writes; unbound: none are written).
 #pragma once
 
 #include "model/memory/cache.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
-#include "model/units/ray_owners.h"
+#include "model/units/ray_ports.h"
 #include "model/units/ray_unit.h"
 
-#include <functional>
 #include <vector>
 
 namespace rtsim::model {
@@ -24,31 +27,31 @@ struct ShadingStats {
 
 class ShadingUnit : public RayUnit {
  public:
-  // Unit `index` of the shading units; rays go back or retire through `owners`; hits land in
-  // `frame`.
+  sc_core::sc_port<RayReturn> back;
+  sc_core::sc_port<ShadedHits, 1, sc_core::SC_ZERO_OR_MORE_BOUND> hits;
+  sc_core::sc_port<LineWriter, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
+
+  // Unit `index` of the shading units; hits land in `frame`, and their records at `region`.
   ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-              MemorySystem& memory, uint32_t index, RayOwners* owners, FrameBuffer* frame);
-  // Called after every retirement (the accelerator's phase control listens).
-  std::function<void(RayType, Tick)> on_retire;
-  // Called when a hit (frame entry) is shaded, with the time its result is ready (one phase).
-  std::function<void(uint32_t, Tick)> on_hit;
-  // When set, every shaded hit's record is written to the frame buffer in memory through it
-  // (a posted write of one line at `records.address(entry)`).
-  std::function<void(uint64_t line, const uint8_t* data, Tick when)> write_line;
-  HitRecordRegion records;
+              MemorySystem& memory, uint32_t index, FrameBuffer* frame,
+              const HitRecordRegion& region);
   const ShadingStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
  protected:
   void process(uint32_t ray, Tick now) override;
+  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).shading.fetch; }
+  void admitted(uint32_t ray) override { ray_state(ray).shading.stage = 0; }
 
  private:
-  void retire(uint32_t id, RayType type, Tick now);
+  void shadow_done(uint32_t id, Tick now);
+  void shade(uint32_t id, const image::MaterialRecord& mat, Tick done_at);
+  void retire(uint32_t id, RayType type, Tick when);
 
   uint32_t latency_;
-  std::vector<uint8_t> line_;  // the record line being written
-  RayOwners* owners_;
   FrameBuffer* frame_;
+  HitRecordRegion region_;
+  std::vector<uint8_t> line_;  // the record line being written
   ShadingStats stats_;
 };
 

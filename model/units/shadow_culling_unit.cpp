@@ -6,17 +6,32 @@
 namespace rtsim::model {
 
 ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
-                                     bool culling, const CullingConfig& config, Cache* l1,
-                                     FrameBuffer* frame, std::vector<RayFifo*> trv_inputs)
+                                     bool culling, const CullingConfig& config,
+                                     MemorySystem* memory, FrameBuffer* frame,
+                                     const HitRecordRegion& region)
     : Unit(name, *ctx.calendar, ctx.clock),
+      to_trv("to_trv", this),
+      l1("l1"),
+      records("records"),
+      hits("hits"),
+      control("control"),
       ctx_(ctx),
       culling_(culling),
-      l1_(l1),
       frame_(frame),
-      inputs_(std::move(trv_inputs)),
+      inputs_(to_trv),
       lights_(ctx.header.light_count),
       rate_(config.records_per_cycle),
-      prefetch_(std::max<uint32_t>(1, config.prefetch)) {}
+      prefetch_(std::max<uint32_t>(1, config.prefetch)),
+      region_(region) {
+  hits.bind(*this);
+  control.bind(*this);
+  if (config.l1 == CullingL1::kOwn) own_l1_ = memory->build_unit(MemorySystem::kCulling, 0, this);
+}
+
+void ShadowCullingUnit::end_of_elaboration() {
+  l1_ = l1[0];
+  reader_ = records.size() > 0 ? records[0] : nullptr;
+}
 
 void ShadowCullingUnit::scan_all(Tick now) {
   scanning_ = closed_ = true;
@@ -35,7 +50,7 @@ void ShadowCullingUnit::scan_all(Tick now) {
   wake(now);
 }
 
-void ShadowCullingUnit::add(uint32_t entry, Tick ready) {
+void ShadowCullingUnit::hit_shaded(uint32_t entry, Tick ready) {
   if (ctx_.header.light_count == 0) return;
   queue_.push_back({entry, ready});
   ++added_;
@@ -141,7 +156,7 @@ bool ShadowCullingUnit::latch_light(Tick now) {
 
 bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   if (ctx_.pool->full()) return false;  // woken when a ray retires
-  RayFifo* f = inputs_.next_free();
+  RayQueueIn* f = inputs_.next_free();
   if (!f) return false;  // woken when a TRV input frees a slot
   if (!light_latched_ && !latch_light(now)) {
     waiting_ = true;  // keeps the pair: a light record is on its way
@@ -150,15 +165,15 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   const image::LightRecord& light = latched_;
   const uint32_t entry = current();  // the frame entry (pixel and bounce)
   const uint32_t pixels = uint32_t(frame_->pixel_count());
-  const uint32_t id = ctx_.pool->allocate();
-  RayState& r = (*ctx_.pool)[id];
-  r.type = RayType::kShadow;
-  r.pixel = entry;
-  r.light = uint8_t(light_);
-  r.sample = uint16_t(sample_);
-  r.trav.ray = shadow_ray(
-      surface, light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
-      ctx_.shadow_offset);
+  RayInfo info;
+  info.type = RayType::kShadow;
+  info.pixel = entry;
+  info.light = uint8_t(light_);
+  info.sample = uint16_t(sample_);
+  info.ray = shadow_ray(surface,
+                        light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
+                        ctx_.shadow_offset);
+  const uint32_t id = ctx_.pool->create(info);
   f->push(id, std::max(latched_ready_, now + clock().period()), now);
   ++lights_[light_].decisions;
   ++lights_[light_].generated;
@@ -230,7 +245,7 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
 
 Tick ShadowCullingUnit::next_ready(Tick from) const {
   if (rate_ > 0 && can_request()) return from;   // keep the reads flowing
-  if (!has_work() || waiting_) return kUnknown;  // woken by add() or a fill
+  if (!has_work() || waiting_) return kUnknown;  // woken by hit_shaded() or a fill
   if (ctx_.pool->full()) return kUnknown;        // woken when a ray retires
   if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
   const Tick ready = current_ready();

@@ -5,25 +5,27 @@
 // the hit's whole word, so culled lights are skipped within the cycle. A light's records are read
 // through its L1 once per (hit, light) pair and held for the pair's samples.
 //
-// Its work comes one of two ways (the schedule): in two phases, scan_all() at the end of the
-// primary phase hands it every frame entry in order; in one phase, the shading unit add()s each
-// hit as it is shaded and close() says no more will come.
+// Its work comes one of two ways (the schedule): in two phases, the phase controller's scan_all()
+// at the end of the primary phase hands it every frame entry in order; in one phase, the shading
+// units hand it each hit as it is shaded (`hits`) and close() says no more will come.
 //
 // Its rate: it takes at most `records_per_cycle` hit records per cycle (a record with several
-// lights to shoot holds it one cycle per ray). In two phases with read_records_from(), it reads
-// every entry's record from the frame buffer in memory (model/units/hit_record.h), up to `prefetch`
-// lines ahead in the order they lie in memory (model/units/hit_record.h), and builds the rays from
-// the fetched bytes; an entry without a hit costs its read and a record slot too.
-// `records_per_cycle == 0` is the ideal unit: any number of records per cycle, taken from the
-// host-side frame without memory traffic, and entries without a hit skipped for free.
+// lights to shoot holds it one cycle per ray). In two phases with `records` bound, it reads every
+// entry's record from the frame buffer in memory (model/units/hit_record.h), up to `prefetch`
+// lines ahead in the order they lie in memory, and builds the rays from the fetched bytes; an
+// entry without a hit costs its read and a record slot too. `records_per_cycle == 0` is the ideal
+// unit: any number of records per cycle, taken from the host-side frame without memory traffic,
+// and entries without a hit skipped for free.
 #pragma once
 
 #include "model/memory/cache.h"
+#include "model/memory/memory_system.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/unit.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
 #include "model/units/model_context.h"
+#include "model/units/ray_ports.h"
 
 #include <deque>
 #include <vector>
@@ -37,9 +39,16 @@ struct LightStats {
   uint64_t culled = 0;     // shadow rays culled by the LVB
 };
 
+// The L1 the unit reads the light records through.
+enum class CullingL1 {
+  kShadingUnit0,  // shading unit 0's: one single-ported L1 that the two share
+  kOwn,           // its own, configured as a shading unit's L1, on the same L2
+};
+
 struct CullingConfig {
   uint32_t records_per_cycle = 1;  // 0: unlimited (ideal)
   uint32_t prefetch = 128;         // record lines in flight when reading the frame buffer
+  CullingL1 l1 = CullingL1::kShadingUnit0;
 };
 
 // Every CullingConfig field, once (model/sim/config_description.h).
@@ -50,27 +59,39 @@ DescribeOf<C, CullingConfig> describe(V& v, C& c) {
            "unlimited, from the host-side frame (ideal)");
   v.number("prefetch", c.prefetch, 1, 65536, "lines",
            "record lines in flight when reading the frame buffer");
+  v.choice("l1", c.l1, {{"shading0", CullingL1::kShadingUnit0}, {"own", CullingL1::kOwn}},
+           "the L1 it reads the lights through: shading unit 0's single-ported one, shared, or "
+           "its own (the shading L1's configuration, on the same L2)");
 }
 
-class ShadowCullingUnit : public Unit, public FillListener {
+class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, public ShadowRays {
  public:
+  RayDeal to_trv;                   // the TRV units' inputs, dealt in turn
+  sc_core::sc_port<LineSource> l1;  // the L1 the light records come through
+  // Two phases at a limited rate: the frame buffer's records (unbound: from the host-side frame).
+  sc_core::sc_port<LineSource, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
+  sc_core::sc_export<ShadedHits> hits;     // one phase: hits as they are shaded
+  sc_core::sc_export<ShadowRays> control;  // the phase controller's
+
+  // `region`: where the records lie in memory; `memory` builds the unit's own L1 (`own_l1`)
+  // when the configuration asks for one (else it may be null).
   ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
-                    const CullingConfig& config, Cache* l1, FrameBuffer* frame,
-                    std::vector<RayFifo*> trv_inputs);
-  // Two phases, limited rate: read the records through `reader` from `region` (else from the host).
-  void read_records_from(LineSource* reader, const HitRecordRegion& region) {
-    reader_ = reader;
-    region_ = region;
-  }
-  // Two phases: every hit entry of the frame, in order, from `now`; no more will come.
-  void scan_all(Tick now);
-  // One phase: the hit at frame entry `entry` is shaded by `ready`; close() after the last.
-  void add(uint32_t entry, Tick ready);
-  void close(Tick now);
-  bool finished() const { return closed_ && !has_work(); }
+                    const CullingConfig& config, MemorySystem* memory, FrameBuffer* frame,
+                    const HitRecordRegion& region);
+  // Its own L1 (null when it shares shading unit 0's).
+  Cache* own_l1() const { return own_l1_ ? own_l1_->l1.get() : nullptr; }
+
+  // ShadowRays.
+  void scan_all(Tick now) override;
+  void close(Tick now) override;
+  void slot_freed(Tick now) override { wake(now); }
+  bool finished() const override { return closed_ && !has_work(); }
+  uint64_t generated() const override;
+  // ShadedHits: the hit at frame entry `entry` is shaded by `ready`; close() after the last.
+  void hit_shaded(uint32_t entry, Tick ready) override;
+
   // Share of the known hits decided (for progress reports).
   double decided_fraction() const;
-  uint64_t generated() const;
   // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
   void on_fill(uint64_t, uint64_t cookie, Tick when) override;
   const std::vector<LightStats>& per_light() const { return lights_; }
@@ -92,10 +113,11 @@ class ShadowCullingUnit : public Unit, public FillListener {
   }
   Tick current_ready() const;
   bool from_memory() const { return scanning_ && rate_ > 0 && reader_; }
-  void advance();     // the next (hit, light, sample)
-  void next_light();  // the next (hit, light) pair
-  void cull_light();  // the current light's bit is 0: all its samples culled
-  void next_entry();  // the next hit
+  void end_of_elaboration() override;  // takes what the ports are bound to
+  void advance();                      // the next (hit, light, sample)
+  void next_light();                   // the next (hit, light) pair
+  void cull_light();                   // the current light's bit is 0: all its samples culled
+  void next_entry();                   // the next hit
   bool cycle_unlimited(Tick now);
   bool cycle_limited(Tick now);
   bool request_records(Tick now);  // memory reads for the coming entries; true if any issued
@@ -110,9 +132,10 @@ class ShadowCullingUnit : public Unit, public FillListener {
 
   const ModelContext& ctx_;
   bool culling_;
-  Cache* l1_;
+  std::unique_ptr<UnitMemory> own_l1_;
+  LineSource* l1_ = nullptr;
   FrameBuffer* frame_;
-  RoundRobin inputs_;  // the TRV units' input FIFOs
+  RoundRobin inputs_;  // over to_trv
   bool closed_ = false, waiting_ = false;
   bool scanning_ = false;  // two phases: a cursor over the frame
   size_t entry_ = 0;

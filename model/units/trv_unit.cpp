@@ -1,56 +1,69 @@
 #include "model/units/trv_unit.h"
 
-#include "model/memory/record_fetch.h"
-
 namespace rtsim::model {
 
 TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-                 MemorySystem& memory, uint32_t index, RayFifo* to_list, RayOwners* owners)
+                 MemorySystem& memory, uint32_t index)
     : RayUnit(name, ctx, cfg, memory, MemorySystem::kTrv, index),
+      to_list("to_list", this),
+      to_shading("to_shading", this),
+      owner("owner"),
       latency_(cfg.latency),
       capacity_(cfg.capacity),
-      index_(uint16_t(index)),
-      to_list_(to_list),
-      owners_(owners) {}
+      index_(uint16_t(index)) {
+  owner.bind(*this);
+}
 
 void TrvUnit::admitted(uint32_t ray) {
   ++owned_;
-  (*ctx_.pool)[ray].trv_unit = index_;
+  TrvState& t = ray_state(ray).trv;
+  t.owner = index_;
+  t.started = false;
+}
+
+bool TrvUnit::leaf_done(uint32_t ray, Tick when) {
+  RayState& r = ray_state(ray);
+  if (traversal_pop(r.trv.walk, r.ist.result) != TraversalStep::kFetchNode) return false;
+  take_back(ray, when);
+  return true;
+}
+
+void TrvUnit::reflect(uint32_t ray, Tick when) {
+  ray_state(ray).trv.started = false;
+  take_back(ray, when);
+}
+
+void TrvUnit::release_slot(uint32_t) {
+  --owned_;
+  wake(now_ps());
 }
 
 void TrvUnit::process(uint32_t id, Tick now) {
-  RayState& r = (*ctx_.pool)[id];
-  if (!r.started) {
-    r.started = true;
+  RayState& r = ray_state(id);
+  TraversalState& walk = r.trv.walk;
+  if (!r.trv.started) {
+    r.trv.started = true;
     ++stats_.rays_started;
-    const bool any_hit = r.type == RayType::kShadow;
-    if (!traversal_begin(r.trav, r.trav.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps)) {
+    const bool any_hit = r.info.type == RayType::kShadow;
+    if (!traversal_begin(walk, r.info.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps)) {
       ++stats_.rays_done;
-      // Misses the scene
-      emit(owners_->shading_input(id), id, now + ctx_.clock.cycles(latency_), now);
+      emit(to_shading, id, now + ctx_.clock.cycles(latency_), now);  // misses the scene
       return;
     }
   }
-  const uint64_t addr = ctx_.header.nodes.base + uint64_t(r.trav.node) * image::kNodeBytes;
+  const uint64_t addr = ctx_.header.nodes.base + uint64_t(walk.node) * image::kNodeBytes;
   ++stats_.node_fetches;
   uint8_t bytes[image::kNodeBytes];
   const Tick ready = load(l1(), id, addr, image::kNodeBytes, bytes, now);
   if (ready == kUnknown) return;
-  const TraversalStep step = traversal_node(r.trav, image::decode_node(bytes));
+  const TraversalStep step = traversal_node(walk, r.ist.result, image::decode_node(bytes));
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
   switch (step) {
     case TraversalStep::kFetchNode: keep(id, done_at); break;
-    case TraversalStep::kLeaf:
-      r.prims_fetched = 0;
-      r.prim_count = 0;
-      r.tests_issued = 0;
-      r.leaf_done_at = 0;
-      r.tris.clear();
-      emit(to_list_, id, done_at, now);
-      break;
+    case TraversalStep::kLeaf: emit(to_list, id, done_at, now); break;
     case TraversalStep::kDone:
       ++stats_.rays_done;
-      emit(owners_->shading_input(id), id, done_at, now);
+      emit(to_shading, id, done_at, now);
       break;
   }
 }

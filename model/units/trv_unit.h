@@ -1,12 +1,16 @@
 // TRV: kd-tree traversal. Each operation fetches one 8-byte node through the unit's L1 and runs
 // one step of the shared traversal state machine (8-cycle pipeline, one operation per cycle).
-// A ray whose node misses to DRAM parks in the ray accumulation buffer until the line arrives.
+// A ray whose node misses to memory parks in the ray accumulation buffer until the line arrives.
 // Rays keep their slot here while they visit LIST and IST (the T&I engine's scheme): the unit
-// owns at most `capacity` rays, and a ray coming back after its leaf never waits for room.
+// owns at most `capacity` rays, and a ray coming back after its leaf never waits for room. The
+// unit owns its rays' stacks: it pops a ray's stack when IST is done with its leaf.
+//
+// Ports: `to_list` (a ray reaching a leaf), `to_shading` (a ray whose traversal is over); the
+// export `owner` (RayOwner: rays coming back, slots freeing).
 #pragma once
 
 #include "model/memory/cache.h"
-#include "model/units/ray_owners.h"
+#include "model/units/ray_ports.h"
 #include "model/units/ray_unit.h"
 
 namespace rtsim::model {
@@ -17,24 +21,27 @@ struct TrvStats {
   uint64_t rays_done = 0;
 };
 
-class TrvUnit : public RayUnit {
+class TrvUnit : public RayUnit, public RayOwner {
  public:
-  // Unit `index` of the TRV units; its rays go to `to_list`, and to their shading unit via
-  // `owners`.
+  RayOut to_list;
+  RayOut to_shading;
+  sc_core::sc_export<RayOwner> owner;
+
+  // Unit `index` of the TRV units.
   TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-          MemorySystem& memory, uint32_t index, RayFifo* to_list, RayOwners* owners);
-  // IST hands a ray back after its leaf: it continues at `when`.
-  void return_ray(uint32_t ray, Tick when) { take_back(ray, when); }
-  // The ray retired (shading took it): its slot frees.
-  void retire(uint32_t) {
-    --owned_;
-    wake(now_ps());
-  }
+          MemorySystem& memory, uint32_t index);
+
+  // RayOwner.
+  bool leaf_done(uint32_t ray, Tick when) override;
+  void reflect(uint32_t ray, Tick when) override;
+  void release_slot(uint32_t ray) override;
+
   const TrvStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
  protected:
   void process(uint32_t ray, Tick now) override;
+  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).trv.fetch; }
   bool can_admit() const override { return owned_ < capacity_; }
   void admitted(uint32_t ray) override;
   bool holds_work() const override { return RayUnit::holds_work() || owned_ > 0; }
@@ -43,8 +50,6 @@ class TrvUnit : public RayUnit {
   uint32_t latency_, capacity_;
   uint32_t owned_ = 0;
   uint16_t index_;
-  RayFifo* to_list_;
-  RayOwners* owners_;
   TrvStats stats_;
 };
 

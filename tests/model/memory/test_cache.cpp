@@ -31,6 +31,7 @@ class FakeMemory : public LineSource {
     return latency == kUnknown ? kUnknown : now + latency;
   }
   const uint8_t* line_data(uint64_t line) const override { return &bytes[line]; }
+  uint32_t line_bytes() const override { return 64; }
   bool owns(const uint8_t* p) const { return p >= bytes.data() && p < bytes.data() + bytes.size(); }
 
   std::vector<uint8_t> bytes;

@@ -67,6 +67,7 @@ class FixedMemory : public LineSource {
     return now + 10 * kCycle;
   }
   const uint8_t* line_data(uint64_t) const override { return bytes.data(); }
+  uint32_t line_bytes() const override { return 64; }
   std::vector<uint8_t> bytes = std::vector<uint8_t>(64, 7);
 };
 

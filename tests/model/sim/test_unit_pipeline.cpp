@@ -12,62 +12,62 @@
 namespace rtsim::model {
 namespace {
 
-// Issues one operation per cycle from `fifo_in` (all ready at t = 0), completing after `latency`.
+// Issues one operation per cycle from its input `in` (all ready at t = 0), completing after
+// `latency`, to its output port `out`.
 class PipeUnit : public Unit {
  public:
-  PipeUnit(sc_core::sc_module_name n, Calendar& s, const Clock& c, RayFifo* in, RayFifo* out,
-           int latency)
-      : Unit(n, s, c), in_(in), out_(out), latency_(latency) {}
+  PipeUnit(sc_core::sc_module_name n, Calendar& s, const Clock& c, uint32_t depth, int latency)
+      : Unit(n, s, c), in("in", depth, this), out("out", this), latency_(latency) {}
+  RayFifo in;
+  RayOut out;
   std::vector<Tick> done;
 
  protected:
   bool cycle(Tick now) override {
     if (pending_ != kNone) {  // blocked on the output
-      if (!out_->push(pending_, now, now)) return false;
+      if (!out->push(pending_, now, now)) return false;
       pending_ = kNone;
     }
-    if (in_->empty() || in_->head_ready() > now) return false;
-    const uint32_t ray = in_->pop(now);
+    if (in.empty() || in.head_ready() > now) return false;
+    const uint32_t ray = in.pop(now);
     done.push_back(now + clock().cycles(latency_));
-    if (out_ && !out_->push(ray, now + clock().cycles(latency_), now)) pending_ = ray;
+    if (!out->push(ray, now + clock().cycles(latency_), now)) pending_ = ray;
     return true;
   }
   Tick next_ready(Tick from) const override {
     if (pending_ != kNone) return kUnknown;  // woken by the consumer
-    return in_->empty() ? kUnknown : std::max(from, in_->head_ready());
+    return in.empty() ? kUnknown : std::max(from, in.head_ready());
   }
-  bool holds_work() const override { return pending_ != kNone || !in_->empty(); }
+  bool holds_work() const override { return pending_ != kNone || !in.empty(); }
 
  private:
   static constexpr uint32_t kNone = ~0u;
-  RayFifo* in_;
-  RayFifo* out_;
   int latency_;
   uint32_t pending_ = kNone;
 };
 
-// Takes one entry every `period` cycles.
+// Takes one entry from its input `in` every `period` cycles.
 class SlowSink : public Unit {
  public:
-  SlowSink(sc_core::sc_module_name n, Calendar& s, const Clock& c, RayFifo* in, int every)
-      : Unit(n, s, c), in_(in), every_(every) {}
+  SlowSink(sc_core::sc_module_name n, Calendar& s, const Clock& c, uint32_t depth, int every)
+      : Unit(n, s, c), in("in", depth, this), every_(every) {}
+  RayFifo in;
   uint64_t taken = 0;
 
  protected:
   bool cycle(Tick now) override {
-    if (in_->empty() || in_->head_ready() > now || now < next_) return false;
-    in_->pop(now);
+    if (in.empty() || in.head_ready() > now || now < next_) return false;
+    in.pop(now);
     ++taken;
     next_ = now + clock().cycles(every_);
     return true;
   }
   Tick next_ready(Tick from) const override {
-    return in_->empty() ? kUnknown : std::max({from, in_->head_ready(), next_});
+    return in.empty() ? kUnknown : std::max({from, in.head_ready(), next_});
   }
-  bool holds_work() const override { return !in_->empty(); }
+  bool holds_work() const override { return !in.empty(); }
 
  private:
-  RayFifo* in_;
   int every_;
   Tick next_ = 0;
 };
@@ -76,13 +76,12 @@ TEST(UnitPipeline, FullPipelineRetiresOnePerCycleAndBackPressureStalls) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   const Clock clock(1.0);
   constexpr int kOps = 100, kLatency = 8;
-  RayFifo input("in", kOps), mid("mid", 4);
   Calendar calendar("calendar");
-  PipeUnit pipe("pipe", calendar, clock, &input, &mid, kLatency);
-  SlowSink sink("sink", calendar, clock, &mid, 3);
-  input.connect(nullptr, &pipe);
-  mid.connect(&pipe, &sink);
-  for (int i = 0; i < kOps; ++i) input.push(uint32_t(i), 0, 0);
+  PipeUnit pipe("pipe", calendar, clock, kOps, kLatency);
+  SlowSink sink("sink", calendar, clock, 4, 3);
+  pipe.out.bind(sink.in);  // the port registers the pipe as the FIFO's producer
+  RayFifo& mid = sink.in;
+  for (int i = 0; i < kOps; ++i) pipe.in.push(uint32_t(i), 0, 0);
   pipe.wake(0);
   test::simulate();
   const Tick end = Tick(sc_core::sc_time_stamp().value());

@@ -6,6 +6,7 @@
 // completes at max(c, d) + 36; a 48-byte triangle may straddle two lines and is ready when both
 // are (docs/model-design.md). One simulation for the file, built by the first test.
 #include "model/units/ist_unit.h"
+#include "model/units/lvb_updater.h"
 
 #include "tests/model/units/unit_bench.h"
 #include "tests/test_util.h"
@@ -37,9 +38,11 @@ constexpr uint64_t kA = 10, kB = 300, kC = 600, kD = 900, kE = 1200;
 
 struct IstBench : Bench {
   IstBench(sc_core::sc_module_name name, const MemoryImage& image)
-      : Bench(name, image, config()),
-        lvb("lvb_updater"),
-        ist("ist0", ctx, cfg.ist, memory, 0, this, &lvb) {}
+      : Bench(name, image, config()), lvb("lvb_updater"), ist("ist0", ctx, cfg.ist, memory, 0) {
+    ist.back.bind(*this);
+    ist.to_shading.bind(done);
+    ist.lvb.bind(lvb);
+  }
   LvbUpdater lvb;
   IstUnit ist;
 };
@@ -58,12 +61,12 @@ struct Scenario {
                RayType type = RayType::kPrimary) {
     const uint32_t id = b->add_ray({Vec3(x, 0.f, 0.f), Vec3(0.f, 0.f, -1.f)}, type);
     RayState& r = b->pool[id];
-    EXPECT_TRUE(traversal_begin(r.trav, r.trav.ray, type == RayType::kShadow, image.header().bounds,
-                                b->ctx.abs_eps));
-    r.trav.leaf = 7;
-    r.leaf_lvb = lvb;
-    r.tris = std::move(tris);
-    b->feed(b->ist.input(), id, cycle);
+    EXPECT_TRUE(traversal_begin(r.trv.walk, r.info.ray, type == RayType::kShadow,
+                                image.header().bounds, b->ctx.abs_eps));
+    r.trv.walk.leaf = 7;
+    r.list.leaf_lvb = lvb;
+    r.list.tris = std::move(tris);
+    b->feed(&b->ist.in, id, cycle);
     return id;
   }
 
@@ -74,8 +77,8 @@ struct Scenario {
     c = ray(0.f, {1, 0}, 0x4, kC);                 // near then far: all warm
     d = ray(0.f, {0}, 0x8, kD, RayType::kShadow);  // any hit: no LVB update
     e = ray(5.f, {0}, 0x10, kE);                   // misses; a cell is still on its stack
-    RayState& re = b->pool[e];
-    re.trav.stack[re.trav.sp++] = {0, re.trav.tmin, re.trav.tmax};
+    TraversalState& we = b->pool[e].trv.walk;
+    we.stack[we.sp++] = {0, we.tmin, we.tmax};
     test::simulate();
     b->ist.finish_accounting(at(kEndCycle));
     to_shading = Bench::drain(b->done);
@@ -102,14 +105,14 @@ TEST(IstUnit, KeepsTheClosestHitAndSendsTheRayToShadingWhenTheLastTestCompletes)
 
   const RayState &a = r.b->pool[r.a], &b = r.b->pool[r.bb], &c = r.b->pool[r.c],
                  &d = r.b->pool[r.d];
-  EXPECT_EQ(a.trav.hit.tri, 0u);
-  EXPECT_EQ(a.trav.hit.t, 5.f);
+  EXPECT_EQ(a.ist.result.hit.tri, 0u);
+  EXPECT_EQ(a.ist.result.hit.t, 5.f);
   for (const RayState* s : {&b, &c}) {  // the near one, whatever the order of the tests
-    EXPECT_EQ(s->trav.hit.tri, 1u);
-    EXPECT_EQ(s->trav.hit.t, 3.f);
-    EXPECT_EQ(s->trav.hit.leaf, 7u);
+    EXPECT_EQ(s->ist.result.hit.tri, 1u);
+    EXPECT_EQ(s->ist.result.hit.t, 3.f);
+    EXPECT_EQ(s->ist.result.hit.leaf, 7u);
   }
-  EXPECT_TRUE(d.trav.found);
+  EXPECT_TRUE(d.ist.result.found);
   EXPECT_EQ(r.b->ist.stats().tests, 7u);  // A 1, B 2, C 2, D 1, E 1
   EXPECT_EQ(r.b->ist.stats().hits, 6u);   // every test but E's
 }
@@ -121,11 +124,11 @@ TEST(IstUnit, CallsTheLvbUpdaterOnEveryClosestHitUpdateOfANonShadowRay) {
   StatsRegistry reg;
   r.b->lvb.register_stats(reg, "lvb");
   EXPECT_EQ(reg.value("lvb.updates"), 1.0 + 2.0 + 1.0);
-  EXPECT_EQ(r.b->pool[r.a].lvb, 0x1u);
-  EXPECT_EQ(r.b->pool[r.bb].lvb, 0x2u);
-  EXPECT_EQ(r.b->pool[r.c].lvb, 0x4u);
-  EXPECT_EQ(r.b->pool[r.d].lvb, 0u);
-  EXPECT_EQ(r.b->pool[r.e].lvb, 0u);
+  EXPECT_EQ(r.b->pool[r.a].ist.lvb, 0x1u);
+  EXPECT_EQ(r.b->pool[r.bb].ist.lvb, 0x2u);
+  EXPECT_EQ(r.b->pool[r.c].ist.lvb, 0x4u);
+  EXPECT_EQ(r.b->pool[r.d].ist.lvb, 0u);
+  EXPECT_EQ(r.b->pool[r.e].ist.lvb, 0u);
 }
 
 TEST(IstUnit, ARayWithCellsLeftGoesBackToItsTrvUnitWhenItsLeafIsDone) {
@@ -133,8 +136,8 @@ TEST(IstUnit, ARayWithCellsLeftGoesBackToItsTrvUnitWhenItsLeafIsDone) {
   ASSERT_EQ(r.b->returned.size(), 1u);
   EXPECT_EQ(r.b->returned[0].first, r.e);
   EXPECT_EQ(cycle_of(r.b->returned[0].second), kE + kL1Hit + kLatency);
-  EXPECT_FALSE(r.b->pool[r.e].trav.found);
-  EXPECT_EQ(r.b->pool[r.e].trav.node, 0u);  // the cell popped from its stack
+  EXPECT_FALSE(r.b->pool[r.e].ist.result.found);
+  EXPECT_EQ(r.b->pool[r.e].trv.walk.node, 0u);  // the cell popped from its stack
 }
 
 TEST(IstUnit, BusyStalledAndIdleCyclesAddUpToTheElapsedCycles) {

@@ -39,8 +39,10 @@ constexpr uint64_t kWarm = 300;   // two rays at once, every line in L1
 struct ListBench : Bench {
   ListBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()),
-        to_ist("to_ist", 64),
-        list("list0", ctx, cfg.list, memory, 0, &to_ist) {}
+        to_ist("to_ist", 64, nullptr),
+        list("list0", ctx, cfg.list, memory, 0) {
+    list.to_ist.bind(to_ist);
+  }
   RayFifo to_ist;
   ListUnit list;
 };
@@ -69,8 +71,7 @@ struct Scenario {
   uint32_t ray_at_leaf(uint64_t cycle) {
     const uint32_t id = b->add_ray({Vec3(0.f, 0.f, 0.f), Vec3(0.f, 0.f, -1.f)});
     EXPECT_TRUE(walk_to_leaf(image, b->pool[id], b->ctx.abs_eps));
-    b->pool[id].prim_count = 0;  // what TRV does before handing a ray over
-    b->feed(b->list.input(), id, cycle);
+    b->feed(&b->list.in, id, cycle);
     return id;
   }
 
@@ -100,9 +101,9 @@ TEST(ListUnit, EmitsTheLeafsPrimitiveIdsAndItsLvbWord) {
   ASSERT_EQ(r.out.size(), 3u);
   for (const auto& [ray, cycle] : r.out) {
     const RayState& s = r.b->pool[ray];
-    EXPECT_EQ(s.trav.leaf, r.leaf());
-    EXPECT_EQ(s.tris, expected);
-    EXPECT_EQ(s.leaf_lvb, kLvb);
+    EXPECT_EQ(s.trv.walk.leaf, r.leaf());
+    EXPECT_EQ(s.list.tris, expected);
+    EXPECT_EQ(s.list.leaf_lvb, kLvb);
   }
   EXPECT_EQ(r.b->list.stats().leaves, 3u);
   EXPECT_EQ(r.b->list.stats().list_lines, 3 * r.lines());

@@ -32,13 +32,18 @@ struct ChainBench : Bench {
   ChainBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()),
         lvb("lvb_updater"),
-        ist("ist0", ctx, cfg.ist, memory, 0, this, &lvb),
-        list("list0", ctx, cfg.list, memory, 0, ist.input()),
-        trv("trv0", ctx, cfg.trv, memory, 0, list.input(), this) {
-    ist.input()->connect(&list, nullptr);
-    list.input()->connect(&trv, nullptr);
+        ist("ist0", ctx, cfg.ist, memory, 0),
+        list("list0", ctx, cfg.list, memory, 0),
+        trv("trv0", ctx, cfg.trv, memory, 0) {
+    trv.to_list.bind(list.in);
+    trv.to_shading.bind(done);
+    list.to_ist.bind(ist.in);
+    ist.back.bind(*this);
+    ist.to_shading.bind(done);
+    ist.lvb.bind(lvb);
   }
-  void return_ray(uint32_t ray, Tick when) override { trv.return_ray(ray, when); }
+  // The ray goes back to its TRV unit, as through the router.
+  bool leaf_done(uint32_t ray, Tick when) override { return trv.leaf_done(ray, when); }
   LvbUpdater lvb;
   IstUnit ist;
   ListUnit list;
@@ -64,12 +69,12 @@ struct Scenario {
     b = std::make_unique<ChainBench>("bench", image);
     for (uint32_t k = 0; k < 4; ++k) {
       aimed.push_back(b->add_ray(down_at(4.f * k)));
-      b->feed(b->trv.input(), aimed.back(), k == 0 ? kStart : kOthers);
+      b->feed(&b->trv.in, aimed.back(), k == 0 ? kStart : kOthers);
     }
     between = b->add_ray(down_at(2.f));  // between two triangles: no hit
-    b->feed(b->trv.input(), between, kOthers);
+    b->feed(&b->trv.in, between, kOthers);
     shadow = b->add_ray(down_at(4.f), RayType::kShadow);  // hits triangle 1, takes no word
-    b->feed(b->trv.input(), shadow, kOthers);
+    b->feed(&b->trv.in, shadow, kOthers);
     test::simulate();
     out = Bench::drain(b->done);
   }
@@ -82,13 +87,9 @@ Scenario& run() {
 
 TEST(LvbUpdater, TakesTheLeafWordOnEachUpdateAndCountsIt) {
   LvbUpdater u("lone_updater");
-  RayState r;
-  r.leaf_lvb = 0x5;
-  u.on_closest_hit(r);
-  EXPECT_EQ(r.lvb, 0x5u);
-  r.leaf_lvb = 0x2;  // a closer hit in another leaf replaces the word, it does not merge
-  u.on_closest_hit(r);
-  EXPECT_EQ(r.lvb, 0x2u);
+  EXPECT_EQ(u.closest_hit(0x5), 0x5u);
+  // A closer hit in another leaf replaces the word, it does not merge.
+  EXPECT_EQ(u.closest_hit(0x2), 0x2u);
   StatsRegistry reg;
   u.register_stats(reg, "u");
   EXPECT_EQ(reg.value("u.updates"), 2.0);
@@ -99,15 +100,15 @@ TEST(LvbUpdater, EachHitRayEndsWithTheWordOfTheLeafHoldingItsHit) {
   ASSERT_EQ(r.out.size(), 6u);
   for (uint32_t k = 0; k < 4; ++k) {
     const RayState& s = r.b->pool[r.aimed[k]];
-    ASSERT_TRUE(s.trav.found) << "ray " << k;
-    EXPECT_EQ(s.trav.hit.tri, k);
-    EXPECT_EQ(s.trav.hit.leaf, locate_leaf(r.tree, Vec3(4.f * k, 0.f, -5.f)));
-    EXPECT_EQ(s.lvb, word_of(s.trav.hit.leaf)) << "ray " << k;
+    ASSERT_TRUE(s.ist.result.found) << "ray " << k;
+    EXPECT_EQ(s.ist.result.hit.tri, k);
+    EXPECT_EQ(s.ist.result.hit.leaf, locate_leaf(r.tree, Vec3(4.f * k, 0.f, -5.f)));
+    EXPECT_EQ(s.ist.lvb, word_of(s.ist.result.hit.leaf)) << "ray " << k;
   }
-  EXPECT_FALSE(r.b->pool[r.between].trav.found);
-  EXPECT_EQ(r.b->pool[r.between].lvb, 0u);
-  EXPECT_TRUE(r.b->pool[r.shadow].trav.found);
-  EXPECT_EQ(r.b->pool[r.shadow].lvb, 0u);
+  EXPECT_FALSE(r.b->pool[r.between].ist.result.found);
+  EXPECT_EQ(r.b->pool[r.between].ist.lvb, 0u);
+  EXPECT_TRUE(r.b->pool[r.shadow].ist.result.found);
+  EXPECT_EQ(r.b->pool[r.shadow].ist.lvb, 0u);
   // One update per hit primary ray: the triangles do not overlap, so no ray finds a closer one.
   StatsRegistry reg;
   r.b->lvb.register_stats(reg, "lvb");

@@ -19,12 +19,12 @@ TEST(RayGenerator, IssuesAtMostItsRatePerCycle) {
   ctx.calendar = &calendar;
   ctx.pool = &pool;
   ctx.clock = Clock(1.0);
-  RayFifo a("trv0_in", 64), b("trv1_in", 64);
+  RayFifo a("trv0_in", 64, nullptr), b("trv1_in", 64, nullptr);
   constexpr int kWidth = 4, kHeight = 4;  // one 4x4 tile, 16 rays
   constexpr uint32_t kRate = 3;
-  RayGenerator gen("raygen", ctx, Camera{}, kWidth, kHeight, RayOrder::kTiles, 4, {&a, &b}, kRate);
-  a.connect(&gen, nullptr);
-  b.connect(&gen, nullptr);
+  RayGenerator gen("raygen", ctx, Camera{}, kWidth, kHeight, RayOrder::kTiles, 4, kRate);
+  gen.to_trv.bind(a);
+  gen.to_trv.bind(b);
   gen.wake(0);
   test::simulate();
   ASSERT_TRUE(gen.finished());
@@ -34,7 +34,7 @@ TEST(RayGenerator, IssuesAtMostItsRatePerCycle) {
   for (size_t k = 0; k < kWidth * kHeight; ++k) {
     RayFifo& f = k % 2 ? b : a;
     ready.push_back(f.head_ready());
-    pixels.push_back(pool[f.pop(0)].pixel);
+    pixels.push_back(pool[f.pop(0)].info.pixel);
   }
   for (size_t k = 0; k < ready.size(); ++k) {
     EXPECT_EQ(ready[k], ctx.clock.cycles(k / kRate + 1)) << k;

@@ -1,7 +1,7 @@
 // The shading unit on its own (tests/model/units/unit_bench.h): a finished ray with a hit fetches
 // its triangle, then the triangle's material, through its L1 (which sits on the IST's L2), writes
-// the hit into the FrameBuffer and its 64-byte record to memory through write_line at the time
-// the shading completes, and retires; a mirror hands the ray back to its TRV unit as its
+// the hit into the FrameBuffer and its 64-byte record to memory through its `records` port at the
+// time the shading completes, and retires; a mirror hands the ray back to its TRV unit as its
 // reflection; a shadow ray only records whether it was blocked. Timing (docs/model-design.md):
 // the material is asked for one cycle after the triangle at the earliest, and the shading
 // completes at the material's delivery + the 4-cycle pipeline. One simulation for the file.
@@ -19,6 +19,20 @@ namespace rtsim::model {
 namespace {
 
 using namespace bench;
+
+// The frame buffer's writes, recorded and passed on to memory.
+class RecordingWriter : public sc_core::sc_object, public LineWriter {
+ public:
+  RecordingWriter(const char* name, LineWriter& to) : sc_core::sc_object(name), to_(to) {}
+  void write_line(uint64_t line, const uint8_t* data, Tick when) override {
+    written.push_back({line, std::vector<uint8_t>(data, data + kHitRecordBytes), when});
+    to_.write_line(line, data, when);
+  }
+  std::vector<WrittenLine> written;
+
+ private:
+  LineWriter& to_;
+};
 
 // Triangle 0 (a diffuse material, 0) and triangle 1 (a mirror, material 1) at z = -5. Triangle 0
 // is in the section's first line, triangle 1 straddles the first two; both 32-byte materials
@@ -42,20 +56,18 @@ constexpr uint32_t kLvb = 0x3;
 struct ShadingBench : Bench {
   ShadingBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()),
-        shading("shading0", ctx, cfg.shading, memory, 0, this, &frame) {
+        shading("shading0", ctx, cfg.shading, memory, 0, &frame, records),
+        writer("writer", memory.interconnect().writer(0)),
+        written(writer.written) {
     frame.levels = 2;                // one mirror bounce
     ctx.light_samples.assign(2, 1);  // the shadow rays below go to lights 0 and 1, points
     frame.allocate(ctx.light_samples);
-    shading.records = records;
-    shading.write_line = [this](uint64_t line, const uint8_t* data, Tick when) {
-      written.push_back({line, std::vector<uint8_t>(data, data + kHitRecordBytes), when});
-      memory.interconnect().write_line(0, line, data, when, "shading0");
-    };
-    shading.on_retire = [this](RayType type, Tick when) { retirements.push_back({type, when}); };
+    shading.back.bind(*this);
+    shading.records.bind(writer);
   }
   ShadingUnit shading;
-  std::vector<WrittenLine> written;
-  std::vector<std::pair<RayType, Tick>> retirements;
+  RecordingWriter writer;
+  const std::vector<WrittenLine>& written;
 };
 
 struct Scenario {
@@ -70,11 +82,11 @@ struct Scenario {
                RayType type = RayType::kPrimary) {
     const uint32_t id = b->add_ray({Vec3(x, 0.f, 0.f), Vec3(0.f, 0.f, -1.f)}, type, pixel);
     RayState& r = b->pool[id];
-    r.trav.found = tri != kNoHit;
-    r.trav.hit = {tri, 5.f, 0};
-    r.lvb = kLvb;
-    r.light = 1;
-    b->feed(b->shading.input(), id, cycle);
+    r.ist.result.found = tri != kNoHit;
+    r.ist.result.hit = {tri, 5.f, 0};
+    r.ist.lvb = kLvb;
+    r.info.light = 1;
+    b->feed(&b->shading.in, id, cycle);
     return id;
   }
 
@@ -113,7 +125,7 @@ TEST(ShadingUnit, CompletesAtTheMaterialsDeliveryPlusThePipelineAndRetires) {
   EXPECT_EQ(r.b->shading.stats().shadow_occluded, 1u);
 }
 
-TEST(ShadingUnit, WritesTheHitIntoTheFrameBufferAndItsRecordThroughWriteLine) {
+TEST(ShadingUnit, WritesTheHitIntoTheFrameBufferAndItsRecordThroughItsRecordsPort) {
   Scenario& r = run();
   const PixelState& px = r.b->frame.at(3, 0);
   EXPECT_EQ(px.hit.tri, 0u);
@@ -145,10 +157,11 @@ TEST(ShadingUnit, AMirrorHandsTheRayBackAsItsReflection) {
   EXPECT_EQ(r.b->returned[0].first, r.m);
   EXPECT_EQ(cycle_of(r.b->returned[0].second), kM + kMiss + 1 + kL1Hit + kLatency);
   const RayState& m = r.b->pool[r.m];
-  EXPECT_EQ(m.type, RayType::kReflection);
-  EXPECT_EQ(m.depth, 1u);
-  EXPECT_FALSE(m.started);
-  EXPECT_GT(m.trav.ray.d.z, 0.f);  // back up, away from the mirror
+  EXPECT_EQ(m.info.type, RayType::kReflection);
+  EXPECT_EQ(m.info.depth, 1u);
+  EXPECT_EQ(m.info.pixel, 7u);
+  EXPECT_FALSE(m.ist.result.found) << "a new ray: no hit yet";
+  EXPECT_GT(m.info.ray.d.z, 0.f);  // back up, away from the mirror
   EXPECT_EQ(r.b->frame.at(7, 0).hit.tri, 1u);
 }
 

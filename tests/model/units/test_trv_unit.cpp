@@ -34,10 +34,15 @@ constexpr int kBatchRays = 4;       // <= kStep: the rays never compete for an i
 struct TrvBench : Bench {
   TrvBench(sc_core::sc_module_name name, const MemoryImage& image, const AcceleratorConfig& c)
       : Bench(name, image, c),
-        list0("list0", 64),
-        list1("list1", 64),
-        trv0("trv0", ctx, cfg.trv, memory, 0, &list0, this),
-        trv1("trv1", ctx, cfg.trv, memory, 1, &list1, this) {}
+        list0("list0", 64, nullptr),
+        list1("list1", 64, nullptr),
+        trv0("trv0", ctx, cfg.trv, memory, 0),
+        trv1("trv1", ctx, cfg.trv, memory, 1) {
+    trv0.to_list.bind(list0);
+    trv1.to_list.bind(list1);
+    trv0.to_shading.bind(done);
+    trv1.to_shading.bind(done);
+  }
   RayFifo list0, list1;
   TrvUnit trv0, trv1;
 };
@@ -56,15 +61,15 @@ struct Scenario {
     b = std::make_unique<TrvBench>("bench", image, c);
     const float x = 4.f * kTarget;
     cold = b->add_ray(down_at(x));
-    b->feed(b->trv0.input(), cold, kStart0);
+    b->feed(&b->trv0.in, cold, kStart0);
     for (int k = 0; k < kBatchRays; ++k) {
       batch.push_back(b->add_ray(down_at(x)));
-      b->feed(b->trv0.input(), batch.back(), kBatch);
+      b->feed(&b->trv0.in, batch.back(), kBatch);
     }
     outside = b->add_ray(down_at(100.f));
-    b->feed(b->trv0.input(), outside, kOutside);
+    b->feed(&b->trv0.in, outside, kOutside);
     warm_l2 = b->add_ray(down_at(x));
-    b->feed(b->trv1.input(), warm_l2, kStart1);
+    b->feed(&b->trv1.in, warm_l2, kStart1);
     test::simulate();
     for (Unit* u : {static_cast<Unit*>(&b->trv0), static_cast<Unit*>(&b->trv1)})
       u->finish_accounting(at(kEndCycle));
@@ -113,7 +118,7 @@ TEST(TrvUnit, AColdRayReachesTheLeafOfItsTriangleOneNodePerStepAMissPerNewLine) 
   EXPECT_EQ(out[0].first, r.cold);
   EXPECT_EQ(out[0].second, kStart0 + r.walk(kMiss));
   // The right leaf: the one whose cell holds the triangle's centre, and it lists the triangle.
-  const uint32_t leaf = r.b->pool[r.cold].trav.leaf;
+  const uint32_t leaf = r.b->pool[r.cold].trv.walk.leaf;
   EXPECT_EQ(leaf, locate_leaf(r.tree, Vec3(4.f * kTarget, 0.f, -5.f)));
   const KdLeaf& l = r.tree.leaves[leaf];
   EXPECT_NE(
@@ -129,7 +134,7 @@ TEST(TrvUnit, RaysBackToBackIssueOnePerCycle) {
   for (int k = 0; k < kBatchRays; ++k) {
     EXPECT_EQ(batch[k].first, r.batch[k]);
     EXPECT_EQ(batch[k].second, kBatch + k + r.nodes() * kStep) << "ray " << k;
-    EXPECT_EQ(r.b->pool[batch[k].first].trav.leaf, r.b->pool[r.cold].trav.leaf);
+    EXPECT_EQ(r.b->pool[batch[k].first].trv.walk.leaf, r.b->pool[r.cold].trv.walk.leaf);
   }
 }
 
@@ -152,7 +157,7 @@ TEST(TrvUnit, ARayMissingTheSceneGoesToShadingAfterThePipelineWithoutAFetch) {
   ASSERT_EQ(out.size(), 1u);
   EXPECT_EQ(out[0].first, r.outside);
   EXPECT_EQ(out[0].second, kOutside + kLatency);
-  EXPECT_FALSE(r.b->pool[r.outside].trav.found);
+  EXPECT_FALSE(r.b->pool[r.outside].ist.result.found);
   EXPECT_EQ(r.b->trv0.stats().rays_started, 2u + kBatchRays);
   EXPECT_EQ(r.b->trv0.stats().rays_done, 1u);
   // trv0's L1: the cold ray's nodes (one miss) and the batch's (all hits); the outside ray none.

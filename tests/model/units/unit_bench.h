@@ -3,10 +3,12 @@
 // holding what an Accelerator gives its units, built for real but small and with round timing. Its
 // calendar, ray pool and ModelContext; a real MemorySystem (one unit per type, ideal links and
 // banks, so no crossbar hop and no port wait) whose TLM-2.0 socket is bound to a FixedLatencyMemory
-// holding the image; a FrameBuffer; and a fake RayOwners that records what the units hand back,
-// with a FIFO `done` standing for the shading unit's input. The unit under test is built by the
-// test inside the bench's constructor (so the bench's scope names it), and fed through its input
-// FIFO. Several benches run side by side in one simulation, each with its own calendar.
+// holding the image; a FrameBuffer; and fakes to bind the unit's ports to: the bench itself stands
+// for the router (RayReturn: it records what the units hand back, and pops a ray's stack after a
+// leaf as its TRV unit would), a FIFO `done` for the shading units' inputs. The unit under test is
+// built by the test inside the bench's constructor (so the bench's scope names it), bound there,
+// and fed through its input FIFO. Several benches run side by side in one simulation, each with
+// its own calendar.
 //
 // Timing (docs/model-design.md, "Memory accesses"): a hit costs the level's hit latency, a miss
 // its tag check plus the delivery time of the level below, so with these settings
@@ -27,7 +29,7 @@
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
 #include "model/units/model_context.h"
-#include "model/units/ray_owners.h"
+#include "model/units/ray_ports.h"
 
 #include <systemc>
 
@@ -67,7 +69,7 @@ struct WrittenLine {
   Tick when;
 };
 
-class Bench : public sc_core::sc_module, public RayOwners {
+class Bench : public sc_core::sc_module, public RayReturn {
  public:
   // The frame buffer's records follow the image, one 64-byte line each, `frame_entries` of them.
   Bench(sc_core::sc_module_name name, const MemoryImage& image, const AcceleratorConfig& config,
@@ -79,7 +81,7 @@ class Bench : public sc_core::sc_module, public RayOwners {
         memory(cfg.memory_system(), Clock(), calendar),
         ram("ram", memory_bytes(image, frame_entries),
             sc_core::sc_time(double(kMemory), sc_core::SC_NS)),
-        done("done", 64) {
+        done("done", 64, nullptr) {
     cfg.validate();
     ctx.calendar = &calendar;
     ctx.pool = &pool;
@@ -99,19 +101,29 @@ class Bench : public sc_core::sc_module, public RayOwners {
   }
   SC_HAS_PROCESS(Bench);
 
-  // RayOwners: what IST and shading hand back is recorded.
-  void return_ray(uint32_t ray, Tick when) override { returned.push_back({ray, when}); }
-  void retire(uint32_t ray) override { retired.push_back(ray); }
-  RayFifo* shading_input(uint32_t) override { return &done; }
+  // RayReturn: what IST and shading hand back is recorded (returned: rays that go on; retired,
+  // with retirements). After a leaf, the ray's stack is popped as its TRV unit would.
+  bool leaf_done(uint32_t ray, Tick when) override {
+    RayState& r = pool[ray];
+    if (traversal_pop(r.trv.walk, r.ist.result) != TraversalStep::kFetchNode) return false;
+    returned.push_back({ray, when});
+    return true;
+  }
+  void reflect(uint32_t ray, Tick when) override { returned.push_back({ray, when}); }
+  void release_slot(uint32_t) override {}
+  void retire(uint32_t ray, RayType type, Tick when) override {
+    retired.push_back(ray);
+    retirements.push_back({type, when});
+    pool.release(ray);
+  }
 
-  // A ray in the pool, not started.
+  // A new ray in the pool.
   uint32_t add_ray(const Ray& ray, RayType type = RayType::kPrimary, uint32_t pixel = 0) {
-    const uint32_t id = pool.allocate();
-    RayState& r = pool[id];
-    r.trav.ray = ray;
-    r.type = type;
-    r.pixel = pixel;
-    return id;
+    RayInfo info;
+    info.ray = ray;
+    info.type = type;
+    info.pixel = pixel;
+    return pool.create(info);
   }
 
   // Pushes `ray` into `fifo` at `cycle`, from a thread, as a producer would. (A ray pushed early
@@ -144,6 +156,7 @@ class Bench : public sc_core::sc_module, public RayOwners {
   HitRecordRegion records;
   std::vector<std::pair<uint32_t, Tick>> returned;
   std::vector<uint32_t> retired;
+  std::vector<std::pair<RayType, Tick>> retirements;
 
  private:
   struct Feed {
@@ -173,10 +186,11 @@ class Bench : public sc_core::sc_module, public RayOwners {
 // do): sets up a ray for LIST or IST. False if the ray reaches no leaf.
 inline bool walk_to_leaf(const MemoryImage& image, RayState& r, float abs_eps,
                          bool any_hit = false) {
-  if (!traversal_begin(r.trav, r.trav.ray, any_hit, image.header().bounds, abs_eps)) return false;
-  r.started = true;
+  TraversalState& walk = r.trv.walk;
+  if (!traversal_begin(walk, r.info.ray, any_hit, image.header().bounds, abs_eps)) return false;
+  r.trv.started = true;
   for (;;) {
-    const TraversalStep step = traversal_node(r.trav, image.node(r.trav.node));
+    const TraversalStep step = traversal_node(walk, r.ist.result, image.node(walk.node));
     if (step == TraversalStep::kLeaf) return true;
     if (step == TraversalStep::kDone) return false;
   }
