@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 namespace rtsim {
 
@@ -60,6 +61,18 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
     out.push_back(char(v >> 8));
   }
   write_file_atomic(path, out);
+}
+
+std::vector<uint16_t> read_npy_u16(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < 10) return {};
+  const size_t header = 10 + size_t(uint8_t(bytes[8])) + 256 * size_t(uint8_t(bytes[9]));
+  if (header > bytes.size()) return {};
+  std::vector<uint16_t> v((bytes.size() - header) / 2);
+  for (size_t i = 0; i < v.size(); ++i)
+    v[i] = uint16_t(uint8_t(bytes[header + 2 * i]) | (uint8_t(bytes[header + 2 * i + 1]) << 8));
+  return v;
 }
 
 void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width,

@@ -9,6 +9,37 @@
 
 namespace rtsim {
 
+// The files the commands write, each name defined here once (docs/reports.md says what each
+// holds; reports/rtsim_plots/files.py names the ones the figures read, and a test checks that
+// the two agree).
+namespace output {
+// A run (rtsim run), and what render and lvb write of the same kind.
+inline constexpr const char* kReportJson = "report.json";  // written last: marks a finished run
+inline constexpr const char* kReportMd = "report.md";
+inline constexpr const char* kStatsCsv = "stats.csv";
+inline constexpr const char* kGlossaryCsv = "glossary.csv";
+inline constexpr const char* kConfigJson = "config.json";
+inline constexpr const char* kRenderPng = "render.png";
+inline constexpr const char* kRenderJson = "render.json";
+inline constexpr const char* kMaskNpy = "mask.npy";
+inline constexpr const char* kCulledNpy = "culled.npy";
+inline constexpr const char* kVisibilityNpy = "visibility.npy";
+// A sweep (rtsim sweep, reproduce, animate): points/<id>/ holds each point's run and its row.
+inline constexpr const char* kPointsDir = "points";
+inline constexpr const char* kRowJson = "row.json";
+inline constexpr const char* kLogTxt = "log.txt";
+inline constexpr const char* kManifestJson = "manifest.json";
+inline constexpr const char* kResultsCsv = "results.csv";
+inline constexpr const char* kResultsJson = "results.json";
+// What reproduce and animate write beside their points.
+inline constexpr const char* kReproductionMd = "reproduction.md";
+inline constexpr const char* kReproductionJson = "reproduction.json";
+inline constexpr const char* kAblationMd = "ablation.md";
+inline constexpr const char* kAblationJson = "ablation.json";
+inline constexpr const char* kFramesCsv = "frames.csv";
+inline constexpr const char* kHostCsv = "host.csv";
+}  // namespace output
+
 void write_file_atomic(const std::string& path, const std::string& contents);
 void write_json(const std::string& path, const nlohmann::json& j);
 // NumPy .npy (format 1.0), little-endian uint16, C order, shape (height, width).
@@ -17,6 +48,9 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, i
 // Any shape, row-major (C order): the last dimension varies fastest.
 void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
                    const std::vector<size_t>& shape);
+// The uint16 values of a .npy file written by write_npy_u16 (any shape, flattened); empty when
+// the file is missing or too short to be one.
+std::vector<uint16_t> read_npy_u16(const std::string& path);
 // 8-bit RGB PNG.
 void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height);
 

@@ -1,5 +1,8 @@
 #include "reports/run_report.h"
 
+#include "reports/output_files.h"
+#include "reports/report_format.h"
+
 #include <fmt/format.h>
 
 #include <cmath>
@@ -8,6 +11,10 @@
 namespace rtsim {
 
 namespace {
+
+using report::num;
+using report::pct;
+using report::rate;
 
 void flatten(const nlohmann::json& j, const std::string& prefix, std::string& out) {
   if (j.is_object()) {
@@ -18,21 +25,6 @@ void flatten(const nlohmann::json& j, const std::string& prefix, std::string& ou
     out += prefix + "," + j.dump() + "\n";
   }
 }
-
-std::string pct(double part, double whole) {
-  return whole > 0 ? fmt::format("{:.2f}%", 100.0 * part / whole) : "n/a";
-}
-// Integers with thousands separators, independent of the host's locale.
-std::string num(double v) {
-  if (std::isnan(v)) return "n/a";
-  std::string digits = std::to_string(std::llround(v)), out;
-  for (size_t i = 0; i < digits.size(); ++i) {
-    if (i > 0 && (digits.size() - i) % 3 == 0 && digits[i - 1] != '-') out += ',';
-    out += digits[i];
-  }
-  return out;
-}
-std::string rate(double v) { return std::isnan(v) ? "n/a" : fmt::format("{:.2f}%", 100.0 * v); }
 
 }  // namespace
 
@@ -67,11 +59,12 @@ std::string stats_csv(const nlohmann::json& r) {
   return out;
 }
 
-std::string run_report_markdown(const nlohmann::json& r) {
-  std::ostringstream md;
-  const nlohmann::json& scene = r["scene"];
-  const nlohmann::json& run = r["config"]["run"];
-  const bool lvb = run["lvb"].get<bool>();
+namespace {
+
+using nlohmann::json;
+
+void title(std::ostringstream& md, const json& r, bool lvb) {
+  const json& scene = r["scene"];
   const auto& res = scene["resolution"];
   md << fmt::format("# rtsim run: {} at {}x{}, LVB culling {}\n\n",
                     scene["name"].get<std::string>(), res[0].get<int>(), res[1].get<int>(),
@@ -85,33 +78,39 @@ std::string run_report_markdown(const nlohmann::json& r) {
                       r["lvb"]["self_occlusion"].get<std::string>());
   md << ". Schema " << r["schema"].get<std::string>()
      << "; every figure below is in report.json.\n\n";
+}
 
+void scene_table(std::ostringstream& md, const json& r) {
+  const json& scene = r["scene"];
+  const json& kd = r["kdtree"];
   md << "## Scene (as the paper's Table 3)\n\n| triangles | lights | kd-tree nodes | leaves | "
         "non-empty leaves | max depth | memory image |\n|---|---|---|---|---|---|---|\n";
-  const nlohmann::json& kd = r["kdtree"];
   md << fmt::format("| {} | {} | {} | {} | {} | {} | {:.1f} MB |\n\n",
                     num(scene["triangles"].get<double>()), scene["lights"].size(),
                     num(kd["nodes"].get<double>()), num(kd["leaves"].get<double>()),
                     num(kd["nonempty_leaves"].get<double>()), kd["max_depth"].get<int>(),
                     scene["image_bytes"].get<double>() / 1e6);
+}
 
-  const nlohmann::json& per_light = r["per_light"];
-  if (lvb) {
-    // The paper's Table 4 divides by all leaves (empty ones included); only non-empty leaves get an
-    // LVB.
-    md << "## Culled leaves (as Table 4)\n\n| light | culled leaves | non-empty leaves | rate of "
-          "non-empty leaves | all leaves | rate of all leaves (the paper's) "
-          "|\n|---|---|---|---|---|---|\n";
-    const nlohmann::json& lp = r["lvb"]["per_light"];
-    const double all = kd["leaves"].get<double>();
-    for (size_t l = 0; l < lp.size(); ++l) {
-      const double c = lp[l]["culled_leaves"].get<double>(),
-                   n = lp[l]["nonempty_leaves"].get<double>();
-      md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n),
-                        num(all), pct(c, all));
-    }
-    md << "\n";
+// The paper's Table 4 divides by all leaves (empty ones included); only non-empty leaves get an
+// LVB.
+void culled_leaves_table(std::ostringstream& md, const json& r) {
+  md << "## Culled leaves (as Table 4)\n\n| light | culled leaves | non-empty leaves | rate of "
+        "non-empty leaves | all leaves | rate of all leaves (the paper's) "
+        "|\n|---|---|---|---|---|---|\n";
+  const json& lp = r["lvb"]["per_light"];
+  const double all = r["kdtree"]["leaves"].get<double>();
+  for (size_t l = 0; l < lp.size(); ++l) {
+    const double c = lp[l]["culled_leaves"].get<double>(),
+                 n = lp[l]["nonempty_leaves"].get<double>();
+    md << fmt::format("| {} | {} | {} | {} | {} | {} |\n", l + 1, num(c), num(n), pct(c, n),
+                      num(all), pct(c, all));
   }
+  md << "\n";
+}
+
+void culled_rays_table(std::ostringstream& md, const json& r) {
+  const json& per_light = r["per_light"];
   md << "## Shadow rays culled (as Table 5)\n\n| light | culled | shadow rays | rate | traced "
         "|\n|---|---|---|---|---|\n";
   double culled_sum = 0, shadow_sum = 0;
@@ -125,8 +124,9 @@ std::string run_report_markdown(const nlohmann::json& r) {
   }
   md << fmt::format("| all | {} | {} | {} | {} |\n\n", num(culled_sum), num(shadow_sum),
                     pct(culled_sum, shadow_sum), num(shadow_sum - culled_sum));
+}
 
-  const nlohmann::json& hw = r["config"]["hw"];
+void frame_time_table(std::ostringstream& md, const json& r) {
   md << "## Frame time (as Table 6, this run's column)\n\n| rays | cycles | time "
         "|\n|---|---|---|\n";
   md << fmt::format("| all | {} | {:.3f} ms |\n", num(r["cycles_total"].get<double>()),
@@ -135,7 +135,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
                     r["frame_ms"]["shadow"].get<double>());
   md << fmt::format("| primary | {} | {:.3f} ms |\n\n", num(r["cycles_primary"].get<double>()),
                     r["cycles_primary"].get<double>() / (r["clock_ghz"].get<double>() * 1e6));
-  if (hw.value("schedule", "two-phase") == "two-phase")
+  if (r["config"]["hw"].value("schedule", "two-phase") == "two-phase")
     md << "\"shadow\" is the second phase: from the last primary ray's retirement to the last "
           "shadow ray's (docs/model-design.md).\n\n";
   else
@@ -146,7 +146,10 @@ std::string run_report_markdown(const nlohmann::json& r) {
       "Rays: {} primary ({} hits), {} reflection, {} shadow.\n\n",
       num(r["rays"]["primary"].get<double>()), num(r["rays"]["primary_hits"].get<double>()),
       num(r["rays"]["reflection"].get<double>()), num(r["rays"]["shadow"].get<double>()));
+}
 
+void units_table(std::ostringstream& md, const json& r) {
+  const json& hw = r["config"]["hw"];
   md << "## Units\n\n| unit | count | busy | stalled | idle | busy cycles "
         "|\n|---|---|---|---|---|---|\n";
   for (const auto& [label, path, count] : std::vector<std::tuple<std::string, std::string, double>>{
@@ -163,7 +166,9 @@ std::string run_report_markdown(const nlohmann::json& r) {
                       pct(s, b + s + i), pct(i, b + s + i), num(b));
   }
   md << "\nShares of the unit cycles (summed over the units of a type).\n\n";
+}
 
+void memory_tables(std::ostringstream& md, const json& r) {
   md << "## Caches\n\n| unit | level | accesses | hits | misses | hit rate | MSHR merges "
         "|\n|---|---|---|---|---|---|---|\n";
   for (const auto& [label, path] :
@@ -189,9 +194,11 @@ std::string run_report_markdown(const nlohmann::json& r) {
       rate(json_number(r, "stats.dram.row_hit_rate")), json_number(r, "stats.dram.bandwidth_gbps"),
       rate(json_number(r, "stats.dram.bus_utilization")),
       json_number(r, "stats.dram.avg_latency_ns"));
+}
 
+void check_host_and_figures(std::ostringstream& md, const json& r) {
   if (!r["reference_check"].is_null()) {
-    const nlohmann::json& c = r["reference_check"];
+    const json& c = r["reference_check"];
     md << fmt::format(
         "## Reference check\n\n{} of {} pixels differ from the reference tracer; image {}; culled "
         "counts {}.\n\n",
@@ -199,7 +206,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
         c["image_identical"].get<bool>() ? "identical" : "different",
         c["culled_counts_identical"].get<bool>() ? "identical" : "different");
   }
-  const nlohmann::json& host = r["host"];
+  const json& host = r["host"];
   md << fmt::format(
       "## Host\n\n{:.1f} s in all ({:.1f} s simulating: {} rays/s, {} cycles/s), peak memory "
       "{:.0f} MB.\n\n",
@@ -208,13 +215,28 @@ std::string run_report_markdown(const nlohmann::json& r) {
       host["peak_memory_mb"].get<double>());
   md << "## Figures\n\n";
   for (const auto& [file, what] : std::vector<std::pair<std::string, std::string>>{
-           {"render.png", "the frame"},
+           {output::kRenderPng, "the frame"},
            {"culled.png", "where shadow rays were culled, per light and summed"},
            {"plot_culling.png",
             "culling rate per light (leaves and shadow rays; the paper's Fig. 7)"},
            {"plot_time_breakdown.png", "busy, stalled and idle cycles per unit type"},
            {"plot_cache_hit_rates.png", "hit rates per unit type and cache level"}})
     md << fmt::format("- [{}]({}): {}\n", file, file, what);
+}
+
+}  // namespace
+
+std::string run_report_markdown(const nlohmann::json& r) {
+  std::ostringstream md;
+  const bool lvb = r["config"]["run"]["lvb"].get<bool>();
+  title(md, r, lvb);
+  scene_table(md, r);
+  if (lvb) culled_leaves_table(md, r);
+  culled_rays_table(md, r);
+  frame_time_table(md, r);
+  units_table(md, r);
+  memory_tables(md, r);
+  check_host_and_figures(md, r);
   return md.str();
 }
 

@@ -90,9 +90,9 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
     const bool on = culling_on(p);
     const fs::path dir = sweep_point_dir(out, p);
     nlohmann::json& report = on ? frames[t].on : frames[t].off;
-    report = read_json((dir / "report.json").string());
+    report = read_json((dir / output::kReportJson).string());
     lights = std::max(lights, report["per_light"].size());
-    if (on || frames[t].image.empty()) frames[t].image = (dir / "render.png").string();
+    if (on || frames[t].image.empty()) frames[t].image = (dir / output::kRenderPng).string();
   }
   using ptr = nlohmann::json::json_pointer;
   auto number = [](const nlohmann::json& r, const ptr& at) -> std::string {
@@ -165,8 +165,8 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   for (const auto& [t, f] : frames)
     fs::copy_file(f.image, fs::path(out) / "frames" / fmt::format("frame_{:04d}.png", k++),
                   fs::copy_options::overwrite_existing);
-  write_file_atomic((fs::path(out) / "frames.csv").string(), csv);
-  write_file_atomic((fs::path(out) / "host.csv").string(), host);
+  write_file_atomic((fs::path(out) / output::kFramesCsv).string(), csv);
+  write_file_atomic((fs::path(out) / output::kHostCsv).string(), host);
 }
 
 }  // namespace

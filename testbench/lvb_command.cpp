@@ -122,8 +122,8 @@ int run_lvb(const LvbArgs& args) {
         {"total", total}}}};
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
-  write_npy_u16((out / "mask.npy").string(), mask, r.height, r.width);
-  write_npy_u16((out / "culled.npy").string(), culled, r.height, r.width);
+  write_npy_u16((out / output::kMaskNpy).string(), mask, r.height, r.width);
+  write_npy_u16((out / output::kCulledNpy).string(), culled, r.height, r.width);
   write_json((out / "lvb.json").string(), j);
   fmt::print("\nwrote {}/lvb.json, culled.npy, mask.npy\n", out.string());
   return 0;

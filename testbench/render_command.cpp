@@ -68,11 +68,11 @@ int run_render(const RenderArgs& args) {
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
-  write_png_rgb((out / "render.png").string(), r.rgb, r.width, r.height);
-  write_npy_u16((out / "mask.npy").string(), mask, r.height, r.width);
-  write_npy_u16((out / "visibility.npy").string(), visibility,
+  write_png_rgb((out / output::kRenderPng).string(), r.rgb, r.width, r.height);
+  write_npy_u16((out / output::kMaskNpy).string(), mask, r.height, r.width);
+  write_npy_u16((out / output::kVisibilityNpy).string(), visibility,
                 {size_t(r.height), size_t(r.width), lights});
-  write_json((out / "render.json").string(), j);
+  write_json((out / output::kRenderJson).string(), j);
   fmt::print(
       "{}: {} triangles, {} lights, {}x{}: {} primary ({} hit), {} shadow, {} reflection rays in "
       "{:.2f} s ({} threads)\n  wrote {}/render.png, mask.npy, visibility.npy, render.json\n",

@@ -207,16 +207,17 @@ int run_model(const RunArgs& args) {
         {"cycles_per_second", sim_seconds > 0 ? double(r.cycles_total) / sim_seconds : 0.0},
         {"peak_memory_mb", double(usage.ru_maxrss) / 1024.0}}}};
 
-  write_json((out / "config.json").string(), config);
-  write_png_rgb((out / "render.png").string(), r.rgb, p.scene.width, p.scene.height);
-  write_npy_u16((out / "mask.npy").string(), mask, p.scene.height, p.scene.width);
-  write_npy_u16((out / "culled.npy").string(), culled, p.scene.height, p.scene.width);
-  write_npy_u16((out / "visibility.npy").string(), visibility,
+  write_json((out / output::kConfigJson).string(), config);
+  write_png_rgb((out / output::kRenderPng).string(), r.rgb, p.scene.width, p.scene.height);
+  write_npy_u16((out / output::kMaskNpy).string(), mask, p.scene.height, p.scene.width);
+  write_npy_u16((out / output::kCulledNpy).string(), culled, p.scene.height, p.scene.width);
+  write_npy_u16((out / output::kVisibilityNpy).string(), visibility,
                 {size_t(p.scene.height), size_t(p.scene.width), lights});
-  write_file_atomic((out / "stats.csv").string(), stats_csv(report));
-  write_file_atomic((out / "glossary.csv").string(), glossary_csv(r.glossary));
-  write_file_atomic((out / "report.md").string(), run_report_markdown(report));
-  write_json((out / "report.json").string(), report);  // last: its presence marks a finished run
+  write_file_atomic((out / output::kStatsCsv).string(), stats_csv(report));
+  write_file_atomic((out / output::kGlossaryCsv).string(), glossary_csv(r.glossary));
+  write_file_atomic((out / output::kReportMd).string(), run_report_markdown(report));
+  // Last: its presence marks a finished run.
+  write_json((out / output::kReportJson).string(), report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());
 

@@ -33,7 +33,7 @@ int emit_slurm(const SweepSpec& s, const std::string& dir) {
       fmt::arg("name", s.name), fmt::arg("dir", abs_dir.string()),
       fmt::arg("last", s.points.size() - 1), fmt::arg("self", self),
       fmt::arg("cwd", fs::current_path().string()));
-  fs::create_directories(abs_dir / "points");
+  fs::create_directories(abs_dir / output::kPointsDir);
   write_file_atomic((abs_dir / "sweep.sbatch").string(), script);
   fmt::print(
       "wrote {0}/sweep.sbatch ({1} array tasks) and {0}/manifest.json\nsubmit: sbatch "

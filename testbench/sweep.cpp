@@ -35,7 +35,8 @@ int run_point(const SweepSpec& s, const std::string& dir, const SweepPoint& p) {
   args.quiet = true;
   const int code = run_model(args);
   if (code != 0) return code;
-  write_json(sweep_row_file(dir, p), sweep_row(s, p, read_json((out / "report.json").string())));
+  write_json(sweep_row_file(dir, p),
+             sweep_row(s, p, read_json((out / output::kReportJson).string())));
   return 0;
 }
 
@@ -51,7 +52,7 @@ pid_t spawn_point(const std::string& dir, const SweepPoint& p) {
   const fs::path out = sweep_point_dir(dir, p);
   fs::create_directories(out);
   return spawn_self({"sweep", "--out", dir, "--point", std::to_string(p.index)},
-                    (out / "log.txt").string());
+                    (out / output::kLogTxt).string());
 }
 
 std::string describe(const SweepPoint& p) {

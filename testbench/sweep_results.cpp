@@ -79,7 +79,7 @@ SweepSpec spec_from_manifest(const nlohmann::json& m, const std::string& path) {
 }
 
 std::string sweep_manifest_file(const std::string& dir) {
-  return (fs::path(dir) / "manifest.json").string();
+  return (fs::path(dir) / output::kManifestJson).string();
 }
 
 nlohmann::json sweep_manifest(const SweepSpec& s) {
@@ -136,12 +136,12 @@ void check_sweep_inputs(const nlohmann::json& manifest, const std::string& dir) 
 }
 
 std::string sweep_point_dir(const std::string& dir, const SweepPoint& p) {
-  return (fs::path(dir) / "points" / p.id).string();
+  return (fs::path(dir) / output::kPointsDir / p.id).string();
 }
 
 // A point is finished when its row is written (the last thing its run does).
 std::string sweep_row_file(const std::string& dir, const SweepPoint& p) {
-  return (fs::path(sweep_point_dir(dir, p)) / "row.json").string();
+  return (fs::path(sweep_point_dir(dir, p)) / output::kRowJson).string();
 }
 bool sweep_point_done(const std::string& dir, const SweepPoint& p) {
   return fs::exists(sweep_row_file(dir, p));
@@ -186,13 +186,13 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
     }
     csv += "\n";
   }
-  write_file_atomic((fs::path(dir) / "results.csv").string(), csv);
-  write_json((fs::path(dir) / "results.json").string(), {{"schema", kResultsSchema},
-                                                         {"name", s.name},
-                                                         {"axes", s.columns},
-                                                         {"metrics", s.metrics},
-                                                         {"points", s.points.size()},
-                                                         {"rows", rows}});
+  write_file_atomic((fs::path(dir) / output::kResultsCsv).string(), csv);
+  write_json((fs::path(dir) / output::kResultsJson).string(), {{"schema", kResultsSchema},
+                                                               {"name", s.name},
+                                                               {"axes", s.columns},
+                                                               {"metrics", s.metrics},
+                                                               {"points", s.points.size()},
+                                                               {"rows", rows}});
   return rows.size();
 }
 

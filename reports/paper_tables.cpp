@@ -1,0 +1,33 @@
+#include "reports/paper_tables.h"
+
+#include "common/yaml_reader.h"
+
+namespace rtsim::report {
+
+std::map<std::string, PaperScene> load_paper_tables(const std::string& path) {
+  YamlMap top = YamlMap::load_file(path);
+  std::map<std::string, PaperScene> out;
+  for (const std::string& name : top.keys()) {
+    YamlMap m = top.map(name);
+    PaperScene p;
+    p.title = m.require<std::string>("title");
+    p.triangles = m.require<double>("triangles");
+    p.lights = m.require<double>("lights");
+    p.nodes = m.require<double>("nodes");
+    p.leaves = m.require<double>("leaves");
+    p.culled_leaves = m.require<std::vector<double>>("culled_leaves");
+    p.culled_rays = m.require<std::vector<double>>("culled_rays");
+    p.rays_per_light = m.require<double>("shadow_rays_per_light");
+    YamlMap ms = m.map("ms");
+    p.all_on = ms.require<double>("all_on");
+    p.all_off = ms.require<double>("all_off");
+    p.shadow_on = ms.require<double>("shadow_on");
+    p.shadow_off = ms.require<double>("shadow_off");
+    ms.finish();
+    m.finish();
+    out[name] = p;
+  }
+  return out;
+}
+
+}  // namespace rtsim::report

@@ -1,0 +1,21 @@
+// The paper's published figures (configs/paper/tables.yaml): Tables 3-6 per setup, which the
+// reproduction and ablation reports print beside ours.
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rtsim::report {
+
+struct PaperScene {
+  std::string title;
+  double triangles = 0, lights = 0, nodes = 0, leaves = 0, rays_per_light = 0;
+  std::vector<double> culled_leaves, culled_rays;                 // per light (Tables 4 and 5)
+  double all_on = 0, all_off = 0, shadow_on = 0, shadow_off = 0;  // ms (Table 6)
+};
+
+// By setup name (bunny, kitchen, robots). Throws InputError naming the file and key.
+std::map<std::string, PaperScene> load_paper_tables(const std::string& path);
+
+}  // namespace rtsim::report

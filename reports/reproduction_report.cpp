@@ -1,0 +1,261 @@
+#include "reports/reproduction_report.h"
+
+#include "reports/report_format.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <sstream>
+
+namespace rtsim::report {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr const char* kIntro =
+    "# rtsim reproduce: the paper's Tables 3-6 beside ours\n\n"
+    "Each setup (configs/scenes/*.yaml, ../shared/scenes/README.md) ran on the Table-2 hardware "
+    "(configs/hw/tni-paper.yaml) three times: culling **off**; on with the **paper**'s method (LVB "
+    "bits from kd-tree cell boxes, a leaf's own triangles ignored); on with our **exact** mode "
+    "(never wrong). Every figure below comes from the runs' report.json files under points/ "
+    "(configs/sweeps/paper-reproduction.yaml); the paper's figures come from "
+    "configs/paper/tables.yaml.\n\n";
+
+constexpr const char* kWhyTheyDiffer =
+    "## Why our figures differ from the paper's\n\n- **Scenes.** Our files are the original BART "
+    "and Stanford releases: 110,561 / 71,708 / 69,453 triangles against the paper's 102,142 / "
+    "71,581 / 10,125 (its bunny is decimated). The kitchen has six lights in its file; the paper "
+    "used five. The paper did not publish its light positions; ours are the files' own lights "
+    "(robots: plus five we placed; ../shared/scenes/README.md). Per-light rows are therefore not "
+    "the same lights.\n- **kd-trees.** Both are SAH trees, built with different parameters: ours "
+    "use a depth limit of 20 for the paper's setups so that leaf counts come close "
+    "(docs/kdtree.md). Culled-leaf rates depend strongly on leaf sizes.\n- **Culled leaves.** The "
+    "paper's published leaf rates (up to 79% for robots) are far above what its test (no other "
+    "non-empty leaf's cell box between a leaf's cell and the light) gives on our trees, where "
+    "almost every cell's view of the light crosses some other non-empty cell. We found no reading "
+    "of the test that gives the published rates; the shadow rays it culls are the figure that "
+    "matters for time. Our exact mode culls more leaves than the paper's method on our trees, "
+    "because it asks whether any triangle could really block a shadow ray, not whether boxes "
+    "overlap (docs/lvb.md).\n- **The paper's method** tests only other leaves' cell boxes; "
+    "occluders in the hit's own leaf are missed, so some shadows are lost (the pixel counts "
+    "above). Our exact mode also tests the own leaf's triangles and the true shadow-ray origins, "
+    "and changes no pixel (docs/lvb.md).\n- **Timing model.** Ours is a transaction-level model "
+    "with the paper's unit counts, latencies and caches (docs/model-design.md); the DRAM is "
+    "GT200's GDDR3 (GPGPU-Sim's timings, rescaled to 1 GHz). \"Shadow\" time is the second phase "
+    "of a two-phase frame. Absolute milliseconds depend on these choices; compare the "
+    "reductions.\n- **Where the time goes.** Each run's report.md has unit utilisation: when TRV "
+    "units are the bottleneck, the culled rays (short ones, near the lights) remove less work "
+    "than their share of rays.\n\n";
+
+constexpr const char* kFigures =
+    "## Figures\n\n- [reproduce_culling.png](reproduce_culling.png): shadow rays culled per "
+    "light, paper vs ours\n- [reproduce_time.png](reproduce_time.png): frame-time reduction with "
+    "culling, paper vs ours\n- plots/: each metric against the scene and variant (from "
+    "results.json)\n";
+
+constexpr const char* kCulledVariants[] = {"paper", "exact"};
+
+// One setup as the tables see it: its runs, the paper's figures (may be null), any run's scene.
+struct Setup {
+  const ReproductionScene& s;
+  const PaperScene* paper;
+  const json& any;
+  size_t lights;
+
+  const json* run(const std::string& variant) const {
+    const auto it = s.runs.find(variant);
+    return it == s.runs.end() ? nullptr : &it->second;
+  }
+};
+
+// The JSON node at a dotted path below `j`, or null.
+const json* at_path(const json* j, const std::string& dotted) {
+  std::stringstream ss(dotted);
+  for (std::string key; j && std::getline(ss, key, '.');)
+    j = j->contains(key) ? &(*j)[key] : nullptr;
+  return j;
+}
+
+void table3(std::ostringstream& md, const Setup& c) {
+  md << "Table 3: scene\n\n| | triangles | lights | kd-tree nodes | leaves | non-empty leaves "
+        "|\n|---|---|---|---|---|---|\n";
+  if (c.paper)
+    md << fmt::format("| paper | {} | {} | {} | {} | n/a |\n", c.paper->triangles, c.paper->lights,
+                      c.paper->nodes, c.paper->leaves);
+  const json& kd = c.any["kdtree"];
+  md << fmt::format("| ours | {} | {} | {} | {} | {} |\n\n",
+                    c.any["scene"]["triangles"].get<uint64_t>(), c.lights,
+                    kd["nodes"].get<uint64_t>(), kd["leaves"].get<uint64_t>(),
+                    kd["nonempty_leaves"].get<uint64_t>());
+}
+
+// Table 4: the paper divides by all leaves (empty ones included); only non-empty leaves get an
+// LVB, so ours are given both ways.
+void table4(std::ostringstream& md, const Setup& c) {
+  md << "Table 4: leaves culled per light: count (rate). The paper's rate is of all leaves "
+        "(empty ones included, Table 3's count); ours are given of the non-empty leaves and of "
+        "all leaves\n\n| light | paper (of all leaves) | ours, paper's method | of non-empty "
+        "leaves | of all leaves | ours, exact | of non-empty leaves | of all leaves "
+        "|\n|---|---|---|---|---|---|---|---|\n";
+  const PaperScene* ps = c.paper;
+  for (size_t l = 0; l < std::max(c.lights, ps ? ps->culled_leaves.size() : 0); ++l) {
+    std::string row = fmt::format("| {} | ", l + 1);
+    row += ps && l < ps->culled_leaves.size()
+               ? fmt::format("{} ({})", ps->culled_leaves[l], pct(ps->culled_leaves[l], ps->leaves))
+               : "-";
+    for (const char* var : kCulledVariants) {
+      const json* r = c.run(var);
+      const json* lvb = r && r->contains("lvb") ? &(*r)["lvb"] : nullptr;
+      if (!lvb || !lvb->is_object() || !lvb->contains("per_light") ||
+          l >= (*lvb)["per_light"].size()) {
+        row += " | - | - | -";
+        continue;
+      }
+      const json& e = (*lvb)["per_light"][l];
+      const double culled = e["culled_leaves"].get<double>();
+      row += fmt::format(" | {} | {} | {}", e["culled_leaves"].get<uint64_t>(),
+                         pct(culled, e["nonempty_leaves"].get<double>()),
+                         pct(culled, (*r)["kdtree"]["leaves"].get<double>()));
+    }
+    md << row << " |\n";
+  }
+}
+
+// Table 5: shadow rays culled per light, the paper's count beside ours.
+void table5(std::ostringstream& md, const Setup& c) {
+  md << "\nTable 5: shadow rays culled per light (of the hit points' shadow rays to that "
+        "light)\n\n| light | paper | ours, paper's method | ours, exact |\n|---|---|---|---|\n";
+  const std::vector<double>* paper_counts = c.paper ? &c.paper->culled_rays : nullptr;
+  const double paper_total = c.paper ? c.paper->rays_per_light : 0;
+  for (size_t l = 0; l < std::max(c.lights, paper_counts ? paper_counts->size() : 0); ++l) {
+    std::string row = fmt::format("| {} | ", l + 1);
+    row += paper_counts && l < paper_counts->size()
+               ? fmt::format("{} ({})", (*paper_counts)[l], pct((*paper_counts)[l], paper_total))
+               : "-";
+    for (const char* var : kCulledVariants) {
+      const json* entries = at_path(c.run(var), "per_light");
+      if (!entries || !entries->is_array() || l >= entries->size()) {
+        row += " | -";
+        continue;
+      }
+      const json& e = (*entries)[l];
+      row += fmt::format(" | {} ({})", e["culled"].get<uint64_t>(),
+                         pct(e["culled"].get<double>(), e["shadow_rays"].get<double>()));
+    }
+    md << row << " |\n";
+  }
+}
+
+void table6(std::ostringstream& md, const Setup& c) {
+  md << "\nTable 6: frame time (ms at 1 GHz) and the reduction against culling off\n\n| rays | "
+        "paper on | paper off | paper reduction | ours off | ours on (paper's method) | "
+        "reduction | ours on (exact) | reduction |\n|---|---|---|---|---|---|---|---|---|\n";
+  const PaperScene* ps = c.paper;
+  for (const char* kind : {"all", "shadow"}) {
+    const bool all = std::string(kind) == "all";
+    std::string row = fmt::format("| {} | ", kind);
+    row += ps ? fmt::format(
+                    "{} | {} | {}", all ? ps->all_on : ps->shadow_on,
+                    all ? ps->all_off : ps->shadow_off,
+                    reduction(all ? ps->all_on : ps->shadow_on, all ? ps->all_off : ps->shadow_off))
+              : "- | - | -";
+    const json* off = c.run("off");
+    const double off_ms = off ? (*off)["frame_ms"][kind].get<double>() : 0;
+    row += off ? fmt::format(" | {:.3f}", off_ms) : " | -";
+    for (const char* var : kCulledVariants) {
+      const json* r = c.run(var);
+      if (!r) {
+        row += " | - | -";
+        continue;
+      }
+      const double on = (*r)["frame_ms"][kind].get<double>();
+      row += fmt::format(" | {:.3f} | {}", on, reduction(on, off_ms));
+    }
+    md << row << " |\n";
+  }
+  md << "\n";
+}
+
+json paper_json(const PaperScene& ps) {
+  return {{"culled_leaves", ps.culled_leaves},
+          {"leaves", ps.leaves},
+          {"culled_rays", ps.culled_rays},
+          {"shadow_rays_per_light", ps.rays_per_light},
+          {"ms",
+           {{"all_on", ps.all_on},
+            {"all_off", ps.all_off},
+            {"shadow_on", ps.shadow_on},
+            {"shadow_off", ps.shadow_off}}}};
+}
+
+// A culling variant's figures, and what it changed in the picture: pixels whose shadow bits
+// differ from culling off.
+json culled_variant(std::ostringstream& md, const Setup& c, const std::string& var) {
+  const json& r = *c.run(var);
+  json o = {{"frame_ms_all", r["frame_ms"]["all"]}, {"frame_ms_shadow", r["frame_ms"]["shadow"]},
+            {"culled_rays", json::array()},         {"shadow_rays", json::array()},
+            {"culled_leaves", json::array()},       {"nonempty_leaves", json::array()}};
+  for (const auto& e : r["per_light"]) {
+    o["culled_rays"].push_back(e["culled"]);
+    o["shadow_rays"].push_back(e["shadow_rays"]);
+  }
+  for (const auto& e : r["lvb"]["per_light"]) {
+    o["culled_leaves"].push_back(e["culled_leaves"]);
+    o["nonempty_leaves"].push_back(e["nonempty_leaves"]);
+  }
+  o["leaves"] = r["kdtree"]["leaves"];  // all leaves, empty included: the paper's denominator
+  const auto d = c.s.mask_differs.find(var);
+  if (c.run("off") && d != c.s.mask_differs.end()) {
+    const bool paper = var == "paper";
+    o["pixels_shadow_differs_from_off"] = d->second.first;
+    md << fmt::format(
+        "With the {} culling, {} of {} pixels have a shadow result different from culling off{}.\n",
+        paper ? "paper's" : "exact", d->second.first, d->second.second,
+        paper ? " (the paper's method ignores occluders in the hit's own leaf)" : "");
+  }
+  return o;
+}
+
+json setup_section(std::ostringstream& md, const Setup& c) {
+  const json& res = c.any["scene"]["resolution"];
+  md << fmt::format("## {} ({}x{})\n\n", c.paper ? c.paper->title : c.s.name, res[0].get<int>(),
+                    res[1].get<int>());
+  json js = {
+      {"name", c.s.name}, {"title", c.paper ? c.paper->title : c.s.name}, {"ours", json::object()}};
+  if (c.paper) js["paper"] = paper_json(*c.paper);
+  table3(md, c);
+  table4(md, c);
+  table5(md, c);
+  table6(md, c);
+  for (const char* var : kCulledVariants)
+    if (c.run(var)) js["ours"][var] = culled_variant(md, c, var);
+  if (const json* off = c.run("off"))
+    js["ours"]["off"] = {{"frame_ms_all", (*off)["frame_ms"]["all"]},
+                         {"frame_ms_shadow", (*off)["frame_ms"]["shadow"]}};
+  md << "\nFigures of each run: ";
+  for (const auto& [var, dir] : c.s.dirs) md << fmt::format("[{}]({}/report.md) ", var, dir);
+  md << "(each with render.png, culled.png and plot_*.png).\n\n";
+  return js;
+}
+
+}  // namespace
+
+ReportText reproduction_report(const std::vector<ReproductionScene>& scenes,
+                               const std::map<std::string, PaperScene>& paper) {
+  std::ostringstream md;
+  json summary = {{"schema", kReproductionSchema}, {"scenes", json::array()}};
+  md << kIntro;
+  if (scenes.empty()) md << "No run finished; see the points' log.txt files.\n";
+  for (const ReproductionScene& s : scenes) {
+    const auto pit = paper.find(s.name);
+    const json& any = s.runs.begin()->second;
+    const Setup setup{s, pit == paper.end() ? nullptr : &pit->second, any,
+                      any["scene"]["lights"].size()};
+    summary["scenes"].push_back(setup_section(md, setup));
+  }
+  md << kWhyTheyDiffer << kFigures;
+  return {md.str(), summary};
+}
+
+}  // namespace rtsim::report
