@@ -1,0 +1,156 @@
+"""Figures of a sweep: plots/<metric>_vs_<axis>.png and plots/index.md (plots.py sweep)."""
+
+import json
+import math
+import os
+import re
+
+from rtsim_plots.common import (
+    InputError, MAX_SERIES, NullLocator, field, is_number, load_parsed, plt, save, write_text)
+from rtsim_plots.files import RESULTS_JSON
+
+
+def fmt_value(v):
+    if isinstance(v, float):
+        return f"{v:g}"
+    return str(v)  # bools print as True/False, like the labels in the sweep runner
+
+
+def unit_of(name):
+    """A best guess at the unit from a metric or axis name, for the axis labels."""
+    n = name.lower()
+    if re.search(r"(^|[._])ms($|[._])", n):
+        return "ms"
+    if n.endswith("rate"):
+        return "0–1"
+    if "cycles" in n:
+        return "cycles"
+    for suffix, unit in (("_kb", "KB"), ("_mb", "MB"), ("_bytes", "bytes"), ("_ghz", "GHz"), ("_seconds", "s")):
+        if n.endswith(suffix):
+            return unit
+    return None
+
+
+def labelled(name):
+    unit = unit_of(name)
+    return f"{name} ({unit})" if unit else name
+
+
+def sanitize(name):
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", name)
+
+
+def check_schema(doc, where, schema):
+    if not isinstance(doc, dict):
+        raise InputError(f"{where}: not a JSON object")
+    if doc.get("schema") != schema:
+        raise InputError(f"{where}: schema is {doc.get('schema')!r}, expected {schema!r}")
+
+
+def parse_results(res):
+    where = RESULTS_JSON
+    check_schema(res, where, "rtsim-sweep/1")
+    axes, metrics, rows = (field(res, key, where=where) for key in ("axes", "metrics", "rows"))
+    for key, v in (("axes", axes), ("metrics", metrics)):
+        if not isinstance(v, list) or not all(isinstance(s, str) for s in v):
+            raise InputError(f"{where}: field '{key}' is not a list of names")
+    if not isinstance(rows, list) or not all(isinstance(r, dict) for r in rows):
+        raise InputError(f"{where}: field 'rows' is not a list of objects")
+    for i, row in enumerate(rows):
+        for a in axes:
+            if a not in row:
+                raise InputError(f"{where}: rows[{i}] has no value for axis '{a}'")
+        for m in metrics:
+            v = row.get(m)
+            if v is not None and not is_number(v):
+                raise InputError(f"{where}: rows[{i}]: metric '{m}' is not a number or null")
+    if all(isinstance(r.get("point"), int) for r in rows):
+        rows = sorted(rows, key=lambda r: r["point"])  # the order of points, whatever order they finished in
+    return str(res.get("name", "")), axes, metrics, rows
+
+
+def distinct(rows, axis):
+    """The values of axis in first-seen order; JSON text as the key so True and 1 stay apart."""
+    seen = {}
+    for row in rows:
+        seen.setdefault(json.dumps(row.get(axis), sort_keys=True), row.get(axis))
+    return list(seen.values())
+
+
+def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
+    numeric = all(is_number(v) for v in values)
+    pow2 = numeric and all(v > 0 and math.log2(v) == round(math.log2(v)) for v in values)
+    keys = [json.dumps(v, sort_keys=True) for v in values]
+
+    # One series per combination of the other varying axes, in first-seen order.
+    series = {}
+    for row in rows:
+        combo = tuple(json.dumps(row.get(b), sort_keys=True) for b in others)
+        label = ", ".join(f"{b}={fmt_value(row.get(b))}" for b in others)
+        series.setdefault(combo, (label, {}))
+        v = row.get(metric)
+        if v is not None:
+            x = float(row[axis]) if numeric else keys.index(json.dumps(row[axis], sort_keys=True))
+            series[combo][1].setdefault(x, []).append(v)
+    shown = list(series.values())[:MAX_SERIES]
+
+    fig, ax = plt.subplots(figsize=(9, 5), layout="constrained")
+    plotted = 0
+    for label, points in shown:
+        xs = sorted(points)
+        if xs:
+            # Repeated points (same x and combination) are averaged.
+            ax.plot(xs, [sum(points[x]) / len(points[x]) for x in xs], marker="o", label=label or metric)
+            plotted += 1
+    if not plotted:
+        ax.text(0.5, 0.5, "no values yet", transform=ax.transAxes, ha="center", va="center", color="dimgray")
+    if pow2:
+        ax.set_xscale("log", base=2)
+        ax.xaxis.set_minor_locator(NullLocator())
+    if numeric:
+        if len(values) <= 12:
+            ax.set_xticks(values, [fmt_value(v) for v in values])
+    else:
+        labels = [fmt_value(v) for v in values]
+        ax.set_xticks(range(len(values)), labels, rotation=30 if sum(map(len, labels)) > 60 else 0)
+        ax.set_xlim(-0.5, len(values) - 0.5)
+    ax.set_xlabel(labelled(axis) + (" (log₂ scale)" if pow2 else ""))
+    ax.set_ylabel(labelled(metric))
+    ax.grid(alpha=0.3)
+    if plotted and others:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title="series")
+    title = f"{metric} vs {axis}\n{title_extra}"
+    if len(series) > MAX_SERIES:
+        title += f" — first {MAX_SERIES} of {len(series)} series shown"
+    ax.set_title(title, fontsize=10)
+    save(fig, path, written)
+
+
+def sweep(folder, written):
+    name, axes, metrics, rows = load_parsed(folder, RESULTS_JSON, parse_results)
+    scenes = distinct(rows, "scene")
+    if len(scenes) > 1 and "scene" not in axes:
+        axes = axes + ["scene"]  # several scenes: the scene is one more axis
+    varying = [a for a in axes if len(distinct(rows, a)) >= 2]
+    title_extra = f"sweep {name}" + (f", scene {scenes[0]}" if len(scenes) == 1 and scenes[0] is not None else "")
+    title_extra += f", {len(rows)} points"
+
+    out = os.path.join(folder, "plots")
+    os.makedirs(out, exist_ok=True)
+    files = []
+    for metric in metrics:
+        for axis in varying:
+            fname = f"{sanitize(metric)}_vs_{sanitize(axis)}.png"
+            if fname in files:
+                raise InputError(f"{RESULTS_JSON}: two metric/axis pairs give the file name {fname}")
+            files.append(fname)
+            others = [b for b in varying if b != axis]
+            plot_metric(rows, metric, axis, distinct(rows, axis), others, title_extra,
+                        os.path.join(out, fname), written)
+    lines = [f"# Sweep {name}: plots", ""] + [f"- [{f}]({f})" for f in files]
+    if not files:
+        lines.append("No axis has two or more values yet: nothing to plot.")
+    write_text(os.path.join(out, "index.md"), "\n".join(lines) + "\n", written)
+
+
+# ----------------------------------------------------------------------------------------- reproduce
