@@ -7,7 +7,9 @@
 // `<top>.trv3.in` its input FIFO, `<top>.trv.l2` the TRV units' shared L2, `<top>.memory.icnt` the
 // crossbar to memory, `<top>.memory.port` its TLM-2.0 initiator (model/memory/memory_port.h),
 // `<top>.dram` the GDDR3 memory, a TLM-2.0 target (or, built without it, whatever target the
-// platform binds to memory_socket()).
+// platform binds to memory_socket()). `<top>.router` carries rays back to their TRV units and
+// retires them, `<top>.phases` is the phase controller. Every hop of a ray is a port bound once
+// in accelerator.cpp (docs/model-design.md has the table).
 //
 // It renders one frame: in two phases (all primary rays, then all shadow rays) or in one (shadow
 // rays as soon as their hit is shaded). It never sets the time resolution (it needs 1 ps), never

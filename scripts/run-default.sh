@@ -4,7 +4,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
-cmake --build build -j "$(nproc)"
+# Only what the job runs; scripts/test.sh builds the rest (tests, benchmarks, examples).
+cmake --build build -j "$(nproc)" --target rtsim
 ./build/rtsim info configs/scenes/city.yaml
 ./build/rtsim render configs/scenes/city.yaml --out out/city
 ./build/rtsim run configs/scenes/city.yaml --hw configs/hw/tni-paper.yaml --out out/city-model --check

@@ -22,7 +22,7 @@ model::AcceleratorConfig read_hw_config(YamlMap top);
 // the DRAM's timings included (not only its preset's name).
 nlohmann::json hw_config_json(const model::AcceleratorConfig& c);
 // Every key of a hardware file with its default (the paper's T&I engine), range, unit and meaning:
-// a markdown table (rtsim params; docs/hw-params.md).
+// a markdown table (rtsim params; the table in configs/README.md).
 std::string hw_params_markdown();
 
 }  // namespace rtsim

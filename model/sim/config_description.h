@@ -2,7 +2,7 @@
 // template (next to the struct) that names every field once: its key, range, unit and meaning.
 // Visitors walk it: the hardware-file reader and the config.json writer (testbench/hw_config.cpp),
 // the range check of validate() (RangeCheck, below) and the documentation table
-// (`rtsim params`, docs/hw-params.md). A visitor provides:
+// (`rtsim params`, the table in configs/README.md). A visitor provides:
 //
 //   number(key, field, lo, hi, unit, meaning)     an integer or floating-point field in [lo, hi]
 //   kib(key, bytes, lo, hi, meaning)              a byte count given in KB (cache sizes)

@@ -52,7 +52,7 @@ class Unit : public sc_core::sc_module, public Calendar::Client {
   void activate() override;
 
   Calendar& calendar_;
-  const Clock& clock_;
+  const Clock clock_;       // a copy: a temporary clock cannot outlive the unit
   Tick accounted_to_ = 0;   // cycles before this are classified
   bool held_work_ = false;  // state of the gap since the last activation
   Tick last_issue_ = kUnknown;
