@@ -223,10 +223,10 @@ void Accelerator::Netlist::bind_control_and_memory() {
   if (cfg.schedule == Schedule::kTwoPhase && cfg.culling.records_per_cycle > 0)
     culling->records.bind(memory->interconnect().record_reader());
   if (Cache* own = culling->own_l1()) {
-    culling->l1.bind(*own);
+    culling->lights.bind(*own);
   } else {
     shading[0]->l1().name_requester(culling.get(), "culling");
-    culling->l1.bind(shading[0]->l1());
+    culling->lights.bind(shading[0]->l1());
   }
 }
 

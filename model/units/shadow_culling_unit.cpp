@@ -11,7 +11,7 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
                                      const HitRecordRegion& region)
     : Unit(name, *ctx.calendar, ctx.clock),
       to_trv("to_trv", this),
-      l1("l1"),
+      lights("lights"),
       records("records"),
       hits("hits"),
       control("control"),
@@ -19,7 +19,7 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
       culling_(culling),
       frame_(frame),
       inputs_(to_trv),
-      lights_(ctx.header.light_count),
+      light_stats_(ctx.header.light_count),
       rate_(config.records_per_cycle),
       prefetch_(std::max<uint32_t>(1, config.prefetch)),
       region_(region) {
@@ -29,7 +29,7 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
-  l1_ = l1[0];
+  l1_ = lights[0];
   reader_ = records.size() > 0 ? records[0] : nullptr;
 }
 
@@ -124,8 +124,8 @@ void ShadowCullingUnit::next_light() {
 void ShadowCullingUnit::cull_light() {
   // Every sample of the light: none is generated, all count as unoccluded.
   const uint32_t n = ctx_.light_samples[light_];
-  lights_[light_].decisions += n;
-  lights_[light_].culled += n;
+  light_stats_[light_].decisions += n;
+  light_stats_[light_].culled += n;
   frame_->pixels[current()].culled |= uint16_t(1u << light_);
   next_light();
 }
@@ -175,8 +175,8 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
                         ctx_.shadow_offset);
   const uint32_t id = ctx_.pool->create(info);
   f->push(id, std::max(latched_ready_, now + clock().period()), now);
-  ++lights_[light_].decisions;
-  ++lights_[light_].generated;
+  ++light_stats_[light_].decisions;
+  ++light_stats_[light_].generated;
   advance();
   return true;
 }
@@ -268,7 +268,7 @@ std::string ShadowCullingUnit::state() const {
 
 uint64_t ShadowCullingUnit::generated() const {
   uint64_t n = 0;
-  for (const LightStats& l : lights_) n += l.generated;
+  for (const LightStats& l : light_stats_) n += l.generated;
   return n;
 }
 
@@ -278,12 +278,12 @@ void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& pref
             "hit records taken (limited rate only)");
   r.counter(prefix + ".record_reads", &record_reads_, "count",
             "hit-record lines read from the frame buffer");
-  for (size_t i = 0; i < lights_.size(); ++i) {
+  for (size_t i = 0; i < light_stats_.size(); ++i) {
     const std::string p = prefix + ".light" + std::to_string(i);
-    r.counter(p + ".decisions", &lights_[i].decisions, "count",
+    r.counter(p + ".decisions", &light_stats_[i].decisions, "count",
               "shadow rays decided (a hit's samples of the light)");
-    r.counter(p + ".generated", &lights_[i].generated, "count", "shadow rays emitted");
-    r.counter(p + ".culled", &lights_[i].culled, "count", "shadow rays culled by the LVB");
+    r.counter(p + ".generated", &light_stats_[i].generated, "count", "shadow rays emitted");
+    r.counter(p + ".culled", &light_stats_[i].culled, "count", "shadow rays culled by the LVB");
   }
 }
 

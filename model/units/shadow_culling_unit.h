@@ -66,8 +66,8 @@ DescribeOf<C, CullingConfig> describe(V& v, C& c) {
 
 class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, public ShadowRays {
  public:
-  RayDeal to_trv;                   // the TRV units' inputs, dealt in turn
-  sc_core::sc_port<LineSource> l1;  // the L1 the light records come through
+  RayDeal to_trv;                       // the TRV units' inputs, dealt in turn
+  sc_core::sc_port<LineSource> lights;  // the L1 the light records come through
   // Two phases at a limited rate: the frame buffer's records (unbound: from the host-side frame).
   sc_core::sc_port<LineSource, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
   sc_core::sc_export<ShadedHits> hits;     // one phase: hits as they are shaded
@@ -94,7 +94,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   double decided_fraction() const;
   // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
   void on_fill(uint64_t, uint64_t cookie, Tick when) override;
-  const std::vector<LightStats>& per_light() const { return lights_; }
+  const std::vector<LightStats>& per_light() const { return light_stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
   // Where it stands (for the watchdog's report).
   std::string state() const;
@@ -153,7 +153,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool light_latched_ = false;
   image::LightRecord latched_;
   Tick latched_ready_ = 0;
-  std::vector<LightStats> lights_;
+  std::vector<LightStats> light_stats_;
   // The limited rate.
   uint32_t rate_, prefetch_;
   bool record_open_ = false;  // the current entry's record is taken (counted against the rate)

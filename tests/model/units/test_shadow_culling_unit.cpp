@@ -94,7 +94,7 @@ struct Scenario {
     unit =
         std::make_unique<ShadowCullingUnit>(name.c_str(), ctx, true, cfg, nullptr, &frame, region);
     for (auto& f : fifos) unit->to_trv.bind(*f);
-    unit->l1.bind(l1);
+    unit->lights.bind(l1);
     if (mode == Mode::kTwoPhasesFromMemory) unit->records.bind(memory);
     start = std::make_unique<test::AtStart>((name + "_start").c_str(), [this, mode, hits] {
       if (mode != Mode::kOnePhase) return unit->scan_all(0);

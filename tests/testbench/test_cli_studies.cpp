@@ -1,0 +1,430 @@
+// The studies the rtsim command runs: area lights and their sweep report, animations as resumable
+// sweeps, and the ablation of the contention limits.
+#include "tests/test_util.h"
+#include "tests/testbench/cli_util.h"
+
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace rtsim {
+namespace {
+
+using namespace cli_test;
+namespace fs = std::filesystem;
+using test::RunResult;
+using test::slurp;
+
+TEST(Cli, AreaLightsAreCheckedAndRenderedWithVisibilityCounts) {
+  const fs::path dir = test::temp_dir("cli_area");
+  const std::string head =
+      "geometry:\n  - procedural: {kind: city, blocks: 2}\nlights:\n  from_files: false\n  add:\n";
+  auto light = [&](const std::string& name, const std::string& entry) {
+    write(dir / name, head + "    - " + entry + "\n");
+    return "info " + (dir / name).string();
+  };
+  const std::string ok =
+      "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}, samples: 4}";
+  ASSERT_EQ(run(light("ok.yaml", ok)).code, 0) << run(light("ok.yaml", ok)).err;
+  expect_input_error(
+      light("zero.yaml", "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [8, 0, 0]}}"),
+      {"zero.yaml:", "edge2", "span an area"});
+  expect_input_error(
+      light("nan.yaml", "{area: {corner: [0, 40, 0], edge1: [.nan, 0, 0], edge2: [0, 0, 4]}}"),
+      {"nan.yaml:", "edge1", "finite"});
+  expect_input_error(
+      light("s0.yaml",
+            "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}, samples: 0}"),
+      {"s0.yaml:", "samples", "[1, 256]"});
+  expect_input_error(
+      light("s1000.yaml",
+            "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}, samples: 1000}"),
+      {"s1000.yaml:", "samples", "[1, 256]"});
+  expect_input_error(
+      light(
+          "both.yaml",
+          "{position: [0, 40, 0], area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}}"),
+      {"both.yaml:", "either 'position'"});
+  expect_input_error(light("pts.yaml", "{position: [0, 40, 0], samples: 4}"),
+                     {"pts.yaml:", "samples", "'area'"});
+  // A variant of a setup: its base, with these keys in place of the base's.
+  write(dir / "base.yaml", head + "    - {position: [0, 40, 0]}\n");
+  write(dir / "variant.yaml",
+        "base: base.yaml\nname: variant\nlights:\n  from_files: false\n  add: [{position: [0, 40, "
+        "0]}]\n  area_from_points: {side_fraction: 0.05, samples: 9}\n");
+  RunResult r = run("info " + (dir / "variant.yaml").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("two-sided, 9 samples"), std::string::npos) << r.out;
+  // render: visibility.npy holds the occluded samples per pixel and light, (H, W, L).
+  const fs::path out = dir / "render";
+  r = run("render " + (dir / "variant.yaml").string() + " --width 40 --height 24 --out " +
+          out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string npy = slurp(out / "visibility.npy");
+  EXPECT_NE(npy.find("'shape': (24, 40, 1)"), std::string::npos);
+  // The model generates the samples: the same pixels, culled rays and visibility counts as the
+  // reference tracer, with reflections too, in both schedules.
+  for (const char* schedule : {"two-phase", "one-phase"}) {
+    r = run("run " + (dir / "variant.yaml").string() + " --hw " +
+            (test::source_dir() / "configs/hw/small.yaml").string() +
+            " --width 40 --height 24 --reflections 1 --check --no-plots --set hw.schedule=" +
+            schedule + " --out " + (dir / "run").string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("reference check: 0 of 960 pixels differ"), std::string::npos) << r.out;
+    const nlohmann::json report = nlohmann::json::parse(slurp(dir / "run/report.json"));
+    EXPECT_EQ(report["per_light"][0]["shadow_rays"].get<uint64_t>() % 9, 0u)
+        << "nine samples per hit";
+    EXPECT_NE(slurp(dir / "run/visibility.npy").find("'shape': (24, 40, 1)"), std::string::npos);
+  }
+  fs::remove_all(dir);
+}
+
+// The area-light measurement on a small scene: a sweep over the samples per light, culling off
+// and on, then plots.py area pairs the runs. Its table's figures are those of the sweep's rows.
+TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
+  const fs::path dir = test::temp_dir("cli_area_sweep");
+  write(dir / "scene.yaml",
+        "geometry:\n  - procedural: {kind: city, blocks: 2}\nlights: {area_from_points: "
+        "{side_fraction: 0.02}}\n");
+  write(dir / "sweep.yaml",
+        "name: area\nscenes: [scene.yaml]\nhw: " +
+            (test::source_dir() / "configs/hw/small.yaml").string() +
+            "\nset: {run.width: 32, run.height: 18}\naxes:\n  "
+            "scene.lights.area_from_points.samples: [1, 4]\n  run.lvb: [off, on]\nmetrics: "
+            "[cycles_total, rays_shadow, shadow_culled, shadow_culled_rate]\nreports: [area]\n");
+  RunResult r = run("sweep " + (dir / "sweep.yaml").string() + " --out " + (dir / "out").string() +
+                    " --jobs 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err, "") << "figures and the area report written";
+  EXPECT_TRUE(fs::exists(dir / "out/plots/area_reduction.png"));
+  const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
+  std::map<std::pair<int, bool>, uint64_t> cycles;
+  std::map<std::pair<int, bool>, nlohmann::json> reports;
+  const std::string scene = res["rows"][0]["scene"].get<std::string>();
+  for (const auto& row : res["rows"]) {
+    const std::pair<int, bool> key{row["scene.lights.area_from_points.samples"].get<int>(),
+                                   row["run.lvb"].get<bool>()};
+    cycles[key] = row["cycles_total"].get<uint64_t>();
+    reports[key] = nlohmann::json::parse(
+        slurp(dir / "out/points" / row["id"].get<std::string>() / "report.json"));
+  }
+  const std::string table = slurp(dir / "out/area_lights.md");
+  const size_t bounds = table.find("## What bounds the shadow phase");
+  ASSERT_NE(bounds, std::string::npos) << table;
+  for (int n : {1, 4}) {
+    const double off = double(cycles[{n, false}]), on = double(cycles[{n, true}]);
+    EXPECT_NE(table.find(fmt::format("| {} | {} | ", scene, n)), std::string::npos) << table;
+    EXPECT_NE(table.find(fmt::format("{:.2f}%", 100 * (off - on) / off)), std::string::npos)
+        << table;
+    // The second table's row: the shadow phase and the TRV operations, culling on against off.
+    auto shadow = [&](bool lvb) { return reports[{n, lvb}]["cycles_shadow"].get<double>(); };
+    auto trv = [&](bool lvb) {
+      return reports[{n, lvb}]["stats"]["trv"]["total"]["busy_cycles"].get<double>();
+    };
+    EXPECT_NE(table.find(fmt::format("| {} | {} | {:.2f}% | {:.2f}% | ", scene, n,
+                                     100 * (1 - shadow(true) / shadow(false)),
+                                     100 * (1 - trv(true) / trv(false))),
+                         bounds),
+              std::string::npos)
+        << table;
+  }
+  // A report the sweep cannot draw is refused before anything runs.
+  write(dir / "bad.yaml", "name: bad\nscenes: [scene.yaml]\nhw: " +
+                              (test::source_dir() / "configs/hw/small.yaml").string() +
+                              "\naxes:\n  run.lvb: [off, on]\nreports: [area]\n");
+  expect_input_error("sweep " + (dir / "bad.yaml").string() + " --out " + (dir / "bad").string(),
+                     {"bad.yaml:", "reports", "scene.lights.area_from_points.samples"});
+  fs::remove_all(dir);
+}
+
+// A CSV file's rows by column name: one row per time.
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+  std::istringstream csv(slurp(file));
+  auto split = [](const std::string& line) {
+    std::vector<std::string> f;
+    std::stringstream ss(line);
+    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
+    if (!line.empty() && line.back() == ',') f.push_back("");
+    return f;
+  };
+  std::string line;
+  std::getline(csv, line);
+  const std::vector<std::string> header = split(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = split(line);
+    EXPECT_EQ(f.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < f.size() && i < header.size(); ++i) row[header[i]] = f[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// Each frame's figures agree with one another; the LVB's work and a lazy rebuild's are counted.
+void expect_consistent_frames(std::vector<std::map<std::string, std::string>>& rows) {
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["time"], "0");
+  EXPECT_EQ(rows[1]["time"], "1");
+  for (auto& f : rows) {
+    EXPECT_EQ(f["triangles"], "71708");
+    const double off = std::stod(f["frame_ms_off"]), on = std::stod(f["frame_ms_on"]);
+    EXPECT_NEAR(std::stod(f["saved_ms"]), off - on, 1e-6);
+    const double rays = std::stod(f["shadow_rays"]), culled = std::stod(f["shadow_rays_culled"]);
+    EXPECT_NEAR(std::stod(f["culled_share"]), culled / rays, 1e-6);
+    double per_light = 0;
+    for (int l = 0; l < 6; ++l) per_light += std::stod(f["culled_rays_l" + std::to_string(l)]);
+    EXPECT_EQ(per_light, culled);
+    EXPECT_LE(std::stod(f["culled_leaves_l1"]), std::stod(f["nonempty_leaves"]));
+    EXPECT_GT(std::stod(f["lvb_nodes_visited"]), 0);
+    EXPECT_GT(std::stod(f["lvb_region_tests"]), 0);
+    EXPECT_EQ(f["check_mismatched_pixels"], "0")
+        << "both runs of every frame checked against the reference";
+  }
+  EXPECT_NE(rows[0]["cycles_on"], rows[1]["cycles_on"])
+      << "the robots walk: another frame, other cycles";
+  // A lazy rebuild's share: after the first frame only, against the frame before.
+  EXPECT_EQ(rows[0]["lazy_pairs"], "");
+  EXPECT_GT(std::stod(rows[1]["moved_triangles"]), 0);
+  EXPECT_GT(std::stod(rows[1]["lazy_dirty_pairs"]), 0);
+  EXPECT_LT(std::stod(rows[1]["lazy_dirty_pairs"]), std::stod(rows[1]["lazy_pairs"]));
+  EXPECT_LT(std::stod(rows[1]["lazy_region_tests"]), std::stod(rows[1]["lvb_region_tests"]));
+}
+
+void expect_animation_outputs(const fs::path& out) {
+  EXPECT_TRUE(fs::exists(out / "host.csv"));
+  EXPECT_TRUE(fs::exists(out / "frames/frame_0000.png"));
+  EXPECT_TRUE(fs::exists(out / "frames/frame_0001.png"));
+  for (const char* f :
+       {"plots/animate_cycles.png", "plots/animate_culled.png", "plots/animate_preprocessing.png"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  EXPECT_TRUE(fs::exists(out / "summary.md"));
+  const std::string gif = slurp(out / "frames.gif");
+  EXPECT_EQ(gif.substr(0, 6), "GIF89a");
+}
+
+std::string robots_animation(const std::string& times) {
+  return "animate " + (test::source_dir() / "configs/scenes/robots.yaml").string() + " --hw " +
+         (test::source_dir() / "configs/hw/small.yaml").string() + " --times " + times;
+}
+
+// On a cluster: --emit slurm writes the job; its array tasks run the points; the command again
+// writes the tables.
+void expect_animation_on_a_cluster() {
+  const fs::path cluster = test::temp_dir("cli_animate_slurm");
+  const std::string emit =
+      robots_animation("0:1:1") + " --width 32 --height 18 --lvb on --out " + cluster.string();
+  RunResult r = run(emit + " --emit slurm");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(fs::exists(cluster / "sweep.sbatch"));
+  EXPECT_FALSE(fs::exists(cluster / "frames.csv"));
+  for (int i = 0; i < 2; ++i)
+    ASSERT_EQ(run("sweep --out " + cluster.string() + " --point " + std::to_string(i)).code, 0);
+  r = run(emit);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 already done, running 0"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(cluster / "frames.csv"));
+  fs::remove_all(cluster);
+}
+
+// rtsim animate: the frames of BART's robots as a sweep; frames.csv pairs culling off and on per
+// time, the robots move so the frames differ, a rerun runs nothing again, and a bad --times is an
+// input error.
+TEST(Cli, AnimateRunsTheFramesAsAResumableSweep) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  const fs::path out = test::temp_dir("cli_animate");
+  const std::string args = robots_animation("0:1:1") +
+                           " --width 32 --height 18 --lvb both --jobs 2 --check-every 1 --out " +
+                           out.string();
+  RunResult r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::vector<std::map<std::string, std::string>> rows = csv_rows(out / "frames.csv");
+  expect_consistent_frames(rows);
+  expect_animation_outputs(out);
+  const std::string first = slurp(out / "frames.csv");
+  r = run(args);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("4 already done, running 0"), std::string::npos) << r.out;
+  EXPECT_EQ(slurp(out / "frames.csv"), first) << "frames.csv is deterministic";
+  expect_animation_on_a_cluster();
+  // Another --check-every is another set of points: the directory is not reused for it.
+  expect_input_error(robots_animation("0:1:1") + " --width 32 --height 18 --out " + out.string(),
+                     {"manifest", "another --out"});
+  expect_input_error(robots_animation("2:1:1") + " --out " + out.string(),
+                     {"--times 2:1:1", "increasing"});
+  fs::remove_all(out);
+}
+
+// rtsim reproduce --ablation on a small sweep of the city: one row per variant in ablation.md and
+// ablation.json, the `ideal` row is a plain run on ideal.yaml, the `all` row (the variant's own
+// hardware file) a plain run on tni-paper.yaml, and a rerun runs nothing again.
+using Variants = std::vector<std::pair<std::string, std::string>>;
+
+// The variants of configs/sweeps/ablation.yaml.
+Variants ablation_variants() {
+  const std::string link = "{latency: 2, bytes_per_cycle: 32, header_bytes: 8}";
+  return {{"ideal", "{}"},
+          {"l1-ports",
+           "{hw.trv.l1.ports: 1, hw.list.l1.ports: 1, hw.ist.l1.ports: 1, hw.shading.l1.ports: 1}"},
+          {"l2-banks",
+           "{hw.trv.l2.banks: 8, hw.trv.l2.ports: 1, hw.list.l2.banks: 8, hw.list.l2.ports: 1, "
+           "hw.ist.l2.banks: 8, hw.ist.l2.ports: 1}"},
+          {"l2-fill-port-separate",
+           "{hw.trv.l2.banks: 8, hw.trv.l2.ports: 1, hw.trv.l2.fill_port: separate, "
+           "hw.list.l2.banks: 8, hw.list.l2.ports: 1, hw.list.l2.fill_port: separate, "
+           "hw.ist.l2.banks: 8, hw.ist.l2.ports: 1, hw.ist.l2.fill_port: separate}"},
+          {"links",
+           "{hw.trv.link: " + link + ", hw.list.link: " + link + ", hw.ist.link: " + link + "}"},
+          {"memory-link", "{hw.memory_link: " + link + "}"},
+          {"l2-private",
+           "{hw.trv.l2.sharing: unit, hw.list.l2.sharing: unit, hw.ist.l2.sharing: unit}"},
+          {"dram-cycles", "{hw.dram.preset: gddr3-gt200-1ghz-cycles}"},
+          {"culling-rate", "{hw.culling.records_per_cycle: 1, hw.shading.write_records: true}"},
+          {"frame-writes", "{hw.shading.write_records: true}"},
+          {"all", "{hw: " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() + "}"}};
+}
+
+void write_ablation_sweep(const fs::path& file, const std::string& scene,
+                          const Variants& variants) {
+  std::string yaml = "name: ablation-test\nscenes: [" + scene +
+                     "]\nhw: " + (test::source_dir() / "configs/hw/ideal.yaml").string() +
+                     "\nvariants:\n";
+  for (const auto& [name, set] : variants) yaml += "  " + name + ": " + set + "\n";
+  yaml +=
+      "axes:\n  run.lvb: [off, on]\nmetrics: [cycles_total, frame_ms_all, frame_ms_shadow, "
+      "trv_busy, stats.trv.l2.bank.stall_cycles, stats.memory.icnt.reply.avg_queue_cycles, "
+      "dram_bandwidth_gbps, stats.dram.bytes_written]\n";
+  write(file, yaml);
+}
+
+// Markdown: a frame-time row and a statistics row per variant, each with numbers.
+void expect_two_rows_per_variant(const std::string& md, const Variants& variants) {
+  for (const auto& [name, set] : variants) {
+    size_t rows = 0, pos = 0;
+    const std::string head = "\n| " + name + " | ";
+    while ((pos = md.find(head, pos)) != std::string::npos) {
+      const std::string line = md.substr(pos + 1, md.find('\n', pos + 1) - pos - 1);
+      if (line.find(".yaml") == std::string::npos) {  // not the list of variants
+        ++rows;
+        EXPECT_TRUE(std::any_of(line.begin() + long(head.size()), line.end(), ::isdigit)) << line;
+      }
+      pos += head.size();
+    }
+    EXPECT_EQ(rows, 2u) << name << " in:\n" << md;
+  }
+  EXPECT_NE(md.find("the single limit that moves the frame time most is `"), std::string::npos)
+      << md;
+}
+
+// JSON: one entry per variant with both culling settings' metrics; by name.
+std::map<std::string, nlohmann::json> expect_an_entry_per_variant(const nlohmann::json& j,
+                                                                  const Variants& variants) {
+  EXPECT_EQ(j["schema"], "rtsim-ablation/1");
+  EXPECT_EQ(j["missing_points"], 0);
+  // Which variants tni-paper.yaml (the `all` variant's hardware) already holds.
+  std::map<std::string, nlohmann::json> in_all;
+  for (const auto& v : j["variants"]) in_all[v["name"]] = v["in_all"];
+  for (const char* v :
+       {"l1-ports", "l2-banks", "links", "memory-link", "culling-rate", "frame-writes"})
+    EXPECT_EQ(in_all[v], true) << v;
+  for (const char* v : {"l2-fill-port-separate", "l2-private", "dram-cycles"})
+    EXPECT_EQ(in_all[v], false) << v;
+  EXPECT_TRUE(in_all["ideal"].is_null());
+  std::map<std::string, nlohmann::json> by_name;
+  if (j["scenes"].size() != 1u || j["scenes"][0]["variants"].size() != variants.size()) {
+    ADD_FAILURE() << "one scene with a row per variant: " << j.dump();
+    return by_name;
+  }
+  const nlohmann::json& sc = j["scenes"][0];
+  for (size_t i = 0; i < variants.size(); ++i) {
+    const nlohmann::json& v = sc["variants"][i];
+    EXPECT_EQ(v["name"], variants[i].first);
+    for (const char* lvb : {"off", "on"}) {
+      EXPECT_TRUE(v[lvb]["frame_ms_all"].is_number()) << v.dump();
+      EXPECT_GT(v[lvb]["cycles_total"].get<uint64_t>(), 0u);
+    }
+    EXPECT_TRUE(v["reduction_pct"].is_number());
+    by_name[v["name"]] = v;
+  }
+  EXPECT_EQ(sc["facts"]["largest_single_limit_off"]["variant"].is_string(), true);
+  EXPECT_TRUE(sc["facts"]["all_off_pct"].is_number());
+  return by_name;
+}
+
+// The ideal and all rows are plain runs on ideal.yaml and tni-paper.yaml.
+void expect_plain_runs(const fs::path& dir, const std::string& scene,
+                       std::map<std::string, nlohmann::json>& by_name) {
+  for (const auto& [variant, hw] :
+       {std::pair<std::string, std::string>{"ideal", "ideal.yaml"}, {"all", "tni-paper.yaml"}})
+    for (const char* lvb : {"off", "on"}) {
+      const fs::path out = dir / ("plain-" + variant + "-" + lvb);
+      const RunResult p =
+          run("run " + scene + " --hw " + (test::source_dir() / "configs/hw" / hw).string() +
+              " --width 32 --height 18 --no-plots --quiet --lvb " + lvb + " --out " + out.string());
+      ASSERT_EQ(p.code, 0) << p.err;
+      const nlohmann::json rep = nlohmann::json::parse(slurp(out / "report.json"));
+      EXPECT_EQ(by_name[variant][lvb]["cycles_total"], rep["cycles_total"])
+          << variant << ", culling " << lvb;
+    }
+}
+
+// Bad ablation sweeps: a variant's missing hardware file; no run.lvb axis.
+void expect_bad_ablation_sweeps_refused(const fs::path& dir, const std::string& scene) {
+  const std::string ideal = (test::source_dir() / "configs/hw/ideal.yaml").string();
+  write(dir / "nohw.yaml", "scenes: [" + scene + "]\nhw: " + ideal +
+                               "\nvariants:\n  all: {hw: nowhere.yaml}\naxes:\n  run.lvb: [off, "
+                               "on]\n");
+  expect_input_error("reproduce --ablation --sweep " + (dir / "nohw.yaml").string() + " --out " +
+                         (dir / "o").string(),
+                     {"nohw.yaml", "nowhere.yaml", "not found"});
+  write(dir / "noaxis.yaml",
+        "scenes: [" + scene + "]\nhw: " + ideal + "\nvariants:\n  ideal: {}\n");
+  expect_input_error("reproduce --ablation --sweep " + (dir / "noaxis.yaml").string() + " --out " +
+                         (dir / "o").string(),
+                     {"noaxis.yaml", "run.lvb"});
+  EXPECT_FALSE(fs::exists(dir / "o"));
+}
+
+TEST(Cli, AblationHasARowPerVariantAndItsIdealAndAllRowsArePlainRuns) {
+  const fs::path dir = test::temp_dir("cli_ablation");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const Variants variants = ablation_variants();
+  write_ablation_sweep(dir / "ablation.yaml", scene, variants);
+  const std::string cmd = "reproduce --ablation --sweep " + (dir / "ablation.yaml").string() +
+                          " --out " + (dir / "out").string() + " --width 32 --height 18 --jobs 2";
+  const RunResult r = run(cmd);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  ASSERT_TRUE(fs::exists(dir / "out/ablation/results.json"));
+  const std::string md = slurp(dir / "out/ablation.md");
+  expect_two_rows_per_variant(md, variants);
+  std::map<std::string, nlohmann::json> by_name = expect_an_entry_per_variant(
+      nlohmann::json::parse(slurp(dir / "out/ablation.json")), variants);
+  EXPECT_EQ(by_name["ideal"]["change_vs_ideal_off_pct"].get<double>(), 0.0);
+  EXPECT_TRUE(by_name["ideal"]["off"]["stats.trv.l2.bank.stall_cycles"].is_null())
+      << "ideal L2s have no banks";
+  EXPECT_GT(by_name["l2-banks"]["off"]["stats.trv.l2.bank.stall_cycles"].get<uint64_t>(), 0u);
+  EXPECT_EQ(by_name["ideal"]["off"]["stats.dram.bytes_written"], 0);
+  EXPECT_GT(by_name["frame-writes"]["off"]["stats.dram.bytes_written"].get<uint64_t>(), 0u);
+  expect_plain_runs(dir, scene, by_name);
+  // A rerun runs no point again and writes the same report.
+  const RunResult again = run(cmd);
+  ASSERT_EQ(again.code, 0) << again.err;
+  EXPECT_NE(again.out.find("22 points, 22 already done, running 0"), std::string::npos)
+      << again.out;
+  EXPECT_EQ(slurp(dir / "out/ablation.md"), md);
+  expect_bad_ablation_sweeps_refused(dir, scene);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rtsim
