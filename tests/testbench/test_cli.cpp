@@ -4,25 +4,14 @@
 
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <cctype>
-#include <cstdio>
-#include <fstream>
 #include <functional>
 #include <map>
-#include <set>
 #include <sstream>
 
-namespace rtsim {
+namespace rtsim::cli_test {
 namespace {
-
-using namespace cli_test;
-namespace fs = std::filesystem;
-using test::RunResult;
-using test::slurp;
 
 TEST(Cli, RenderWritesImageMaskAndStatistics) {
   const fs::path out = test::temp_dir("cli_render");
@@ -284,4 +273,4 @@ TEST(Cli, ParamsTableInConfigsReadmeIsCurrent) {
 }
 
 }  // namespace
-}  // namespace rtsim
+}  // namespace rtsim::cli_test

@@ -5,25 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <cctype>
-#include <cstdio>
-#include <fstream>
-#include <functional>
-#include <map>
-#include <set>
-#include <sstream>
-
-namespace rtsim {
+namespace rtsim::cli_test {
 namespace {
-
-using namespace cli_test;
-namespace fs = std::filesystem;
-using test::RunResult;
-using test::slurp;
 
 TEST(Cli, BadHardwareConfigsAreNamed) {
   const fs::path dir = test::temp_dir("cli_hw");
@@ -228,4 +213,4 @@ TEST(Cli, BadSweepFilesAreNamed) {
 }
 
 }  // namespace
-}  // namespace rtsim
+}  // namespace rtsim::cli_test

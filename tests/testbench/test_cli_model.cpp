@@ -6,25 +6,14 @@
 
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include <algorithm>
-#include <cctype>
-#include <cstdio>
-#include <fstream>
-#include <functional>
 #include <map>
 #include <set>
 #include <sstream>
 
-namespace rtsim {
+namespace rtsim::cli_test {
 namespace {
-
-using namespace cli_test;
-namespace fs = std::filesystem;
-using test::RunResult;
-using test::slurp;
 
 TEST(Cli, RunMatchesTheReferenceAndCullingRemovesExactlyTheCulledRays) {
   const fs::path on = test::temp_dir("cli_run_on"), off = test::temp_dir("cli_run_off");
@@ -242,4 +231,4 @@ TEST(Cli, TheCullingUnitReadsTheLightsThroughTheL1ItIsGiven) {
 }
 
 }  // namespace
-}  // namespace rtsim
+}  // namespace rtsim::cli_test

@@ -10,20 +10,11 @@
 
 #include <algorithm>
 #include <cctype>
-#include <cstdio>
-#include <fstream>
-#include <functional>
 #include <map>
-#include <set>
 #include <sstream>
 
-namespace rtsim {
+namespace rtsim::cli_test {
 namespace {
-
-using namespace cli_test;
-namespace fs = std::filesystem;
-using test::RunResult;
-using test::slurp;
 
 TEST(Cli, AreaLightsAreCheckedAndRenderedWithVisibilityCounts) {
   const fs::path dir = test::temp_dir("cli_area");
@@ -427,4 +418,4 @@ TEST(Cli, AblationHasARowPerVariantAndItsIdealAndAllRowsArePlainRuns) {
 }
 
 }  // namespace
-}  // namespace rtsim
+}  // namespace rtsim::cli_test
