@@ -30,15 +30,17 @@ namespace {
   std::exit(2);
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  using namespace rtsim;
+// What the command line asks for.
+struct Options {
   std::string ply = std::string(RTSIM_SOURCE_DIR) + "/../shared/scenes/bunny/bun_zipper.ply";
   std::string aff;
   double time = 0.0;
   int runs = 5;
-  KdTreeParams params;
+  rtsim::KdTreeParams params;
+};
+
+Options parse(int argc, char** argv) {
+  Options o;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> const char* {
@@ -46,26 +48,38 @@ int main(int argc, char** argv) {
       return argv[++i];
     };
     if (a == "--aff")
-      aff = value();
+      o.aff = value();
     else if (a == "--time")
-      time = std::atof(value());
+      o.time = std::atof(value());
     else if (a == "--runs")
-      runs = std::max(1, std::atoi(value()));
+      o.runs = std::max(1, std::atoi(value()));
     else if (a == "--ki")
-      params.intersection_cost = float(std::atof(value()));
+      o.params.intersection_cost = float(std::atof(value()));
     else if (a == "--kt")
-      params.traversal_cost = float(std::atof(value()));
+      o.params.traversal_cost = float(std::atof(value()));
     else if (a == "--empty-bonus")
-      params.empty_bonus = float(std::atof(value()));
+      o.params.empty_bonus = float(std::atof(value()));
     else if (a == "--max-depth")
-      params.max_depth = std::atoi(value());
+      o.params.max_depth = std::atoi(value());
     else if (a == "--max-prims")
-      params.max_prims_per_leaf = std::atoi(value());
+      o.params.max_prims_per_leaf = std::atoi(value());
     else if (!a.empty() && a[0] == '-')
       usage(("unknown option " + a).c_str());
     else
-      ply = a;
+      o.ply = a;
   }
+  return o;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using namespace rtsim;
+  const Options o = parse(argc, argv);
+  const std::string &ply = o.ply, &aff = o.aff;
+  const double time = o.time;
+  const int runs = o.runs;
+  const KdTreeParams& params = o.params;
 
   Scene scene;
   const auto t0 = std::chrono::steady_clock::now();

@@ -304,13 +304,25 @@ class Builder {
   void split_events(const EventLists& ev, const SplitPlane& plane, const AABB& below,
                     const AABB& above, EventLists& out_below, EventLists& out_above,
                     uint32_t& n_below, uint32_t& n_above) {
-    const int k = plane.axis;
-    const uint32_t p = order_key(plane.pos + 0.f);  // compared as order keys
+    classify(ev, plane);
+    n_below = n_above = 0;
+    clip_straddling(below, above, n_below, n_above);
+    for (int a = 0; a < 3; ++a) partition(ev[a], a, out_below[a], out_above[a]);
+    // Triangles kept unclipped: one start or planar event each on any axis.
+    for (const Event& e : ev[0]) {
+      const uint8_t f = flags_[e.tri()];
+      if (e.type() == kEnd) continue;
+      n_below += (f & kKeepLeft) != 0;
+      n_above += (f & kKeepRight) != 0;
+    }
+  }
 
-    // Classify on the split axis. A triangle's start precedes its end in the list, so a start
-    // below p leaves the decision to the end event.
+  // Flags each triangle by where it goes, from the split axis' events. A triangle's start
+  // precedes its end in the list, so a start below p leaves the decision to the end event.
+  void classify(const EventLists& ev, const SplitPlane& plane) {
+    const uint32_t p = order_key(plane.pos + 0.f);  // compared as order keys
     clip_list_.clear();
-    for (const Event& e : ev[k]) {
+    for (const Event& e : ev[plane.axis]) {
       const uint32_t t = e.tri();
       const uint32_t pos = e.pos_key();
       switch (e.type()) {
@@ -341,9 +353,10 @@ class Builder {
           break;
       }
     }
+  }
 
-    // Perfect splits: clip the triangles that reach across to each child cell they touch.
-    n_below = n_above = 0;
+  // Perfect splits: clip the triangles that reach across to each child cell they touch.
+  void clip_straddling(const AABB& below, const AABB& above, uint32_t& n_below, uint32_t& n_above) {
     for (auto& l : new_below_) l.clear();
     for (auto& l : new_above_) l.clear();
     for (uint32_t t : clip_list_) {
@@ -358,44 +371,35 @@ class Builder {
         ++n_above;
       }
     }
+  }
 
-    // Partition every axis' list in order, merging the sorted new events in on the way.
-    for (int a = 0; a < 3; ++a) {
-      new_below_[a].sort();
-      new_above_[a].sort();
-      EventList& l = out_below[a];
-      EventList& r = out_above[a];
-      l.clear();
-      r.clear();
-      l.reserve(ev[a].size() + new_below_[a].size());
-      r.reserve(ev[a].size() + new_above_[a].size());
-      Event* wl = l.data();
-      Event* wr = r.data();
-      const Event *nl = new_below_[a].begin(), *nl_end = new_below_[a].end();
-      const Event *nr = new_above_[a].begin(), *nr_end = new_above_[a].end();
-      for (const Event& e : ev[a]) {
-        const uint8_t f = flags_[e.tri()];
-        if (f & kKeepLeft) {
-          while (nl != nl_end && *nl < e) *wl++ = *nl++;
-          *wl++ = e;
-        }
-        if (f & kKeepRight) {
-          while (nr != nr_end && *nr < e) *wr++ = *nr++;
-          *wr++ = e;
-        }
-      }
-      wl = std::copy(nl, nl_end, wl);
-      wr = std::copy(nr, nr_end, wr);
-      l.set_size(size_t(wl - l.data()));
-      r.set_size(size_t(wr - r.data()));
-    }
-    // Triangles kept unclipped: one start or planar event each on any axis.
-    for (const Event& e : ev[0]) {
+  // Partitions axis `a`'s list in order, merging the sorted new events in on the way.
+  void partition(const EventList& ev, int a, EventList& l, EventList& r) {
+    new_below_[a].sort();
+    new_above_[a].sort();
+    l.clear();
+    r.clear();
+    l.reserve(ev.size() + new_below_[a].size());
+    r.reserve(ev.size() + new_above_[a].size());
+    Event* wl = l.data();
+    Event* wr = r.data();
+    const Event *nl = new_below_[a].begin(), *nl_end = new_below_[a].end();
+    const Event *nr = new_above_[a].begin(), *nr_end = new_above_[a].end();
+    for (const Event& e : ev) {
       const uint8_t f = flags_[e.tri()];
-      if (e.type() == kEnd) continue;
-      n_below += (f & kKeepLeft) != 0;
-      n_above += (f & kKeepRight) != 0;
+      if (f & kKeepLeft) {
+        while (nl != nl_end && *nl < e) *wl++ = *nl++;
+        *wl++ = e;
+      }
+      if (f & kKeepRight) {
+        while (nr != nr_end && *nr < e) *wr++ = *nr++;
+        *wr++ = e;
+      }
     }
+    wl = std::copy(nl, nl_end, wl);
+    wr = std::copy(nr, nr_end, wr);
+    l.set_size(size_t(wl - l.data()));
+    r.set_size(size_t(wr - r.data()));
   }
 
   // Extent of triangle t inside `cell`; false when it does not touch the cell.

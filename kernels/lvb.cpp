@@ -2,6 +2,7 @@
 
 #include "kernels/clip.h"
 #include "kernels/light_region.h"
+#include "kernels/moved_boxes.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtx/component_wise.hpp>
@@ -14,12 +15,6 @@
 #include <thread>
 
 namespace rtsim {
-
-const char* to_string(LvbMethod m) { return m == LvbMethod::kPaper ? "paper" : "hierarchical"; }
-const char* to_string(LvbBounds b) { return b == LvbBounds::kCell ? "cell" : "geometry"; }
-const char* to_string(LvbSelfOcclusion s) {
-  return s == LvbSelfOcclusion::kIgnore ? "ignore" : "test";
-}
 
 namespace {
 
@@ -64,70 +59,6 @@ struct AreaLight {
 struct LazyCounters {
   uint64_t pairs = 0, dirty_pairs = 0, dirty_tests = 0;
   Counters work;
-};
-
-// A bounding-volume hierarchy over the moved boxes, so a dirty test costs a walk, not a scan.
-class MovedBoxes {
- public:
-  explicit MovedBoxes(const std::vector<AABB>& boxes) {
-    for (const AABB& b : boxes)
-      if (!b.empty()) boxes_.push_back(DBox(b));
-    if (!boxes_.empty()) build(0, uint32_t(boxes_.size()));
-  }
-
-  // Does `hit` accept a box of the hierarchy (a node's bounds, or a moved box)?
-  template <class Hit>
-  bool any(Hit hit) const {
-    if (nodes_.empty()) return false;
-    uint32_t stack[64];
-    int sp = 0;
-    stack[sp++] = 0;
-    while (sp > 0) {
-      const Node& n = nodes_[stack[--sp]];
-      if (!hit(n.box)) continue;
-      if (n.count > 0) {
-        for (uint32_t k = n.first; k < n.first + n.count; ++k)
-          if (hit(boxes_[k])) return true;
-      } else {
-        stack[sp++] = n.first;  // left child
-        stack[sp++] = n.right;
-      }
-    }
-    return false;
-  }
-
- private:
-  struct Node {
-    DBox box;
-    uint32_t first = 0, count = 0, right = 0;  // leaf: boxes [first, first+count); inner: children
-  };
-  static constexpr uint32_t kLeafSize = 4;
-
-  uint32_t build(uint32_t lo, uint32_t hi) {
-    const uint32_t id = uint32_t(nodes_.size());
-    nodes_.emplace_back();
-    DBox box = boxes_[lo];
-    for (uint32_t k = lo + 1; k < hi; ++k) extend(box, boxes_[k]);
-    nodes_[id].box = box;
-    if (hi - lo <= kLeafSize) {
-      nodes_[id].first = lo;
-      nodes_[id].count = hi - lo;
-      return id;
-    }
-    // Median split on the longest axis (depth about log2(n / 4), within the walk's stack).
-    const DVec3 ext = box.hi - box.lo;
-    const int a = ext.x >= ext.y && ext.x >= ext.z ? 0 : (ext.y >= ext.z ? 1 : 2);
-    const uint32_t mid = lo + (hi - lo) / 2;
-    std::nth_element(
-        boxes_.begin() + lo, boxes_.begin() + mid, boxes_.begin() + hi,
-        [a](const DBox& x, const DBox& y) { return x.lo[a] + x.hi[a] < y.lo[a] + y.hi[a]; });
-    nodes_[id].first = build(lo, mid);
-    nodes_[id].right = build(mid, hi);
-    return id;
-  }
-
-  std::vector<DBox> boxes_;
-  std::vector<Node> nodes_;
 };
 
 // Which boxes may hold an occluder: the paper's frusta (open) or the exact hull (closed).
@@ -433,48 +364,6 @@ class Preprocessor {
 };
 
 }  // namespace
-
-double lvb_shadow_offset(const KdTree& tree, float relative_offset) {
-  // Exactly as the tracer computes it (float), so both agree on the offset.
-  return double(relative_offset * tree.bounds.diagonal());
-}
-
-double lvb_origin_margin(const Scene& scene, const KdTree& tree, float relative_offset) {
-  // A leaf accepts hits up to 1e-5 t + 1e-6 diagonal beyond its cell (reference_tracer.cpp);
-  // t is bounded by the camera's distance to the far corner of the scene, or the diagonal for
-  // rays that start inside. Twice that, plus the offset, covers rounding.
-  const double diag = tree.bounds.diagonal();
-  double t_max = diag;
-  const DBox root(tree.bounds);
-  for (int i = 0; i < 8; ++i)
-    t_max = std::max(t_max, glm::length(root.corner(i) - DVec3(scene.camera.eye)));
-  return lvb_shadow_offset(tree, relative_offset) + 2.0 * (1e-5 * t_max + 1e-6 * diag);
-}
-
-LvbChange lvb_change(const Scene& before, const Scene& now) {
-  LvbChange c;
-  const size_t n = now.triangles.size();
-  if (before.triangles.size() != n) {
-    AABB all = before.bounds();
-    all.extend(now.bounds());
-    c.moved.push_back(all);
-  } else {
-    for (size_t i = 0; i < n; ++i) {
-      const Triangle& a = before.triangles[i];
-      const Triangle& b = now.triangles[i];
-      if (a.v0 == b.v0 && a.v1 == b.v1 && a.v2 == b.v2) continue;
-      AABB box;
-      for (const Vec3& v : {a.v0, a.v1, a.v2, b.v0, b.v1, b.v2}) box.extend(v);
-      c.moved.push_back(box);
-    }
-  }
-  c.light_moved.assign(now.lights.size(), 1);
-  for (size_t i = 0; i < std::min(now.lights.size(), before.lights.size()); ++i)
-    c.light_moved[i] = before.lights[i].position != now.lights[i].position ||
-                       before.lights[i].edge1 != now.lights[i].edge1 ||
-                       before.lights[i].edge2 != now.lights[i].edge2;
-  return c;
-}
 
 namespace {
 

@@ -46,6 +46,14 @@ Header decode_header(const uint8_t* p) {
 using namespace image;
 
 MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
+  lay_out(scene, tree);
+  bytes_.assign(header_.image_bytes, 0);
+  write_header();
+  write_tree(tree);
+  write_scene(scene);
+}
+
+void MemoryImage::lay_out(const Scene& scene, const KdTree& tree) {
   Header& h = header_;
   uint64_t cursor = kHeaderBytes;
   // Addresses are 32-bit in every record; refuse what cannot be addressed, before any truncation.
@@ -72,8 +80,10 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   h.image_bytes = static_cast<uint32_t>(align_up(cursor));
   h.light_count = static_cast<uint32_t>(scene.lights.size());
   h.bounds = tree.bounds;
-  bytes_.assign(h.image_bytes, 0);
+}
 
+void MemoryImage::write_header() {
+  const Header& h = header_;
   uint8_t* b = bytes_.data();
   store_u32(b, h.magic);
   store_u32(b + 4, h.version);
@@ -87,8 +97,12 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   store_u32(b + 60, h.light_count);
   store_vec3(b + 64, h.bounds.lo);
   store_vec3(b + 76, h.bounds.hi);
+}
 
-  const uint32_t all_lights = h.light_count >= 32 ? ~0u : (1u << h.light_count) - 1u;
+void MemoryImage::write_tree(const KdTree& tree) {
+  uint8_t* b = bytes_.data();
+  const uint32_t lights = header_.light_count;
+  const uint32_t all_lights = lights >= 32 ? ~0u : (1u << lights) - 1u;
   for (size_t i = 0; i < tree.nodes.size(); ++i) {
     uint8_t* p = b + node_addr(static_cast<uint32_t>(i));
     store_u32(p, tree.nodes[i].word0);
@@ -102,6 +116,10 @@ MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
   }
   for (size_t i = 0; i < tree.prims.size(); ++i)
     store_u32(b + prim_addr(static_cast<uint32_t>(i)), tree.prims[i]);
+}
+
+void MemoryImage::write_scene(const Scene& scene) {
+  uint8_t* b = bytes_.data();
   for (size_t i = 0; i < scene.triangles.size(); ++i) {
     const Triangle& t = scene.triangles[i];
     uint8_t* p = b + triangle_addr(static_cast<uint32_t>(i));

@@ -161,6 +161,11 @@ class MemoryImage {
   void set_leaf_lvb(uint32_t leaf, uint32_t lvb);
 
  private:
+  void lay_out(const Scene& scene, const KdTree& tree);  // the header's sections and sizes
+  void write_header();
+  void write_tree(const KdTree& tree);
+  void write_scene(const Scene& scene);
+
   std::vector<uint8_t> bytes_;
   image::Header header_;
 };

@@ -24,6 +24,7 @@ inline constexpr const char* kRenderJson = "render.json";
 inline constexpr const char* kMaskNpy = "mask.npy";
 inline constexpr const char* kCulledNpy = "culled.npy";
 inline constexpr const char* kVisibilityNpy = "visibility.npy";
+inline constexpr const char* kLvbJson = "lvb.json";  // rtsim lvb
 // A sweep (rtsim sweep, reproduce, animate): points/<id>/ holds each point's run and its row.
 inline constexpr const char* kPointsDir = "points";
 inline constexpr const char* kRowJson = "row.json";

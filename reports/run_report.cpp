@@ -50,6 +50,52 @@ double json_number(const nlohmann::json& j, const std::string& path) {
   return at->is_number() ? at->get<double>() : NAN;
 }
 
+nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& kdtree,
+                               const nlohmann::json& config, const nlohmann::json& lvb,
+                               const RunFigures& r, const nlohmann::json& check,
+                               const RunHost& host) {
+  nlohmann::json per_light = nlohmann::json::array();
+  for (size_t l = 0; l < r.shadow_generated.size(); ++l)
+    per_light.push_back({{"shadow_rays", r.shadow_generated[l] + r.shadow_culled[l]},
+                         {"generated", r.shadow_generated[l]},
+                         {"culled", r.shadow_culled[l]}});
+  const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
+  const double sim = host.simulate;
+  return {{"schema", kRunReportSchema},
+          {"command", "run"},
+          {"scene", scene},
+          {"kdtree", kdtree},
+          {"config", config},
+          {"lvb", lvb},
+          {"clock_ghz", r.clock_ghz},
+          {"cycles_total", r.cycles_total},
+          {"cycles_primary", r.cycles_primary},
+          {"cycles_shadow", r.cycles_shadow},
+          {"frame_ms",
+           {{"all", double(r.cycles_total) / (r.clock_ghz * 1e6)},
+            {"shadow", double(r.cycles_shadow) / (r.clock_ghz * 1e6)}}},
+          {"rays",
+           {{"primary", r.primary_rays},
+            {"primary_hits", r.primary_hits},
+            {"reflection", r.reflection_rays},
+            {"shadow", r.shadow_rays}}},
+          {"per_light", per_light},
+          {"reference_check", check},
+          {"stats", r.stats},
+          {"host_seconds", host.total},
+          {"host",
+           {{"seconds",
+             {{"load", host.load},
+              {"kdtree", host.kdtree},
+              {"image", host.image},
+              {"lvb", host.lvb},
+              {"simulate", sim},
+              {"total", host.total}}},
+            {"rays_per_second", sim > 0 ? double(rays) / sim : 0.0},
+            {"cycles_per_second", sim > 0 ? double(r.cycles_total) / sim : 0.0},
+            {"peak_memory_mb", host.peak_memory_mb}}}};
+}
+
 std::string stats_csv(const nlohmann::json& r) {
   std::string out = "name,value\n";
   for (const char* key :

@@ -4,11 +4,35 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <string>
+#include <vector>
 
 namespace rtsim {
 
 inline constexpr const char* kRunReportSchema = "rtsim-report/2";
+
+// What one run measured, in plain figures (the model's result, without its frame).
+struct RunFigures {
+  double clock_ghz = 1.0;
+  uint64_t cycles_total = 0, cycles_primary = 0, cycles_shadow = 0;
+  uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
+  std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
+  nlohmann::json stats;                                   // every named statistic
+};
+
+// Host seconds per step of a run, and its peak memory.
+struct RunHost {
+  double load = 0, kdtree = 0, image = 0, lvb = 0, simulate = 0, total = 0;
+  double peak_memory_mb = 0;
+};
+
+// report.json: the parts other modules describe (scene, kd-tree, resolved configuration, the LVB
+// section, the reference check; each JSON, or null) with the run's figures and host time.
+nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& kdtree,
+                               const nlohmann::json& config, const nlohmann::json& lvb,
+                               const RunFigures& figures, const nlohmann::json& check,
+                               const RunHost& host);
 
 // "name,value" rows: every simulated figure (results, per-light counts, LVB statistics, every
 // named model statistic) by its dotted path; host-dependent figures are left out, so the file is

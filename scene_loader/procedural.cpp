@@ -124,17 +124,12 @@ void add_building(Scene& scene, double x0, double z0, double x1, double z1, doub
   add_quad(scene, t00, t10, t11, t01, material);
 }
 
-}  // namespace
+// The city's materials: the ground, three kinds of wall, a mirror, a glossy paint.
+struct CityMaterials {
+  uint32_t ground, walls[3], mirror, paint;
+};
 
-void make_city(const CityParams& params, Scene& scene) {
-  check_range("blocks", params.blocks, 1, 64);
-  check_range("sphere_segments", params.sphere_segments, 4, 256);
-  check_range("lights", params.lights, 1, kMaxLights);
-
-  Rng rng(params.seed);
-  const int n = params.blocks;
-  const double w = kPitch * n + kStreet;  // city extent on x and z
-
+CityMaterials add_city_materials(Scene& scene) {
   Material ground;
   ground.diffuse = Vec3(0.35f, 0.35f, 0.33f);
   Material concrete;
@@ -154,47 +149,28 @@ void make_city(const CityParams& params, Scene& scene) {
   paint.diffuse = Vec3(0.8f, 0.2f, 0.15f);
   paint.specular = Vec3(0.3f);
   paint.shininess = 20.f;
-  const uint32_t m_ground = scene.add_material(ground);
-  const uint32_t m_walls[3] = {scene.add_material(concrete), scene.add_material(brick),
-                               scene.add_material(glass)};
-  const uint32_t m_mirror = scene.add_material(mirror);
-  const uint32_t m_paint = scene.add_material(paint);
+  CityMaterials m;
+  m.ground = scene.add_material(ground);
+  m.walls[0] = scene.add_material(concrete);
+  m.walls[1] = scene.add_material(brick);
+  m.walls[2] = scene.add_material(glass);
+  m.mirror = scene.add_material(mirror);
+  m.paint = scene.add_material(paint);
+  return m;
+}
 
-  const std::vector<glm::dvec3> sphere = unit_sphere(params.sphere_segments);
-
-  add_quad(scene, {0, 0, 0}, {0, 0, w}, {w, 0, w}, {w, 0, 0}, m_ground);
-
-  for (int row = 0; row < n; ++row) {
-    for (int col = 0; col < n; ++col) {
-      const double lot_x = kStreet + kPitch * col, lot_z = kStreet + kPitch * row;
-      const double x0 = lot_x + rng.range(0.0, 1.0), x1 = lot_x + kLot - rng.range(0.0, 1.0);
-      const double z0 = lot_z + rng.range(0.0, 1.0), z1 = lot_z + kLot - rng.range(0.0, 1.0);
-      const double u = rng.unit();
-      const double h = 3.0 + 22.0 * u * u;  // mostly low, a few towers
-      add_building(scene, x0, z0, x1, z1, h, m_walls[rng.next() % 3]);
-      if ((row + col) % 2 == 0) {
-        const double r = 0.25 * std::min(x1 - x0, z1 - z0) * rng.range(0.6, 1.0);
-        add_sphere(scene, sphere, {0.5 * (x0 + x1), h + r, 0.5 * (z0 + z1)}, r, m_mirror);
-      }
-    }
-    // The street before this row runs along x at z in [pitch*row, pitch*row + street].
-    const double r = 0.4 * kStreet * rng.range(0.7, 1.0);
-    const double x = rng.range(0.5 * kStreet, w - 0.5 * kStreet);
-    add_sphere(scene, sphere, {x, r, kPitch * row + 0.5 * kStreet}, r,
-               rng.next() % 2 ? m_mirror : m_paint);
-  }
-
-  const float intensity = static_cast<float>(1.0 / std::sqrt(static_cast<double>(params.lights)));
-  for (int i = 0; i < params.lights; ++i) {
+// `lights` point lights on a ring above a city of extent w, and the camera looking down at it.
+void add_city_lights_and_camera(int lights, double w, Rng& rng, Scene& scene) {
+  const float intensity = static_cast<float>(1.0 / std::sqrt(static_cast<double>(lights)));
+  for (int i = 0; i < lights; ++i) {
     double s, c;
-    sincos_exact(2.0 * kPi * i / params.lights - kPi, s, c);
+    sincos_exact(2.0 * kPi * i / lights - kPi, s, c);
     const double radius = 0.35 * w * rng.range(0.8, 1.0);
     Light light;
     light.position = to_vec3(0.5 * w + radius * c, 30.0 + 0.2 * w, 0.5 * w + radius * s);
     light.color = Vec3(intensity);
     scene.lights.push_back(light);
   }
-
   const glm::dvec3 eye(-0.2 * w, 0.45 * w + 25.0, -0.2 * w), target(0.5 * w, 0.0, 0.5 * w);
   const glm::dvec3 dir = glm::normalize(target - eye);
   scene.camera = Camera{};
@@ -203,6 +179,42 @@ void make_city(const CityParams& params, Scene& scene) {
   scene.camera.up = Vec3(0.f, 1.f, 0.f);
   scene.camera.vfov_deg = 45.f;
   scene.has_camera = true;
+}
+
+}  // namespace
+
+void make_city(const CityParams& params, Scene& scene) {
+  check_range("blocks", params.blocks, 1, 64);
+  check_range("sphere_segments", params.sphere_segments, 4, 256);
+  check_range("lights", params.lights, 1, kMaxLights);
+
+  Rng rng(params.seed);
+  const int n = params.blocks;
+  const double w = kPitch * n + kStreet;  // city extent on x and z
+  const CityMaterials m = add_city_materials(scene);
+  const std::vector<glm::dvec3> sphere = unit_sphere(params.sphere_segments);
+
+  add_quad(scene, {0, 0, 0}, {0, 0, w}, {w, 0, w}, {w, 0, 0}, m.ground);
+  for (int row = 0; row < n; ++row) {
+    for (int col = 0; col < n; ++col) {
+      const double lot_x = kStreet + kPitch * col, lot_z = kStreet + kPitch * row;
+      const double x0 = lot_x + rng.range(0.0, 1.0), x1 = lot_x + kLot - rng.range(0.0, 1.0);
+      const double z0 = lot_z + rng.range(0.0, 1.0), z1 = lot_z + kLot - rng.range(0.0, 1.0);
+      const double u = rng.unit();
+      const double h = 3.0 + 22.0 * u * u;  // mostly low, a few towers
+      add_building(scene, x0, z0, x1, z1, h, m.walls[rng.next() % 3]);
+      if ((row + col) % 2 == 0) {
+        const double r = 0.25 * std::min(x1 - x0, z1 - z0) * rng.range(0.6, 1.0);
+        add_sphere(scene, sphere, {0.5 * (x0 + x1), h + r, 0.5 * (z0 + z1)}, r, m.mirror);
+      }
+    }
+    // The street before this row runs along x at z in [pitch*row, pitch*row + street].
+    const double r = 0.4 * kStreet * rng.range(0.7, 1.0);
+    const double x = rng.range(0.5 * kStreet, w - 0.5 * kStreet);
+    add_sphere(scene, sphere, {x, r, kPitch * row + 0.5 * kStreet}, r,
+               rng.next() % 2 ? m.mirror : m.paint);
+  }
+  add_city_lights_and_camera(params.lights, w, rng, scene);
   scene.width = 640;
   scene.height = 360;
   scene.name = "city";

@@ -7,6 +7,7 @@
 // previous frame would redo; plots.py adds the figures, frames.gif and summary.md.
 // docs/animation.md.
 #include "common/error.h"
+#include "reports/animation_tables.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
 #include "testbench/commands.h"
@@ -77,96 +78,25 @@ bool culling_on(const SweepPoint& p) {
   return lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
 }
 
-// frames.csv and host.csv, one row per time, from the points' reports.
+// frames.csv and host.csv (reports/animation_tables.h), one row per time, from the points'
+// reports; frames/frame_NNNN.png, the culling-on runs' images in time order.
 void write_frame_tables(const std::string& out, const SweepSpec& spec) {
-  struct Frame {
-    nlohmann::json on, off;
-    std::string image;  // the culling-on point's render.png when there is one
-  };
-  std::map<double, Frame> frames;
-  size_t lights = 0;
+  std::map<double, report::AnimationFrame> frames;
+  std::map<double, std::string> images;  // the culling-on point's render.png when there is one
   for (const SweepPoint& p : spec.points) {
     const double t = p.values["scene.time"].get<double>();
     const bool on = culling_on(p);
     const fs::path dir = sweep_point_dir(out, p);
-    nlohmann::json& report = on ? frames[t].on : frames[t].off;
-    report = read_json((dir / output::kReportJson).string());
-    lights = std::max(lights, report["per_light"].size());
-    if (on || frames[t].image.empty()) frames[t].image = (dir / output::kRenderPng).string();
+    (on ? frames[t].on : frames[t].off) = read_json((dir / output::kReportJson).string());
+    if (on || images[t].empty()) images[t] = (dir / output::kRenderPng).string();
   }
-  using ptr = nlohmann::json::json_pointer;
-  auto number = [](const nlohmann::json& r, const ptr& at) -> std::string {
-    return r.is_null() || !r.contains(at) || r.at(at).is_null()
-               ? ""
-               : fmt::format("{}", r.at(at).get<double>());
-  };
-  std::string csv =
-      "time,triangles,cycles_off,cycles_on,frame_ms_off,frame_ms_on,saved_ms,shadow_rays,shadow_"
-      "rays_culled,culled_share,nonempty_leaves";
-  for (size_t l = 0; l < lights; ++l) csv += fmt::format(",culled_leaves_l{}", l);
-  for (size_t l = 0; l < lights; ++l) csv += fmt::format(",culled_rays_l{}", l);
-  csv +=
-      ",lvb_nodes_visited,lvb_region_tests,lvb_pair_tests,moved_triangles,lazy_dirty_pairs,lazy_"
-      "pairs,lazy_dirty_tests,lazy_nodes_visited,lazy_region_tests,lazy_pair_tests,check_"
-      "mismatched_pixels\n";
-  std::string host = "time,kdtree_seconds,lvb_seconds,simulate_seconds_off,simulate_seconds_on\n";
-  for (const auto& [t, f] : frames) {
-    const nlohmann::json& any = f.on.is_null() ? f.off : f.on;
-    std::string saved, rays, culled, share, nonempty, leaves, rays_l;
-    if (!f.on.is_null()) {
-      uint64_t all = 0, cut = 0;
-      for (const auto& l : f.on["per_light"]) {
-        all += l["shadow_rays"].get<uint64_t>();
-        cut += l["culled"].get<uint64_t>();
-        rays_l += fmt::format(",{}", l["culled"].get<uint64_t>());
-      }
-      rays = std::to_string(all);
-      culled = std::to_string(cut);
-      share = all ? fmt::format("{:.6f}", double(cut) / double(all)) : "";
-      const nlohmann::json& lvb_lights = f.on["lvb"]["per_light"];
-      if (!lvb_lights.empty())
-        nonempty = std::to_string(lvb_lights[0]["nonempty_leaves"].get<uint64_t>());
-      for (const auto& l : lvb_lights)
-        leaves += fmt::format(",{}", l["culled_leaves"].get<uint64_t>());
-    }
-    if (!f.on.is_null() && !f.off.is_null())
-      saved = fmt::format(
-          "{:.6f}", f.off["frame_ms"]["all"].get<double>() - f.on["frame_ms"]["all"].get<double>());
-    // Columns for lights this frame lacks (or a run it lacks) stay empty.
-    auto pad = [&](std::string cells) {
-      while (size_t(std::count(cells.begin(), cells.end(), ',')) < lights) cells += ",";
-      return cells;
-    };
-    // A frame checked in both runs counts the mismatches of both.
-    std::optional<uint64_t> mismatched;
-    for (const nlohmann::json* r : {&f.off, &f.on})
-      if (!r->is_null() && r->contains("reference_check") && !(*r)["reference_check"].is_null())
-        mismatched =
-            mismatched.value_or(0) + (*r)["reference_check"]["mismatched_pixels"].get<uint64_t>();
-    csv += fmt::format("{:.9g},{},{},{},{},{},{},{},{},{},{}{}{}", t,
-                       number(any, ptr("/scene/triangles")), number(f.off, ptr("/cycles_total")),
-                       number(f.on, ptr("/cycles_total")), number(f.off, ptr("/frame_ms/all")),
-                       number(f.on, ptr("/frame_ms/all")), saved, rays, culled, share, nonempty,
-                       pad(leaves), pad(rays_l));
-    for (const char* key :
-         {"/lvb/nodes_visited", "/lvb/region_tests", "/lvb/pair_tests", "/lvb/lazy/moved_triangles",
-          "/lvb/lazy/dirty_pairs", "/lvb/lazy/pairs", "/lvb/lazy/dirty_tests",
-          "/lvb/lazy/nodes_visited", "/lvb/lazy/region_tests", "/lvb/lazy/pair_tests"})
-      csv += "," + number(f.on, ptr(key));
-    csv += "," + (mismatched ? std::to_string(*mismatched) : std::string()) + "\n";
-    host += fmt::format("{:.9g},{},{},{},{}\n", t, number(any, ptr("/host/seconds/kdtree")),
-                        number(f.on, ptr("/host/seconds/lvb")),
-                        number(f.off, ptr("/host/seconds/simulate")),
-                        number(f.on, ptr("/host/seconds/simulate")));
-  }
-  // frames/frame_NNNN.png in time order: the sequence as images.
   fs::create_directories(fs::path(out) / "frames");
   int k = 0;
-  for (const auto& [t, f] : frames)
-    fs::copy_file(f.image, fs::path(out) / "frames" / fmt::format("frame_{:04d}.png", k++),
+  for (const auto& [t, image] : images)
+    fs::copy_file(image, fs::path(out) / "frames" / fmt::format("frame_{:04d}.png", k++),
                   fs::copy_options::overwrite_existing);
-  write_file_atomic((fs::path(out) / output::kFramesCsv).string(), csv);
-  write_file_atomic((fs::path(out) / output::kHostCsv).string(), host);
+  write_file_atomic((fs::path(out) / output::kFramesCsv).string(), report::frames_csv(frames));
+  write_file_atomic((fs::path(out) / output::kHostCsv).string(), report::host_csv(frames));
 }
 
 }  // namespace

@@ -33,6 +33,235 @@ void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {
       ->check(CLI::Range(1, 16384));
 }
 
+// Every subcommand's options, and the flags of `run` that override a --config file only when given.
+struct Commands {
+  rtsim::RenderArgs render;
+  rtsim::InfoArgs info;
+  rtsim::LvbArgs lvb;
+  std::string method = "hierarchical", bounds = "cell", self_occlusion = "test";
+  rtsim::RunArgs run;
+  std::string lvb_switch = "on";
+  int run_width = 0, run_height = 0, run_reflections = 0;
+  bool run_check = false, run_no_plots = false;
+  CLI::Option *lvb_opt = nullptr, *check_opt = nullptr, *refl_opt = nullptr, *width_opt = nullptr,
+              *height_opt = nullptr, *plots_opt = nullptr;
+  rtsim::SweepArgs sweep;
+  bool sweep_no_plots = false;
+  rtsim::AnimateArgs animate;
+  rtsim::ReproduceArgs reproduce;
+  CLI::App *render_cmd = nullptr, *info_cmd = nullptr, *lvb_cmd = nullptr, *run_cmd = nullptr,
+           *sweep_cmd = nullptr, *animate_cmd = nullptr, *params_cmd = nullptr,
+           *reproduce_cmd = nullptr;
+};
+
+void add_render(CLI::App& app, Commands& c) {
+  c.render_cmd = app.add_subcommand("render", "Render a scene with the reference tracer");
+  c.render_cmd->add_option("scene", c.render.scene, "Scene description (YAML)")->required();
+  c.render_cmd->add_option("--out", c.render.out, "Output directory (default: out/SCENE-render)");
+  c.render_cmd->add_option("--threads", c.render.threads, "Host threads (0 = all cores)")
+      ->check(CLI::Range(0, 1024));
+  c.render_cmd->add_option("--reflections", c.render.reflection_depth, "Mirror reflection depth")
+      ->check(CLI::Range(0, 16));
+  add_prepare_options(c.render_cmd, c.render.prepare);
+}
+
+void add_info(CLI::App& app, Commands& c) {
+  c.info_cmd = app.add_subcommand("info", "Print scene and kd-tree statistics");
+  c.info_cmd->add_option("scene", c.info.scene, "Scene description (YAML)")->required();
+  c.info_cmd->add_flag("--json", c.info.json, "Print JSON");
+  add_prepare_options(c.info_cmd, c.info.prepare);
+}
+
+void add_lvb(CLI::App& app, Commands& c) {
+  c.lvb_cmd =
+      app.add_subcommand("lvb", "Compute the LVB words and measure culling (Tables 4 and 5)");
+  c.lvb_cmd->add_option("scene", c.lvb.scene, "Scene description (YAML)")->required();
+  c.lvb_cmd->add_option("--out", c.lvb.out, "Output directory (default: out/SCENE-lvb)");
+  c.lvb_cmd->add_option("--method", c.method, "paper (all pairs) or hierarchical (kd-tree walk)")
+      ->check(CLI::IsMember({"paper", "hierarchical"}));
+  c.lvb_cmd->add_option("--bounds", c.bounds, "cell (the paper) or geometry (clipped to the cell)")
+      ->check(CLI::IsMember({"cell", "geometry"}));
+  c.lvb_cmd
+      ->add_option("--self-occlusion", c.self_occlusion,
+                   "test (exact, never wrong) or ignore (the paper)")
+      ->check(CLI::IsMember({"test", "ignore"}));
+  c.lvb_cmd->add_flag("--verify", c.lvb.verify,
+                      "Also trace culled rays and count those that were occluded");
+  c.lvb_cmd->add_option("--threads", c.lvb.threads, "Host threads for tracing (0 = all cores)")
+      ->check(CLI::Range(0, 1024));
+  c.lvb_cmd->add_option("--lvb-threads", c.lvb.lvb.threads, "Host threads for preprocessing")
+      ->check(CLI::Range(1, 1024));
+  add_prepare_options(c.lvb_cmd, c.lvb.prepare);
+}
+
+void add_run(CLI::App& app, Commands& c) {
+  c.run_cmd = app.add_subcommand("run", "Simulate a frame on the SystemC model of the accelerator");
+  c.run_cmd->add_option("scene", c.run.sources.scene_file, "Scene description (YAML)");
+  c.run_cmd->add_option("--hw", c.run.sources.hw_file, "Hardware configuration (YAML)");
+  c.run_cmd->add_option("--config", c.run.sources.config_file,
+                        "Repeat a run from its config.json (instead of SCENE --hw)");
+  c.run_cmd
+      ->add_option("--set", c.run.sources.set,
+                   "Override a key: hw.PATH=VALUE, scene.PATH=VALUE or run.PATH=VALUE")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c.run_cmd->add_option("--out", c.run.out,
+                        "Output directory (default: out/SCENE-run; required with --config)");
+  c.lvb_opt = c.run_cmd->add_option("--lvb", c.lvb_switch, "LVB shadow-ray culling: on or off")
+                  ->check(CLI::IsMember({"on", "off"}));
+  c.check_opt =
+      c.run_cmd->add_flag("--check", c.run_check,
+                          "Compare every pixel with the reference tracer (exit 1 on a difference)");
+  c.refl_opt = c.run_cmd->add_option("--reflections", c.run_reflections, "Mirror reflection depth")
+                   ->check(CLI::Range(0, 8));
+  c.width_opt = c.run_cmd->add_option("--width", c.run_width, "Override the scene's image width")
+                    ->check(CLI::Range(1, 16384));
+  c.height_opt =
+      c.run_cmd->add_option("--height", c.run_height, "Override the scene's image height")
+          ->check(CLI::Range(1, 16384));
+  c.plots_opt = c.run_cmd->add_flag("--no-plots", c.run_no_plots, "Skip the PNG figures");
+  c.run_cmd
+      ->add_option("--scene-root", c.run.sources.scene_root,
+                   "Directory that relative geometry paths resolve against")
+      ->envname("RTSIM_SCENE_ROOT");
+  c.run_cmd->add_flag("--quiet", c.run.quiet, "No progress line and no summary");
+  c.run_cmd->add_option("--trace", c.run.trace_file,
+                        "Write a VCD of FIFO occupancies and unit busy signals");
+  c.run_cmd->add_option("--mem-trace", c.run.mem_trace_file,
+                        "Write a CSV of the memory transactions at the TLM-2.0 boundary (cycle, "
+                        "initiator, address, bytes, op, latency)");
+  c.run_cmd->add_option(
+      "--trace-window", c.run.trace_window,
+      "Cycles START:END to trace with --trace and --mem-trace (default 0:100000)");
+}
+
+void add_sweep(CLI::App& app, Commands& c) {
+  c.sweep_cmd = app.add_subcommand(
+      "sweep", "Run the points of a sweep file in parallel processes (resumable)");
+  c.sweep_cmd->add_option("sweep", c.sweep.file, "Sweep description (YAML)");
+  c.sweep_cmd->add_option("--out", c.sweep.out,
+                          "Output directory (results.csv, results.json, points/, plots/)");
+  c.sweep_cmd->add_option("--jobs", c.sweep.jobs, "Points run at once")->check(CLI::Range(1, 1024));
+  c.sweep_cmd
+      ->add_option("--set", c.sweep.set,
+                   "Override a key in every point: hw.PATH=VALUE, scene.PATH=VALUE, run.PATH=VALUE")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c.sweep_cmd
+      ->add_option("--emit", c.sweep.emit, "Write a job script and manifest instead of running")
+      ->check(CLI::IsMember({"slurm"}));
+  c.sweep_cmd->add_option("--merge", c.sweep.merge_dir,
+                          "Gather the rows of a sweep run elsewhere into DIR/results.csv");
+  c.sweep_cmd
+      ->add_option("--point", c.sweep.point, "Run one point of DIR/manifest.json (array tasks)")
+      ->check(CLI::Range(0, 1 << 30));
+  c.sweep_cmd->add_flag("--no-plots", c.sweep_no_plots, "Skip the figures");
+}
+
+void add_animate(CLI::App& app, Commands& c) {
+  c.animate_cmd = app.add_subcommand("animate",
+                                     "Simulate the frames of an animated scene (kd-tree "
+                                     "and LVB rebuilt per frame), as a resumable sweep");
+  c.animate_cmd->add_option("scene", c.animate.scene, "Scene description (YAML)")->required();
+  c.animate_cmd->add_option("--hw", c.animate.hw, "Hardware configuration (YAML)")->required();
+  c.animate_cmd
+      ->add_option("--times", c.animate.times,
+                   "START:END:STEP in the scene's animation time (END included)")
+      ->required();
+  c.animate_cmd->add_option("--out", c.animate.out, "Output directory")->required();
+  c.animate_cmd->add_option("--lvb", c.animate.lvb, "Culling on, off or both")
+      ->check(CLI::IsMember({"on", "off", "both"}));
+  c.animate_cmd->add_option("--width", c.animate.width, "Image width")->check(CLI::Range(1, 16384));
+  c.animate_cmd->add_option("--height", c.animate.height, "Image height")
+      ->check(CLI::Range(1, 16384));
+  c.animate_cmd->add_option("--jobs", c.animate.jobs, "Frames at once")->check(CLI::Range(1, 1024));
+  c.animate_cmd
+      ->add_option("--check-every", c.animate.check_every,
+                   "Compare frames 0, K, 2K, ... with the reference tracer (both runs); a mismatch "
+                   "fails the frame")
+      ->check(CLI::Range(1, 100000));
+  c.animate_cmd
+      ->add_option("--emit", c.animate.emit, "Write a job script and manifest instead of running")
+      ->check(CLI::IsMember({"slurm"}));
+}
+
+void add_params_and_reproduce(CLI::App& app, Commands& c) {
+  c.params_cmd = app.add_subcommand("params",
+                                    "Print every key of a hardware file: default (the "
+                                    "paper's T&I engine), range, unit, meaning (markdown)");
+
+  c.reproduce_cmd = app.add_subcommand("reproduce",
+                                       "Run the paper's three setups with culling off, "
+                                       "paper-style and exact; compare with the paper");
+  c.reproduce_cmd->add_option("--out", c.reproduce.out, "Output directory")->required();
+  c.reproduce_cmd->add_option("--jobs", c.reproduce.jobs, "Runs at once")
+      ->check(CLI::Range(1, 1024));
+  c.reproduce_cmd
+      ->add_option("--width", c.reproduce.width, "Image width (default: the paper's 1920)")
+      ->check(CLI::Range(1, 16384));
+  c.reproduce_cmd
+      ->add_option("--height", c.reproduce.height, "Image height (default: the paper's 1080)")
+      ->check(CLI::Range(1, 16384));
+  c.reproduce_cmd
+      ->add_option("--scene-root", c.reproduce.scene_root, "Where the paper's scenes are")
+      ->envname("RTSIM_SCENE_ROOT");
+  c.reproduce_cmd->add_flag(
+      "--ablation", c.reproduce.ablation,
+      "Run the contention ablation instead (configs/sweeps/ablation.yaml into "
+      "OUT/ablation; OUT/ablation.md and OUT/ablation.json)");
+  c.reproduce_cmd->add_option("--sweep", c.reproduce.sweep,
+                              "Sweep file to run instead of the shipped one "
+                              "(paper-reproduction.yaml, or ablation.yaml with --ablation)");
+}
+
+// The defaults that depend on what was given; false when a combination is refused.
+bool finish(Commands& c) {
+  if (c.render.out.empty()) c.render.out = default_out(c.render.scene, "render");
+  if (c.lvb.out.empty()) c.lvb.out = default_out(c.lvb.scene, "lvb");
+  if (*c.run_cmd && c.run.out.empty()) {
+    if (!c.run.sources.config_file.empty()) {
+      fmt::print(stderr, "rtsim: error: --out is required with --config (see rtsim --help)\n");
+      return false;
+    }
+    if (!c.run.sources.scene_file.empty()) c.run.out = default_out(c.run.sources.scene_file, "run");
+  }
+  c.lvb.lvb.method =
+      c.method == "paper" ? rtsim::LvbMethod::kPaper : rtsim::LvbMethod::kHierarchical;
+  c.lvb.lvb.bounds = c.bounds == "geometry" ? rtsim::LvbBounds::kGeometry : rtsim::LvbBounds::kCell;
+  c.lvb.lvb.self_occlusion = c.self_occlusion == "ignore" ? rtsim::LvbSelfOcclusion::kIgnore
+                                                          : rtsim::LvbSelfOcclusion::kTest;
+  return true;
+}
+
+// Runs the subcommand that was given.
+int dispatch(Commands& c) {
+  if (*c.render_cmd) return rtsim::run_render(c.render);
+  if (*c.info_cmd) return rtsim::run_info(c.info);
+  if (*c.animate_cmd) return rtsim::run_animate(c.animate);
+  if (*c.params_cmd) {
+    fmt::print("{}", rtsim::hw_params_markdown());
+    return 0;
+  }
+  if (*c.lvb_cmd) return rtsim::run_lvb(c.lvb);
+  if (*c.sweep_cmd) {
+    c.sweep.plots = !c.sweep_no_plots;
+    return rtsim::run_sweep_command(c.sweep);
+  }
+  if (*c.reproduce_cmd) return rtsim::run_reproduce(c.reproduce);
+  if (*c.run_cmd) {
+    // Only the flags given: they override a --config file's run section.
+    YAML::Node& flags = c.run.sources.run_flags;
+    if (c.lvb_opt->count()) flags["lvb"] = c.lvb_switch == "on";
+    if (c.check_opt->count()) flags["check"] = c.run_check;
+    if (c.refl_opt->count()) flags["reflections"] = c.run_reflections;
+    if (c.width_opt->count()) flags["width"] = c.run_width;
+    if (c.height_opt->count()) flags["height"] = c.run_height;
+    if (c.plots_opt->count()) flags["plots"] = !c.run_no_plots;
+    return rtsim::run_model(c.run);
+  }
+  return 2;
+}
+
 }  // namespace
 
 extern "C" int sc_main(int argc, char** argv) {
@@ -40,161 +269,14 @@ extern "C" int sc_main(int argc, char** argv) {
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   CLI::App app{"rtsim: a ray-tracing accelerator model with LVB shadow-ray culling"};
   app.require_subcommand(1);
-
-  rtsim::RenderArgs render;
-  CLI::App* render_cmd = app.add_subcommand("render", "Render a scene with the reference tracer");
-  render_cmd->add_option("scene", render.scene, "Scene description (YAML)")->required();
-  render_cmd->add_option("--out", render.out, "Output directory (default: out/SCENE-render)");
-  render_cmd->add_option("--threads", render.threads, "Host threads (0 = all cores)")
-      ->check(CLI::Range(0, 1024));
-  render_cmd->add_option("--reflections", render.reflection_depth, "Mirror reflection depth")
-      ->check(CLI::Range(0, 16));
-  add_prepare_options(render_cmd, render.prepare);
-
-  rtsim::InfoArgs info;
-  CLI::App* info_cmd = app.add_subcommand("info", "Print scene and kd-tree statistics");
-  info_cmd->add_option("scene", info.scene, "Scene description (YAML)")->required();
-  info_cmd->add_flag("--json", info.json, "Print JSON");
-  add_prepare_options(info_cmd, info.prepare);
-
-  rtsim::LvbArgs lvb;
-  CLI::App* lvb_cmd =
-      app.add_subcommand("lvb", "Compute the LVB words and measure culling (Tables 4 and 5)");
-  lvb_cmd->add_option("scene", lvb.scene, "Scene description (YAML)")->required();
-  lvb_cmd->add_option("--out", lvb.out, "Output directory (default: out/SCENE-lvb)");
-  std::string method = "hierarchical", bounds = "cell", self_occlusion = "test";
-  lvb_cmd->add_option("--method", method, "paper (all pairs) or hierarchical (kd-tree walk)")
-      ->check(CLI::IsMember({"paper", "hierarchical"}));
-  lvb_cmd->add_option("--bounds", bounds, "cell (the paper) or geometry (clipped to the cell)")
-      ->check(CLI::IsMember({"cell", "geometry"}));
-  lvb_cmd
-      ->add_option("--self-occlusion", self_occlusion,
-                   "test (exact, never wrong) or ignore (the paper)")
-      ->check(CLI::IsMember({"test", "ignore"}));
-  lvb_cmd->add_flag("--verify", lvb.verify,
-                    "Also trace culled rays and count those that were occluded");
-  lvb_cmd->add_option("--threads", lvb.threads, "Host threads for tracing (0 = all cores)")
-      ->check(CLI::Range(0, 1024));
-  lvb_cmd->add_option("--lvb-threads", lvb.lvb.threads, "Host threads for preprocessing")
-      ->check(CLI::Range(1, 1024));
-  add_prepare_options(lvb_cmd, lvb.prepare);
-
-  rtsim::RunArgs run;
-  std::string lvb_switch = "on";
-  int run_width = 0, run_height = 0, run_reflections = 0;
-  bool run_check = false, run_no_plots = false;
-  CLI::App* run_cmd =
-      app.add_subcommand("run", "Simulate a frame on the SystemC model of the accelerator");
-  run_cmd->add_option("scene", run.sources.scene_file, "Scene description (YAML)");
-  run_cmd->add_option("--hw", run.sources.hw_file, "Hardware configuration (YAML)");
-  run_cmd->add_option("--config", run.sources.config_file,
-                      "Repeat a run from its config.json (instead of SCENE --hw)");
-  run_cmd
-      ->add_option("--set", run.sources.set,
-                   "Override a key: hw.PATH=VALUE, scene.PATH=VALUE or run.PATH=VALUE")
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  run_cmd->add_option("--out", run.out,
-                      "Output directory (default: out/SCENE-run; required with --config)");
-  CLI::Option* lvb_opt =
-      run_cmd->add_option("--lvb", lvb_switch, "LVB shadow-ray culling: on or off")
-          ->check(CLI::IsMember({"on", "off"}));
-  CLI::Option* check_opt =
-      run_cmd->add_flag("--check", run_check,
-                        "Compare every pixel with the reference tracer (exit 1 on a difference)");
-  CLI::Option* refl_opt =
-      run_cmd->add_option("--reflections", run_reflections, "Mirror reflection depth")
-          ->check(CLI::Range(0, 8));
-  CLI::Option* width_opt =
-      run_cmd->add_option("--width", run_width, "Override the scene's image width")
-          ->check(CLI::Range(1, 16384));
-  CLI::Option* height_opt =
-      run_cmd->add_option("--height", run_height, "Override the scene's image height")
-          ->check(CLI::Range(1, 16384));
-  CLI::Option* plots_opt = run_cmd->add_flag("--no-plots", run_no_plots, "Skip the PNG figures");
-  run_cmd
-      ->add_option("--scene-root", run.sources.scene_root,
-                   "Directory that relative geometry paths resolve against")
-      ->envname("RTSIM_SCENE_ROOT");
-  run_cmd->add_flag("--quiet", run.quiet, "No progress line and no summary");
-  run_cmd->add_option("--trace", run.trace_file,
-                      "Write a VCD of FIFO occupancies and unit busy signals");
-  run_cmd->add_option("--mem-trace", run.mem_trace_file,
-                      "Write a CSV of the memory transactions at the TLM-2.0 boundary (cycle, "
-                      "initiator, address, bytes, op, latency)");
-  run_cmd->add_option("--trace-window", run.trace_window,
-                      "Cycles START:END to trace with --trace and --mem-trace (default 0:100000)");
-
-  rtsim::SweepArgs sweep;
-  bool sweep_no_plots = false;
-  CLI::App* sweep_cmd = app.add_subcommand(
-      "sweep", "Run the points of a sweep file in parallel processes (resumable)");
-  sweep_cmd->add_option("sweep", sweep.file, "Sweep description (YAML)");
-  sweep_cmd->add_option("--out", sweep.out,
-                        "Output directory (results.csv, results.json, points/, plots/)");
-  sweep_cmd->add_option("--jobs", sweep.jobs, "Points run at once")->check(CLI::Range(1, 1024));
-  sweep_cmd
-      ->add_option("--set", sweep.set,
-                   "Override a key in every point: hw.PATH=VALUE, scene.PATH=VALUE, run.PATH=VALUE")
-      ->expected(1)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
-  sweep_cmd->add_option("--emit", sweep.emit, "Write a job script and manifest instead of running")
-      ->check(CLI::IsMember({"slurm"}));
-  sweep_cmd->add_option("--merge", sweep.merge_dir,
-                        "Gather the rows of a sweep run elsewhere into DIR/results.csv");
-  sweep_cmd->add_option("--point", sweep.point, "Run one point of DIR/manifest.json (array tasks)")
-      ->check(CLI::Range(0, 1 << 30));
-  sweep_cmd->add_flag("--no-plots", sweep_no_plots, "Skip the figures");
-
-  rtsim::AnimateArgs animate;
-  CLI::App* animate_cmd = app.add_subcommand("animate",
-                                             "Simulate the frames of an animated scene (kd-tree "
-                                             "and LVB rebuilt per frame), as a resumable sweep");
-  animate_cmd->add_option("scene", animate.scene, "Scene description (YAML)")->required();
-  animate_cmd->add_option("--hw", animate.hw, "Hardware configuration (YAML)")->required();
-  animate_cmd
-      ->add_option("--times", animate.times,
-                   "START:END:STEP in the scene's animation time (END included)")
-      ->required();
-  animate_cmd->add_option("--out", animate.out, "Output directory")->required();
-  animate_cmd->add_option("--lvb", animate.lvb, "Culling on, off or both")
-      ->check(CLI::IsMember({"on", "off", "both"}));
-  animate_cmd->add_option("--width", animate.width, "Image width")->check(CLI::Range(1, 16384));
-  animate_cmd->add_option("--height", animate.height, "Image height")->check(CLI::Range(1, 16384));
-  animate_cmd->add_option("--jobs", animate.jobs, "Frames at once")->check(CLI::Range(1, 1024));
-  animate_cmd
-      ->add_option("--check-every", animate.check_every,
-                   "Compare frames 0, K, 2K, ... with the reference tracer (both runs); a mismatch "
-                   "fails the frame")
-      ->check(CLI::Range(1, 100000));
-  animate_cmd
-      ->add_option("--emit", animate.emit, "Write a job script and manifest instead of running")
-      ->check(CLI::IsMember({"slurm"}));
-
-  CLI::App* params_cmd = app.add_subcommand("params",
-                                            "Print every key of a hardware file: default (the "
-                                            "paper's T&I engine), range, unit, meaning (markdown)");
-
-  rtsim::ReproduceArgs reproduce;
-  CLI::App* reproduce_cmd = app.add_subcommand("reproduce",
-                                               "Run the paper's three setups with culling off, "
-                                               "paper-style and exact; compare with the paper");
-  reproduce_cmd->add_option("--out", reproduce.out, "Output directory")->required();
-  reproduce_cmd->add_option("--jobs", reproduce.jobs, "Runs at once")->check(CLI::Range(1, 1024));
-  reproduce_cmd->add_option("--width", reproduce.width, "Image width (default: the paper's 1920)")
-      ->check(CLI::Range(1, 16384));
-  reproduce_cmd
-      ->add_option("--height", reproduce.height, "Image height (default: the paper's 1080)")
-      ->check(CLI::Range(1, 16384));
-  reproduce_cmd->add_option("--scene-root", reproduce.scene_root, "Where the paper's scenes are")
-      ->envname("RTSIM_SCENE_ROOT");
-  reproduce_cmd->add_flag("--ablation", reproduce.ablation,
-                          "Run the contention ablation instead (configs/sweeps/ablation.yaml into "
-                          "OUT/ablation; OUT/ablation.md and OUT/ablation.json)");
-  reproduce_cmd->add_option("--sweep", reproduce.sweep,
-                            "Sweep file to run instead of the shipped one "
-                            "(paper-reproduction.yaml, or ablation.yaml with --ablation)");
-
+  Commands c;
+  add_render(app, c);
+  add_info(app, c);
+  add_lvb(app, c);
+  add_run(app, c);
+  add_sweep(app, c);
+  add_animate(app, c);
+  add_params_and_reproduce(app, c);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -202,44 +284,9 @@ extern "C" int sc_main(int argc, char** argv) {
     fmt::print(stderr, "rtsim: error: {} (see rtsim --help)\n", e.what());
     return 2;
   }
-  if (render.out.empty()) render.out = default_out(render.scene, "render");
-  if (lvb.out.empty()) lvb.out = default_out(lvb.scene, "lvb");
-  if (*run_cmd && run.out.empty()) {
-    if (!run.sources.config_file.empty()) {
-      fmt::print(stderr, "rtsim: error: --out is required with --config (see rtsim --help)\n");
-      return 2;
-    }
-    if (!run.sources.scene_file.empty()) run.out = default_out(run.sources.scene_file, "run");
-  }
-  lvb.lvb.method = method == "paper" ? rtsim::LvbMethod::kPaper : rtsim::LvbMethod::kHierarchical;
-  lvb.lvb.bounds = bounds == "geometry" ? rtsim::LvbBounds::kGeometry : rtsim::LvbBounds::kCell;
-  lvb.lvb.self_occlusion = self_occlusion == "ignore" ? rtsim::LvbSelfOcclusion::kIgnore
-                                                      : rtsim::LvbSelfOcclusion::kTest;
+  if (!finish(c)) return 2;
   try {
-    if (*render_cmd) return rtsim::run_render(render);
-    if (*info_cmd) return rtsim::run_info(info);
-    if (*animate_cmd) return rtsim::run_animate(animate);
-    if (*params_cmd) {
-      fmt::print("{}", rtsim::hw_params_markdown());
-      return 0;
-    }
-    if (*lvb_cmd) return rtsim::run_lvb(lvb);
-    if (*sweep_cmd) {
-      sweep.plots = !sweep_no_plots;
-      return rtsim::run_sweep_command(sweep);
-    }
-    if (*reproduce_cmd) return rtsim::run_reproduce(reproduce);
-    if (*run_cmd) {
-      // Only the flags given: they override a --config file's run section.
-      YAML::Node& flags = run.sources.run_flags;
-      if (lvb_opt->count()) flags["lvb"] = lvb_switch == "on";
-      if (check_opt->count()) flags["check"] = run_check;
-      if (refl_opt->count()) flags["reflections"] = run_reflections;
-      if (width_opt->count()) flags["width"] = run_width;
-      if (height_opt->count()) flags["height"] = run_height;
-      if (plots_opt->count()) flags["plots"] = !run_no_plots;
-      return rtsim::run_model(run);
-    }
+    return dispatch(c);
   } catch (const rtsim::InputError& e) {
     fmt::print(stderr, "rtsim: error: {}\n", e.what());
     return 2;

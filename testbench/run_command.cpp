@@ -81,11 +81,7 @@ std::string glossary_csv(const std::map<std::string, model::StatsRegistry::Gloss
   return csv;
 }
 
-}  // namespace
-
-int run_model(const RunArgs& args) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RunConfig c = resolve_run_config(args.sources);
+model::SimulationHooks trace_hooks(const RunArgs& args) {
   model::SimulationHooks hooks;
   if (!args.trace_window.empty() && args.trace_file.empty() && args.mem_trace_file.empty())
     throw InputError("--trace-window needs --trace or --mem-trace");
@@ -93,45 +89,130 @@ int run_model(const RunArgs& args) {
     hooks.trace = parse_trace_request("--trace", args.trace_file, args.trace_window);
   if (!args.mem_trace_file.empty())
     hooks.mem_trace = parse_trace_request("--mem-trace", args.mem_trace_file, args.trace_window);
+  return hooks;
+}
+
+// The light visibility bits into the image, and report.json's LVB section (with run.lvb_lazy_since:
+// what a lazy rebuild since that time would redo).
+nlohmann::json compute_run_lvb(const RunConfig& c, PreparedScene& p, double& seconds) {
+  LvbParams lp = c.run.lvb_params;
+  lp.shadow_offset = lvb_shadow_offset(p.tree);
+  lp.origin_margin = lvb_origin_margin(p.scene, p.tree);
+  const LvbResult lvb = compute_lvb(p.scene, p.tree, lp);
+  for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
+  seconds = lvb.stats.seconds;
+  nlohmann::json per_light = nlohmann::json::array();
+  for (const LvbLightStats& s : lvb.stats.per_light)
+    per_light.push_back(
+        {{"nonempty_leaves", s.nonempty_leaves}, {"culled_leaves", s.culled_leaves}});
+  nlohmann::json j = {{"method", to_string(lp.method)},
+                      {"bounds", to_string(lp.bounds)},
+                      {"self_occlusion", to_string(lp.self_occlusion)},
+                      {"nodes_visited", lvb.stats.nodes_visited},
+                      {"region_tests", lvb.stats.region_tests},
+                      {"pair_tests", lvb.stats.pair_tests},
+                      {"per_light", per_light}};
+  if (!c.run.lvb_lazy_since) return j;
+  // The earlier frame's scene (its triangles and lights) against this one.
+  std::vector<ConfigOverride> at = scene_overrides(c.scene_set);
+  at.push_back({{"time"}, YAML::Node(*c.run.lvb_lazy_since), "run.lvb_lazy_since"});
+  const Scene before = load_scene_file(c.scene_file, SceneFileOptions{c.scene_root, at}).scene;
+  const LvbLazyStats z = lvb_lazy_stats(p.scene, p.tree, lp, lvb_change(before, p.scene));
+  j["lazy"] = {{"since", *c.run.lvb_lazy_since},   {"moved_triangles", z.moved_triangles},
+               {"moved_lights", z.moved_lights},   {"pairs", z.pairs},
+               {"dirty_pairs", z.dirty_pairs},     {"dirty_tests", z.dirty_tests},
+               {"nodes_visited", z.nodes_visited}, {"region_tests", z.region_tests},
+               {"pair_tests", z.pair_tests}};
+  return j;
+}
+
+// Per-pixel planes of the primary level: hit and occlusion (mask.npy), culled lights
+// (culled.npy); per pixel and light, the occluded samples (rays) of the primary hit
+// (visibility.npy).
+struct PixelPlanes {
+  std::vector<uint16_t> mask, culled, visibility;
+  size_t lights = 0;
+};
+
+PixelPlanes pixel_planes(const SimulatedFrame& r) {
+  PixelPlanes planes;
+  planes.mask.resize(r.frame.pixel_count());
+  planes.culled.resize(r.frame.pixel_count());
+  planes.lights = r.frame.samples.size();
+  planes.visibility.resize(planes.mask.size() * planes.lights);
+  for (uint32_t i = 0; i < planes.mask.size(); ++i) {
+    const model::PixelState& px = r.frame.at(i, 0);
+    planes.mask[i] = mask_value(px.hit.tri, px.occluded);
+    planes.culled[i] = px.culled;
+    for (uint32_t l = 0; l < planes.lights; ++l)
+      planes.visibility[i * planes.lights + l] = uint16_t(r.frame.occluded_samples(i, l));
+  }
+  return planes;
+}
+
+RunFigures figures_of(const SimulatedFrame& r) {
+  RunFigures f;
+  f.clock_ghz = r.clock_ghz;
+  f.cycles_total = r.cycles_total;
+  f.cycles_primary = r.cycles_primary;
+  f.cycles_shadow = r.cycles_shadow;
+  f.primary_rays = r.primary_rays;
+  f.primary_hits = r.primary_hits;
+  f.reflection_rays = r.reflection_rays;
+  f.shadow_rays = r.shadow_rays;
+  f.shadow_generated = r.shadow_generated;
+  f.shadow_culled = r.shadow_culled;
+  f.stats = r.stats;
+  return f;
+}
+
+void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
+                       const SimulatedFrame& r, const nlohmann::json& config,
+                       const nlohmann::json& report) {
+  const PixelPlanes planes = pixel_planes(r);
+  const int w = p.scene.width, h = p.scene.height;
+  write_json((out / output::kConfigJson).string(), config);
+  write_png_rgb((out / output::kRenderPng).string(), r.rgb, w, h);
+  write_npy_u16((out / output::kMaskNpy).string(), planes.mask, h, w);
+  write_npy_u16((out / output::kCulledNpy).string(), planes.culled, h, w);
+  write_npy_u16((out / output::kVisibilityNpy).string(), planes.visibility,
+                {size_t(h), size_t(w), planes.lights});
+  write_file_atomic((out / output::kStatsCsv).string(), stats_csv(report));
+  write_file_atomic((out / output::kGlossaryCsv).string(), glossary_csv(r.glossary));
+  write_file_atomic((out / output::kReportMd).string(), run_report_markdown(report));
+  // Last: its presence marks a finished run.
+  write_json((out / output::kReportJson).string(), report);
+}
+
+void print_summary(const RunConfig& c, const PreparedScene& p, const SimulatedFrame& r,
+                   double sim_seconds, const std::string& out, bool plots) {
+  uint64_t culled_rays = 0;
+  for (uint64_t x : r.shadow_culled) culled_rays += x;
+  const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
+  fmt::print(
+      "{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
+      "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, "
+      "stats.csv, glossary.csv, config.json, render.png, mask.npy, culled.npy, "
+      "visibility.npy{}\n",
+      p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
+      double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
+      c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
+      r.cycles_shadow, rays, r.shadow_rays, culled_rays, sim_seconds,
+      sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out, plots ? ", plots" : "");
+}
+
+}  // namespace
+
+int run_model(const RunArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RunConfig c = resolve_run_config(args.sources);
+  model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
   // ran.
   PreparedScene p = prepare_scene(
       c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
-
-  nlohmann::json lvb_json = nullptr;
-  double lvb_seconds = 0;
-  if (c.run.lvb) {
-    LvbParams lp = c.run.lvb_params;
-    lp.shadow_offset = lvb_shadow_offset(p.tree);
-    lp.origin_margin = lvb_origin_margin(p.scene, p.tree);
-    const LvbResult lvb = compute_lvb(p.scene, p.tree, lp);
-    for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
-    lvb_seconds = lvb.stats.seconds;
-    nlohmann::json per_light = nlohmann::json::array();
-    for (const LvbLightStats& s : lvb.stats.per_light)
-      per_light.push_back(
-          {{"nonempty_leaves", s.nonempty_leaves}, {"culled_leaves", s.culled_leaves}});
-    lvb_json = {{"method", to_string(lp.method)},
-                {"bounds", to_string(lp.bounds)},
-                {"self_occlusion", to_string(lp.self_occlusion)},
-                {"nodes_visited", lvb.stats.nodes_visited},
-                {"region_tests", lvb.stats.region_tests},
-                {"pair_tests", lvb.stats.pair_tests},
-                {"per_light", per_light}};
-    if (c.run.lvb_lazy_since) {
-      // The earlier frame's scene (its triangles and lights) against this one.
-      std::vector<ConfigOverride> at = scene_overrides(c.scene_set);
-      at.push_back({{"time"}, YAML::Node(*c.run.lvb_lazy_since), "run.lvb_lazy_since"});
-      const Scene before = load_scene_file(c.scene_file, SceneFileOptions{c.scene_root, at}).scene;
-      const LvbLazyStats z = lvb_lazy_stats(p.scene, p.tree, lp, lvb_change(before, p.scene));
-      lvb_json["lazy"] = {
-          {"since", *c.run.lvb_lazy_since},   {"moved_triangles", z.moved_triangles},
-          {"moved_lights", z.moved_lights},   {"pairs", z.pairs},
-          {"dirty_pairs", z.dirty_pairs},     {"dirty_tests", z.dirty_tests},
-          {"nodes_visited", z.nodes_visited}, {"region_tests", z.region_tests},
-          {"pair_tests", z.pair_tests}};
-    }
-  }
+  RunHost host;
+  const nlohmann::json lvb_json = c.run.lvb ? compute_run_lvb(c, p, host.lvb) : nullptr;
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
@@ -140,105 +221,29 @@ int run_model(const RunArgs& args) {
   const auto t_sim = std::chrono::steady_clock::now();
   const SimulatedFrame r =
       simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks);
-  const double sim_seconds = seconds_since(t_sim);
+  host.simulate = seconds_since(t_sim);
   progress.finish();
 
   nlohmann::json check = nullptr;
   uint64_t mismatches = 0;
   if (c.run.check) check = reference_check(p, c.run, r, mismatches);
-
-  // Per-pixel planes of the primary level: hit and occlusion (mask.npy), culled lights
-  // (culled.npy). visibility.npy: per pixel and light, the occluded samples (rays) of the primary
-  // hit.
-  std::vector<uint16_t> mask(r.frame.pixel_count()), culled(r.frame.pixel_count());
-  const size_t lights = r.frame.samples.size();
-  std::vector<uint16_t> visibility(mask.size() * lights);
-  for (uint32_t i = 0; i < mask.size(); ++i) {
-    const model::PixelState& px = r.frame.at(i, 0);
-    mask[i] = mask_value(px.hit.tri, px.occluded);
-    culled[i] = px.culled;
-    for (uint32_t l = 0; l < lights; ++l)
-      visibility[i * lights + l] = uint16_t(r.frame.occluded_samples(i, l));
-  }
-  nlohmann::json per_light = nlohmann::json::array();
-  for (size_t l = 0; l < r.shadow_generated.size(); ++l)
-    per_light.push_back({{"shadow_rays", r.shadow_generated[l] + r.shadow_culled[l]},
-                         {"generated", r.shadow_generated[l]},
-                         {"culled", r.shadow_culled[l]}});
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
   nlohmann::json kdtree = kdtree_json(p.kdtree_params, p.tree.stats);
   kdtree.erase("build_seconds");  // host time lives under "host"
   const nlohmann::json config = run_config_json(c);
-  const double total = seconds_since(t0);
-  const nlohmann::json report = {
-      {"schema", kRunReportSchema},
-      {"command", "run"},
-      {"scene", scene_json(p)},
-      {"kdtree", kdtree},
-      {"config", config},
-      {"lvb", lvb_json},
-      {"clock_ghz", r.clock_ghz},
-      {"cycles_total", r.cycles_total},
-      {"cycles_primary", r.cycles_primary},
-      {"cycles_shadow", r.cycles_shadow},
-      {"frame_ms",
-       {{"all", double(r.cycles_total) / (r.clock_ghz * 1e6)},
-        {"shadow", double(r.cycles_shadow) / (r.clock_ghz * 1e6)}}},
-      {"rays",
-       {{"primary", r.primary_rays},
-        {"primary_hits", r.primary_hits},
-        {"reflection", r.reflection_rays},
-        {"shadow", r.shadow_rays}}},
-      {"per_light", per_light},
-      {"reference_check", check},
-      {"stats", r.stats},
-      {"host_seconds", total},
-      {"host",
-       {{"seconds",
-         {{"load", p.load_seconds},
-          {"kdtree", p.tree.stats.build_seconds},
-          {"image", p.build_seconds - p.tree.stats.build_seconds},
-          {"lvb", lvb_seconds},
-          {"simulate", sim_seconds},
-          {"total", total}}},
-        {"rays_per_second", sim_seconds > 0 ? double(rays) / sim_seconds : 0.0},
-        {"cycles_per_second", sim_seconds > 0 ? double(r.cycles_total) / sim_seconds : 0.0},
-        {"peak_memory_mb", double(usage.ru_maxrss) / 1024.0}}}};
-
-  write_json((out / output::kConfigJson).string(), config);
-  write_png_rgb((out / output::kRenderPng).string(), r.rgb, p.scene.width, p.scene.height);
-  write_npy_u16((out / output::kMaskNpy).string(), mask, p.scene.height, p.scene.width);
-  write_npy_u16((out / output::kCulledNpy).string(), culled, p.scene.height, p.scene.width);
-  write_npy_u16((out / output::kVisibilityNpy).string(), visibility,
-                {size_t(p.scene.height), size_t(p.scene.width), lights});
-  write_file_atomic((out / output::kStatsCsv).string(), stats_csv(report));
-  write_file_atomic((out / output::kGlossaryCsv).string(), glossary_csv(r.glossary));
-  write_file_atomic((out / output::kReportMd).string(), run_report_markdown(report));
-  // Last: its presence marks a finished run.
-  write_json((out / output::kReportJson).string(), report);
+  host.load = p.load_seconds;
+  host.kdtree = p.tree.stats.build_seconds;
+  host.image = p.build_seconds - p.tree.stats.build_seconds;
+  host.total = seconds_since(t0);
+  host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
+  const nlohmann::json report =
+      run_report_json(scene_json(p), kdtree, config, lvb_json, figures_of(r), check, host);
+  write_run_outputs(out, p, r, config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());
-
-  const uint64_t culled_rays = [&] {
-    uint64_t n = 0;
-    for (uint64_t x : r.shadow_culled) n += x;
-    return n;
-  }();
-  if (!args.quiet) {
-    fmt::print(
-        "{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
-        "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, "
-        "stats.csv, glossary.csv, config.json, render.png, mask.npy, culled.npy, "
-        "visibility.npy{}\n",
-        p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
-        double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
-        c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
-        r.cycles_shadow, rays, r.shadow_rays, culled_rays, sim_seconds,
-        sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out.string(),
-        c.run.plots && plots_note.empty() ? ", plots" : "");
-  }
+  if (!args.quiet)
+    print_summary(c, p, r, host.simulate, out.string(), c.run.plots && plots_note.empty());
   if (!plots_note.empty())
     fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
   if (c.run.check)

@@ -77,12 +77,14 @@ fs::path beside(const std::string& file, const std::string& rel) {
   return p.is_absolute() ? p : (fs::path(file).parent_path() / p).lexically_normal();
 }
 
-}  // namespace
+struct Variant {
+  std::string name, hw_file;  // hw_file: the variant's own hardware file, or empty
+  std::vector<std::string> set;
+};
+using Axes = std::vector<std::pair<std::string, std::vector<YAML::Node>>>;
 
-SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set) {
-  YamlMap top = YamlMap::load_file(path);
-  SweepSpec s;
-  s.file = path;
+// name, scenes and hw: checked, the files found beside the sweep file.
+void read_name_scenes_and_hw(YamlMap& top, const std::string& path, SweepSpec& s) {
   s.name = top.get<std::string>("name", fs::path(path).stem().string());
   if (s.name.empty() ||
       s.name.find_first_not_of(
@@ -99,46 +101,43 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   s.hw_file = beside(path, top.require<std::string>("hw")).string();
   if (!fs::exists(s.hw_file))
     top.fail("hw", fmt::format("hardware file '{}' not found", s.hw_file));
+}
 
-  // Points skip their figures unless the sweep asks for them (the sweep draws its own).
-  std::vector<std::string> base{"run.plots=false"};
-  if (top.has("set"))
-    for (const auto& [k, v] : read_overrides(top, "set")) base.push_back(k + "=" + v);
-  for (const std::string& e : extra_set) base.push_back(e);
-
-  struct Variant {
-    std::string name, hw_file;  // hw_file: the variant's own hardware file, or empty
-    std::vector<std::string> set;
-  };
+std::vector<Variant> read_variants(YamlMap& top, const std::string& path, SweepSpec& s) {
   std::vector<Variant> variants;
-  if (top.has("variants")) {
-    YamlMap v = top.map("variants");
-    for (const std::string& name : v.keys()) {
-      Variant var{name, "", {}};
-      std::string hw;
-      for (const auto& [k, val] : read_overrides(v, name, &hw)) var.set.push_back(k + "=" + val);
-      if (!hw.empty()) {
-        var.hw_file = beside(path, hw).string();
-        if (!fs::exists(var.hw_file))
-          v.fail(name, fmt::format("hardware file '{}' not found", var.hw_file));
-      }
-      variants.push_back(std::move(var));
+  if (!top.has("variants")) return variants;
+  YamlMap v = top.map("variants");
+  for (const std::string& name : v.keys()) {
+    Variant var{name, "", {}};
+    std::string hw;
+    for (const auto& [k, val] : read_overrides(v, name, &hw)) var.set.push_back(k + "=" + val);
+    if (!hw.empty()) {
+      var.hw_file = beside(path, hw).string();
+      if (!fs::exists(var.hw_file))
+        v.fail(name, fmt::format("hardware file '{}' not found", var.hw_file));
     }
-    if (variants.empty()) top.fail("variants", "expected at least one variant");
-    s.columns.push_back("variant");
+    variants.push_back(std::move(var));
   }
-  std::vector<std::pair<std::string, std::vector<YAML::Node>>> axes;
-  if (top.has("axes")) {
-    YamlMap a = top.map("axes");
-    for (const std::string& key : a.keys()) {
-      check_key_path(a, key, key);
-      const YAML::Node values = a.raw_sequence(key);
-      if (values.size() == 0) a.fail(key, "expected at least one value");
-      std::vector<YAML::Node> list(values.begin(), values.end());
-      axes.emplace_back(key, list);
-      s.columns.push_back(key);
-    }
+  if (variants.empty()) top.fail("variants", "expected at least one variant");
+  s.columns.push_back("variant");
+  return variants;
+}
+
+Axes read_axes(YamlMap& top, SweepSpec& s) {
+  Axes axes;
+  if (!top.has("axes")) return axes;
+  YamlMap a = top.map("axes");
+  for (const std::string& key : a.keys()) {
+    check_key_path(a, key, key);
+    const YAML::Node values = a.raw_sequence(key);
+    if (values.size() == 0) a.fail(key, "expected at least one value");
+    axes.emplace_back(key, std::vector<YAML::Node>(values.begin(), values.end()));
+    s.columns.push_back(key);
   }
+  return axes;
+}
+
+void read_metrics_and_reports(YamlMap& top, SweepSpec& s) {
   if (top.has("metrics")) {
     s.metrics = top.get<std::vector<std::string>>("metrics", {});
     if (s.metrics.empty()) top.fail("metrics", "expected at least one metric");
@@ -160,9 +159,11 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
         top.fail("reports",
                  "'area' needs the axes scene.lights.area_from_points.samples and run.lvb");
   }
-  top.finish();
+}
 
-  // The cross product, last axis fastest.
+// The cross product, last axis fastest.
+void make_points(YamlMap& top, const std::vector<std::string>& base,
+                 const std::vector<Variant>& variants, const Axes& axes, SweepSpec& s) {
   size_t count = s.scenes.size() * std::max<size_t>(variants.size(), 1);
   for (const auto& [k, v] : axes) {
     count *= v.size();
@@ -194,7 +195,10 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
     }
     s.points.push_back(std::move(p));
   }
-  // Every point's hardware and run settings are checked now, before anything runs.
+}
+
+// Every point's hardware and run settings are checked now, before anything runs.
+void check_points(const SweepSpec& s, const std::string& path) {
   for (const SweepPoint& p : s.points) {
     RunSources src;
     src.scene_file = p.scene_file;
@@ -207,6 +211,26 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
       throw InputError(fmt::format("{}: point {} ({}): {}", path, p.id, p.values.dump(), e.what()));
     }
   }
+}
+
+}  // namespace
+
+SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set) {
+  YamlMap top = YamlMap::load_file(path);
+  SweepSpec s;
+  s.file = path;
+  read_name_scenes_and_hw(top, path, s);
+  // Points skip their figures unless the sweep asks for them (the sweep draws its own).
+  std::vector<std::string> base{"run.plots=false"};
+  if (top.has("set"))
+    for (const auto& [k, v] : read_overrides(top, "set")) base.push_back(k + "=" + v);
+  for (const std::string& e : extra_set) base.push_back(e);
+  const std::vector<Variant> variants = read_variants(top, path, s);
+  const Axes axes = read_axes(top, s);
+  read_metrics_and_reports(top, s);
+  top.finish();
+  make_points(top, base, variants, axes, s);
+  check_points(s, path);
   return s;
 }
 
