@@ -1,0 +1,225 @@
+// The DRAM configuration: the GT200 presets and their derived timings, validation naming the
+// field, the address mapping.
+#include "model/memory/dram_config.h"
+#include "model/memory/dram_controller.h"
+#include "model/sim/stats_registry.h"
+#include "tests/model/memory/dram_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+namespace {
+
+using namespace dram_test;
+
+void expect_invalid(const DramConfig& c, const std::string& field) {
+  try {
+    c.validate();
+    ADD_FAILURE() << "validate() accepted a config with a bad " << field;
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+  }
+}
+
+TEST(DramConfig, PresetIsGpgpuSimGt200) {
+  const DramConfig c = gt200();
+  EXPECT_EQ(c.preset, "gddr3-gt200");
+  EXPECT_EQ(c.channels, 8u);
+  EXPECT_EQ(c.banks, 8u);
+  EXPECT_EQ(c.tCK_ps, 1250u);
+  // -gpgpu_dram_timing_opt nbk=8:CCD=2:RRD=8:RCD=12:RAS=25:RP=10:RC=35:CL=10:WL=7:CDLR=6:WR=11
+  EXPECT_EQ(c.tCCD, 2u);
+  EXPECT_EQ(c.tRRD, 8u);
+  EXPECT_EQ(c.tRCD, 12u);
+  EXPECT_EQ(c.tRAS, 25u);
+  EXPECT_EQ(c.tRP, 10u);
+  EXPECT_EQ(c.tRC, 35u);
+  EXPECT_EQ(c.CL, 10u);
+  EXPECT_EQ(c.WL, 7u);
+  EXPECT_EQ(c.tCDLR, 6u);
+  EXPECT_EQ(c.tWR, 11u);
+  EXPECT_EQ(c.burst_bytes(), 32u);
+  EXPECT_EQ(c.burst_cycles(), 2u);
+  EXPECT_EQ(c.queue_size, 16u);
+  EXPECT_DOUBLE_EQ(c.peak_bandwidth_gbps(), 102.4);
+  EXPECT_NO_THROW(c.validate());
+}
+
+// GPGPU-Sim's derivations (gpu-sim.h memory_config::init()): tWTR = WL + BL/2 + tCDLR,
+// tWTP = WL + BL/2 + tWR, tRTW = CL + BL/2 + 2 - WL, tRCDWR = tRCD - (WL + 1).
+TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
+  const DramConfig g = gt200();
+  EXPECT_EQ(g.write_to_read(), 15u);       // 7 + 2 + 6
+  EXPECT_EQ(g.write_to_precharge(), 20u);  // 7 + 2 + 11
+  EXPECT_EQ(g.read_to_write(), 7u);        // 10 + 2 + 2 - 7
+  EXPECT_EQ(g.activate_to_write(), 4u);    // 12 - 8
+
+  // Nanoseconds rescaled to 1 GHz, each rounded up: WL 8.75 -> 9, tCDLR 7.5 -> 8, tWR 13.75 -> 14.
+  const DramConfig r = dram_preset("gddr3-gt200-1ghz");
+  EXPECT_EQ(r.tCK_ps, 1000u);
+  EXPECT_EQ(r.WL, 9u);
+  EXPECT_EQ(r.tCDLR, 8u);
+  EXPECT_EQ(r.tWR, 14u);
+  EXPECT_EQ(r.tRC, r.tRAS + r.tRP);
+  EXPECT_EQ(r.write_to_read(), 19u);       // 9 + 2 + 8
+  EXPECT_EQ(r.write_to_precharge(), 25u);  // 9 + 2 + 14
+  EXPECT_EQ(r.read_to_write(), 8u);        // 13 + 2 + 2 - 9
+  EXPECT_EQ(r.activate_to_write(), 5u);    // 15 - 10
+  EXPECT_NO_THROW(r.validate());
+
+  // GT200's cycle counts kept, each 1 ns.
+  const DramConfig k = dram_preset("gddr3-gt200-1ghz-cycles");
+  EXPECT_EQ(k.preset, "gddr3-gt200-1ghz-cycles");
+  EXPECT_EQ(k.tCK_ps, 1000u);
+  for (auto f : {&DramConfig::tCCD, &DramConfig::tRRD, &DramConfig::tRCD, &DramConfig::tRAS,
+                 &DramConfig::tRP, &DramConfig::tRC, &DramConfig::CL, &DramConfig::WL,
+                 &DramConfig::tCDLR, &DramConfig::tWR})
+    EXPECT_EQ(k.*f, g.*f);
+  EXPECT_EQ(k.write_to_read(), 15u);
+  EXPECT_EQ(k.write_to_precharge(), 20u);
+  EXPECT_EQ(k.read_to_write(), 7u);
+  EXPECT_EQ(k.activate_to_write(), 4u);
+  EXPECT_DOUBLE_EQ(k.peak_bandwidth_gbps(), 128.0);
+  EXPECT_NO_THROW(k.validate());
+}
+
+TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
+  EXPECT_EQ(dram_preset_names(), (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz",
+                                                           "gddr3-gt200-1ghz-cycles"}));
+  try {
+    dram_preset("ddr9");
+    FAIL() << "unknown preset accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("ddr9"), std::string::npos) << m;
+    EXPECT_NE(m.find("gddr3-gt200"), std::string::npos) << m;
+  }
+}
+
+TEST(DramConfig, ValidationNamesTheField) {
+  expect_invalid(DramConfig{}, "channels");
+  DramConfig c = gt200();
+  c.channels = 0;
+  expect_invalid(c, "channels");
+  c = gt200();
+  c.banks = 6;
+  expect_invalid(c, "banks");
+  c = gt200();
+  c.tCK_ps = 0;
+  expect_invalid(c, "tCK_ps");
+  c = gt200();
+  c.tRCD = 0;
+  expect_invalid(c, "tRCD");
+  c = gt200();
+  c.tRC = 20;  // < tRAS
+  expect_invalid(c, "tRC");
+  c = gt200();
+  c.WL = 0;
+  expect_invalid(c, "WL");
+  c = gt200();
+  c.tCDLR = 0;
+  expect_invalid(c, "tCDLR");
+  c = gt200();
+  c.tWR = 0;
+  expect_invalid(c, "tWR");
+  c = gt200();
+  c.WL = 11;  // tRCD - (WL + 1) = 0: no activate-to-write delay left
+  expect_invalid(c, "WL");
+  c.WL = 10;
+  EXPECT_NO_THROW(c.validate());
+  c = gt200();
+  c.tRCD = 30;
+  c.WL = 14;  // CL + BL/2 + 2 - WL = 0: no read-to-write delay left
+  expect_invalid(c, "WL");
+  c.WL = 13;
+  EXPECT_NO_THROW(c.validate());
+  c = gt200();
+  c.burst_length = 3;
+  expect_invalid(c, "burst_length");
+  c = gt200();
+  c.queue_size = 0;
+  expect_invalid(c, "queue_size");
+  c = gt200();
+  c.request_bytes = 48;
+  expect_invalid(c, "request_bytes");
+  c = gt200();
+  c.request_bytes = 16;  // less than a burst
+  expect_invalid(c, "request_bytes");
+  c = gt200();
+  c.address_mapping = "RRRRXBBB";
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "RRRR0BBBCCCCCCSSSSS";  // interior unused bit would alias addresses
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "dramid@8;RRRRRRRRRRRRRR.BBBCCC.CCCSSSS";  // 16-byte bursts, but BL*bus = 32
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "dramid@8;RRRRRRRRRRRRRR.BBCCC.CCCSSSSS";  // 4 banks named, 8 configured
+  expect_invalid(c, "address_mapping");
+  c = gt200();
+  c.address_mapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.D.SSSSS";  // 16 channels named, 8 configured
+  expect_invalid(c, "address_mapping");
+  // row:bank:column:channel:offset interleaves channels every 32 bytes: fine for 32-byte
+  // requests, but a 64-byte request would span two channels.
+  c = gt200();
+  c.address_mapping = "RRRRRRRRRRRRRR.BBB.CCCCCC.DDD.SSSSS";
+  EXPECT_NO_THROW(c.validate());
+  c.request_bytes = 64;
+  expect_invalid(c, "request_bytes");
+}
+
+TEST(DramAddressMapping, Gt200ChannelBitsAreInsertedAtBit8) {
+  const DramConfig c = gt200();
+  const AddressMapping m(c.address_mapping, c.channels);
+  EXPECT_EQ(m.bits(AddressMapping::kByte), 5u);
+  EXPECT_EQ(m.bits(AddressMapping::kColumn), 6u);
+  EXPECT_EQ(m.bits(AddressMapping::kChannel), 3u);
+  EXPECT_EQ(m.bits(AddressMapping::kBank), 3u);
+  EXPECT_EQ(m.bits(AddressMapping::kRow), 14u);
+  EXPECT_EQ(m.top_bit(), 31u);
+  for (uint32_t ch = 0; ch < 8; ++ch) {
+    const DramAddress a = m.decode(ch * kChan1 + 3 * kCol1 + 7);
+    EXPECT_EQ(a.channel, ch);
+    EXPECT_EQ(a.bank, 0u);
+    EXPECT_EQ(a.row, 0u);
+    EXPECT_EQ(a.column, 3u);
+    EXPECT_EQ(a.byte, 7u);
+  }
+  EXPECT_EQ(m.decode(2048).channel, 0u);  // after 8 x 256 bytes, back to channel 0 ...
+  EXPECT_EQ(m.decode(2048).column, 8u);   // ... in the next column group of the same row
+  EXPECT_EQ(m.decode(kBank1 * 5).bank, 5u);
+  EXPECT_EQ(m.decode(kRow1 * 9).row, 9u);
+  // Bits above the string extend the row
+  EXPECT_EQ(m.decode(uint64_t(1) << 31).row, uint64_t(1) << 14);
+  const DramAddress a = m.decode(0x12345678);
+  EXPECT_EQ(a.byte, 0x18u);
+  EXPECT_EQ(a.column, ((0x12345678u >> 5) & 7u) | (((0x12345678u >> 11) & 7u) << 3));
+  EXPECT_EQ(a.channel, (0x12345678u >> 8) & 7u);
+  EXPECT_EQ(a.bank, (0x12345678u >> 14) & 7u);
+  EXPECT_EQ(a.row, 0x12345678u >> 17);
+}
+
+TEST(DramAddressMapping, AlternativeRowBankChannelColumn) {
+  const AddressMapping m(kRowBankChannelColumnMapping, 8);
+  EXPECT_EQ(m.decode(256).channel, 0u);
+  EXPECT_EQ(m.decode(256).column, 8u);
+  EXPECT_EQ(m.decode(2048).channel, 1u);
+  EXPECT_EQ(m.decode(2048).column, 0u);
+  EXPECT_EQ(m.decode(7 * 2048).channel, 7u);
+  EXPECT_EQ(m.decode(8 * 2048).bank, 1u);
+  EXPECT_EQ(m.decode(64 * 2048).row, 1u);
+}
+
+TEST(DramController, RejectsAnInvalidConfig) {
+  DramConfig c = gt200();
+  c.banks = 3;
+  EXPECT_THROW(DramController{c}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rtsim::model
