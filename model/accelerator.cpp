@@ -146,8 +146,8 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   build_units();
   bind_ray_path();
   bind_control_and_memory();
-  declare_order();
   build_observers();
+  declare_order();
   register_stats();
 }
 
@@ -239,6 +239,7 @@ void Accelerator::Netlist::declare_order() {
   for (auto& u : shading) calendar.set_rank(*u, kShadingRank);
   calendar.set_rank(*generator, kRayGeneratorRank);
   calendar.set_rank(*culling, kCullingRank);
+  calendar.set_rank(*watchdog, kWatchdogRank);
 }
 
 // The watchdog (a run that stops moving names what is stuck), and what only observes: progress
@@ -255,7 +256,6 @@ void Accelerator::Netlist::build_observers() {
   watchdog = std::make_unique<Watchdog>(
       "watchdog", calendar, ctx.clock, cfg.watchdog_cycles, [this] { return progress_count(); },
       [this] { return pending(); }, [this] { return describe_stall(); });
-  calendar.set_rank(*watchdog, kWatchdogRank);
   if (hooks.progress)
     progress = std::make_unique<PeriodicProbe>("progress", ctx.clock.cycles(hooks.progress_cycles),
                                                [this](Tick now) {

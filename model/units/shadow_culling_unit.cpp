@@ -2,6 +2,7 @@
 
 #include "kernels/light_samples.h"
 #include "model/memory/record_fetch.h"
+#include "model/sim/report.h"
 
 namespace rtsim::model {
 
@@ -25,7 +26,11 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
       region_(region) {
   hits.bind(*this);
   control.bind(*this);
-  if (config.l1 == CullingL1::kOwn) own_l1_ = memory->build_unit(MemorySystem::kCulling, 0, this);
+  if (config.l1 != CullingL1::kOwn) return;
+  if (!memory)
+    report_error(kReportInternal,
+                 std::string(this->name()) + ": an own L1 needs the memory system");
+  own_l1_ = memory->build_unit(MemorySystem::kCulling, 0, this);
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
