@@ -121,11 +121,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
 
   // `line_addr` must be line-aligned (rtsim/internal otherwise). `listener` may be null when
   // the caller does not need a kUnknown completion.
-  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
+  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) final;
   // The cache's own copy when it holds the line's bytes; otherwise (evicted since its delivery,
   // or not yet arrived) the level below's, which is identical because data are read-only.
-  const uint8_t* line_data(uint64_t line_addr) const override;
-  uint32_t line_bytes() const override { return cfg_.line_bytes; }
+  const uint8_t* line_data(uint64_t line_addr) const final;
+  uint32_t line_bytes() const final { return cfg_.line_bytes; }
   // A fill from below for a line this cache asked for with an unknown time.
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
 

@@ -15,8 +15,11 @@ struct RecordFetch {
   uint32_t pending = 0;  // lines still to come (each will be told through on_fill)
 };
 
-inline RecordFetch fetch_record(LineSource& source, uint64_t addr, uint32_t bytes, Tick now,
-                                FillListener* listener, uint64_t cookie) {
+// `Source` is a LineSource, or a Cache (whose final methods are then called directly: this runs on
+// every record a unit reads).
+template <class Source>
+RecordFetch fetch_record(Source& source, uint64_t addr, uint32_t bytes, Tick now,
+                         FillListener* listener, uint64_t cookie) {
   const uint64_t line_bytes = source.line_bytes();
   RecordFetch f;
   for (uint64_t line = addr & ~(line_bytes - 1); line < addr + bytes; line += line_bytes) {
@@ -31,7 +34,8 @@ inline RecordFetch fetch_record(LineSource& source, uint64_t addr, uint32_t byte
 }
 
 // The record's bytes, once every line was delivered (or is known to be).
-inline void read_record(const LineSource& source, uint64_t addr, uint32_t bytes, uint8_t* out) {
+template <class Source>
+void read_record(const Source& source, uint64_t addr, uint32_t bytes, uint8_t* out) {
   const uint64_t line_bytes = source.line_bytes();
   uint32_t done = 0;
   while (done < bytes) {

@@ -46,7 +46,7 @@ void Calendar::fix_order() {
 }
 
 void Calendar::schedule(Client* c, Tick at) {
-  if (!fixed_) fix_order();
+  if (__builtin_expect(!fixed_, 0)) fix_order();
   const Tick now = this->now();
   if (at < now) at = now;
   if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;

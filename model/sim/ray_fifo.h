@@ -133,14 +133,16 @@ class RayFifo : public sc_core::sc_object, public RayQueueIn {
 };
 
 // The FIFOs of a RayDeal port served in turn: the next one with room, starting after the last one
-// used (in the order the port was bound).
+// used (in the order the port was bound). The port's interfaces are taken at the first use (after
+// elaboration), so a deal costs no port lookup.
 class RoundRobin {
  public:
   explicit RoundRobin(RayDeal& port) : port_(port) {}
   RayQueueIn* next_free() {
-    const size_t n = size_t(port_.size());
+    const std::vector<RayQueueIn*>& fifos = bound();
+    const size_t n = fifos.size();
     for (size_t i = 0; i < n; ++i) {
-      RayQueueIn* f = port_[int((next_ + i) % n)];
+      RayQueueIn* f = fifos[(next_ + i) % n];
       if (!f->full()) {
         next_ = (next_ + i + 1) % n;
         return f;
@@ -149,13 +151,19 @@ class RoundRobin {
     return nullptr;
   }
   bool any_free() const {
-    for (int i = 0; i < port_.size(); ++i)
-      if (!port_[i]->full()) return true;
+    for (const RayQueueIn* f : bound())
+      if (!f->full()) return true;
     return false;
   }
 
  private:
+  const std::vector<RayQueueIn*>& bound() const {
+    if (fifos_.empty())
+      for (int i = 0; i < port_.size(); ++i) fifos_.push_back(port_[i]);
+    return fifos_;
+  }
   RayDeal& port_;
+  mutable std::vector<RayQueueIn*> fifos_;
   size_t next_ = 0;
 };
 

@@ -32,7 +32,6 @@ class IstUnit : public RayUnit {
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).ist.fetch; }
   void admitted(uint32_t ray) override;
 
  private:

@@ -26,7 +26,6 @@ class ListUnit : public RayUnit {
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).list.fetch; }
   void admitted(uint32_t ray) override;
 
  private:

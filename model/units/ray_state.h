@@ -26,6 +26,9 @@ struct RayInfo {
   uint16_t sample = 0;  // shadow rays: which of the light's samples
 };
 
+// The stages that hold a ray while it waits for memory, each with its own entry below.
+enum Stage : uint8_t { kTrvStage, kListStage, kIstStage, kShadingStage, kStages };
+
 // A unit's hold on a ray waiting for memory: its entry in the unit's ray accumulation buffer.
 // Empty again whenever the ray leaves the unit.
 struct FetchState {
@@ -40,7 +43,6 @@ struct TrvState {
   TraversalState walk;
   uint16_t owner = 0;
   bool started = false;  // traversal_begin done
-  FetchState fetch;
 };
 
 // LIST: the current leaf's record and primitive list.
@@ -48,7 +50,6 @@ struct ListState {
   uint32_t leaf_lvb = 0;  // the leaf's LVB word
   uint32_t prim_offset = 0, prim_count = 0, prims_fetched = 0;
   std::vector<uint32_t> tris;
-  FetchState fetch;
 };
 
 // IST (with its LVB updater): the closest hit so far and the current leaf's tests.
@@ -58,7 +59,6 @@ struct IstState {
   uint32_t tests_issued = 0;
   Ray leaf_ray;
   Tick leaf_done_at = 0;  // completion of the latest test issued
-  FetchState fetch;
 };
 
 // Shading: the hit's surface, read from its triangle, then its material.
@@ -66,7 +66,6 @@ struct ShadingState {
   uint8_t stage = 0;  // 0: the triangle next, 1: the material
   uint32_t material = 0;
   SurfacePoint surface;
-  FetchState fetch;
 };
 
 struct RayState {
@@ -75,6 +74,7 @@ struct RayState {
   ListState list;
   IstState ist;
   ShadingState shading;
+  FetchState fetch[kStages];  // by stage: each ray unit's own entry, written by that unit alone
 };
 
 class RayPool {

@@ -44,15 +44,19 @@ class RayUnit : public Unit, public FillListener {
       : Unit(name, *ctx.calendar, ctx.clock),
         in("in", cfg.fifo_depth, this),
         ctx_(ctx),
+        stage_(Stage(type)),
         capacity_(cfg.capacity) {
+    static_assert(Stage(MemorySystem::kTrv) == kTrvStage &&
+                      Stage(MemorySystem::kList) == kListStage &&
+                      Stage(MemorySystem::kIst) == kIstStage &&
+                      Stage(MemorySystem::kShading) == kShadingStage,
+                  "a ray unit's stage is its memory type");
     memory_ = memory.build_unit(type, index, this);
     l1_ = memory_->l1.get();
   }
 
   // Works on one ready ray at `now`.
   virtual void process(uint32_t ray, Tick now) = 0;
-  // This unit's entry for `ray` in its ray accumulation buffer (its part of the ray's state).
-  virtual FetchState& fetch_state(uint32_t ray) = 0;
   // Whether a new ray may enter from the input FIFO (default: room inside the unit).
   virtual bool can_admit() const { return held_ < capacity_; }
   // A ray entered from the input FIFO: the unit sets up its part of the ray's state.
@@ -84,6 +88,8 @@ class RayUnit : public Unit, public FillListener {
   bool holds_work() const override { return held_ > 0 || !in.empty(); }
 
   RayState& ray_state(uint32_t ray) const { return (*ctx_.pool)[ray]; }
+  // This unit's entry for `ray` in its ray accumulation buffer.
+  FetchState& fetch_state(uint32_t ray) const { return ray_state(ray).fetch[stage_]; }
   // The ray stays in this unit and may issue again at `when`.
   void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
   // The ray waits for `lines` fills (told through on_fill).
@@ -136,6 +142,7 @@ class RayUnit : public Unit, public FillListener {
   };
   std::unique_ptr<UnitMemory> memory_;
   Cache* l1_ = nullptr;
+  Stage stage_;
   uint32_t capacity_;
   uint32_t held_ = 0;
   Blocked blocked_;

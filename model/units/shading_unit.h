@@ -40,7 +40,6 @@ class ShadingUnit : public RayUnit {
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).shading.fetch; }
   void admitted(uint32_t ray) override { ray_state(ray).shading.stage = 0; }
 
  private:

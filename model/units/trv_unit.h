@@ -41,7 +41,6 @@ class TrvUnit : public RayUnit, public RayOwner {
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  FetchState& fetch_state(uint32_t ray) override { return ray_state(ray).trv.fetch; }
   bool can_admit() const override { return owned_ < capacity_; }
   void admitted(uint32_t ray) override;
   bool holds_work() const override { return RayUnit::holds_work() || owned_ > 0; }
