@@ -2,6 +2,7 @@
 
 #include "model/memory/dram.h"
 #include "model/memory/memory_system.h"
+#include "model/memory/tlm_checker.h"
 #include "model/sim/calendar.h"
 #include "model/sim/periodic_probe.h"
 #include "model/sim/report.h"
@@ -84,6 +85,11 @@ struct Accelerator::Netlist {
   std::string describe_stall() const;
   void report_progress(Tick now) const;
   void register_stats();
+  // The socket towards memory: the protocol checker's, when there is one.
+  tlm::tlm_initiator_socket<>& memory_socket() {
+    if (checker) return checker->initiator_socket;
+    return memory->interconnect().port().socket;
+  }
 
   Accelerator& top;
   AcceleratorConfig cfg;
@@ -96,6 +102,7 @@ struct Accelerator::Netlist {
   Calendar calendar;
   std::unique_ptr<Dram> dram;
   std::unique_ptr<MemorySystem> memory;
+  std::unique_ptr<TlmChecker> checker;  // between the memory port and the memory, if asked
   std::unique_ptr<RayGenerator> generator;
   std::vector<std::unique_ptr<TrvUnit>> trv;
   std::vector<std::unique_ptr<ListUnit>> list;
@@ -163,7 +170,11 @@ void Accelerator::Netlist::build_memory(const MemoryImage& image, bool builtin_m
     dram = std::make_unique<Dram>("dram", mem.dram, &image.bytes(), ctx.clock, calendar,
                                   memory_bytes - image.bytes().size());
   memory = std::make_unique<MemorySystem>(mem, ctx.clock, calendar);
-  if (dram) memory->interconnect().port().socket.bind(dram->socket);
+  if (hooks.tlm_checks) {
+    checker = std::make_unique<TlmChecker>("tlm_checker");
+    memory->interconnect().port().socket.bind(checker->target_socket);
+  }
+  if (dram) memory_socket().bind(dram->socket);
   if (!hooks.mem_trace.file.empty()) memory->interconnect().port().open_trace(hooks.mem_trace);
 }
 
@@ -333,6 +344,7 @@ void Accelerator::Netlist::register_stats() {
   culling->register_stats(stats, stat_prefix(*culling, top));
   lvb.register_stats(stats, stat_prefix(lvb, top));
   if (dram) dram->register_stats(stats, stat_prefix(*dram, top));
+  if (checker) checker->register_stats(stats, stat_prefix(*checker, top));
   for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &end);
 }
 
@@ -363,9 +375,7 @@ bool Accelerator::finished() const { return net_->phases.finished(); }
 
 const StatsRegistry& Accelerator::stats() const { return net_->stats; }
 
-tlm_utils::simple_initiator_socket<MemoryPort>& Accelerator::memory_socket() {
-  return net_->memory->interconnect().port().socket;
-}
+tlm::tlm_initiator_socket<>& Accelerator::memory_socket() { return net_->memory_socket(); }
 
 uint64_t Accelerator::memory_bytes() const { return net_->memory_bytes; }
 
@@ -374,6 +384,10 @@ AcceleratorResult Accelerator::result() {
   if (!finished())
     report_error(kReportInternal,
                  std::string(name()) + ": the simulation ended with rays in flight");
+  if (n.checker && n.checker->open_transactions() > 0)
+    report_error(kReportTlm, std::string(n.checker->name()) + ": " +
+                                 std::to_string(n.checker->open_transactions()) +
+                                 " transactions never ended");
   if (!n.collected) {
     if (n.trace) n.trace->close();
     n.memory->interconnect().port().close_trace();

@@ -58,13 +58,16 @@ struct Progress {
   double culling_scanned = 0;
 };
 
-// Observers of a run; neither changes a simulated figure.
+// Observers of a run; none changes a simulated figure.
 struct SimulationHooks {
   // Called every progress_cycles while the frame runs
   std::function<void(const Progress&)> progress;
   uint64_t progress_cycles = 20000;
   TraceRequest trace;      // a VCD of FIFOs and unit busy signals
   TraceRequest mem_trace;  // a CSV of the memory transactions
+  // A TLM-2.0 base-protocol checker (model/memory/tlm_checker.h, `<top>.tlm_checker`) between the
+  // memory port and the memory: a violation is rtsim/tlm.
+  bool tlm_checks = false;
 };
 
 // The frame to render: `camera` at width x height.
@@ -93,8 +96,8 @@ class Accelerator : public sc_core::sc_module {
   const StatsRegistry& stats() const;
 
   // The TLM-2.0 initiator socket towards memory (bound to the built-in GDDR3 unless told
-  // otherwise).
-  tlm_utils::simple_initiator_socket<MemoryPort>& memory_socket();
+  // otherwise): the memory port's, or the protocol checker's behind it.
+  tlm::tlm_initiator_socket<>& memory_socket();
   // The bytes the memory must hold: the image, then the frame buffer of hit records.
   uint64_t memory_bytes() const;
 

@@ -218,9 +218,10 @@ int run_model(const RunArgs& args) {
   std::filesystem::create_directories(out);
   ProgressLine progress(p.scene.name, !args.quiet);
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
+  hooks.tlm_checks = c.run.tlm_checks;
   const auto t_sim = std::chrono::steady_clock::now();
-  const SimulatedFrame r =
-      simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks);
+  const SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width,
+                                          p.scene.height, hooks, double(c.run.time_resolution_ps));
   host.simulate = seconds_since(t_sim);
   progress.finish();
 

@@ -63,6 +63,11 @@ RunSettings read_run_settings(YamlMap m) {
   r.height = m.get_in_range("height", r.height, 0, 16384);
   r.check = m.get<bool>("check", r.check);
   r.plots = m.get<bool>("plots", r.plots);
+  r.tlm_checks = m.get<bool>("tlm_checks", r.tlm_checks);
+  r.time_resolution_ps =
+      m.get_in_range<uint64_t>("time_resolution_ps", r.time_resolution_ps, 1, 1'000'000);
+  for (uint64_t v = r.time_resolution_ps; v > 1; v /= 10)
+    if (v % 10 != 0) m.fail("time_resolution_ps", "expected a power of ten (1, 10, 100, 1000 ...)");
   if (const double since = m.get<double>("lvb_lazy_since", std::nan("")); !std::isnan(since))
     r.lvb_lazy_since = since;
   m.finish();
@@ -158,7 +163,9 @@ nlohmann::json run_settings_json(const RunSettings& r) {
                       {"width", r.width},
                       {"height", r.height},
                       {"check", r.check},
-                      {"plots", r.plots}};
+                      {"plots", r.plots},
+                      {"tlm_checks", r.tlm_checks},
+                      {"time_resolution_ps", r.time_resolution_ps}};
   if (r.lvb_lazy_since) j["lvb_lazy_since"] = *r.lvb_lazy_since;
   return j;
 }

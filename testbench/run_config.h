@@ -26,8 +26,11 @@ struct RunSettings {
   int reflections = 0;   // mirror bounces
   // 0 = the scene file's resolution (which --set scene.resolution changes)
   int width = 0, height = 0;
-  bool check = false;  // compare every pixel with the reference tracer
-  bool plots = true;   // the PNG figures (python3 + matplotlib)
+  bool check = false;       // compare every pixel with the reference tracer
+  bool plots = true;        // the PNG figures (python3 + matplotlib)
+  bool tlm_checks = false;  // the TLM-2.0 protocol checker on the memory socket
+  // SystemC's time resolution (a power of ten of picoseconds): the figures do not depend on it
+  uint64_t time_resolution_ps = 1;
   // The time of an earlier frame: the report's lvb.lazy counts what a lazy rebuild would redo
   // after it (rtsim animate sets the previous frame's; docs/animation.md).
   std::optional<double> lvb_lazy_since;

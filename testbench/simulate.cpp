@@ -19,6 +19,7 @@ namespace {
   if (type == model::kReportWatchdog)
     throw std::runtime_error("the accelerator model stopped: " + msg);
   if (type == model::kReportConfig) throw InputError(msg);
+  if (type == model::kReportTlm) throw std::runtime_error("TLM-2.0 protocol violation: " + msg);
   throw std::runtime_error(type + ": " + msg);
 }
 
@@ -34,8 +35,11 @@ void run_simulation() {
 
 SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image,
                               const Camera& camera, int width, int height,
-                              const model::SimulationHooks& hooks) {
-  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+                              const model::SimulationHooks& hooks, double resolution_ps) {
+  // A resolution coarser than 1 ns moves SystemC's default time unit with it: expected here.
+  sc_core::sc_report_handler::set_actions(sc_core::SC_ID_DEFAULT_TIME_UNIT_CHANGED_,
+                                          sc_core::SC_DO_NOTHING);
+  sc_core::sc_set_time_resolution(resolution_ps, sc_core::SC_PS);
   SimulatedFrame out;
   try {
     model::Accelerator accelerator("rtsim", config, image, model::FrameJob{camera, width, height},

@@ -37,6 +37,7 @@ class FixedLatencyMemory : public sc_core::sc_module {
     dont_initialize();
   }
   uint64_t reads = 0, writes = 0;
+  const std::vector<uint8_t>& bytes() const { return bytes_; }  // as the writes left them
 
  private:
   bool in_range(const tlm::tlm_generic_payload& p) const {

@@ -60,7 +60,7 @@ int sc_main(int argc, char** argv) {
   const rtsim::model::AcceleratorConfig config;
   const rtsim::model::FrameJob frame{job.scene.camera, job.width, job.height};
 
-  // 1. The model needs a time resolution of 1 ps; the platform sets it.
+  // 1. A time resolution that holds the accelerator clock (1 ns at 1 GHz); the platform sets it.
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   std::vector<std::unique_ptr<rtsim::model::Accelerator>> accelerators;
   std::vector<std::unique_ptr<example::FixedLatencyMemory>> memories;

@@ -189,11 +189,18 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   m.free_at = when;
   --awaiting_;
 
-  // Collect every completion first and call the listeners last, so they may call back in.
+  // Collect every completion first and call the listeners last, so they may call back in. Each
+  // takes the line's bytes as they are when it is decided: a request served below may evict the
+  // line before its listener reads it, and the data travel with the delivery.
   std::vector<Delivery> out;
+  std::vector<uint8_t> bytes;
+  const auto deliver = [&](FillListener* listener, uint64_t l, uint64_t cookie, Tick t) {
+    out.push_back({listener, l, cookie, t});
+    const uint8_t* data = line_data(l);
+    bytes.insert(bytes.end(), data, data + cfg_.line_bytes);
+  };
   out.reserve(m.waiters.size());
-  for (const Waiter& w : m.waiters)
-    out.push_back({w.listener, line, w.cookie, std::max(when, w.earliest)});
+  for (const Waiter& w : m.waiters) deliver(w.listener, line, w.cookie, std::max(when, w.earliest));
   m.waiters.clear();
 
   // The freed MSHR serves the queued requests in arrival order, as accesses made at the fill time.
@@ -210,18 +217,27 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
       }
       const Tick t =
           access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
-      if (t != kUnknown) out.push_back({q.listener, q.line, q.cookie, t});
+      if (t != kUnknown) deliver(q.listener, q.line, q.cookie, t);
     }
   }
 
-  for (const Delivery& d : out)
+  const Handing outer = handing_;
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Delivery& d = out[i];
+    handing_ = {d.line, &bytes[i * cfg_.line_bytes]};
     if (d.listener) d.listener->on_fill(d.line, d.cookie, d.when);
+  }
+  handing_ = outer;
 }
 
-const uint8_t* Cache::line_data(uint64_t line) const {
+// An upstream cache of a smaller line asks for an address inside one of ours.
+const uint8_t* Cache::line_data(uint64_t addr) const {
+  const uint64_t line = addr & ~uint64_t(cfg_.line_bytes - 1);
+  if (handing_.data && handing_.line == line) return handing_.data + (addr - line);
   const uint32_t way = find_way(line);
-  if (way != kNoWay && ready_[way] != kUnknown) return &data_[size_t(way) * cfg_.line_bytes];
-  return below_->line_data(line);
+  if (way != kNoWay && ready_[way] != kUnknown)
+    return &data_[size_t(way) * cfg_.line_bytes + (addr - line)];
+  return below_->line_data(addr);
 }
 
 void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {

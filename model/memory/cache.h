@@ -122,8 +122,9 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // `line_addr` must be line-aligned (rtsim/internal otherwise). `listener` may be null when
   // the caller does not need a kUnknown completion.
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) final;
-  // The cache's own copy when it holds the line's bytes; otherwise (evicted since its delivery,
-  // or not yet arrived) the level below's, which is identical because data are read-only.
+  // The bytes of the line being handed to a listener in on_fill (as they were when its delivery
+  // was decided), else the cache's own copy when it holds the line's bytes, else the level
+  // below's.
   const uint8_t* line_data(uint64_t line_addr) const final;
   uint32_t line_bytes() const final { return cfg_.line_bytes; }
   // A fill from below for a line this cache asked for with an unknown time.
@@ -147,6 +148,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   const CacheConfig& config() const { return cfg_; }
   // Probes without side effects (tests, debugging).
   bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
+  // Whether the cache holds the line's bytes (present and not awaiting its fill).
+  bool has_data(uint64_t line_addr) const {
+    const uint32_t way = find_way(line_addr);
+    return way != kNoWay && ready_[way] != kUnknown;
+  }
   size_t queued_requests() const { return queued_.size(); }
 
  private:
@@ -175,6 +181,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     Tick when;
   };
 
+  struct Handing {  // the line an on_fill listener is being told of, and its bytes
+    uint64_t line = 0;
+    const uint8_t* data = nullptr;
+  };
+
   uint32_t find_way(uint64_t line_addr) const;  // global way index or kNoWay
   // The access proper, at time `now`. `arrival` is when the request first arrived (< now for a
   // queued request served at a fill); `requeued` says its stall event was already counted.
@@ -191,6 +202,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   CacheConfig cfg_;
   Clock clock_;
   LineSource* below_;
+  Handing handing_;
   Tick hit_ticks_;
   uint32_t line_shift_;
   uint64_t set_mask_;

@@ -27,10 +27,6 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config,
       image_bytes_(memory ? memory->size() : 0),
       store_bytes_(image_bytes_ + extra_bytes),
       accel_clock_(accel_clock) {
-  if (sc_core::sc_get_time_resolution() != sc_core::sc_time(1, sc_core::SC_PS))
-    report_error(kReportConfig, std::string(this->name()) +
-                                    ": needs a time resolution of 1 ps (sc_set_time_resolution(1, "
-                                    "SC_PS) before any sc_time)");
   const uint64_t line = engine_.config().request_bytes;
   const uint64_t page = std::max<uint64_t>(kMinPageBytes, line);  // both powers of two
   while ((uint64_t(1) << page_shift_) < page) ++page_shift_;
@@ -56,7 +52,14 @@ tlm::tlm_response_status Dram::check(const tlm::tlm_generic_payload& p) const {
 
 tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                          sc_core::sc_time& delay) {
-  if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;  // END_RESP: nothing to do
+  if (phase == tlm::END_RESP) {  // the held-back responses may go
+    if (&p == awaiting_end_resp_) {
+      awaiting_end_resp_ = nullptr;
+      calendar_.schedule(this, calendar_.now());
+    }
+    return tlm::TLM_COMPLETED;
+  }
+  if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;
   const tlm::tlm_response_status status = check(p);
   if (status != tlm::TLM_OK_RESPONSE) {
     p.set_response_status(status);
@@ -68,7 +71,7 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_p
     std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
   const uint64_t id = next_id_++;
   requesters_.emplace(id, Requester{line, &p});
-  engine_.enqueue(line, calendar_.now() + delay.value(), id, write);
+  engine_.enqueue(line, calendar_.now() + calendar_.time().to_tick(delay), id, write);
   wake_for(engine_.next_event_time());
   phase = tlm::END_REQ;
   return tlm::TLM_UPDATED;
@@ -91,11 +94,12 @@ unsigned Dram::transport_dbg(tlm::tlm_generic_payload& p) {
   return n;
 }
 
-void Dram::respond(tlm::tlm_generic_payload& p, Tick delay) {
+void Dram::respond(tlm::tlm_generic_payload& p) {
   p.set_response_status(tlm::TLM_OK_RESPONSE);
   tlm::tlm_phase phase = tlm::BEGIN_RESP;
-  sc_core::sc_time t = sc_core::sc_time::from_value(delay);
-  socket->nb_transport_bw(p, phase, t);  // TLM_ACCEPTED and a later END_RESP are fine too
+  sc_core::sc_time t = sc_core::SC_ZERO_TIME;
+  // TLM_ACCEPTED: the next response waits for this one's END_RESP (response exclusion)
+  if (socket->nb_transport_bw(p, phase, t) == tlm::TLM_ACCEPTED) awaiting_end_resp_ = &p;
 }
 
 // Callers may ask for a finer-aligned address (an L1 line inside a larger request): the bytes
@@ -144,29 +148,24 @@ void Dram::activate() {
   const Tick now = calendar_.now();
   done_.clear();
   engine_.advance(now, done_);
-  for (const DramController::Completion& c : done_) {
-    if (c.write) {  // posted: the response goes now, annotated with the time the data are in
-      const auto it = requesters_.find(c.id);
-      tlm::tlm_generic_payload* p = it->second.payload;
-      requesters_.erase(it);
-      respond(*p, c.data_ready > now ? c.data_ready - now : 0);
-      continue;
-    }
-    deliveries_.push(Delivery{accel_clock_.edge_at_or_after(c.data_ready), c.id});
-  }
-  while (!deliveries_.empty() && deliveries_.top().when <= now) {
+  // A read's data go at the accelerator's edge after they are in; a write (posted: nobody waits
+  // for it) is answered when its data are in.
+  for (const DramController::Completion& c : done_)
+    deliveries_.push(
+        Delivery{c.write ? c.data_ready : accel_clock_.edge_at_or_after(c.data_ready), c.id});
+  while (!awaiting_end_resp_ && !deliveries_.empty() && deliveries_.top().when <= now) {
     const Delivery d = deliveries_.top();
     deliveries_.pop();
     const auto it = requesters_.find(d.id);
     const Requester r = it->second;
     requesters_.erase(it);
     // The bytes as they are now (writes posted before this moment included).
-    if (store_bytes_ > 0)
+    if (store_bytes_ > 0 && r.payload->is_read())
       std::memcpy(r.payload->get_data_ptr(), line_data(r.line), engine_.config().request_bytes);
-    respond(*r.payload, 0);
+    respond(*r.payload);
   }
   Tick next = engine_.next_event_time();
-  if (!deliveries_.empty()) next = std::min(next, deliveries_.top().when);
+  if (!deliveries_.empty() && !awaiting_end_resp_) next = std::min(next, deliveries_.top().when);
   wake_for(next);
 }
 

@@ -1,20 +1,22 @@
 // The GDDR3 memory as a SystemC module and a TLM-2.0 target (`socket`, approximately-timed base
 // protocol): a thin wrapper that drives the DramController engine in simulated time and holds the
-// simulated memory's bytes. Needs a time resolution of 1 ps.
+// simulated memory's bytes. It acts on the calendar, at its command clock's exact times whatever
+// SystemC's resolution (model/sim/calendar.h).
 //
 // A read (BEGIN_REQ, its delay annotation = when it reaches memory) is accepted at once
 // (TLM_UPDATED, END_REQ: the controller's queue takes every request) and enqueued in the engine.
 // An activation on the calendar advances the engine to the current time; a read's response
 // (BEGIN_RESP, with the line's bytes) goes at the first accelerator-clock edge at or after its
 // data are ready (the DRAM runs on its own command clock; the accelerator samples on its own).
-// Responses later than now wait in a small time-ordered queue, sent in (time, request order). The
-// module re-arms for the earliest of the engine's next event and the next response, so it costs no
-// activation while idle.
+// Responses later than now wait in a small time-ordered queue, sent in (time, request order), one
+// at a time: an initiator that answers a BEGIN_RESP with TLM_ACCEPTED holds the next until its
+// END_RESP (the response exclusion rule; requests are never refused). The module re-arms for the
+// earliest of the engine's next event and the next response, so it costs no activation while idle.
 //
 // A write is posted: its bytes are stored at once (functionally: a later read sees them, even one
 // enqueued before the write) and the write is queued in the engine for its timing only (it shares
-// the FR-FCFS queue, the banks and the data bus with the reads); its response goes when the engine
-// reports it, annotated with the time its last data beat is in. A request that is not one whole
+// the FR-FCFS queue, the banks and the data bus with the reads); its response goes at the time
+// the engine reports its last data beat in. A request that is not one whole
 // line inside the store completes at once with an address or burst error. transport_dbg reads and
 // writes the store without timing.
 //
@@ -91,8 +93,8 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
   unsigned transport_dbg(tlm::tlm_generic_payload& p);
   // A request's response status if it is not one request_bytes line inside the store.
   tlm::tlm_response_status check(const tlm::tlm_generic_payload& p) const;
-  void respond(tlm::tlm_generic_payload& p, Tick delay);
-  void activate() override;  // on the calendar
+  void respond(tlm::tlm_generic_payload& p);  // BEGIN_RESP now
+  void activate() override;                   // on the calendar
   void wake_for(Tick t);
   bool in_store(uint64_t line_addr) const {
     return line_addr <= store_bytes_ && store_bytes_ - line_addr >= engine_.config().request_bytes;
@@ -112,6 +114,7 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
   std::priority_queue<Delivery, std::vector<Delivery>, std::greater<Delivery>> deliveries_;
   std::vector<DramController::Completion> done_;  // scratch
   uint64_t next_id_ = 0;
+  const tlm::tlm_generic_payload* awaiting_end_resp_ = nullptr;  // answered TLM_ACCEPTED
 };
 
 }  // namespace rtsim::model

@@ -29,8 +29,7 @@ MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const 
       channels_(mapping.channels),
       mapping_(mapping.address_mapping, mapping.channels),
       clock_(clock),
-      calendar_(calendar),
-      debug_line_(line_bytes) {
+      calendar_(calendar) {
   socket.register_nb_transport_bw(this, &MemoryPort::nb_transport_bw);
   calendar_.add(this, clock_.period());
 }
@@ -95,36 +94,55 @@ void MemoryPort::send(Transaction* t) {
 
 void MemoryPort::send_now(Transaction* t) {
   const Tick now = calendar_.now();
+  const TimeBase& time = calendar_.time();
+  Tick at = std::max(t->requested, now);
+  // The request channel: not while the target is still taking the previous request
+  if (at >= taking_.from && at < taking_.until) at = taking_.until;
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
-  sc_core::sc_time delay =
-      sc_core::sc_time::from_value(t->requested > now ? t->requested - now : 0);
-  switch (socket->nb_transport_fw(*t, phase, delay)) {
-    case tlm::TLM_ACCEPTED:
-      open_ = t;  // END_REQ comes later
-      break;
-    // Answered within the request: queued, never delivered inside the requester's fetch_line.
-    case tlm::TLM_UPDATED:
-      if (phase == tlm::BEGIN_RESP)
-        response(t, now + delay.value(), false);
-      else if (phase != tlm::END_REQ)
-        open_ = t;
-      break;
-    case tlm::TLM_COMPLETED: response(t, now + delay.value(), false); break;
+  sc_core::sc_time delay = time.to_sc_time(at - now);
+  const tlm::tlm_sync_enum r = socket->nb_transport_fw(*t, phase, delay);
+  const Tick then = now + time.to_tick(delay);
+  if (r == tlm::TLM_ACCEPTED) {
+    open_ = t;  // END_REQ comes later
+    open_at_ = at;
+    return;
   }
+  if (r == tlm::TLM_UPDATED && phase == tlm::END_REQ) {
+    taking_ = {at, then};
+    return;
+  }
+  // Answered with its response: taken at its own time (the delay times the response).
+  taking_ = {at, at};
+  if (r == tlm::TLM_UPDATED && phase != tlm::BEGIN_RESP)
+    report_error(kReportTlm, std::string(name()) + ": BEGIN_REQ answered TLM_UPDATED with " +
+                                 phase.get_name() + " (END_REQ or BEGIN_RESP expected)");
+  // Early completion (TLM_UPDATED with BEGIN_RESP) is answered with END_RESP at the response's
+  // time, as Accellera's adapters do; TLM_COMPLETED needs nothing more. Either way the response
+  // is queued, never delivered inside the requester's fetch_line.
+  if (r == tlm::TLM_UPDATED) {
+    phase = tlm::END_RESP;
+    if (socket->nb_transport_fw(*t, phase, delay) != tlm::TLM_COMPLETED)
+      report_error(kReportTlm, std::string(name()) + ": END_RESP not answered TLM_COMPLETED");
+  }
+  response(t, then, false);
 }
 
 tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                                sc_core::sc_time& delay) {
-  const Tick at = calendar_.now() + delay.value();
+  const Tick at = calendar_.now() + calendar_.time().to_tick(delay);
   // END_REQ, or a response to the open request (the base protocol's implicit END_REQ), frees the
-  // request channel.
+  // request channel from its time on.
   if (&p == open_ && (phase == tlm::END_REQ || phase == tlm::BEGIN_RESP)) {
     open_ = nullptr;
+    taking_ = {open_at_, at};
     if (!held_.empty()) calendar_.schedule(this, clock_.edge_at_or_after(at));
   }
   if (phase != tlm::BEGIN_RESP) return tlm::TLM_ACCEPTED;
   response(static_cast<Transaction*>(&p), at, true);
-  return tlm::TLM_COMPLETED;
+  // Taken at once (it waits here for its clock edge): END_RESP at the response's time, which a
+  // target that waits for END_RESP before its next response (DRAMSys's arbiter) needs.
+  phase = tlm::END_RESP;
+  return tlm::TLM_UPDATED;
 }
 
 void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
@@ -135,12 +153,17 @@ void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
     t->release();
     return;
   }
-  const Tick edge = clock_.edge_at_or_after(at);
-  if (may_deliver_now && edge == calendar_.now() && calendar_.running() && responses_.empty()) {
-    // From a block on this calendar (our GDDR3), at an edge: already in the fixed order
+  const bool ours = may_deliver_now && calendar_.running();  // a block of this calendar's
+  Tick edge = clock_.edge_at_or_after(at);
+  if (ours && edge == calendar_.now() && responses_.empty()) {
+    // Our GDDR3's, at an edge: already in the fixed order
     deliver(t);
     return;
   }
+  // The platform's responses are registered: taken at the first edge after their time. SystemC
+  // does not order the processes of one time, so taking one at its own edge would make the
+  // figures depend on whether the calendar had run yet.
+  if (!ours && edge == at) edge += clock_.period();
   responses_.push({edge, seq_++, t});
   calendar_.schedule(this, edge);
 }
@@ -173,20 +196,10 @@ void MemoryPort::activate() {
 
 const uint8_t* MemoryPort::line_data(uint64_t line_addr) const {
   const uint64_t block = line_addr & ~uint64_t(line_bytes_ - 1);
-  if (delivering_ && delivering_->line == block)
-    return delivering_->data.data() + (line_addr - block);
-  // Not in a response: read it without timing.
-  tlm::tlm_generic_payload p;
-  p.set_read();
-  p.set_address(block);
-  p.set_data_ptr(debug_line_.data());
-  p.set_data_length(line_bytes_);
-  p.set_streaming_width(line_bytes_);
-  if (const_cast<MemoryPort*>(this)->socket->transport_dbg(p) != line_bytes_)
-    report_error(kReportMemory,
-                 std::string(name()) + ": debug read of line " + std::to_string(block) + " failed");
-  ++debug_reads_;
-  return debug_line_.data() + (line_addr - block);
+  if (!delivering_ || delivering_->line != block)  // the caches keep what they hand on
+    report_error(kReportInternal, std::string(name()) + ": line " + std::to_string(block) +
+                                      " asked for outside its response");
+  return delivering_->data.data() + (line_addr - block);
 }
 
 void MemoryPort::name_requester(const FillListener* listener, const std::string& name) {
@@ -244,8 +257,6 @@ void MemoryPort::register_stats(StatsRegistry& r, const std::string& prefix) con
   r.counter(prefix + ".writes", &stats_.writes, "count", "line writes sent to memory");
   r.counter(prefix + ".refused", &stats_.refused, "count",
             "requests held back until the memory took the previous one");
-  r.counter(prefix + ".debug_reads", &debug_reads_, "count",
-            "lines read with the debug transport (outside a response)");
   r.counter(prefix + ".latency_cycles", &stats_.latency_cycles, "cycles",
             "sum over reads of request-to-response cycles");
   r.formula(

@@ -3,23 +3,34 @@
 // TLM-2.0 memory target (our GDDR3 controller, model/memory/dram.h, or a platform's own memory).
 //
 // A line read or a posted line write becomes one generic payload from a pool (a memory manager),
-// sent with BEGIN_REQ and a delay annotation = the time it arrives at memory minus now. A target
-// that answers TLM_ACCEPTED holds back further requests until its END_REQ (back-pressure): they
-// wait here, in order, and go at the first accelerator clock edge after END_REQ. Responses
-// (BEGIN_RESP, answered TLM_COMPLETED) are not acted on inside the target's call: each is queued
-// and handed to the calendar at the first accelerator clock edge at or after its time, where
-// the requester is told (FillListener::on_fill) in the order the responses came. So the
-// calendar's fixed order holds whatever the target's processes do. A response that comes from a
-// block of this calendar while it runs, for this very edge, with none queued before it (our
-// GDDR3's, model/memory/dram.h), is already in that order: it is handed over at once, which saves
-// the port an activation per read and gives the same figures.
+// sent with BEGIN_REQ and a delay annotation = the time it arrives at memory minus now (delays
+// are counted from the calendar's time, which is the kernel's at every accelerator edge). The
+// port follows the base protocol with every legal target (IEEE 1666-2011, 15.2):
+//  - requests: TLM_ACCEPTED holds further requests back until END_REQ (they wait here, in order,
+//    and go at the first accelerator clock edge after it); END_REQ returned with TLM_UPDATED and
+//    a delay, or sent with one, frees the request channel from that time on: the next BEGIN_REQ
+//    is annotated not to arrive before it. A BEGIN_RESP stands for a missing END_REQ.
+//  - responses: a BEGIN_RESP on the backward path is answered TLM_UPDATED with END_RESP (taken
+//    at once, at its time), so a target that waits for END_RESP before its next response goes
+//    on; an early completion (BEGIN_REQ answered TLM_UPDATED with BEGIN_RESP) gets its END_RESP
+//    on the forward path right after the call; TLM_COMPLETED needs nothing more.
+// Responses are not acted on inside the target's call: each is queued and handed to the
+// calendar at the first accelerator clock edge after its time (registered: a response exactly at
+// an edge waits for the next one, since SystemC does not order the processes of one time and the
+// figures would otherwise depend on whether the calendar had run yet), where the requester is told
+// (FillListener::on_fill) in the order the responses came. So the calendar's fixed order holds
+// whatever the target's processes do. A response that comes from a block of this calendar while
+// it runs, for this very edge, with none queued before it (our GDDR3's, model/memory/dram.h, a
+// block of the accelerator's clock domain), is already in that order: it is handed over at once. A
+// response's error status is rtsim/memory; a protocol answer the base protocol does not allow is
+// rtsim/tlm.
 //
-// The data come with the response: a cache asks line_data() for the line being delivered and
-// gets the payload's bytes. A line asked for at any other time (an L1 re-reading a line its L2
-// has evicted since) is read with the debug transport (transport_dbg, no timing), and counted.
+// The data come with the response and only with it: a cache asks line_data() for the line being
+// delivered and gets the payload's bytes (the caches keep what they hand on, model/memory/cache.h,
+// so nothing is read outside a response and no target needs the debug transport).
 //
-// Statistics: reads, writes, debug_reads, latency_cycles (sum over reads, request to response),
-// refused (BEGIN_REQs held back by the target).
+// Statistics: reads, writes, latency_cycles (sum over reads, request to response), refused
+// (BEGIN_REQs held back by the target).
 #pragma once
 
 #include "model/memory/dram_config.h"
@@ -113,16 +124,19 @@ class MemoryPort : public sc_core::sc_module,
   std::vector<std::unique_ptr<Transaction>> all_;  // the pool
   std::vector<Transaction*> free_;
   const Transaction* open_ = nullptr;  // the BEGIN_REQ awaiting its END_REQ
-  std::deque<Transaction*> held_;      // requests waiting for it
+  Tick open_at_ = 0;                   // its BEGIN_REQ's time
+  struct Window {
+    Tick from = 0, until = 0;
+  };
+  Window taking_;                  // the last request's BEGIN_REQ to END_REQ: the target taking it
+  std::deque<Transaction*> held_;  // requests waiting for it
   std::priority_queue<Response, std::vector<Response>, std::greater<Response>> responses_;
   uint64_t seq_ = 0;
   const Transaction* delivering_ = nullptr;  // the response being handed over
-  mutable std::vector<uint8_t> debug_line_;
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;
   std::unique_ptr<std::ofstream> trace_;
   MemoryPortStats stats_;
-  mutable uint64_t debug_reads_ = 0;
 };
 
 }  // namespace rtsim::model

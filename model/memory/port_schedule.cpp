@@ -1,6 +1,6 @@
 #include "model/memory/port_schedule.h"
 
-#include <systemc>
+#include "model/sim/systemc_time.h"
 
 #include <algorithm>
 #include <stdexcept>
@@ -9,7 +9,7 @@ namespace rtsim::model {
 
 namespace {
 
-Tick sim_time() { return Tick(sc_core::sc_time_stamp().value()); }
+Tick sim_time() { return TimeBase::kernel().now(); }
 
 }  // namespace
 
@@ -23,8 +23,11 @@ PortSchedule::PortSchedule(Tick period, uint32_t ports)
 
 void PortSchedule::slide_or_grow(uint64_t cycle) {
   const uint64_t held = uint64_t(words()) * 64;
-  // Slide past the cycles that are over (nobody asks for a time before the simulated one).
-  const uint64_t now = clock_.to_cycles(sim_time()) & ~uint64_t(63);
+  // Slide past the cycles that are over (nobody asks for a time before the simulated one, less
+  // a cycle: a block on another clock may act just before the kernel's time, rounded up to the
+  // resolution).
+  const uint64_t cycle_now = clock_.to_cycles(sim_time());
+  const uint64_t now = (cycle_now > 0 ? cycle_now - 1 : 0) & ~uint64_t(63);
   if (now > base_) {
     const uint64_t stop = std::min(now, base_ + held);
     for (uint64_t c = base_; c < stop; c += 64) {

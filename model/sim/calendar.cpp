@@ -8,16 +8,21 @@
 
 namespace rtsim::model {
 
-namespace {
-Tick now_ps() { return Tick(sc_core::sc_time_stamp().value()); }
-}  // namespace
-
 Calendar::Calendar(sc_core::sc_module_name name) : sc_core::sc_module(name) {
   SC_METHOD(run);
   sensitive << event_;
   dont_initialize();
   ring_.assign(kSlots * words_, 0);
   slot_count_.assign(kSlots, 0);
+}
+
+void Calendar::end_of_elaboration() {
+  time_ = TimeBase::kernel();  // not in the constructor: the platform may set it after
+  if (period_ != 0 && !time_.holds(period_))
+    report_error(kReportConfig, std::string(name()) + ": a clock period of " +
+                                    std::to_string(period_) + " ps needs a time resolution of " +
+                                    TimeBase::coarsest_holding(period_) + " or finer, not " +
+                                    time_.resolution() + " (sc_set_time_resolution)");
 }
 
 void Calendar::add(Client* c, Tick period) {
@@ -66,12 +71,12 @@ void Calendar::schedule(Client* c, Tick at) {
     heap_.push({at, c->id_});
   }
   // While run() drains the current time it re-arms the event itself.
-  if (!running_ && at < event_at_) notify_at(at, now);
+  if (!running_ && at < event_at_) notify_at(at);
 }
 
-void Calendar::notify_at(Tick at, Tick now) {
+void Calendar::notify_at(Tick at) {
   event_at_ = at;
-  event_.notify(sc_core::sc_time::from_value(at - now));
+  event_.notify(time_.delay_until(at));
 }
 
 bool Calendar::pop_due(Tick now, uint32_t& id) {
@@ -113,22 +118,31 @@ Tick Calendar::next_time(Tick now) {
 }
 
 void Calendar::run() {
-  const Tick now = now_ps();
+  const Tick stamp = time_.now();
+  // The model time the event stood for: the kernel's present time unless the resolution rounded
+  // it up.
+  Tick now = std::min(event_at_, stamp);
   event_at_ = kUnknown;
-  now_ = now;
   running_ = true;
-  // Blocks woken for `now` while this runs are served in this same loop: the lowest id queued
-  // for `now` runs next.
-  uint32_t id = 0;
-  while (pop_due(now, id)) {
-    Client* c = clients_[id];
-    if (c->armed_at_ != now) continue;  // superseded by an earlier arming
-    c->armed_at_ = kUnknown;
-    c->activate();
+  for (;;) {
+    now_ = now;
+    // Blocks woken for `now` while this runs are served in this same loop: the lowest id queued
+    // for `now` runs next.
+    uint32_t id = 0;
+    while (pop_due(now, id)) {
+      Client* c = clients_[id];
+      if (c->armed_at_ != now) continue;  // superseded by an earlier arming
+      c->armed_at_ = kUnknown;
+      c->activate();
+    }
+    const Tick next = next_time(now);
+    if (next > stamp) {  // kUnknown too
+      running_ = false;
+      if (next != kUnknown) notify_at(next);
+      return;
+    }
+    now = next;  // a time the resolution rounded up to this one
   }
-  running_ = false;
-  const Tick next = next_time(now);
-  if (next != kUnknown) notify_at(next, now);
 }
 
 }  // namespace rtsim::model

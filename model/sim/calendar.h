@@ -11,8 +11,15 @@
 // Most activations are clock edges a few cycles ahead, so those live in a ring of per-cycle
 // bitsets (one bit per block); other times (the DRAM's own clock, far-off watchdog looks) go to a
 // heap. Both yield the same order: at a time, the lowest block id still queued runs next.
+//
+// Its times are the model's picoseconds, whatever SystemC's resolution: each activation of the
+// calendar runs, in order, every time queued up to the kernel's present time, so a block on the
+// DRAM's clock acts at its exact time even when the resolution (say 1 ns) cannot represent it,
+// and the figures do not depend on the resolution. The accelerator's clock edges must be
+// representable (checked at the end of elaboration: rtsim/config names the resolution needed).
 #pragma once
 
+#include "model/sim/systemc_time.h"
 #include "model/sim/time.h"
 
 #include <systemc>
@@ -51,13 +58,16 @@ class Calendar : public sc_core::sc_module {
   void schedule(Client* c, Tick at);
   // Whether the calendar is running its blocks (an activation is on the stack).
   bool running() const { return running_; }
-  // The simulated time (cached while the calendar runs: blocks ask often).
-  Tick now() const { return running_ ? now_ : Tick(sc_core::sc_time_stamp().value()); }
+  // The simulated time: while the calendar runs, the model time of the blocks it runs (at most
+  // the kernel's; cached: blocks ask often).
+  Tick now() const { return running_ ? now_ : time_.now(); }
+  const TimeBase& time() const { return time_; }
 
  private:
   SC_HAS_PROCESS(Calendar);
+  void end_of_elaboration() override;
   void run();
-  void notify_at(Tick at, Tick now);
+  void notify_at(Tick at);
   void fix_order();          // ids by (rank, order added), at the first schedule
   Tick next_time(Tick now);  // the earliest queued time at or after now; kUnknown if none
   bool pop_due(Tick now, uint32_t& id);  // the lowest id queued for `now`
@@ -80,6 +90,7 @@ class Calendar : public sc_core::sc_module {
   Tick event_at_ = kUnknown;  // time of the pending SystemC notification
   bool running_ = false;
   Tick now_ = 0;  // while running
+  TimeBase time_;
 };
 
 }  // namespace rtsim::model

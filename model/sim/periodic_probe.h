@@ -3,6 +3,7 @@
 // edges if asked, so it sees the state after every unit has acted at an edge.
 #pragma once
 
+#include "model/sim/systemc_time.h"
 #include "model/sim/time.h"
 
 #include <systemc>
@@ -20,18 +21,23 @@ class PeriodicProbe : public sc_core::sc_module {
     sensitive << event_;
     dont_initialize();
   }
+  // `at` and every period after it, each rounded up to the resolution.
   void start_at(Tick at) {
-    const Tick now = Tick(sc_core::sc_time_stamp().value());
-    event_.notify(sc_core::sc_time::from_value(at > now ? at - now : 0));
+    next_ = at;
+    event_.notify(time_.delay_until(at));
   }
 
  private:
+  void end_of_elaboration() override { time_ = TimeBase::kernel(); }
   void run() {
-    if (sample_(Tick(sc_core::sc_time_stamp().value())))
-      event_.notify(sc_core::sc_time::from_value(period_));
+    if (!sample_(next_)) return;
+    next_ += period_;
+    event_.notify(time_.delay_until(next_));
   }
 
   Tick period_;
+  Tick next_ = 0;  // the model time of the next sample
+  TimeBase time_;
   std::function<bool(Tick)> sample_;
   sc_core::sc_event event_;
 };

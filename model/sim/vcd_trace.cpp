@@ -1,7 +1,9 @@
 #include "model/sim/vcd_trace.h"
 
 #include "model/sim/report.h"
+#include "model/sim/systemc_time.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <stdexcept>
 
@@ -12,7 +14,9 @@ VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock, std::functio
   // SystemC appends ".vcd"; the file gets its own name only when complete.
   temp_base_ = request_.file + ".part";
   file_ = sc_core::sc_create_vcd_trace_file(temp_base_.c_str());  // opened at sc_start
-  file_->set_time_unit(1, sc_core::SC_PS);
+  // Picoseconds, or the resolution if coarser (samples then land on the next representable time).
+  file_->set_time_unit(double(std::max<Tick>(1, TimeBase::kernel().resolution_ps())),
+                       sc_core::SC_PS);
   probe_ = std::make_unique<PeriodicProbe>("vcd_probe", clock_.period(),
                                            [this](Tick now) { return sample(now); });
 }

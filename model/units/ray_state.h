@@ -36,6 +36,12 @@ struct FetchState {
   // The record the ray waited for has arrived: its next operation reads it without fetching
   // again (re-fetching could miss forever when the line is evicted before the ray issues again).
   bool fill_ready = false;
+  bool reading = false;  // that operation reads `bytes`, not the L1
+  // The entry holds the data of the (at most two) L1 lines its record lies on: a line as it
+  // arrived, or as it was when the ray parked if it was already in the L1. So the ray reads what
+  // the fill brought even when the L1 has evicted the line before the ray issues again.
+  uint64_t lines[2] = {~uint64_t(0), ~uint64_t(0)};
+  std::vector<uint8_t> bytes;  // two L1 lines
 };
 
 // TRV: the walk through the kd-tree, and which TRV unit owns the ray's slot.

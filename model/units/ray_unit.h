@@ -13,6 +13,8 @@
 #include "model/sim/unit.h"
 #include "model/units/model_context.h"
 
+#include <cstring>
+
 namespace rtsim::model {
 
 // A ray unit's pipeline (its caches: model/memory/memory_system.h).
@@ -27,14 +29,23 @@ class RayUnit : public Unit, public FillListener {
   RayFifo in;
 
   // A line a parked ray waited for arrived; the ray may issue again at `when`.
-  void on_fill(uint64_t, uint64_t ray, Tick when) override {
+  void on_fill(uint64_t line, uint64_t ray, Tick when) override {
     FetchState& f = fetch_state(uint32_t(ray));
+    hold_line(f, f.lines[0] == line ? 0 : 1);  // the L1's bytes of the line it is handing on
     if (f.waiting_lines > 0 && --f.waiting_lines > 0) return;
     f.fill_ready = true;
     ready_.push(when, uint32_t(ray));
     wake(when);
   }
   Cache& l1() const { return *l1_; }
+
+  // A ray's entry seen as a line source (read_record's view of it).
+  struct EntryLines {
+    const RayUnit* unit;
+    uint32_t ray;
+    uint32_t line_bytes() const { return unit->l1_->line_bytes(); }
+    const uint8_t* line_data(uint64_t line) const { return unit->line_data(ray, line); }
+  };
   uint32_t held() const { return held_; }
 
  protected:
@@ -88,30 +99,56 @@ class RayUnit : public Unit, public FillListener {
   bool holds_work() const override { return held_ > 0 || !in.empty(); }
 
   RayState& ray_state(uint32_t ray) const { return (*ctx_.pool)[ray]; }
+  // Copies the L1's bytes of the entry's line `i` into the entry.
+  void hold_line(FetchState& f, int i) const {
+    const uint32_t line_bytes = l1_->line_bytes();
+    f.bytes.resize(2 * size_t(line_bytes));
+    std::memcpy(f.bytes.data() + i * line_bytes, l1_->line_data(f.lines[i]), line_bytes);
+  }
   // This unit's entry for `ray` in its ray accumulation buffer.
   FetchState& fetch_state(uint32_t ray) const { return ray_state(ray).fetch[stage_]; }
   // The ray stays in this unit and may issue again at `when`.
   void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
-  // The ray waits for `lines` fills (told through on_fill).
-  void park(uint32_t ray, uint32_t lines) { fetch_state(ray).waiting_lines = lines; }
+  // The ray waits for `pending` fills of the lines under [addr, addr + bytes) (told through
+  // on_fill); the lines already in the L1 go into its entry now.
+  void park(uint32_t ray, uint64_t addr, uint32_t bytes, uint32_t pending) {
+    FetchState& f = fetch_state(ray);
+    f.waiting_lines = pending;
+    const uint64_t line_bytes = l1_->line_bytes();
+    const uint64_t first = addr & ~(line_bytes - 1);
+    f.lines[0] = first;
+    f.lines[1] = first + line_bytes < addr + bytes ? first + line_bytes : ~uint64_t(0);
+    for (int i = 0; i < 2; ++i)
+      if (f.lines[i] != ~uint64_t(0) && l1_->has_data(f.lines[i])) hold_line(f, i);
+  }
   // Fetches a record for `ray`, unless a fill the ray waited for already brought it.
   RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
     FetchState& f = fetch_state(ray);
+    f.reading = f.fill_ready;
     if (f.fill_ready) {
       f.fill_ready = false;
       return {now, 0};
     }
     return fetch_record(cache, addr, bytes, now, this, ray);
   }
+  // The bytes of `line` for the operation fetch() was asked for: the entry's after a fill.
+  const uint8_t* line_data(uint32_t ray, uint64_t line) const {
+    const FetchState& f = fetch_state(ray);
+    if (!f.reading) return l1_->line_data(line);
+    return f.bytes.data() + (f.lines[0] == line ? 0 : l1_->line_bytes());
+  }
   // Reads a record for `ray` into `out` and returns when it is there; kUnknown when a line is
   // still to come (the ray is parked until it arrives, then issues again and reads it).
   Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, uint8_t* out, Tick now) {
     const RecordFetch f = fetch(cache, ray, addr, bytes, now);
     if (f.ready == kUnknown) {
-      park(ray, f.pending);
+      park(ray, addr, bytes, f.pending);
       return kUnknown;
     }
-    read_record(cache, addr, bytes, out);
+    if (fetch_state(ray).reading)
+      read_record(EntryLines{this, ray}, addr, bytes, out);
+    else
+      read_record(cache, addr, bytes, out);
     return f.ready;
   }
   // The ray leaves this unit through `out`, visible from `when`.

@@ -186,6 +186,31 @@ TEST(Cli, ObserversDoNotChangeSimulatedFigures) {
   fs::remove_all(b);
 }
 
+// docs/systemc-integration.md: the figures hold at any resolution that holds the clock, and the
+// protocol checker is an observer; a resolution too coarse for the clock is bad input.
+TEST(Cli, TheTimeResolutionAndTheProtocolCheckerChangeNoFigure) {
+  const fs::path a = test::temp_dir("cli_res_ps"), b = test::temp_dir("cli_res_ns");
+  ASSERT_EQ(run(city_run(a)).code, 0);
+  const RunResult r =
+      run(city_run(b, "--set run.time_resolution_ps=1000 --set run.tlm_checks=true"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  nlohmann::json ps = without_host(nlohmann::json::parse(slurp(a / "report.json")));
+  nlohmann::json ns = without_host(nlohmann::json::parse(slurp(b / "report.json")));
+  EXPECT_EQ(ns["config"]["run"]["time_resolution_ps"], 1000);
+  EXPECT_GT(ns["stats"]["tlm_checker"]["transactions"].get<uint64_t>(), 0u);
+  for (nlohmann::json* j : {&ps, &ns}) {
+    j->erase("config");
+    (*j)["stats"].erase("tlm_checker");
+  }
+  EXPECT_EQ(ps.dump(), ns.dump());
+  expect_input_error(city_run(b, "--set run.time_resolution_ps=10000"),
+                     {"a clock period of 1000 ps needs a time resolution of 1 ns or finer"});
+  expect_input_error(city_run(b, "--set run.time_resolution_ps=20"),
+                     {"time_resolution_ps", "expected a power of ten"});
+  fs::remove_all(a);
+  fs::remove_all(b);
+}
+
 TEST(Cli, OnePhaseScheduleMatchesTheReferenceAndTheTwoPhaseImage) {
   const fs::path one = test::temp_dir("cli_one_phase"), two = test::temp_dir("cli_two_phase");
   const std::string extra = "--check --reflections 2";

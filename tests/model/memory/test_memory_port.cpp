@@ -177,13 +177,14 @@ Scenario& scenario() {
 TEST(MemoryPort, HoldsRequestsBackUntilTheTargetTakesThePreviousOne) {
   Scenario& s = scenario();
   EXPECT_EQ(s.slow_driver->returned, std::vector<Tick>(3, kUnknown));
-  // Request k goes when request k - 1 is taken (10 ns each), its response 50 ns after it is taken.
+  // Request k goes when request k - 1 is taken (10 ns each), its response 50 ns after it is taken,
+  // exactly at an edge: the port takes it at the next one.
   EXPECT_EQ(s.slow->begin_req, (std::vector<Tick>{0, 10 * kNs, 20 * kNs}));
   ASSERT_EQ(s.slow_rec->fills.size(), 3u);
   for (int k = 0; k < 3; ++k) {
     const Fill& f = s.slow_rec->fills[k];
     EXPECT_EQ(f.line, uint64_t(k + 1) * kLine);
-    EXPECT_EQ(f.when, Tick(60 + 10 * k) * kNs);
+    EXPECT_EQ(f.when, Tick(61 + 10 * k) * kNs);
     EXPECT_EQ(f.sim_time, f.when);
     EXPECT_EQ(f.first_byte, uint8_t(f.line)) << "the bytes come with the response";
   }

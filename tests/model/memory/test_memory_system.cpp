@@ -62,7 +62,8 @@ class Bench : public sc_core::sc_module {
         calendar("calendar"),
         memory(config(), Clock(), calendar),
         ram("ram", std::vector<uint8_t>(1 << 16, 0x5a),
-            sc_core::sc_time(double(kMemory), sc_core::SC_NS)),
+            // kMemory - 0.5 ns: the port takes the response at the next edge, kMemory cycles on
+            sc_core::sc_time(double(kMemory) - 0.5, sc_core::SC_NS)),
         trv0("trv0", memory, MemorySystem::kTrv, 0),
         trv1("trv1", memory, MemorySystem::kTrv, 1),
         list0("list0", memory, MemorySystem::kList, 0),

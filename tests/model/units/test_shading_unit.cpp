@@ -145,7 +145,7 @@ TEST(ShadingUnit, WritesTheHitIntoTheFrameBufferAndItsRecordThroughItsRecordsPor
   EXPECT_EQ(rec.surface.p, px.surface.p);
   // The record reached the memory: posted writes through the memory crossbar and the TLM port.
   EXPECT_EQ(r.b->ram.writes, 3u);
-  const HitRecord stored = decode_hit_record(r.b->memory.interconnect().port().line_data(w.line));
+  const HitRecord stored = decode_hit_record(r.b->ram.bytes().data() + w.line);
   EXPECT_EQ(stored.lvb, kLvb);
   EXPECT_EQ(stored.surface.p, px.surface.p);
 }

@@ -14,9 +14,8 @@
 // its tag check plus the delivery time of the level below, so with these settings
 //   L1 hit          = kL1Hit                     cycles
 //   L1 miss, L2 hit = kL1Hit + kL2Hit            cycles
-//   cold line       = kL1Hit + kL2Hit + kMemory  cycles (kMiss: the memory answers kMemory ns
-//   later,
-//                     an accelerator clock edge at 1 GHz)
+//   cold line       = kL1Hit + kL2Hit + kMemory  cycles (kMiss: the memory answers kMemory - 0.5
+//                     ns later, and the port takes the response at the next edge at 1 GHz)
 #pragma once
 
 #include "examples/tlm_memory/fixed_latency_memory.h"
@@ -80,7 +79,7 @@ class Bench : public sc_core::sc_module, public RayReturn {
         pool(64),
         memory(cfg.memory_system(), Clock(), calendar),
         ram("ram", memory_bytes(image, frame_entries),
-            sc_core::sc_time(double(kMemory), sc_core::SC_NS)),
+            sc_core::sc_time(double(kMemory) - 0.5, sc_core::SC_NS)),
         done("done", 64, nullptr) {
     cfg.validate();
     ctx.calendar = &calendar;
