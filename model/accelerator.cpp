@@ -69,9 +69,9 @@ enum Rank : uint32_t {
 // order a ray meets them, then connected: every hop of a ray is a port bound here, once.
 struct Accelerator::Netlist {
   Netlist(Accelerator& top, const AcceleratorConfig& cfg, const MemoryImage& image,
-          const FrameJob& job, const SimulationHooks& hooks, bool builtin_memory);
+          const FrameJob& job, const SimulationHooks& hooks, MemoryTarget memory_target);
 
-  void build_memory(const MemoryImage& image, bool builtin_memory);
+  void build_memory(const MemoryImage& image, MemoryTarget memory_target);
   void build_units();
   void bind_ray_path();
   void bind_control_and_memory();
@@ -125,7 +125,7 @@ struct Accelerator::Netlist {
 
 Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config,
                               const MemoryImage& image, const FrameJob& frame_job,
-                              const SimulationHooks& observers, bool builtin_memory)
+                              const SimulationHooks& observers, MemoryTarget memory_target)
     : top(top_),
       cfg(config),
       job(frame_job),
@@ -149,7 +149,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   frame.levels = cfg.reflection_depth + 1;
   frame.allocate(ctx.light_samples);
 
-  build_memory(image, builtin_memory);
+  build_memory(image, memory_target);
   build_units();
   bind_ray_path();
   bind_control_and_memory();
@@ -160,13 +160,14 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 
 // The memory (the built-in GDDR3, unless the platform binds its own) and the hierarchy in front
 // of it; the frame buffer of hit records follows the image (model/units/hit_record.h).
-void Accelerator::Netlist::build_memory(const MemoryImage& image, bool builtin_memory) {
-  const MemorySystemConfig mem = cfg.memory_system();
+void Accelerator::Netlist::build_memory(const MemoryImage& image, MemoryTarget memory_target) {
+  MemorySystemConfig mem = cfg.memory_system();
+  mem.loosely_timed_memory = memory_target == MemoryTarget::kLooselyTimed;
   const uint64_t entries =
       uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
   records = record_region(cfg, image, job, mem.dram.request_bytes);
   memory_bytes = records.base + entries * records.stride;
-  if (builtin_memory)
+  if (memory_target == MemoryTarget::kBuiltin)
     dram = std::make_unique<Dram>("dram", mem.dram, &image.bytes(), ctx.clock, calendar,
                                   memory_bytes - image.bytes().size());
   memory = std::make_unique<MemorySystem>(mem, ctx.clock, calendar);
@@ -350,14 +351,14 @@ void Accelerator::Netlist::register_stats() {
 
 Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
                          const MemoryImage& image, const FrameJob& job,
-                         const SimulationHooks& hooks, bool builtin_memory)
+                         const SimulationHooks& hooks, MemoryTarget memory)
     : sc_core::sc_module(name) {
   try {
     config.validate();
   } catch (const std::invalid_argument& e) {
     report_error(kReportConfig, std::string(this->name()) + ": " + e.what());
   }
-  net_ = std::make_unique<Netlist>(*this, config, image, job, hooks, builtin_memory);
+  net_ = std::make_unique<Netlist>(*this, config, image, job, hooks, memory);
   SC_METHOD(start);  // runs once, when the simulation starts
 }
 

@@ -76,16 +76,23 @@ struct FrameJob {
   int width = 0, height = 0;
 };
 
+// What the memory socket is bound to (docs/systemc-integration.md).
+enum class MemoryTarget {
+  kBuiltin,             // the built-in GDDR3, `<top>.dram`
+  kApproximatelyTimed,  // the platform's memory, nb_transport in any base-protocol style
+  kLooselyTimed,        // the platform's memory, b_transport only (and maybe DMI)
+};
+
 class Accelerator : public sc_core::sc_module {
  public:
   // Builds the netlist for `job` over `image` (which must outlive the accelerator; the memory
   // holds it and, after it, the frame buffer of hit records). A configuration out of range is
   // reported as rtsim/config.
-  // With `builtin_memory` false there is no `dram`: memory_socket() is left for the platform to
-  // bind to a TLM-2.0 target holding memory_bytes() bytes, the image's first.
+  // With a memory other than kBuiltin there is no `dram`: memory_socket() is left for the
+  // platform to bind to a TLM-2.0 target holding memory_bytes() bytes, the image's first.
   Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
               const MemoryImage& image, const FrameJob& job, const SimulationHooks& hooks = {},
-              bool builtin_memory = true);
+              MemoryTarget memory = MemoryTarget::kBuiltin);
   ~Accelerator() override;
   const char* kind() const override { return "rtsim_accelerator"; }
 

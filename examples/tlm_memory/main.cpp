@@ -70,7 +70,8 @@ int sc_main(int argc, char** argv) {
     const std::string name = "fixed" + std::to_string(i - 2);
     // 2. An accelerator built without its GDDR3 model ...
     accelerators.push_back(std::make_unique<rtsim::model::Accelerator>(
-        name.c_str(), config, image, frame, rtsim::model::SimulationHooks{}, false));
+        name.c_str(), config, image, frame, rtsim::model::SimulationHooks{},
+        rtsim::model::MemoryTarget::kApproximatelyTimed));
     // 3. ... and a memory holding the image, with room for the frame buffer after it, bound to its
     // socket.
     std::vector<uint8_t> bytes(image.bytes());

@@ -21,9 +21,10 @@ class MemoryInterconnect::Writer : public sc_core::sc_object, public LineWriter 
 
 MemoryInterconnect::MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link,
                                        const DramConfig& dram, const Clock& clock,
-                                       Calendar& calendar, uint32_t l2_banks, uint32_t writers)
+                                       Calendar& calendar, uint32_t l2_banks, uint32_t writers,
+                                       bool loosely_timed)
     : sc_core::sc_module(name),
-      port_("port", dram.request_bytes, dram, clock, calendar),
+      port_("port", dram.request_bytes, dram, clock, calendar, loosely_timed),
       icnt_("icnt", link, clock, l2_banks + writers + 1, port_.port_count()),
       line_bytes_(dram.request_bytes) {
   record_reader_ =

@@ -27,9 +27,11 @@ class MemoryInterconnect : public sc_core::sc_module {
  public:
   // `l2_banks` crossbar sources for the L2s (numbered as the caller assigns them), then one per
   // writer, then the reader. Every transaction is one `dram.request_bytes` line. Writer `s` is
-  // shading unit s (`initiator` shading<s> in the memory trace).
+  // shading unit s (`initiator` shading<s> in the memory trace). `loosely_timed`: the memory
+  // implements b_transport only.
   MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link, const DramConfig& dram,
-                     const Clock& clock, Calendar& calendar, uint32_t l2_banks, uint32_t writers);
+                     const Clock& clock, Calendar& calendar, uint32_t l2_banks, uint32_t writers,
+                     bool loosely_timed = false);
   ~MemoryInterconnect() override;
 
   // An L2's way to memory, its banks from crossbar source `first_source` on; `initiator` names it

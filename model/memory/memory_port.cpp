@@ -18,11 +18,12 @@ struct MemoryPort::Transaction : tlm::tlm_generic_payload {
   bool write = false;
   FillListener* listener = nullptr;
   uint64_t cookie = 0;
+  uint64_t order = 0;     // requests made before it
   std::string initiator;  // writes: who wrote
 };
 
 MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
-                       const Clock& clock, Calendar& calendar)
+                       const Clock& clock, Calendar& calendar, bool loosely_timed)
     : sc_core::sc_module(name),
       socket("socket"),
       line_bytes_(line_bytes),
@@ -31,6 +32,13 @@ MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const 
       clock_(clock),
       calendar_(calendar) {
   socket.register_nb_transport_bw(this, &MemoryPort::nb_transport_bw);
+  socket.register_invalidate_direct_mem_ptr(this, &MemoryPort::invalidate_direct_mem_ptr);
+  if (loosely_timed)
+    lt_ = std::make_unique<LooselyTimedPath>(
+        basename(), [this] { return socket.operator->(); },
+        [this](tlm::tlm_generic_payload& p, Tick at) {
+          response(static_cast<Transaction*>(&p), at, false);
+        });
   calendar_.add(this, clock_.period());
 }
 
@@ -56,6 +64,7 @@ MemoryPort::Transaction* MemoryPort::make(uint64_t line, Tick arrival, bool writ
   t->write = write;
   t->listener = nullptr;
   t->cookie = 0;
+  t->order = requests_made_++;
   t->acquire();
   return t;
 }
@@ -96,6 +105,7 @@ void MemoryPort::send_now(Transaction* t) {
   const Tick now = calendar_.now();
   const TimeBase& time = calendar_.time();
   Tick at = std::max(t->requested, now);
+  if (lt_) return lt_->send(*t, now, at, time);  // no phases, no exclusion rules
   // The request channel: not while the target is still taking the previous request
   if (at >= taking_.from && at < taking_.until) at = taking_.until;
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
@@ -145,6 +155,10 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
   return tlm::TLM_UPDATED;
 }
 
+void MemoryPort::invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 end) {
+  if (lt_) lt_->invalidate(start, end);
+}
+
 void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
   if (!t->is_response_ok()) failed(*t);
   ++stats_.responses;
@@ -164,7 +178,7 @@ void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
   // does not order the processes of one time, so taking one at its own edge would make the
   // figures depend on whether the calendar had run yet.
   if (!ours && edge == at) edge += clock_.period();
-  responses_.push({edge, seq_++, t});
+  responses_.push({edge, t->order, t});
   calendar_.schedule(this, edge);
 }
 
@@ -257,6 +271,7 @@ void MemoryPort::register_stats(StatsRegistry& r, const std::string& prefix) con
   r.counter(prefix + ".writes", &stats_.writes, "count", "line writes sent to memory");
   r.counter(prefix + ".refused", &stats_.refused, "count",
             "requests held back until the memory took the previous one");
+  if (lt_) lt_->register_stats(r, prefix);
   r.counter(prefix + ".latency_cycles", &stats_.latency_cycles, "cycles",
             "sum over reads of request-to-response cycles");
   r.formula(

@@ -18,12 +18,13 @@
 // calendar at the first accelerator clock edge after its time (registered: a response exactly at
 // an edge waits for the next one, since SystemC does not order the processes of one time and the
 // figures would otherwise depend on whether the calendar had run yet), where the requester is told
-// (FillListener::on_fill) in the order the responses came. So the calendar's fixed order holds
-// whatever the target's processes do. A response that comes from a block of this calendar while
-// it runs, for this very edge, with none queued before it (our GDDR3's, model/memory/dram.h, a
-// block of the accelerator's clock domain), is already in that order: it is handed over at once. A
-// response's error status is rtsim/memory; a protocol answer the base protocol does not allow is
-// rtsim/tlm.
+// (FillListener::on_fill) in the order the requests were made (the order the responses came
+// would be the order SystemC runs the target's processes of one time, which it does not fix). So
+// the calendar's fixed order holds whatever the target's processes do. A response that comes from a
+// block of this calendar while it runs, for this very edge, with none queued before it (our
+// GDDR3's, model/memory/dram.h, a block of the accelerator's clock domain), is already in that
+// order: it is handed over at once. A response's error status is rtsim/memory; a protocol answer
+// the base protocol does not allow is rtsim/tlm.
 //
 // The data come with the response and only with it: a cache asks line_data() for the line being
 // delivered and gets the payload's bytes (the caches keep what they hand on, model/memory/cache.h,
@@ -35,6 +36,7 @@
 
 #include "model/memory/dram_config.h"
 #include "model/memory/line_source.h"
+#include "model/memory/loosely_timed_path.h"
 #include "model/sim/calendar.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/time.h"
@@ -68,9 +70,10 @@ class MemoryPort : public sc_core::sc_module,
   tlm_utils::simple_initiator_socket<MemoryPort> socket;
 
   // `line_bytes`: the size of every transaction; `mapping`: the memory's channel decode (the
-  // crossbar's destination ports); `clock`: the accelerator's, on whose edges responses land.
+  // crossbar's destination ports); `clock`: the accelerator's, on whose edges responses land;
+  // `loosely_timed`: the target implements b_transport only (model/memory/loosely_timed_path.h).
   MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
-             const Clock& clock, Calendar& calendar);
+             const Clock& clock, Calendar& calendar, bool loosely_timed = false);
   ~MemoryPort() override;
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
@@ -96,9 +99,11 @@ class MemoryPort : public sc_core::sc_module,
   struct Transaction;
   struct Response {
     Tick when;
-    uint64_t seq;
+    uint64_t order;  // the request's: what lands on one edge goes in request order
     Transaction* t;
-    bool operator>(const Response& o) const { return when != o.when ? when > o.when : seq > o.seq; }
+    bool operator>(const Response& o) const {
+      return when != o.when ? when > o.when : order > o.order;
+    }
   };
 
   Transaction* make(uint64_t line, Tick arrival, bool write);
@@ -106,6 +111,7 @@ class MemoryPort : public sc_core::sc_module,
   void send_now(Transaction* t);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
+  void invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 end);
   // A response arrived (at `at`); from the target's own call (nb_transport_bw), it may be handed
   // over at once (above).
   void response(Transaction* t, Tick at, bool may_deliver_now);
@@ -131,8 +137,9 @@ class MemoryPort : public sc_core::sc_module,
   Window taking_;                  // the last request's BEGIN_REQ to END_REQ: the target taking it
   std::deque<Transaction*> held_;  // requests waiting for it
   std::priority_queue<Response, std::vector<Response>, std::greater<Response>> responses_;
-  uint64_t seq_ = 0;
+  uint64_t requests_made_ = 0;
   const Transaction* delivering_ = nullptr;  // the response being handed over
+  std::unique_ptr<LooselyTimedPath> lt_;     // to a loosely-timed memory
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;
   std::unique_ptr<std::ofstream> trace_;

@@ -46,6 +46,7 @@ struct MemorySystemConfig {
   bool culling_l1 = false;
   LinkConfig memory_link;  // the crossbar between the L2 banks and the memory channels
   DramConfig dram;         // the memory's address mapping (the channels) and its request size
+  bool loosely_timed_memory = false;  // the memory implements b_transport only
 };
 
 // An L2 and what connects it: its port on the memory crossbar and the crossbar from its L1s.

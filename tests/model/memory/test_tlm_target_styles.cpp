@@ -28,37 +28,56 @@ using test::TargetStyle;
 constexpr int kW = 160, kH = 90;
 constexpr double kLatencyNs = 40, kAcceptNs = 2;
 
-struct Styled {
+struct Style {
   const char* name;
   TargetStyle style;
+  double accept_ns;
+  bool loosely_timed;
+};
+const Style kStyles[] = {
+    {"accept_later", TargetStyle::kAcceptLater, kAcceptNs, false},
+    {"end_req_delay", TargetStyle::kEndReqDelay, kAcceptNs, false},
+    {"early_completion", TargetStyle::kEarlyCompletion, kAcceptNs, false},
+    {"complete_at_once", TargetStyle::kCompleteAtOnce, kAcceptNs, false},
+    {"arbiter", TargetStyle::kArbiter, kAcceptNs, false},
+    {"at_fixed", TargetStyle::kEndReqDelay, 0, false},  // END_REQ at once: the LT runs' twin
+    {"lt", TargetStyle::kLooselyTimed, 0, true},
+    {"lt_dmi", TargetStyle::kLooselyTimedDmi, 0, true},
+    {"lt_waits", TargetStyle::kLooselyTimedWaits, 0, true}};
+
+struct Styled {
+  std::string name;
   std::unique_ptr<model::Accelerator> accelerator;
   std::unique_ptr<StyledMemory> memory;
   model::AcceleratorResult result;
 };
 
-Styled build(const char* name, TargetStyle style, const test::CityFrame& city) {
+Styled build(const Style& st, const test::CityFrame& city) {
   model::SimulationHooks hooks;
   hooks.tlm_checks = true;
-  Styled s{name, style, nullptr, nullptr, {}};
+  Styled s{st.name, nullptr, nullptr, {}};
   s.accelerator = std::make_unique<model::Accelerator>(
-      name, model::AcceleratorConfig{}, *city.image, model::FrameJob{city.scene.camera, kW, kH},
-      hooks, false);
+      st.name, model::AcceleratorConfig{}, *city.image, model::FrameJob{city.scene.camera, kW, kH},
+      hooks,
+      st.loosely_timed ? model::MemoryTarget::kLooselyTimed
+                       : model::MemoryTarget::kApproximatelyTimed);
   std::vector<uint8_t> bytes(city.image->bytes());
   bytes.resize(s.accelerator->memory_bytes(), 0);
   s.memory = std::make_unique<StyledMemory>(
-      (std::string(name) + "_memory").c_str(), style, std::move(bytes),
-      sc_core::sc_time(kLatencyNs, sc_core::SC_NS), sc_core::sc_time(kAcceptNs, sc_core::SC_NS));
+      (s.name + "_memory").c_str(), st.style, std::move(bytes),
+      sc_core::sc_time(kLatencyNs, sc_core::SC_NS), sc_core::sc_time(st.accept_ns, sc_core::SC_NS));
   s.accelerator->memory_socket().bind(s.memory->socket);
   return s;
 }
 
-// The cycles of `style`'s accelerator simulated alone, in a child process.
-uint64_t alone(const char* name, TargetStyle style, const test::CityFrame& city) {
+// The cycles of a style's accelerator simulated alone, in a child process, at a time resolution
+// of `resolution_ps`.
+uint64_t alone(const Style& st, const test::CityFrame& city, double resolution_ps = 1) {
   const std::filesystem::path out = test::temp_dir("alone") / "cycles";
   const pid_t pid = fork();
   if (pid == 0) {
-    sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
-    Styled s = build(name, style, city);
+    sc_core::sc_set_time_resolution(resolution_ps, sc_core::SC_PS);
+    Styled s = build(st, city);
     sc_core::sc_start();
     std::ofstream(out) << s.accelerator->result().cycles_total;
     _exit(0);
@@ -71,29 +90,28 @@ uint64_t alone(const char* name, TargetStyle style, const test::CityFrame& city)
 
 struct Run {
   Run() : city(kW, kH) {
-    const std::pair<const char*, TargetStyle> styles[] = {
-        {"accept_later", TargetStyle::kAcceptLater},
-        {"end_req_delay", TargetStyle::kEndReqDelay},
-        {"early_completion", TargetStyle::kEarlyCompletion},
-        {"complete_at_once", TargetStyle::kCompleteAtOnce},
-        {"arbiter", TargetStyle::kArbiter}};
-    for (const auto& [name, style] : styles) cycles_alone.push_back(alone(name, style, city));
+    for (const Style& st : kStyles) {
+      cycles_alone.push_back(alone(st, city));
+      if (st.name == std::string("at_fixed") || st.name == std::string("lt_waits"))
+        cycles_at_1ns.push_back(alone(st, city, 1000));
+    }
     sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
-    for (const auto& [name, style] : styles) runs.push_back(build(name, style, city));
+    for (const Style& st : kStyles) runs.push_back(build(st, city));
     test::simulate();
     for (Styled& s : runs) {
       s.result = s.accelerator->result();
-      std::printf("%s: %llu cycles\n", s.name, (unsigned long long)s.result.cycles_total);
+      std::printf("%s: %llu cycles\n", s.name.c_str(), (unsigned long long)s.result.cycles_total);
     }
   }
-  const Styled& of(TargetStyle style) const {
+  const Styled& of(const std::string& name) const {
     for (const Styled& s : runs)
-      if (s.style == style) return s;
-    throw std::logic_error("no such style");
+      if (s.name == name) return s;
+    throw std::logic_error("no style " + name);
   }
   test::CityFrame city;
   std::vector<Styled> runs;
-  std::vector<uint64_t> cycles_alone;  // by style, each accelerator simulated alone
+  std::vector<uint64_t> cycles_alone;   // by style, each accelerator simulated alone
+  std::vector<uint64_t> cycles_at_1ns;  // at_fixed and lt_waits alone at a 1 ns resolution
 };
 
 const Run& run() {
@@ -101,52 +119,91 @@ const Run& run() {
   return r;
 }
 
+uint64_t stat(const Styled& s, const char* unit, const char* name) {
+  return s.result.stats["memory"][unit][name].get<uint64_t>();
+}
+
 // The frame is the reference's and the checker saw every transaction.
-void expect_clean(TargetStyle style) {
-  const Styled& s = run().of(style);
+void expect_clean(const std::string& name) {
+  const Styled& s = run().of(name);
   EXPECT_EQ(run().city.mismatches(s.result.frame), 0) << s.name;
-  const nlohmann::json& checker = s.result.stats["tlm_checker"];
-  const nlohmann::json& port = s.result.stats["memory"]["port"];
-  EXPECT_EQ(checker["transactions"].get<uint64_t>(),
-            port["reads"].get<uint64_t>() + port["writes"].get<uint64_t>())
-      << s.name;
-  EXPECT_EQ(s.memory->counts().requests, checker["transactions"].get<uint64_t>()) << s.name;
-  EXPECT_GT(port["writes"].get<uint64_t>(), 0u) << s.name;  // the hit records
+  const uint64_t checked = s.result.stats["tlm_checker"]["transactions"].get<uint64_t>();
+  const uint64_t sent = stat(s, "port", "reads") + stat(s, "port", "writes");
+  EXPECT_GT(stat(s, "port", "writes"), 0u) << s.name;  // the hit records
+  const StyledMemory::Counts& c = s.memory->counts();
+  if (s.memory->loosely_timed()) {  // a DMI access makes no call
+    EXPECT_EQ(c.b_transports, checked) << s.name;
+    EXPECT_EQ(c.b_transports + stat(s, "port", "dmi_accesses"), sent) << s.name;
+  } else {
+    EXPECT_EQ(c.requests, checked) << s.name;
+    EXPECT_EQ(checked, sent) << s.name;
+  }
 }
 
 // The target's processes and the other accelerators' do not change a figure: SystemC does not
-// order the processes of one time, and the port takes nothing from a target at an edge's time.
+// order the processes of one time, and the port registers what a target sends.
 TEST(TargetStyles, EachAcceleratorGetsTheCyclesItGetsAlone) {
   for (size_t i = 0; i < run().runs.size(); ++i)
     EXPECT_EQ(run().runs[i].result.cycles_total, run().cycles_alone[i]) << run().runs[i].name;
 }
 
+// The model's times are picoseconds at any resolution that holds the clock, a platform's memory
+// included (it used to read sc_time values as picoseconds).
+TEST(TargetStyles, APlatformsMemoryGivesTheSameCyclesAtANanosecondResolution) {
+  ASSERT_EQ(run().cycles_at_1ns.size(), 2u);
+  EXPECT_EQ(run().cycles_at_1ns[0], run().of("at_fixed").result.cycles_total);
+  EXPECT_EQ(run().cycles_at_1ns[1], run().of("lt_waits").result.cycles_total);
+}
+
 TEST(TargetStyles, AcceptLaterHoldsTheNextRequestUntilEndReq) {
-  expect_clean(TargetStyle::kAcceptLater);
-  const Styled& s = run().of(TargetStyle::kAcceptLater);
-  EXPECT_GT(s.result.stats["memory"]["port"]["refused"].get<uint64_t>(), 0u);
-  EXPECT_EQ(s.memory->counts().end_resp_returned, s.memory->counts().requests);
+  expect_clean("accept_later");
+  EXPECT_GT(stat(run().of("accept_later"), "port", "refused"), 0u);
+  const StyledMemory::Counts& c = run().of("accept_later").memory->counts();
+  EXPECT_EQ(c.end_resp_returned, c.requests);
 }
 
 // The checker reports a BEGIN_REQ timed inside the previous request's BEGIN_REQ-to-END_REQ window.
-TEST(TargetStyles, EndReqWithADelayIsHonoured) { expect_clean(TargetStyle::kEndReqDelay); }
+TEST(TargetStyles, EndReqWithADelayIsHonoured) {
+  expect_clean("end_req_delay");
+  expect_clean("at_fixed");
+}
 
 TEST(TargetStyles, EarlyCompletionGetsItsEndResp) {
-  expect_clean(TargetStyle::kEarlyCompletion);
-  const StyledMemory::Counts& c = run().of(TargetStyle::kEarlyCompletion).memory->counts();
+  expect_clean("early_completion");
+  const StyledMemory::Counts& c = run().of("early_completion").memory->counts();
   EXPECT_GT(c.end_resp_forward, 0u);   // early completions, each ended on the forward path
   EXPECT_GT(c.end_resp_returned, 0u);  // and the other path, when a response was due
 }
 
-TEST(TargetStyles, CompletedAtOnceIsDeliveredAtItsTime) {
-  expect_clean(TargetStyle::kCompleteAtOnce);
-}
+TEST(TargetStyles, CompletedAtOnceIsDeliveredAtItsTime) { expect_clean("complete_at_once"); }
 
 TEST(TargetStyles, AnArbiterThatWaitsForEndRespGoesOn) {
-  expect_clean(TargetStyle::kArbiter);
-  const StyledMemory::Counts& c = run().of(TargetStyle::kArbiter).memory->counts();
+  expect_clean("arbiter");
+  const StyledMemory::Counts& c = run().of("arbiter").memory->counts();
   EXPECT_EQ(c.completed_returned, 0u);
   EXPECT_EQ(c.end_resp_returned, c.requests);
+}
+
+// b_transport calls overlap (as many threads as calls in flight), so a loosely-timed memory is
+// as fast as an approximately-timed one of the same latency: within 1%, the same pixels.
+TEST(TargetStyles, ALooselyTimedMemoryRunsAtFullSpeed) {
+  const uint64_t at = run().of("at_fixed").result.cycles_total;
+  for (const char* name : {"lt", "lt_dmi", "lt_waits"}) {
+    expect_clean(name);
+    const Styled& s = run().of(name);
+    EXPECT_NEAR(double(s.result.cycles_total), double(at), 0.01 * double(at)) << name;
+    EXPECT_EQ(s.memory->counts().requests, 0u) << name;  // no nb_transport_fw
+  }
+  EXPECT_GT(stat(run().of("lt"), "port", "lt_threads"), 1u);
+  EXPECT_GT(stat(run().of("lt_waits"), "port", "lt_threads"), 1u);
+  EXPECT_EQ(stat(run().of("lt"), "port", "dmi_accesses"), 0u);
+}
+
+TEST(TargetStyles, DmiReadsAndWritesStayTimed) {
+  const Styled& s = run().of("lt_dmi");
+  EXPECT_EQ(s.memory->counts().dmi_grants, 1u);
+  EXPECT_GT(stat(s, "port", "dmi_accesses"), stat(s, "port", "lt_calls"));
+  EXPECT_GT(stat(s, "port", "lt_calls"), 0u);  // the first, which brought the hint
 }
 
 }  // namespace

@@ -14,6 +14,10 @@
 //                    next request; a BEGIN_RESP answered TLM_COMPLETED is not understood (the
 //                    arbiter goes on only after END_RESP, on the return path or the forward path)
 //   kLooselyTimed    b_transport only (annotated with `latency`), no nb_transport_fw: an LT memory
+//   kLooselyTimedDmi the same, and grants DMI to the whole memory (read and write latency
+//                    `latency`), hinting at it in every response
+//   kLooselyTimedWaits b_transport that waits out the request's delay and `latency` (wait()) and
+//                    returns a zero delay: a synchronising LT memory
 //
 // Each counts what it saw, so a test can tell that its style's path was taken.
 #pragma once
@@ -36,7 +40,9 @@ enum class TargetStyle {
   kEarlyCompletion,
   kCompleteAtOnce,
   kArbiter,
-  kLooselyTimed
+  kLooselyTimed,
+  kLooselyTimedDmi,
+  kLooselyTimedWaits
 };
 
 class StyledMemory : public sc_core::sc_module {
@@ -45,7 +51,7 @@ class StyledMemory : public sc_core::sc_module {
 
   struct Counts {
     uint64_t requests = 0, end_resp_forward = 0, end_resp_returned = 0, completed_returned = 0;
-    uint64_t b_transports = 0;
+    uint64_t b_transports = 0, dmi_grants = 0;
   };
 
   SC_HAS_PROCESS(StyledMemory);
@@ -59,8 +65,10 @@ class StyledMemory : public sc_core::sc_module {
         accept_(accept),
         accepting_("accepting"),
         due_("due") {
-    if (style_ == TargetStyle::kLooselyTimed) {
+    if (loosely_timed()) {
       socket.register_b_transport(this, &StyledMemory::b_transport);
+      if (style_ == TargetStyle::kLooselyTimedDmi)
+        socket.register_get_direct_mem_ptr(this, &StyledMemory::get_direct_mem_ptr);
       return;  // simple_target_socket adapts nb_transport_fw to it, one transaction at a time
     }
     socket.register_nb_transport_fw(this, &StyledMemory::nb_transport_fw);
@@ -72,6 +80,10 @@ class StyledMemory : public sc_core::sc_module {
     dont_initialize();
   }
   const Counts& counts() const { return counts_; }
+  bool loosely_timed() const {
+    return style_ == TargetStyle::kLooselyTimed || style_ == TargetStyle::kLooselyTimedDmi ||
+           style_ == TargetStyle::kLooselyTimedWaits;
+  }
 
  private:
   bool in_range(const tlm::tlm_generic_payload& p) const {
@@ -93,7 +105,24 @@ class StyledMemory : public sc_core::sc_module {
     if (!in_range(p)) return p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     take(p);
     answer(p);
+    if (style_ == TargetStyle::kLooselyTimedWaits) {
+      sc_core::wait(delay + latency_);
+      delay = sc_core::SC_ZERO_TIME;
+      return;
+    }
     delay += latency_;
+    if (style_ == TargetStyle::kLooselyTimedDmi) p.set_dmi_allowed(true);
+  }
+
+  bool get_direct_mem_ptr(tlm::tlm_generic_payload&, tlm::tlm_dmi& d) {
+    ++counts_.dmi_grants;
+    d.set_dmi_ptr(bytes_.data());
+    d.set_start_address(0);
+    d.set_end_address(bytes_.size() - 1);
+    d.allow_read_write();
+    d.set_read_latency(latency_);
+    d.set_write_latency(latency_);
+    return true;
   }
 
   tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,

@@ -1,0 +1,105 @@
+// sc_spawn: the pool threads are made while the simulation runs.
+#define SC_INCLUDE_DYNAMIC_PROCESSES
+#include "model/memory/loosely_timed_path.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace rtsim::model {
+
+struct LooselyTimedPath::Worker {
+  sc_core::sc_event go;
+  tlm::tlm_generic_payload* payload = nullptr;
+  sc_core::sc_time delay;
+  TimeBase time;
+};
+
+LooselyTimedPath::LooselyTimedPath(std::string name,
+                                   std::function<tlm::tlm_fw_transport_if<>*()> target,
+                                   Answered answered)
+    : name_(std::move(name)), target_(std::move(target)), answered_(std::move(answered)) {}
+
+LooselyTimedPath::~LooselyTimedPath() = default;
+
+void LooselyTimedPath::send(tlm::tlm_generic_payload& p, Tick now, Tick at, const TimeBase& time) {
+  if (through_dmi(p, at, time)) return;
+  if (idle_.empty()) {
+    workers_.push_back(std::make_unique<Worker>());
+    Worker* w = workers_.back().get();
+    sc_core::sc_spawn_options opts;
+    opts.set_sensitivity(&w->go);
+    opts.dont_initialize();
+    // Named under the process that spawns it (the calendar's)
+    sc_core::sc_spawn([this, w] { run(w); },
+                      (name_ + "_lt_call" + std::to_string(threads_)).c_str(), &opts);
+    ++threads_;
+    idle_.push_back(w);
+  }
+  Worker* w = idle_.back();
+  idle_.pop_back();
+  w->payload = &p;
+  w->delay = time.to_sc_time(at - now);
+  w->time = time;
+  w->go.notify(sc_core::SC_ZERO_TIME);  // the call is made in the next delta, at this time
+}
+
+void LooselyTimedPath::run(Worker* w) {
+  for (;;) {
+    tlm::tlm_generic_payload& p = *w->payload;
+    sc_core::sc_time delay = w->delay;
+    ++calls_;
+    target_()->b_transport(p, delay);
+    if (p.is_response_ok() && p.is_dmi_allowed()) ask_dmi(p);
+    const Tick done = w->time.to_tick(sc_core::sc_time_stamp() + delay);
+    idle_.push_back(w);
+    answered_(p, done);
+    sc_core::wait(w->go);
+  }
+}
+
+bool LooselyTimedPath::through_dmi(tlm::tlm_generic_payload& p, Tick at, const TimeBase& time) {
+  const uint64_t a = p.get_address(), n = p.get_data_length();
+  for (const tlm::tlm_dmi& d : regions_) {
+    if (a < d.get_start_address() || a + n - 1 > d.get_end_address()) continue;
+    const bool write = p.is_write();
+    if (write ? !d.is_write_allowed() : !d.is_read_allowed()) continue;
+    unsigned char* mem = d.get_dmi_ptr() + (a - d.get_start_address());
+    if (write)
+      std::memcpy(mem, p.get_data_ptr(), n);
+    else
+      std::memcpy(p.get_data_ptr(), mem, n);
+    p.set_response_status(tlm::TLM_OK_RESPONSE);
+    ++dmi_accesses_;
+    const sc_core::sc_time latency = write ? d.get_write_latency() : d.get_read_latency();
+    answered_(p, at + time.to_tick(latency));
+    return true;
+  }
+  return false;
+}
+
+void LooselyTimedPath::ask_dmi(tlm::tlm_generic_payload& p) {
+  tlm::tlm_generic_payload q;
+  q.set_command(p.get_command());
+  q.set_address(p.get_address());
+  tlm::tlm_dmi d;
+  if (target_()->get_direct_mem_ptr(q, d) && d.get_dmi_ptr()) regions_.push_back(d);
+}
+
+void LooselyTimedPath::invalidate(uint64_t start, uint64_t end) {
+  regions_.erase(std::remove_if(regions_.begin(), regions_.end(),
+                                [&](const tlm::tlm_dmi& d) {
+                                  return d.get_start_address() <= end &&
+                                         d.get_end_address() >= start;
+                                }),
+                 regions_.end());
+}
+
+void LooselyTimedPath::register_stats(StatsRegistry& r, const std::string& prefix) const {
+  r.counter(prefix + ".lt_calls", &calls_, "count", "b_transport calls (a loosely-timed memory)");
+  r.counter(prefix + ".dmi_accesses", &dmi_accesses_, "count",
+            "reads and writes through a DMI pointer, timed by the region's latency");
+  r.counter(prefix + ".lt_threads", &threads_, "count",
+            "threads calling b_transport: the most calls in flight at once");
+}
+
+}  // namespace rtsim::model

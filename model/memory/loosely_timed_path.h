@@ -1,0 +1,65 @@
+// The memory port's way to a loosely-timed memory: a target that implements b_transport (and
+// maybe DMI) and nothing of nb_transport. Accellera's adapter would turn each BEGIN_REQ into a
+// b_transport call and end the request only with its response, so one transaction would be in
+// flight; here every request is a b_transport call of its own, made at once with the request's
+// time as its annotated delay (temporal decoupling), from a thread of a pool (a target may call
+// wait() inside b_transport), so as many are in flight as the model issues. A call's response
+// time is the kernel's time when it returns plus the delay it returns.
+//
+// DMI: a target that sets the payload's DMI hint after a b_transport is asked for a DMI region;
+// later reads (writes) inside a region with read (write) access copy the bytes through its
+// pointer, timed by the region's read (write) latency after the request's time, with no call.
+// invalidate_direct_mem_ptr drops the regions it names.
+//
+// Statistics (under the port's prefix): lt_calls (b_transport calls), dmi_accesses, threads (the
+// pool's size: the most calls ever in flight at once).
+#pragma once
+
+#include "model/sim/stats_registry.h"
+#include "model/sim/systemc_time.h"
+#include "model/sim/time.h"
+
+#include <systemc>
+#include <tlm>
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+class LooselyTimedPath {
+ public:
+  // A transaction answered: its payload and the model time of its response.
+  using Answered = std::function<void(tlm::tlm_generic_payload&, Tick)>;
+
+  // `name`: a prefix for its threads' names; `target`: the socket's forward interface, asked
+  // when a call is made (after binding).
+  LooselyTimedPath(std::string name, std::function<tlm::tlm_fw_transport_if<>*()> target,
+                   Answered answered);
+  ~LooselyTimedPath();
+
+  // Sends `p` at model time `now`, to reach memory at `at` (>= now).
+  void send(tlm::tlm_generic_payload& p, Tick now, Tick at, const TimeBase& time);
+  void invalidate(uint64_t start, uint64_t end);
+
+  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+
+ private:
+  struct Worker;
+  void run(Worker* w);  // a pool thread
+  bool through_dmi(tlm::tlm_generic_payload& p, Tick at, const TimeBase& time);
+  void ask_dmi(tlm::tlm_generic_payload& p);
+
+  std::string name_;
+  std::function<tlm::tlm_fw_transport_if<>*()> target_;
+  Answered answered_;
+  std::vector<std::unique_ptr<Worker>> workers_;
+  std::vector<Worker*> idle_;
+  std::vector<tlm::tlm_dmi> regions_;
+  uint64_t calls_ = 0, dmi_accesses_ = 0, threads_ = 0;
+};
+
+}  // namespace rtsim::model
