@@ -4,16 +4,17 @@
 // prints one JSON line of figures per accelerator.
 //
 //   tlm_memory_example triangle LATENCY_NS...   one ray at one triangle (no lights)
-//   tlm_memory_example city LATENCY_NS...       configs/scenes/city.yaml at 160x90
+//   tlm_memory_example city LATENCY_NS...       the procedural city (configs/scenes/city.yaml) at
+//                                               160x90
 //
 // The steps a platform takes are the four marked below (docs/model-design.md, "Embedding the
 // model").
-#include "examples/tlm_memory/fixed_latency_memory.h"
+#include "fixed_latency_memory.h"
 
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator.h"
-#include "testbench/scene_file.h"
+#include "scene_loader/procedural.h"
 
 #include <nlohmann/json.hpp>
 #include <systemc>
@@ -41,9 +42,11 @@ Job one_triangle() {
 }
 
 Job city() {
-  const rtsim::SceneSetup s =
-      rtsim::load_scene_file(std::string(RTSIM_SOURCE_DIR) + "/configs/scenes/city.yaml");
-  return {s.scene, s.kdtree, 160, 90};
+  Job j;
+  rtsim::make_city(rtsim::CityParams{}, j.scene);  // configs/scenes/city.yaml's parameters
+  j.width = 160;
+  j.height = 90;
+  return j;
 }
 
 }  // namespace
