@@ -110,7 +110,9 @@ void MemoryPort::send_now(Transaction* t) {
   if (at >= taking_.from && at < taking_.until) at = taking_.until;
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
   sc_core::sc_time delay = time.to_sc_time(at - now);
+  sending_ = true;
   const tlm::tlm_sync_enum r = socket->nb_transport_fw(*t, phase, delay);
+  sending_ = false;
   const Tick then = now + time.to_tick(delay);
   if (r == tlm::TLM_ACCEPTED) {
     open_ = t;  // END_REQ comes later
@@ -167,7 +169,9 @@ void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
     t->release();
     return;
   }
-  const bool ours = may_deliver_now && calendar_.running();  // a block of this calendar's
+  // From a block of this calendar's (not from a target answering inside our own call, which may
+  // come from a requester's fetch_line)
+  const bool ours = may_deliver_now && calendar_.running() && !sending_;
   Tick edge = clock_.edge_at_or_after(at);
   if (ours && edge == calendar_.now() && responses_.empty()) {
     // Our GDDR3's, at an edge: already in the fixed order

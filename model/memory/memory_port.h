@@ -139,6 +139,7 @@ class MemoryPort : public sc_core::sc_module,
   std::priority_queue<Response, std::vector<Response>, std::greater<Response>> responses_;
   uint64_t requests_made_ = 0;
   const Transaction* delivering_ = nullptr;  // the response being handed over
+  bool sending_ = false;                     // inside the target's nb_transport_fw
   std::unique_ptr<LooselyTimedPath> lt_;     // to a loosely-timed memory
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;
