@@ -37,7 +37,6 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config,
   if (extra_bytes > 0 && image_bytes_ % line != 0)
     writable_line(image_bytes_ - image_bytes_ % line);
   socket.register_nb_transport_fw(this, &Dram::nb_transport_fw);
-  socket.register_transport_dbg(this, &Dram::transport_dbg);
   calendar_.add(this);
 }
 
@@ -75,23 +74,6 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_p
   wake_for(engine_.next_event_time());
   phase = tlm::END_REQ;
   return tlm::TLM_UPDATED;
-}
-
-unsigned Dram::transport_dbg(tlm::tlm_generic_payload& p) {
-  const uint64_t addr = p.get_address();
-  const unsigned n = p.get_data_length();
-  if (store_bytes_ == 0 || addr > store_bytes_ || store_bytes_ - addr < n) return 0;
-  const uint64_t bytes = engine_.config().request_bytes;
-  for (unsigned done = 0; done < n;) {  // line by line: a line never leaves its page
-    const uint64_t at = addr + done;
-    const unsigned k = unsigned(std::min<uint64_t>(n - done, bytes - at % bytes));
-    if (p.is_write())
-      std::memcpy(writable_line(at), p.get_data_ptr() + done, k);
-    else
-      std::memcpy(p.get_data_ptr() + done, line_data(at), k);
-    done += k;
-  }
-  return n;
 }
 
 void Dram::respond(tlm::tlm_generic_payload& p) {

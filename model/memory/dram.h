@@ -17,8 +17,9 @@
 // enqueued before the write) and the write is queued in the engine for its timing only (it shares
 // the FR-FCFS queue, the banks and the data bus with the reads); its response goes at the time
 // the engine reports its last data beat in. A request that is not one whole
-// line inside the store completes at once with an address or burst error. transport_dbg reads and
-// writes the store without timing.
+// line inside the store completes at once with an address or burst error. There is no debug
+// transport: nothing of the model needs one (docs/systemc-integration.md), so every golden setup
+// runs on a target without it; line_data() shows the store to a test or a debugger.
 //
 // Backing store: the memory image (not copied) followed by `extra_bytes` of zeroed space (e.g. a
 // frame buffer the accelerator writes after the image), addresses [0, image + extra_bytes).
@@ -90,7 +91,6 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
 
   tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
-  unsigned transport_dbg(tlm::tlm_generic_payload& p);
   // A request's response status if it is not one request_bytes line inside the store.
   tlm::tlm_response_status check(const tlm::tlm_generic_payload& p) const;
   void respond(tlm::tlm_generic_payload& p);  // BEGIN_RESP now
