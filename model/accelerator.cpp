@@ -364,6 +364,10 @@ Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& 
 
 Accelerator::~Accelerator() = default;
 
+void Accelerator::end_of_elaboration() {
+  if (net_->trace) net_->trace->end_of_elaboration();
+}
+
 void Accelerator::start() {
   Netlist& n = *net_;
   n.generator->wake(0);

@@ -95,6 +95,7 @@ class Accelerator : public sc_core::sc_module {
               MemoryTarget memory = MemoryTarget::kBuiltin);
   ~Accelerator() override;
   const char* kind() const override { return "rtsim_accelerator"; }
+  void end_of_elaboration() override;
 
   // After the simulation: whether the frame completed, and its figures (rtsim/internal if it did
   // not). Closes the statistics at the frame's end the first time it is called.

@@ -148,11 +148,6 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   const CacheConfig& config() const { return cfg_; }
   // Probes without side effects (tests, debugging).
   bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
-  // Whether the cache holds the line's bytes (present and not awaiting its fill).
-  bool has_data(uint64_t line_addr) const {
-    const uint32_t way = find_way(line_addr);
-    return way != kNoWay && ready_[way] != kUnknown;
-  }
   size_t queued_requests() const { return queued_.size(); }
 
  private:

@@ -51,10 +51,10 @@ tlm::tlm_response_status Dram::check(const tlm::tlm_generic_payload& p) const {
 
 tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                          sc_core::sc_time& delay) {
-  if (phase == tlm::END_RESP) {  // the held-back responses may go
-    if (&p == awaiting_end_resp_) {
+  if (phase == tlm::END_RESP) {      // the held-back responses may go
+    if (&p == awaiting_end_resp_) {  // the next response, not before this END_RESP's time
       awaiting_end_resp_ = nullptr;
-      calendar_.schedule(this, calendar_.now());
+      calendar_.schedule(this, calendar_.now() + calendar_.time().to_tick(delay));
     }
     return tlm::TLM_COMPLETED;
   }
@@ -80,8 +80,11 @@ void Dram::respond(tlm::tlm_generic_payload& p) {
   p.set_response_status(tlm::TLM_OK_RESPONSE);
   tlm::tlm_phase phase = tlm::BEGIN_RESP;
   sc_core::sc_time t = sc_core::SC_ZERO_TIME;
-  // TLM_ACCEPTED: the next response waits for this one's END_RESP (response exclusion)
-  if (socket->nb_transport_bw(p, phase, t) == tlm::TLM_ACCEPTED) awaiting_end_resp_ = &p;
+  // TLM_ACCEPTED: the next response waits for this one's END_RESP (response exclusion), which may
+  // also come inside the call
+  awaiting_end_resp_ = &p;
+  if (socket->nb_transport_bw(p, phase, t) != tlm::TLM_ACCEPTED && awaiting_end_resp_ == &p)
+    awaiting_end_resp_ = nullptr;
 }
 
 // Callers may ask for a finer-aligned address (an L1 line inside a larger request): the bytes

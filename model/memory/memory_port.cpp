@@ -110,15 +110,15 @@ void MemoryPort::send_now(Transaction* t) {
   if (at >= taking_.from && at < taking_.until) at = taking_.until;
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
   sc_core::sc_time delay = time.to_sc_time(at - now);
+  // Open before the call: a target may send END_REQ or BEGIN_RESP back inside it.
+  open_ = t;
+  open_at_ = at;
   sending_ = true;
   const tlm::tlm_sync_enum r = socket->nb_transport_fw(*t, phase, delay);
   sending_ = false;
   const Tick then = now + time.to_tick(delay);
-  if (r == tlm::TLM_ACCEPTED) {
-    open_ = t;  // END_REQ comes later
-    open_at_ = at;
-    return;
-  }
+  if (r == tlm::TLM_ACCEPTED) return;  // END_REQ comes later (or came inside the call)
+  open_ = nullptr;
   if (r == tlm::TLM_UPDATED && phase == tlm::END_REQ) {
     taking_ = {at, then};
     return;
@@ -133,7 +133,10 @@ void MemoryPort::send_now(Transaction* t) {
   // is queued, never delivered inside the requester's fetch_line.
   if (r == tlm::TLM_UPDATED) {
     phase = tlm::END_RESP;
-    if (socket->nb_transport_fw(*t, phase, delay) != tlm::TLM_COMPLETED)
+    sending_ = true;
+    const tlm::tlm_sync_enum ended = socket->nb_transport_fw(*t, phase, delay);
+    sending_ = false;
+    if (ended != tlm::TLM_COMPLETED)
       report_error(kReportTlm, std::string(name()) + ": END_RESP not answered TLM_COMPLETED");
   }
   response(t, then, false);

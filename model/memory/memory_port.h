@@ -7,8 +7,8 @@
 // are counted from the calendar's time, which is the kernel's at every accelerator edge). The
 // port follows the base protocol with every legal target (IEEE 1666-2011, 15.2):
 //  - requests: TLM_ACCEPTED holds further requests back until END_REQ (they wait here, in order,
-//    and go at the first accelerator clock edge after it); END_REQ returned with TLM_UPDATED and
-//    a delay, or sent with one, frees the request channel from that time on: the next BEGIN_REQ
+//    and go at the first accelerator clock edge at or after it); END_REQ returned with TLM_UPDATED
+//    and a delay, or sent with one, frees the request channel from that time on: the next BEGIN_REQ
 //    is annotated not to arrive before it. A BEGIN_RESP stands for a missing END_REQ.
 //  - responses: a BEGIN_RESP on the backward path is answered TLM_UPDATED with END_RESP (taken
 //    at once, at its time), so a target that waits for END_RESP before its next response goes
@@ -139,7 +139,7 @@ class MemoryPort : public sc_core::sc_module,
   std::priority_queue<Response, std::vector<Response>, std::greater<Response>> responses_;
   uint64_t requests_made_ = 0;
   const Transaction* delivering_ = nullptr;  // the response being handed over
-  bool sending_ = false;                     // inside the target's nb_transport_fw
+  bool sending_ = false;                     // inside a call of the target's nb_transport_fw
   std::unique_ptr<LooselyTimedPath> lt_;     // to a loosely-timed memory
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;

@@ -9,7 +9,11 @@ namespace rtsim::model {
 
 namespace {
 
-Tick sim_time() { return TimeBase::kernel().now(); }
+// Asked only while the simulation runs, when the resolution is fixed.
+Tick sim_time() {
+  static const TimeBase time = TimeBase::kernel();
+  return time.now();
+}
 
 }  // namespace
 

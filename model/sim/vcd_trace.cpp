@@ -14,9 +14,6 @@ VcdTrace::VcdTrace(const TraceRequest& request, const Clock& clock, std::functio
   // SystemC appends ".vcd"; the file gets its own name only when complete.
   temp_base_ = request_.file + ".part";
   file_ = sc_core::sc_create_vcd_trace_file(temp_base_.c_str());  // opened at sc_start
-  // Picoseconds, or the resolution if coarser (samples then land on the next representable time).
-  file_->set_time_unit(double(std::max<Tick>(1, TimeBase::kernel().resolution_ps())),
-                       sc_core::SC_PS);
   probe_ = std::make_unique<PeriodicProbe>("vcd_probe", clock_.period(),
                                            [this](Tick now) { return sample(now); });
 }
@@ -43,6 +40,13 @@ void VcdTrace::add_counter(const std::string& name, std::function<uint64_t()> va
       {std::make_unique<sc_core::sc_signal<uint64_t>>(sc_core::sc_gen_unique_name("count")),
        std::move(value)});
   sc_core::sc_trace(file_, *counters_.back().signal, name);
+}
+
+void VcdTrace::end_of_elaboration() {
+  // Picoseconds, or the resolution if coarser (samples then land on the next representable time).
+  // Not when built: asking fixes the resolution, which the platform may set after.
+  file_->set_time_unit(double(std::max<Tick>(1, TimeBase::kernel().resolution_ps())),
+                       sc_core::SC_PS);
 }
 
 void VcdTrace::start() {

@@ -30,6 +30,8 @@ class VcdTrace {
   void add_fifo(const RayFifo* fifo);
   void add_unit(const Unit* unit);  // 1 in cycles where an operation issued
   void add_counter(const std::string& name, std::function<uint64_t()> value);
+  // Sets the file's time unit from the resolution (its owner calls it at the end of elaboration).
+  void end_of_elaboration();
   // Arms the sampling probe, at the start of the simulation.
   void start();
   void close();  // after the run: completes the file and moves it to its name

@@ -41,7 +41,7 @@ void ListUnit::process(uint32_t id, Tick now) {
   const uint32_t in_line = uint32_t(std::min<uint64_t>(
       (line + line_bytes - addr) / image::kPrimBytes, l.prim_count - l.prims_fetched));
   const RecordFetch f = fetch(l1(), id, line, uint32_t(line_bytes), now);
-  if (f.ready == kUnknown) return park(id, line, uint32_t(line_bytes), f.pending);
+  if (f.ready == kUnknown) return park(id, f.pending);
   ++stats_.list_lines;
   const uint8_t* data = line_data(id, line) + (addr - line);
   for (uint32_t k = 0; k < in_line; ++k)

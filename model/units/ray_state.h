@@ -38,8 +38,8 @@ struct FetchState {
   bool fill_ready = false;
   bool reading = false;  // that operation reads `bytes`, not the L1
   // The entry holds the data of the (at most two) L1 lines its record lies on: a line as it
-  // arrived, or as it was when the ray parked if it was already in the L1. So the ray reads what
-  // the fill brought even when the L1 has evicted the line before the ray issues again.
+  // arrived, or, of a record on two lines, as it was when its time was known. So the ray reads
+  // what the fill brought even when the L1 has evicted the line before the ray issues again.
   uint64_t lines[2] = {~uint64_t(0), ~uint64_t(0)};
   std::vector<uint8_t> bytes;  // two L1 lines
 };

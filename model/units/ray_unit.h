@@ -98,6 +98,8 @@ class RayUnit : public Unit, public FillListener {
   }
   bool holds_work() const override { return held_ > 0 || !in.empty(); }
 
+  static constexpr uint64_t kNoLine = ~uint64_t(0);
+
   RayState& ray_state(uint32_t ray) const { return (*ctx_.pool)[ray]; }
   // Copies the L1's bytes of the entry's line `i` into the entry.
   void hold_line(FetchState& f, int i) const {
@@ -109,19 +111,11 @@ class RayUnit : public Unit, public FillListener {
   FetchState& fetch_state(uint32_t ray) const { return ray_state(ray).fetch[stage_]; }
   // The ray stays in this unit and may issue again at `when`.
   void keep(uint32_t ray, Tick when) { ready_.push(when, ray); }
-  // The ray waits for `pending` fills of the lines under [addr, addr + bytes) (told through
-  // on_fill); the lines already in the L1 go into its entry now.
-  void park(uint32_t ray, uint64_t addr, uint32_t bytes, uint32_t pending) {
-    FetchState& f = fetch_state(ray);
-    f.waiting_lines = pending;
-    const uint64_t line_bytes = l1_->line_bytes();
-    const uint64_t first = addr & ~(line_bytes - 1);
-    f.lines[0] = first;
-    f.lines[1] = first + line_bytes < addr + bytes ? first + line_bytes : ~uint64_t(0);
-    for (int i = 0; i < 2; ++i)
-      if (f.lines[i] != ~uint64_t(0) && l1_->has_data(f.lines[i])) hold_line(f, i);
-  }
-  // Fetches a record for `ray`, unless a fill the ray waited for already brought it.
+  // The ray waits for `pending` fills (told through on_fill).
+  void park(uint32_t ray, uint32_t pending) { fetch_state(ray).waiting_lines = pending; }
+  // Fetches a record for `ray`, unless a fill the ray waited for already brought it. A record on
+  // two lines takes each line's bytes into the entry as soon as its time is known: the second
+  // line's allocation may evict the first.
   RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
     FetchState& f = fetch_state(ray);
     f.reading = f.fill_ready;
@@ -129,7 +123,26 @@ class RayUnit : public Unit, public FillListener {
       f.fill_ready = false;
       return {now, 0};
     }
-    return fetch_record(cache, addr, bytes, now, this, ray);
+    const uint64_t line_bytes = cache.line_bytes();
+    const uint64_t first = addr & ~(line_bytes - 1);
+    f.lines[0] = first;
+    f.lines[1] = first + line_bytes < addr + bytes ? first + line_bytes : kNoLine;
+    if (f.lines[1] == kNoLine) return fetch_record(cache, addr, bytes, now, this, ray);
+    RecordFetch r;
+    for (int i = 0; i < 2; ++i) {
+      const Tick t = cache.fetch_line(f.lines[i], now, this, ray);
+      if (t == kUnknown) {
+        ++r.pending;
+        continue;
+      }
+      r.ready = std::max(r.ready, t);
+      hold_line(f, i);
+    }
+    if (r.pending)
+      r.ready = kUnknown;
+    else
+      f.reading = true;
+    return r;
   }
   // The bytes of `line` for the operation fetch() was asked for: the entry's after a fill.
   const uint8_t* line_data(uint32_t ray, uint64_t line) const {
@@ -142,7 +155,7 @@ class RayUnit : public Unit, public FillListener {
   Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, uint8_t* out, Tick now) {
     const RecordFetch f = fetch(cache, ray, addr, bytes, now);
     if (f.ready == kUnknown) {
-      park(ray, addr, bytes, f.pending);
+      park(ray, f.pending);
       return kUnknown;
     }
     if (fetch_state(ray).reading)
