@@ -11,7 +11,6 @@ struct LooselyTimedPath::Worker {
   sc_core::sc_event go;
   tlm::tlm_generic_payload* payload = nullptr;
   sc_core::sc_time delay;
-  TimeBase time;
 };
 
 LooselyTimedPath::LooselyTimedPath(std::string name,
@@ -22,7 +21,8 @@ LooselyTimedPath::LooselyTimedPath(std::string name,
 LooselyTimedPath::~LooselyTimedPath() = default;
 
 void LooselyTimedPath::send(tlm::tlm_generic_payload& p, Tick now, Tick at, const TimeBase& time) {
-  if (through_dmi(p, at, time)) return;
+  time_ = time;
+  if (through_dmi(p, at)) return;
   if (idle_.empty()) {
     workers_.push_back(std::make_unique<Worker>());
     Worker* w = workers_.back().get();
@@ -39,7 +39,6 @@ void LooselyTimedPath::send(tlm::tlm_generic_payload& p, Tick now, Tick at, cons
   idle_.pop_back();
   w->payload = &p;
   w->delay = time.to_sc_time(at - now);
-  w->time = time;
   w->go.notify(sc_core::SC_ZERO_TIME);  // the call is made in the next delta, at this time
 }
 
@@ -49,32 +48,37 @@ void LooselyTimedPath::run(Worker* w) {
     sc_core::sc_time delay = w->delay;
     ++calls_;
     target_()->b_transport(p, delay);
-    if (p.is_response_ok() && p.is_dmi_allowed()) ask_dmi(p);
-    const Tick done = w->time.to_tick(sc_core::sc_time_stamp() + delay);
+    if (p.is_response_ok() && p.is_dmi_allowed() && !region_for(p)) ask_dmi(p);
+    const Tick done = time_.to_tick(sc_core::sc_time_stamp() + delay);
     idle_.push_back(w);
     answered_(p, done);
     sc_core::wait(w->go);
   }
 }
 
-bool LooselyTimedPath::through_dmi(tlm::tlm_generic_payload& p, Tick at, const TimeBase& time) {
+const tlm::tlm_dmi* LooselyTimedPath::region_for(const tlm::tlm_generic_payload& p) const {
   const uint64_t a = p.get_address(), n = p.get_data_length();
-  for (const tlm::tlm_dmi& d : regions_) {
-    if (a < d.get_start_address() || a + n - 1 > d.get_end_address()) continue;
-    const bool write = p.is_write();
-    if (write ? !d.is_write_allowed() : !d.is_read_allowed()) continue;
-    unsigned char* mem = d.get_dmi_ptr() + (a - d.get_start_address());
-    if (write)
-      std::memcpy(mem, p.get_data_ptr(), n);
-    else
-      std::memcpy(p.get_data_ptr(), mem, n);
-    p.set_response_status(tlm::TLM_OK_RESPONSE);
-    ++dmi_accesses_;
-    const sc_core::sc_time latency = write ? d.get_write_latency() : d.get_read_latency();
-    answered_(p, at + time.to_tick(latency));
-    return true;
-  }
-  return false;
+  for (const tlm::tlm_dmi& d : regions_)
+    if (a >= d.get_start_address() && a + n - 1 <= d.get_end_address() &&
+        (p.is_write() ? d.is_write_allowed() : d.is_read_allowed()))
+      return &d;
+  return nullptr;
+}
+
+bool LooselyTimedPath::through_dmi(tlm::tlm_generic_payload& p, Tick at) {
+  const tlm::tlm_dmi* d = region_for(p);
+  if (!d) return false;
+  const uint64_t n = p.get_data_length();
+  unsigned char* mem = d->get_dmi_ptr() + (p.get_address() - d->get_start_address());
+  if (p.is_write())
+    std::memcpy(mem, p.get_data_ptr(), n);
+  else
+    std::memcpy(p.get_data_ptr(), mem, n);
+  p.set_response_status(tlm::TLM_OK_RESPONSE);
+  ++dmi_accesses_;
+  const sc_core::sc_time latency = p.is_write() ? d->get_write_latency() : d->get_read_latency();
+  answered_(p, at + time_.to_tick(latency));
+  return true;
 }
 
 void LooselyTimedPath::ask_dmi(tlm::tlm_generic_payload& p) {

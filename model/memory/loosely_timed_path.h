@@ -50,8 +50,10 @@ class LooselyTimedPath {
  private:
   struct Worker;
   void run(Worker* w);  // a pool thread
-  bool through_dmi(tlm::tlm_generic_payload& p, Tick at, const TimeBase& time);
-  void ask_dmi(tlm::tlm_generic_payload& p);
+  // The DMI region that covers `p` with its access, if any
+  const tlm::tlm_dmi* region_for(const tlm::tlm_generic_payload& p) const;
+  bool through_dmi(tlm::tlm_generic_payload& p, Tick at);
+  void ask_dmi(tlm::tlm_generic_payload& p);  // unless a region already covers it
 
   std::string name_;
   std::function<tlm::tlm_fw_transport_if<>*()> target_;
@@ -59,6 +61,7 @@ class LooselyTimedPath {
   std::vector<std::unique_ptr<Worker>> workers_;
   std::vector<Worker*> idle_;
   std::vector<tlm::tlm_dmi> regions_;
+  TimeBase time_;  // the kernel's resolution (the port's, given with every request)
   uint64_t calls_ = 0, dmi_accesses_ = 0, threads_ = 0;
 };
 

@@ -90,10 +90,7 @@ void TlmChecker::transition(const tlm::tlm_generic_payload& p, const tlm::tlm_ph
       violation(
           p, "BEGIN_RESP timed while the previous response was being taken (response exclusion)");
     check_response_status(p, how);
-    if (request_ == &p) {  // BEGIN_RESP stands for the missing END_REQ
-      request_ = nullptr;
-      request_busy_ = {o.at, at};
-    }
+    free_if_held(request_, request_busy_, p, o.at, at);  // stands for the missing END_REQ
     response_ = &p;
     o = {Phase::kBeginResp, at};
   } else if (phase == tlm::END_RESP) {
@@ -105,20 +102,21 @@ void TlmChecker::transition(const tlm::tlm_generic_payload& p, const tlm::tlm_ph
   }
 }
 
+void TlmChecker::free_if_held(const tlm::tlm_generic_payload*& holder, Window& busy,
+                              const tlm::tlm_generic_payload& p, Tick from, Tick at) {
+  if (holder != &p) return;
+  holder = nullptr;
+  busy = {from, at};
+}
+
 void TlmChecker::complete(const tlm::tlm_generic_payload& p, Tick at, const char* how) {
   const auto it = open_.find(&p);
   if (it == open_.end())
     violation(p, std::string("TLM_COMPLETED (") + how + ") of no open transaction");
   if (at < it->second.at) violation(p, std::string("the end (") + how + ") before the last phase");
   check_response_status(p, how);
-  if (request_ == &p) {
-    request_ = nullptr;
-    request_busy_ = {it->second.at, at};
-  }
-  if (response_ == &p) {
-    response_ = nullptr;
-    response_busy_ = {it->second.at, at};
-  }
+  free_if_held(request_, request_busy_, p, it->second.at, at);
+  free_if_held(response_, response_busy_, p, it->second.at, at);
   open_.erase(it);
 }
 

@@ -60,6 +60,11 @@ class TlmChecker : public sc_core::sc_module {
     Tick at;  // the time of its last phase
   };
 
+  struct Window {
+    Tick from = 0, until = 0;
+    bool holds(Tick t) const { return t >= from && t < until; }
+  };
+
   tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
@@ -74,6 +79,9 @@ class TlmChecker : public sc_core::sc_module {
   void transition(const tlm::tlm_generic_payload& p, const tlm::tlm_phase& phase, Tick at,
                   const char* how);
   void complete(const tlm::tlm_generic_payload& p, Tick at, const char* how);
+  // If `p` holds the channel (`holder`) it held since `from`: free, busy until `at`.
+  static void free_if_held(const tlm::tlm_generic_payload*& holder, Window& busy,
+                           const tlm::tlm_generic_payload& p, Tick from, Tick at);
   void check_request_fields(const tlm::tlm_generic_payload& p);
   void check_response_status(const tlm::tlm_generic_payload& p, const char* how);
   // After a call returned: what its return value says.
@@ -89,11 +97,7 @@ class TlmChecker : public sc_core::sc_module {
   std::unordered_map<const tlm::tlm_generic_payload*, Open> open_;
   const tlm::tlm_generic_payload* request_ = nullptr;   // awaiting its END_REQ
   const tlm::tlm_generic_payload* response_ = nullptr;  // awaiting its END_RESP
-  struct Window {
-    Tick from = 0, until = 0;
-    bool holds(Tick t) const { return t >= from && t < until; }
-  };
-  Window request_busy_, response_busy_;  // the last request's and response's
+  Window request_busy_, response_busy_;                 // the last request's and response's
   TlmCheckerStats stats_;
   TimeBase time_;
 };
