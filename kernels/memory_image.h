@@ -25,6 +25,7 @@ inline constexpr uint32_t kPrimBytes = 4;
 inline constexpr uint32_t kTriangleBytes = 48;
 inline constexpr uint32_t kMaterialBytes = 32;
 inline constexpr uint32_t kLightBytes = 32;
+inline constexpr uint32_t kMaxLights = 32;  // a leaf's LVB is one 32-bit word
 
 struct Section {
   uint32_t base = 0;   // byte address of record 0

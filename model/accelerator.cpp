@@ -1,20 +1,4 @@
-#include "model/accelerator.h"
-
-#include "model/memory/dram.h"
-#include "model/memory/memory_system.h"
-#include "model/memory/tlm_checker.h"
-#include "model/sim/calendar.h"
-#include "model/sim/periodic_probe.h"
-#include "model/sim/report.h"
-#include "model/sim/watchdog.h"
-#include "model/units/ist_unit.h"
-#include "model/units/list_unit.h"
-#include "model/units/lvb_updater.h"
-#include "model/units/phase_controller.h"
-#include "model/units/ray_router.h"
-#include "model/units/shading_unit.h"
-#include "model/units/shadow_culling_unit.h"
-#include "model/units/trv_unit.h"
+#include "model/accelerator_netlist.h"
 
 #include <stdexcept>
 
@@ -30,21 +14,6 @@ std::vector<const Unit*> raw(const std::vector<std::unique_ptr<T>>& units) {
 }
 
 std::string indexed(const char* type, uint32_t i) { return type + std::to_string(i); }
-
-HitRecordRegion record_region(const AcceleratorConfig& cfg, const MemoryImage& image,
-                              const FrameJob& job, uint32_t request_bytes) {
-  HitRecordRegion records;
-  records.base = (image.bytes().size() + 4095) / 4096 * 4096;
-  records.stride = std::max(kHitRecordBytes, request_bytes);
-  records.pixels = uint32_t(job.width) * uint32_t(job.height);
-  auto pixel_at = std::make_shared<std::vector<uint32_t>>(
-      issue_order(job.width, job.height, cfg.order, cfg.tile));
-  auto slot_of = std::make_shared<std::vector<uint32_t>>(pixel_at->size());
-  for (uint32_t k = 0; k < pixel_at->size(); ++k) (*slot_of)[(*pixel_at)[k]] = k;
-  records.pixel_at = std::move(pixel_at);
-  records.slot_of = std::move(slot_of);
-  return records;
-}
 
 }  // namespace
 
@@ -65,111 +34,56 @@ enum Rank : uint32_t {
   kWatchdogRank,
 };
 
-// Every block of one accelerator, built in the accelerator's scope (so each is its child) in the
-// order a ray meets them, then connected: every hop of a ray is a port bound here, once.
-struct Accelerator::Netlist {
-  Netlist(Accelerator& top, const AcceleratorConfig& cfg, const MemoryImage& image,
-          const FrameJob& job, const SimulationHooks& hooks, MemoryTarget memory_target);
-
-  void build_memory(const MemoryImage& image, MemoryTarget memory_target);
-  void build_units();
-  void bind_ray_path();
-  void bind_control_and_memory();
-  void declare_order();
-  void build_observers();
-
-  bool pending() const {
-    return pool.in_flight() > 0 || !generator->finished() || !culling->finished();
-  }
-  uint64_t progress_count() const;
-  std::string describe_stall() const;
-  void report_progress(Tick now) const;
-  void register_stats();
-  // The socket towards memory: the protocol checker's, when there is one.
-  tlm::tlm_initiator_socket<>& memory_socket() {
-    if (checker) return checker->initiator_socket;
-    return memory->interconnect().port().socket;
-  }
-
-  Accelerator& top;
-  AcceleratorConfig cfg;
-  FrameJob job;
-  RayPool pool;
-  ModelContext ctx;
-  FrameBuffer frame;
-  HitRecordRegion records;
-  SimulationHooks hooks;
-  Calendar calendar;
-  std::unique_ptr<Dram> dram;
-  std::unique_ptr<MemorySystem> memory;
-  std::unique_ptr<TlmChecker> checker;  // between the memory port and the memory, if asked
-  std::unique_ptr<RayGenerator> generator;
-  std::vector<std::unique_ptr<TrvUnit>> trv;
-  std::vector<std::unique_ptr<ListUnit>> list;
-  std::vector<std::unique_ptr<IstUnit>> ist;
-  LvbUpdater lvb;
-  std::vector<std::unique_ptr<ShadingUnit>> shading;
-  std::unique_ptr<ShadowCullingUnit> culling;
-  RayRouter router;
-  PhaseController phases;
-  std::unique_ptr<Watchdog> watchdog;
-  std::unique_ptr<PeriodicProbe> progress;
-  std::unique_ptr<VcdTrace> trace;
-  std::vector<RayUnit*> ray_units;  // TRV, LIST, IST, shading
-  std::vector<RayFifo*> fifos;      // shading, TRV, LIST, IST inputs
-  StatsRegistry stats;
-  Tick end = 0;
-  uint64_t memory_bytes = 0;
-  bool collected = false;
-};
-
 Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config,
-                              const MemoryImage& image, const FrameJob& frame_job,
-                              const SimulationHooks& observers, MemoryTarget memory_target)
+                              const SimulationHooks& observers, MemoryTarget memory_target,
+                              const MemoryImage* image, uint64_t image_memory_bytes)
     : top(top_),
       cfg(config),
-      job(frame_job),
       pool(config.ray_pool),
       hooks(observers),
       calendar("calendar"),
       lvb("lvb_updater"),
       router("router", ctx),
       phases("phases", config.schedule, calendar) {
-  const image::Header& h = image.header();
   ctx.calendar = &calendar;
   ctx.pool = &pool;
-  ctx.header = h;
   ctx.clock = Clock(cfg.clock_ghz);
-  // The reference tracer's constants (reference_tracer.cpp), computed the same way.
-  ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
-  ctx.shadow_offset = 1e-5f * h.bounds.diagonal();
-  for (uint32_t l = 0; l < h.light_count; ++l) ctx.light_samples.push_back(image.light(l).samples);
-  frame.width = job.width;
-  frame.height = job.height;
-  frame.levels = cfg.reflection_depth + 1;
-  frame.allocate(ctx.light_samples);
-
-  build_memory(image, memory_target);
+  build_memory(image, image_memory_bytes, memory_target);
   build_units();
   bind_ray_path();
   bind_control_and_memory();
   build_observers();
   declare_order();
   register_stats();
+  DeviceInfo info;
+  info.record_stride = record_stride(cfg);
+  info.levels = cfg.reflection_depth + 1;
+  info.order = cfg.order == RayOrder::kTiles ? 1u : 0u;
+  info.tile = uint32_t(cfg.tile);
+  info.memory_bytes = dram ? dram->store_bytes() : 0;
+  info.lvb_culling = cfg.lvb_culling;
+  registers = std::make_unique<ControlRegisters>("registers", info, *this);
+  registers->irq.bind(top.irq);
+  calendar.on_settled([this] { check_frame_end(); });
+  memory->interconnect().port().on_drained([this] { check_frame_end(); });
 }
 
 // The memory (the built-in GDDR3, unless the platform binds its own) and the hierarchy in front
 // of it; the frame buffer of hit records follows the image (model/units/hit_record.h).
-void Accelerator::Netlist::build_memory(const MemoryImage& image, MemoryTarget memory_target) {
+// With an image given (a frame programmed at construction), the built-in memory holds it and
+// `image_memory_bytes` in all; else it is empty, of its configured capacity.
+void Accelerator::Netlist::build_memory(const MemoryImage* image, uint64_t image_memory_bytes,
+                                        MemoryTarget memory_target) {
   MemorySystemConfig mem = cfg.memory_system();
   mem.loosely_timed_memory = memory_target == MemoryTarget::kLooselyTimed;
-  const uint64_t entries =
-      uint64_t(job.width) * uint64_t(job.height) * uint64_t(cfg.reflection_depth + 1);
-  records = record_region(cfg, image, job, mem.dram.request_bytes);
-  memory_bytes = records.base + entries * records.stride;
-  if (memory_target == MemoryTarget::kBuiltin)
-    dram = std::make_unique<Dram>("dram", mem.dram, &image.bytes(), ctx.clock, calendar,
-                                  memory_bytes - image.bytes().size());
+  memory_bytes = image_memory_bytes;
+  if (memory_target == MemoryTarget::kBuiltin && image)
+    dram = std::make_unique<Dram>("dram", mem.dram, &image->bytes(), ctx.clock, calendar,
+                                  image_memory_bytes - image->bytes().size());
+  else if (memory_target == MemoryTarget::kBuiltin)
+    dram = std::make_unique<Dram>("dram", mem.dram, nullptr, ctx.clock, calendar,
+                                  uint64_t(mem.dram.capacity_mib) << 20);
+  if (dram && !image) memory_bytes = dram->store_bytes();
   memory = std::make_unique<MemorySystem>(mem, ctx.clock, calendar);
   if (hooks.tlm_checks) {
     checker = std::make_unique<TlmChecker>("tlm_checker");
@@ -180,8 +94,8 @@ void Accelerator::Netlist::build_memory(const MemoryImage& image, MemoryTarget m
 }
 
 void Accelerator::Netlist::build_units() {
-  generator = std::make_unique<RayGenerator>("raygen", ctx, job.camera, job.width, job.height,
-                                             cfg.order, cfg.tile, cfg.raygen_rays_per_cycle);
+  generator =
+      std::make_unique<RayGenerator>("raygen", ctx, cfg.order, cfg.tile, cfg.raygen_rays_per_cycle);
   for (uint32_t i = 0; i < cfg.trv.count; ++i)
     trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, *memory, i));
   for (uint32_t j = 0; j < cfg.list.count; ++j)
@@ -192,8 +106,8 @@ void Accelerator::Netlist::build_units() {
   for (uint32_t s = 0; s < cfg.shading.count; ++s)
     shading.push_back(std::make_unique<ShadingUnit>(indexed("shading", s).c_str(), ctx, cfg.shading,
                                                     *memory, s, &frame, records));
-  culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.lvb_culling, cfg.culling,
-                                                memory.get(), &frame, records);
+  culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.culling, memory.get(), &frame,
+                                                records);
 }
 
 // Forward: generator -> TRV -> LIST -> IST -> shading (TRV unit i -> LIST unit i x list / trv
@@ -347,83 +261,6 @@ void Accelerator::Netlist::register_stats() {
   if (dram) dram->register_stats(stats, stat_prefix(*dram, top));
   if (checker) checker->register_stats(stats, stat_prefix(*checker, top));
   for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &end);
-}
-
-Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
-                         const MemoryImage& image, const FrameJob& job,
-                         const SimulationHooks& hooks, MemoryTarget memory)
-    : sc_core::sc_module(name) {
-  try {
-    config.validate();
-  } catch (const std::invalid_argument& e) {
-    report_error(kReportConfig, std::string(this->name()) + ": " + e.what());
-  }
-  net_ = std::make_unique<Netlist>(*this, config, image, job, hooks, memory);
-  SC_METHOD(start);  // runs once, when the simulation starts
-}
-
-Accelerator::~Accelerator() = default;
-
-void Accelerator::end_of_elaboration() {
-  if (net_->trace) net_->trace->end_of_elaboration();
-}
-
-void Accelerator::start() {
-  Netlist& n = *net_;
-  n.generator->wake(0);
-  n.watchdog->start();
-  if (n.progress) n.progress->start_at(0);
-  if (n.trace) n.trace->start();
-}
-
-bool Accelerator::finished() const { return net_->phases.finished(); }
-
-const StatsRegistry& Accelerator::stats() const { return net_->stats; }
-
-tlm::tlm_initiator_socket<>& Accelerator::memory_socket() { return net_->memory_socket(); }
-
-uint64_t Accelerator::memory_bytes() const { return net_->memory_bytes; }
-
-AcceleratorResult Accelerator::result() {
-  Netlist& n = *net_;
-  if (!finished())
-    report_error(kReportInternal,
-                 std::string(name()) + ": the simulation ended with rays in flight");
-  if (n.checker && n.checker->open_transactions() > 0)
-    report_error(kReportTlm, std::string(n.checker->name()) + ": " +
-                                 std::to_string(n.checker->open_transactions()) +
-                                 " transactions never ended");
-  if (!n.collected) {
-    if (n.trace) n.trace->close();
-    n.memory->interconnect().port().close_trace();
-    // The frame ends with the last retirement (the watchdog's last look may come later).
-    n.end = n.phases.end();
-    n.generator->finish_accounting(n.end);
-    n.culling->finish_accounting(n.end);
-    for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
-    for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
-    n.frame.close_samples();
-    n.collected = true;
-  }
-  AcceleratorResult out;
-  out.clock_ghz = n.cfg.clock_ghz;
-  out.cycles_total = n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.end));
-  out.cycles_primary = n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end()));
-  out.cycles_shadow = out.cycles_total - out.cycles_primary;
-  for (const auto& u : n.shading) {
-    out.primary_rays += u->stats().primary_rays;
-    out.primary_hits += u->stats().primary_hits;
-    out.reflection_rays += u->stats().reflection_rays;
-    out.shadow_rays += u->stats().shadow_rays;
-  }
-  for (const LightStats& l : n.culling->per_light()) {
-    out.shadow_generated.push_back(l.generated);
-    out.shadow_culled.push_back(l.culled);
-  }
-  out.stats = n.stats.values();
-  out.glossary = n.stats.glossary();
-  out.frame = n.frame;
-  return out;
 }
 
 }  // namespace rtsim::model

@@ -11,14 +11,18 @@
 // retires them, `<top>.phases` is the phase controller. Every hop of a ray is a port bound once
 // in accelerator.cpp (docs/model-design.md has the table).
 //
-// It renders one frame: in two phases (all primary rays, then all shadow rays) or in one (shadow
-// rays as soon as their hit is shaded). It never sets the time resolution (it needs 1 ps), never
-// starts or stops the simulation: the frame starts with the simulation, and the accelerator goes
-// quiet when it is done (finished()). Errors are sc_reports of type rtsim/* (model/sim/report.h).
+// It is a device (docs/systemc-integration.md, "The device"): a platform puts a scene image in
+// memory, programs a frame through the register socket (`<top>.registers`,
+// model/device/register_map.h), writes START, and gets the interrupt `irq` when the frame's hit
+// records are in memory; frames run back to back, each in two phases (all primary rays, then all
+// shadow rays) or in one (shadow rays as soon as their hit is shaded). It never sets the time
+// resolution, never starts or stops the simulation. Errors are sc_reports of type rtsim/*
+// (model/sim/report.h).
 #pragma once
 
 #include "kernels/memory_image.h"
 #include "model/accelerator_config.h"
+#include "model/device/control_registers.h"
 #include "model/memory/memory_port.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/vcd_trace.h"
@@ -85,11 +89,23 @@ enum class MemoryTarget {
 
 class Accelerator : public sc_core::sc_module {
  public:
-  // Builds the netlist for `job` over `image` (which must outlive the accelerator; the memory
-  // holds it and, after it, the frame buffer of hit records). A configuration out of range is
-  // reported as rtsim/config.
-  // With a memory other than kBuiltin there is no `dram`: memory_socket() is left for the
-  // platform to bind to a TLM-2.0 target holding memory_bytes() bytes, the image's first.
+  // A target socket a platform may leave unbound.
+  using TargetSocket =
+      tlm::tlm_target_socket<32, tlm::tlm_base_protocol_types, 1, sc_core::SC_ZERO_OR_MORE_BOUND>;
+  // The interrupt: high while a frame's end is enabled and not acknowledged (IRQ_ENABLE,
+  // IRQ_STATUS). Bind it to an sc_signal<bool>, or leave it unbound and poll STATUS.
+  sc_core::sc_port<sc_core::sc_signal_inout_if<bool>, 1, sc_core::SC_ZERO_OR_MORE_BOUND> irq;
+
+  // The device, idle until a platform programs it. A configuration out of range is reported as
+  // rtsim/config. With the built-in memory, a platform loads it through memory_host_socket();
+  // otherwise there is no `dram`, and memory_socket() is the platform's to bind.
+  Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+              const SimulationHooks& hooks = {}, MemoryTarget memory = MemoryTarget::kBuiltin);
+  // The device programmed at construction with one frame of `job` over `image`, started at time
+  // 0, as a driver writing the registers then would (DeviceDriver::program): the image at
+  // address 0 and the frame buffer after it. The built-in memory holds `image` without a copy
+  // (it must outlive the accelerator); the platform's must hold memory_bytes() bytes, the
+  // image's first.
   Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
               const MemoryImage& image, const FrameJob& job, const SimulationHooks& hooks = {},
               MemoryTarget memory = MemoryTarget::kBuiltin);
@@ -97,8 +113,9 @@ class Accelerator : public sc_core::sc_module {
   const char* kind() const override { return "rtsim_accelerator"; }
   void end_of_elaboration() override;
 
-  // After the simulation: whether the frame completed, and its figures (rtsim/internal if it did
-  // not). Closes the statistics at the frame's end the first time it is called.
+  // After the simulation: whether the last frame completed, and its figures (rtsim/internal if
+  // it did not): its cycles, its hits and the host-side frame; the statistics cover every frame
+  // since elaboration. Closes the statistics the first time it is called.
   bool finished() const;
   AcceleratorResult result();
   const StatsRegistry& stats() const;
@@ -106,13 +123,20 @@ class Accelerator : public sc_core::sc_module {
   // The TLM-2.0 initiator socket towards memory (bound to the built-in GDDR3 unless told
   // otherwise): the memory port's, or the protocol checker's behind it.
   tlm::tlm_initiator_socket<>& memory_socket();
-  // The bytes the memory must hold: the image, then the frame buffer of hit records.
+  // The register block's target socket (LT: b_transport, transport_dbg; may stay unbound).
+  TargetSocket& register_socket();
+  // The built-in memory's host port (Dram::host_socket); rtsim/internal without one.
+  TargetSocket& memory_host_socket();
+  // The bytes the memory must hold: with a frame programmed at construction, the image then
+  // its frame buffer; else the built-in memory's size (0 with the platform's).
   uint64_t memory_bytes() const;
 
  private:
   struct Netlist;
   SC_HAS_PROCESS(Accelerator);
-  void start();  // at the start of the simulation: the frame begins
+  void build(const AcceleratorConfig& config, const SimulationHooks& hooks, MemoryTarget memory,
+             const MemoryImage* image, const FrameJob* job);
+  void start();  // at the start of the simulation: a frame programmed at construction begins
   std::unique_ptr<Netlist> net_;
 };
 

@@ -15,6 +15,7 @@ trap 'rm -rf "$work"' EXIT
 smoke() {
   case "$1" in
     tlm_memory) "$2/tlm_memory_example" triangle 0 100 | grep -q '"cycles":677' ;;
+    platform) [ "$("$2/platform_example" city 64 36 | grep -c '"wrong_records":0')" = 2 ] ;;
     *) echo "package-test: no smoke run for example $1" >&2; return 1 ;;
   esac
 }

@@ -2,8 +2,10 @@
 
 #include "common/error.h"
 #include "kernels/light_samples.h"
+#include "model/device/device_driver.h"
 #include "model/sim/report.h"
 
+#include <tlm_utils/simple_initiator_socket.h>
 #include <systemc>
 
 #include <stdexcept>
@@ -18,10 +20,41 @@ namespace {
   const std::string type = r.get_msg_type(), msg = r.get_msg();
   if (type == model::kReportWatchdog)
     throw std::runtime_error("the accelerator model stopped: " + msg);
-  if (type == model::kReportConfig) throw InputError(msg);
+  if (type == model::kReportConfig || type == model::kReportDevice) throw InputError(msg);
   if (type == model::kReportTlm) throw std::runtime_error("TLM-2.0 protocol violation: " + msg);
   throw std::runtime_error(type + ": " + msg);
 }
+
+// The testbench's platform is a host and the accelerator: the host's thread loads the image into
+// the accelerator's memory through its host port, programs one frame through the registers as
+// any platform would (model/device/device_driver.h), starts it and waits for the interrupt.
+class Host : public sc_core::sc_module {
+ public:
+  tlm_utils::simple_initiator_socket<Host> registers{"registers"};
+  tlm_utils::simple_initiator_socket<Host> memory{"memory"};
+  sc_core::sc_in<bool> irq{"irq"};
+
+  Host(sc_core::sc_module_name name, const MemoryImage& image, const model::FrameSetup& setup)
+      : sc_core::sc_module(name), image_(image), setup_(setup) {
+    SC_THREAD(run);
+  }
+  uint64_t cycles() const { return cycles_; }
+
+ private:
+  SC_HAS_PROCESS(Host);
+  void run() {
+    model::DeviceDriver host_memory(memory, 0), device(registers, 0);
+    host_memory.load(image_, setup_.image_base);
+    device.program(image_, setup_);
+    device.start();
+    sc_core::wait(irq.posedge_event());
+    cycles_ = device.finish();
+  }
+
+  const MemoryImage& image_;
+  model::FrameSetup setup_;
+  uint64_t cycles_ = 0;
+};
 
 }  // namespace
 
@@ -42,10 +75,24 @@ SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const Memo
   sc_core::sc_set_time_resolution(resolution_ps, sc_core::SC_PS);
   SimulatedFrame out;
   try {
-    model::Accelerator accelerator("rtsim", config, image, model::FrameJob{camera, width, height},
-                                   hooks);
+    model::Accelerator accelerator("rtsim", config, hooks);
+    model::FrameSetup setup;
+    setup.fb_base = model::frame_buffer_after(0, image.bytes().size());
+    setup.camera = camera;
+    setup.width = width;
+    setup.height = height;
+    setup.lvb_culling = config.lvb_culling;
+    Host host("host", image, setup);
+    sc_core::sc_signal<bool> irq("irq");
+    host.registers.bind(accelerator.register_socket());
+    host.memory.bind(accelerator.memory_host_socket());
+    accelerator.irq.bind(irq);
+    host.irq.bind(irq);
     run_simulation();
     static_cast<model::AcceleratorResult&>(out) = accelerator.result();
+    if (out.cycles_total != host.cycles())
+      throw std::runtime_error("the CYCLES register says " + std::to_string(host.cycles()) +
+                               " cycles, the frame " + std::to_string(out.cycles_total));
   } catch (const sc_core::sc_report& r) {
     rethrow(r);
   }

@@ -58,6 +58,14 @@ Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineS
   if (cfg_.ports > 0) banks_.assign(cfg_.banks, PortSchedule(clock_.period(), cfg_.ports));
 }
 
+void Cache::invalidate() {
+  if (awaiting_ > 0 || !queued_.empty())
+    report_error(kReportInternal, std::string(name()) + ": invalidated with misses in flight");
+  std::fill(tags_.begin(), tags_.end(), kInvalidTag);
+  std::fill(ready_.begin(), ready_.end(), 0);
+  std::fill(lru_.begin(), lru_.end(), 0);
+}
+
 void Cache::name_requester(const FillListener* requester, const std::string& type) {
   const auto it = std::find(type_names_.begin(), type_names_.end(), type);
   const uint32_t index = uint32_t(it - type_names_.begin());

@@ -146,6 +146,9 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
 
   const CacheStats& stats() const { return stats_; }
   const CacheConfig& config() const { return cfg_; }
+  // Drops every line (a device reset or a new frame: the platform may have changed memory). Only
+  // while nothing is in flight (rtsim/internal otherwise).
+  void invalidate();
   // Probes without side effects (tests, debugging).
   bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
   size_t queued_requests() const { return queued_.size(); }

@@ -21,6 +21,7 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config,
            uint64_t extra_bytes)
     : sc_core::sc_module(name),
       socket("socket"),
+      host_socket("host_socket"),
       calendar_(calendar),
       engine_(config),
       memory_(memory),
@@ -37,6 +38,8 @@ Dram::Dram(sc_core::sc_module_name name, const DramConfig& config,
   if (extra_bytes > 0 && image_bytes_ % line != 0)
     writable_line(image_bytes_ - image_bytes_ % line);
   socket.register_nb_transport_fw(this, &Dram::nb_transport_fw);
+  host_socket.register_b_transport(this, &Dram::host_b_transport);
+  host_socket.register_transport_dbg(this, &Dram::host_transport_dbg);
   calendar_.add(this);
 }
 
@@ -121,6 +124,31 @@ uint8_t* Dram::writable_line(uint64_t line_addr) {
                   size_t(std::min(page_bytes, image_bytes_ - base)));
   }
   return page.get() + (line_addr - base);
+}
+
+unsigned int Dram::host_transport_dbg(tlm::tlm_generic_payload& p) {
+  const uint64_t addr = p.get_address(), n = p.get_data_length();
+  if (p.get_byte_enable_ptr() || addr > store_bytes_ || n > store_bytes_ - addr) return 0;
+  const uint64_t line_bytes = engine_.config().request_bytes;
+  uint8_t* data = p.get_data_ptr();
+  for (uint64_t at = addr; at < addr + n;) {
+    const uint64_t line = at / line_bytes * line_bytes;
+    const uint64_t k = std::min(line + line_bytes, addr + n) - at;
+    if (p.is_write())
+      std::memcpy(writable_line(line) + (at - line), data + (at - addr), k);
+    else
+      std::memcpy(data + (at - addr), line_data(line) + (at - line), k);
+    at += k;
+  }
+  return unsigned(n);
+}
+
+void Dram::host_b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time&) {
+  if (p.get_byte_enable_ptr() || p.get_streaming_width() < p.get_data_length())
+    return p.set_response_status(tlm::TLM_BURST_ERROR_RESPONSE);
+  if (!p.is_read() && !p.is_write()) return p.set_response_status(tlm::TLM_COMMAND_ERROR_RESPONSE);
+  const bool inside = host_transport_dbg(p) == p.get_data_length() || p.get_data_length() == 0;
+  p.set_response_status(inside ? tlm::TLM_OK_RESPONSE : tlm::TLM_ADDRESS_ERROR_RESPONSE);
 }
 
 uint64_t Dram::pages_written() const {

@@ -17,9 +17,10 @@
 // enqueued before the write) and the write is queued in the engine for its timing only (it shares
 // the FR-FCFS queue, the banks and the data bus with the reads); its response goes at the time
 // the engine reports its last data beat in. A request that is not one whole
-// line inside the store completes at once with an address or burst error. There is no debug
+// line inside the store completes at once with an address or burst error. `socket` has no debug
 // transport: nothing of the model needs one (docs/systemc-integration.md), so every golden setup
-// runs on a target without it; line_data() shows the store to a test or a debugger.
+// runs on a target without it; line_data() shows the store to a test or a debugger, and
+// `host_socket` to a platform.
 //
 // Backing store: the memory image (not copied) followed by `extra_bytes` of zeroed space (e.g. a
 // frame buffer the accelerator writes after the image), addresses [0, image + extra_bytes).
@@ -56,6 +57,10 @@ namespace rtsim::model {
 class Dram : public sc_core::sc_module, public Calendar::Client {
  public:
   tlm_utils::simple_target_socket<Dram> socket;
+  // The platform's way in (a host bus window onto the memory, as a PCIe BAR onto a GPU's): any
+  // byte range inside the store, read or written at once with b_transport or transport_dbg. It
+  // takes no time and leaves the DRAM's state alone: a platform loads the image before a frame.
+  tlm_utils::simple_target_socket_optional<Dram> host_socket;
 
   // `memory` is the loaded memory image (may be null: with extra_bytes 0 that is a timing-only
   // model, whose line_data reports an error and whose accesses are not range-checked). It must
@@ -89,6 +94,8 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
     bool operator>(const Delivery& o) const { return when != o.when ? when > o.when : id > o.id; }
   };
 
+  void host_b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay);
+  unsigned int host_transport_dbg(tlm::tlm_generic_payload& p);
   tlm::tlm_sync_enum nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   // A request's response status if it is not one request_bytes line inside the store.

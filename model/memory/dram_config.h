@@ -84,6 +84,9 @@ struct DramConfig {
   uint32_t queue_size = 0;  // scheduler queue per channel; excess requests wait in a FIFO
   // The cache line above; one request = request_bytes / burst_bytes bursts
   uint32_t request_bytes = 0;
+  // The built-in memory's size, where a platform puts the image and the frame buffer: GT200's
+  // (GeForce GTX 280) 1 GiB of GDDR3. Untouched pages cost no host memory.
+  uint32_t capacity_mib = 1024;
   RowPolicy row_policy = RowPolicy::kOpenPage;
   std::string address_mapping;
 
@@ -122,6 +125,8 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
   v.number("bus_bytes", c.bus_bytes, 1, 256, "bytes", "data-bus width of one channel");
   v.number("queue_size", c.queue_size, 1, 4096, "requests", "FR-FCFS scheduler queue per channel");
   v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");
+  v.number("capacity_mib", c.capacity_mib, 1, 1 << 20, "MiB",
+           "the built-in memory's size (the device's address space for image and frame buffer)");
 }
 
 // The preset called `name`; unknown names throw std::invalid_argument listing the known ones.

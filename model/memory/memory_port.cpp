@@ -167,6 +167,7 @@ void MemoryPort::invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 en
 void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
   if (!t->is_response_ok()) failed(*t);
   ++stats_.responses;
+  if (drained_ && in_flight() == 0) drained_();
   if (t->write) {  // posted: nobody waits
     trace(*t, at);
     t->release();

@@ -49,6 +49,7 @@
 #include <cstdint>
 #include <deque>
 #include <fstream>
+#include <functional>
 #include <memory>
 #include <queue>
 #include <string>
@@ -68,6 +69,12 @@ class MemoryPort : public sc_core::sc_module,
                    public tlm::tlm_mm_interface {
  public:
   tlm_utils::simple_initiator_socket<MemoryPort> socket;
+
+  // Transactions sent and not answered yet.
+  uint64_t in_flight() const { return stats_.reads + stats_.writes - stats_.responses; }
+  // Called when the last transaction in flight is answered (the accelerator's end of a frame
+  // waits for its hit records' writes).
+  void on_drained(std::function<void()> f) { drained_ = std::move(f); }
 
   // `line_bytes`: the size of every transaction; `mapping`: the memory's channel decode (the
   // crossbar's destination ports); `clock`: the accelerator's, on whose edges responses land;
@@ -144,6 +151,7 @@ class MemoryPort : public sc_core::sc_module,
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;
   std::unique_ptr<std::ofstream> trace_;
+  std::function<void()> drained_;
   MemoryPortStats stats_;
 };
 

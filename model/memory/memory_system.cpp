@@ -130,9 +130,17 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
       totals(type + ".l1", std::vector<const Cache*>(m.l1s.begin(), m.l1s.end()));
     for (const Cache* c : m.l2s) c->register_stats(r, stat_prefix(*c, top));
     for (const Crossbar* x : m.icnts) x->register_stats(r, stat_prefix(*x, top), end);
-    if (m.private_l2) totals(type + ".l2", m.l2s);
+    if (m.private_l2) totals(type + ".l2", std::vector<const Cache*>(m.l2s.begin(), m.l2s.end()));
   }
   interconnect_->register_stats(r, "memory", end);
+}
+
+void MemorySystem::invalidate() {
+  for (TypeMemory& m : types_) {
+    for (Cache* c : m.l1s)
+      if (c) c->invalidate();
+    for (Cache* c : m.l2s) c->invalidate();
+  }
 }
 
 }  // namespace rtsim::model

@@ -82,6 +82,8 @@ class MemorySystem {
   std::unique_ptr<UnitMemory> build_unit(Type t, uint32_t index, const FillListener* requester);
 
   MemoryInterconnect& interconnect() { return *interconnect_; }
+  // Empties every cache (Cache::invalidate).
+  void invalidate();
   // Registers every cache and crossbar under its name relative to `top`; `end` is the frame's end
   // time (utilisations).
   void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;
@@ -95,7 +97,7 @@ class MemorySystem {
     uint32_t first_source = 0;           // its first L2 bank on the memory crossbar
     std::unique_ptr<TypeModule> shared;  // null with private L2s (or shading on the IST's L2)
     std::vector<Cache*> l1s;             // owned by the units
-    std::vector<const Cache*> l2s;       // owned by the units or `shared`
+    std::vector<Cache*> l2s;             // owned by the units or `shared`
     std::vector<const Crossbar*> icnts;
   };
   L2Group build_group(Type t, uint32_t group, uint32_t l1_sources);

@@ -136,7 +136,8 @@ void Calendar::run() {
       c->activate();
     }
     const Tick next = next_time(now);
-    if (next > stamp) {  // kUnknown too
+    if (next > stamp) {          // kUnknown too
+      if (settled_) settled_();  // still running, at `now`
       running_ = false;
       if (next != kUnknown) notify_at(next);
       return;

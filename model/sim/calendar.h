@@ -25,6 +25,7 @@
 #include <systemc>
 
 #include <cstdint>
+#include <functional>
 #include <queue>
 #include <vector>
 
@@ -56,6 +57,9 @@ class Calendar : public sc_core::sc_module {
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
   // the past) stands; a later one is replaced.
   void schedule(Client* c, Tick at);
+  // Called after each activation, once every block due has acted (the accelerator looks there
+  // for the end of a frame).
+  void on_settled(std::function<void()> f) { settled_ = std::move(f); }
   // Whether the calendar is running its blocks (an activation is on the stack).
   bool running() const { return running_; }
   // The simulated time: while the calendar runs, the model time of the blocks it runs (at most
@@ -91,6 +95,7 @@ class Calendar : public sc_core::sc_module {
   bool running_ = false;
   Tick now_ = 0;  // while running
   TimeBase time_;
+  std::function<void()> settled_;
 };
 
 }  // namespace rtsim::model

@@ -11,6 +11,7 @@ inline constexpr const char* kReportConfig = "rtsim/config";      // a configura
 inline constexpr const char* kReportWatchdog = "rtsim/watchdog";  // a run that stopped moving
 inline constexpr const char* kReportMemory = "rtsim/memory";      // an access outside the memory
 inline constexpr const char* kReportTlm = "rtsim/tlm";            // a TLM-2.0 protocol violation
+inline constexpr const char* kReportDevice = "rtsim/device";      // a program the device refused
 inline constexpr const char* kReportTrace = "rtsim/trace";        // a trace that cannot be written
 inline constexpr const char* kReportInternal = "rtsim/internal";  // a broken invariant: a bug
 

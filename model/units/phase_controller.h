@@ -30,6 +30,13 @@ class PhaseController : public sc_core::sc_module, public RetireListener {
   PhaseController(sc_core::sc_module_name name, Schedule schedule, Calendar& calendar);
   const char* kind() const override { return "rtsim_phase_controller"; }
 
+  // A new frame, starting at `begin`.
+  void begin_frame(Tick begin) {
+    primaries_done_ = false;
+    primaries_retired_ = shadows_retired_ = 0;
+    primary_end_ = end_ = begin;
+  }
+
   // RetireListener: a ray retired at `when`; a primary or reflection ray ends its pixel's chain.
   void retired(RayType type, Tick when) override;
 

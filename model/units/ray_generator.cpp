@@ -17,21 +17,26 @@ std::vector<uint32_t> issue_order(int width, int height, RayOrder order, int til
   return pixels;
 }
 
-RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx,
-                           const Camera& camera, int width, int height, RayOrder order, int tile,
-                           uint32_t rays_per_cycle)
+RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, RayOrder order,
+                           int tile, uint32_t rays_per_cycle)
     : Unit(name, *ctx.calendar, ctx.clock),
       to_trv("to_trv", this),
       control("control"),
       ctx_(ctx),
-      camera_(camera, width, height),
-      width_(width),
-      height_(height),
+      order_kind_(order),
+      tile_(tile),
       inputs_(to_trv),
-      rays_per_cycle_(rays_per_cycle),
-      total_(uint64_t(width) * height),
-      order_(issue_order(width, height, order, tile)) {
+      rays_per_cycle_(rays_per_cycle) {
   control.bind(*this);
+}
+
+void RayGenerator::begin_frame(const Camera& camera, int width, int height) {
+  camera_ = PinholeCamera(camera, width, height);
+  width_ = width;
+  height_ = height;
+  next_ = 0;
+  total_ = uint64_t(width) * uint64_t(height);
+  order_ = issue_order(width, height, order_kind_, tile_);
 }
 
 bool RayGenerator::cycle(Tick now) {

@@ -25,8 +25,10 @@ class RayGenerator : public Unit, public PrimaryRays {
   RayDeal to_trv;
   sc_core::sc_export<PrimaryRays> control;
 
-  RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, const Camera& camera,
-               int width, int height, RayOrder order, int tile, uint32_t rays_per_cycle = 1);
+  RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, RayOrder order, int tile,
+               uint32_t rays_per_cycle = 1);
+  // The next frame's rays: `camera` at width x height, from its first pixel.
+  void begin_frame(const Camera& camera, int width, int height);
 
   // PrimaryRays.
   bool finished() const override { return next_ == total_; }
@@ -42,8 +44,10 @@ class RayGenerator : public Unit, public PrimaryRays {
   uint32_t pixel_of(uint64_t k) const { return order_[k]; }
 
   const ModelContext& ctx_;
-  PinholeCamera camera_;
-  int width_, height_;
+  PinholeCamera camera_{Camera{}, 1, 1};
+  int width_ = 0, height_ = 0;
+  RayOrder order_kind_;
+  int tile_;
   RoundRobin inputs_;  // over to_trv
   uint32_t rays_per_cycle_;
   uint64_t next_ = 0, total_ = 0;

@@ -31,7 +31,8 @@ class ShadingUnit : public RayUnit {
   sc_core::sc_port<ShadedHits, 1, sc_core::SC_ZERO_OR_MORE_BOUND> hits;
   sc_core::sc_port<LineWriter, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
 
-  // Unit `index` of the shading units; hits land in `frame`, and their records at `region`.
+  // Unit `index` of the shading units; hits land in `frame`, and their records at `region` (both
+  // the accelerator's, updated in place for each frame).
   ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
               MemorySystem& memory, uint32_t index, FrameBuffer* frame,
               const HitRecordRegion& region);
@@ -49,7 +50,7 @@ class ShadingUnit : public RayUnit {
 
   uint32_t latency_;
   FrameBuffer* frame_;
-  HitRecordRegion region_;
+  const HitRecordRegion& region_;
   std::vector<uint8_t> line_;  // the record line being written
   ShadingStats stats_;
 };

@@ -7,9 +7,8 @@
 namespace rtsim::model {
 
 ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
-                                     bool culling, const CullingConfig& config,
-                                     MemorySystem* memory, FrameBuffer* frame,
-                                     const HitRecordRegion& region)
+                                     const CullingConfig& config, MemorySystem* memory,
+                                     FrameBuffer* frame, const HitRecordRegion& region)
     : Unit(name, *ctx.calendar, ctx.clock),
       to_trv("to_trv", this),
       lights("lights"),
@@ -17,20 +16,33 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
       hits("hits"),
       control("control"),
       ctx_(ctx),
-      culling_(culling),
       frame_(frame),
       inputs_(to_trv),
-      light_stats_(ctx.header.light_count),
       rate_(config.records_per_cycle),
       prefetch_(std::max<uint32_t>(1, config.prefetch)),
       region_(region) {
   hits.bind(*this);
   control.bind(*this);
+  light_stats_.reserve(image::kMaxLights);
   if (config.l1 != CullingL1::kOwn) return;
   if (!memory)
     report_error(kReportInternal,
                  std::string(this->name()) + ": an own L1 needs the memory system");
   own_l1_ = memory->build_unit(MemorySystem::kCulling, 0, this);
+}
+
+void ShadowCullingUnit::begin_frame(bool culling) {
+  culling_ = culling;
+  if (ctx_.header.light_count > light_stats_.capacity())
+    report_error(kReportInternal, std::string(name()) + ": more lights than LVB bits");
+  if (light_stats_.size() < ctx_.header.light_count) light_stats_.resize(ctx_.header.light_count);
+  register_lights();
+  closed_ = waiting_ = scanning_ = false;
+  entry_ = requested_ = 0;
+  queue_.clear();
+  added_ = done_ = generated_ = 0;
+  light_ = sample_ = 0;
+  light_latched_ = record_open_ = false;
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
@@ -182,6 +194,7 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   f->push(id, std::max(latched_ready_, now + clock().period()), now);
   ++light_stats_[light_].decisions;
   ++light_stats_[light_].generated;
+  ++generated_;
   advance();
   return true;
 }
@@ -271,24 +284,30 @@ std::string ShadowCullingUnit::state() const {
   return s;
 }
 
-uint64_t ShadowCullingUnit::generated() const {
-  uint64_t n = 0;
-  for (const LightStats& l : light_stats_) n += l.generated;
-  return n;
-}
+uint64_t ShadowCullingUnit::generated() const { return generated_; }
 
-void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
+void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) {
   register_unit_stats(r, prefix);
   r.counter(prefix + ".records_taken", &records_taken_, "count",
             "hit records taken (limited rate only)");
   r.counter(prefix + ".record_reads", &record_reads_, "count",
             "hit-record lines read from the frame buffer");
-  for (size_t i = 0; i < light_stats_.size(); ++i) {
-    const std::string p = prefix + ".light" + std::to_string(i);
-    r.counter(p + ".decisions", &light_stats_[i].decisions, "count",
-              "shadow rays decided (a hit's samples of the light)");
-    r.counter(p + ".generated", &light_stats_[i].generated, "count", "shadow rays emitted");
-    r.counter(p + ".culled", &light_stats_[i].culled, "count", "shadow rays culled by the LVB");
+  registry_ = &r;
+  prefix_ = prefix;
+  register_lights();
+}
+
+void ShadowCullingUnit::register_lights() {
+  if (!registry_) return;
+  for (; registered_lights_ < light_stats_.size(); ++registered_lights_) {
+    const size_t i = registered_lights_;
+    const std::string p = prefix_ + ".light" + std::to_string(i);
+    registry_->counter(p + ".decisions", &light_stats_[i].decisions, "count",
+                       "shadow rays decided (a hit's samples of the light)");
+    registry_->counter(p + ".generated", &light_stats_[i].generated, "count",
+                       "shadow rays emitted");
+    registry_->counter(p + ".culled", &light_stats_[i].culled, "count",
+                       "shadow rays culled by the LVB");
   }
 }
 

@@ -73,11 +73,14 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   sc_core::sc_export<ShadedHits> hits;     // one phase: hits as they are shaded
   sc_core::sc_export<ShadowRays> control;  // the phase controller's
 
-  // `region`: where the records lie in memory; `memory` builds the unit's own L1 (`own_l1`)
-  // when the configuration asks for one (else it may be null).
-  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx, bool culling,
+  // `frame` and `region` (where the records lie in memory) are the accelerator's, updated in
+  // place for each frame; `memory` builds the unit's own L1 (`own_l1`) when the configuration
+  // asks for one (else it may be null).
+  ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
                     const CullingConfig& config, MemorySystem* memory, FrameBuffer* frame,
                     const HitRecordRegion& region);
+  // A new frame (the context holds its lights), with LVB culling on or off.
+  void begin_frame(bool culling);
   // Its own L1 (null when it shares shading unit 0's).
   Cache* own_l1() const { return own_l1_ ? own_l1_->l1.get() : nullptr; }
 
@@ -94,8 +97,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   double decided_fraction() const;
   // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
   void on_fill(uint64_t, uint64_t cookie, Tick when) override;
+  // Per light, over every frame so far.
   const std::vector<LightStats>& per_light() const { return light_stats_; }
-  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  // Its statistics, and those of lights that later frames add.
+  void register_stats(StatsRegistry& r, const std::string& prefix);
   // Where it stands (for the watchdog's report).
   std::string state() const;
 
@@ -130,8 +135,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   // way.
   bool latch_light(Tick now);
 
+  void register_lights();
+
   const ModelContext& ctx_;
-  bool culling_;
+  bool culling_ = true;
   std::unique_ptr<UnitMemory> own_l1_;
   LineSource* l1_ = nullptr;
   FrameBuffer* frame_;
@@ -153,13 +160,17 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool light_latched_ = false;
   image::LightRecord latched_;
   Tick latched_ready_ = 0;
-  std::vector<LightStats> light_stats_;
+  std::vector<LightStats> light_stats_;  // its capacity never changes: counters stay put
+  uint64_t generated_ = 0;               // shadow rays emitted this frame
+  StatsRegistry* registry_ = nullptr;
+  std::string prefix_;
+  size_t registered_lights_ = 0;
   // The limited rate.
   uint32_t rate_, prefetch_;
   bool record_open_ = false;  // the current entry's record is taken (counted against the rate)
   HitRecord record_;          // ... and its contents
   LineSource* reader_ = nullptr;
-  HitRecordRegion region_;
+  const HitRecordRegion& region_;
   size_t requested_ = 0;       // the next entry whose record is to be read
   std::vector<Tick> arrival_;  // per entry in the window (entry % prefetch): when its record is in
   std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came

@@ -4,27 +4,19 @@
 // triangle read hits in the IST L2 it shares) and one posted write (the hit record), so the frame
 // takes T(L) = T(0) + 5 L cycles at 1 GHz with a latency of L ns: the closed form checked here
 // over four latencies, with T(0) from a zero-latency memory. The GDDR3 model's figure differs.
+#include "tests/examples/run_example.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <sstream>
 #include <string>
 #include <vector>
 
 namespace rtsim {
 namespace {
 
-std::vector<nlohmann::json> run_example(const std::string& args) {
-  const test::RunResult r = test::run_command(std::string(RTSIM_EXAMPLE_BINARY) + " " + args);
-  EXPECT_EQ(r.code, 0) << r.err;
-  std::vector<nlohmann::json> lines;
-  std::istringstream in(r.out);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty() && line[0] == '{') lines.push_back(nlohmann::json::parse(line));
-  return lines;
-}
+using test::run_example;
 
 TEST(TlmMemoryExample, OneRayTakesTheClosedFormOfAFixedLatencyMemory) {
   const std::vector<nlohmann::json> runs = run_example("triangle 0 100 250 1000");

@@ -22,7 +22,8 @@ TEST(RayGenerator, IssuesAtMostItsRatePerCycle) {
   RayFifo a("trv0_in", 64, nullptr), b("trv1_in", 64, nullptr);
   constexpr int kWidth = 4, kHeight = 4;  // one 4x4 tile, 16 rays
   constexpr uint32_t kRate = 3;
-  RayGenerator gen("raygen", ctx, Camera{}, kWidth, kHeight, RayOrder::kTiles, 4, kRate);
+  RayGenerator gen("raygen", ctx, RayOrder::kTiles, 4, kRate);
+  gen.begin_frame(Camera{}, kWidth, kHeight);
   gen.to_trv.bind(a);
   gen.to_trv.bind(b);
   gen.wake(0);

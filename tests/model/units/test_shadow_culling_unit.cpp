@@ -91,8 +91,8 @@ struct Scenario {
     CullingConfig cfg;
     cfg.records_per_cycle = rate;
     cfg.prefetch = 8;
-    unit =
-        std::make_unique<ShadowCullingUnit>(name.c_str(), ctx, true, cfg, nullptr, &frame, region);
+    unit = std::make_unique<ShadowCullingUnit>(name.c_str(), ctx, cfg, nullptr, &frame, region);
+    unit->begin_frame(true);
     for (auto& f : fifos) unit->to_trv.bind(*f);
     unit->lights.bind(l1);
     if (mode == Mode::kTwoPhasesFromMemory) unit->records.bind(memory);

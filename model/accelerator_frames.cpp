@@ -1,0 +1,183 @@
+#include "model/accelerator_netlist.h"
+
+namespace rtsim::model {
+
+namespace {
+
+HitRecordRegion record_region(const AcceleratorConfig& cfg, const FrameProgram& p) {
+  HitRecordRegion records;
+  records.base = p.fb_base;
+  records.stride = record_stride(cfg);
+  records.pixels = uint32_t(p.width) * uint32_t(p.height);
+  auto pixel_at =
+      std::make_shared<std::vector<uint32_t>>(issue_order(p.width, p.height, cfg.order, cfg.tile));
+  auto slot_of = std::make_shared<std::vector<uint32_t>>(pixel_at->size());
+  for (uint32_t k = 0; k < pixel_at->size(); ++k) (*slot_of)[(*pixel_at)[k]] = k;
+  records.pixel_at = std::move(pixel_at);
+  records.slot_of = std::move(slot_of);
+  return records;
+}
+
+// The header as the units use it: section addresses in memory.
+image::Header placed(image::Header h, uint64_t image_base) {
+  for (image::Section* s : {&h.nodes, &h.leaves, &h.prims, &h.triangles, &h.materials, &h.lights})
+    s->base += uint32_t(image_base);
+  return h;
+}
+
+}  // namespace
+
+// A frame: the context's scene layout and constants, the frame buffer and its region in memory,
+// the units' frame state; empty caches (the platform may have changed memory since the last
+// frame); then the first ray at the first edge at or after `at`.
+void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
+  const Tick begin = ctx.clock.edge_at_or_after(at);
+  const image::Header& h = p.header;
+  ctx.header = placed(h, p.image_base);
+  // The reference tracer's constants (reference_tracer.cpp), computed the same way.
+  ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
+  ctx.shadow_offset = 1e-5f * h.bounds.diagonal();
+  ctx.light_samples = p.light_samples;
+  job = FrameJob{p.camera, p.width, p.height};
+  frame = FrameBuffer{};
+  frame.width = p.width;
+  frame.height = p.height;
+  frame.levels = cfg.reflection_depth + 1;
+  frame.allocate(ctx.light_samples);
+  records = record_region(cfg, p);
+  memory->invalidate();
+  generator->begin_frame(p.camera, p.width, p.height);
+  culling->begin_frame(p.lvb_culling);
+  phases.begin_frame(begin);
+  frame_begin = begin;
+  frame_active = true;
+  collected = false;
+  generator->wake(begin);
+  watchdog->start();
+  if (progress) progress->start_at(begin);
+  if (trace && frames == 0) trace->start();
+  ++frames;
+}
+
+void Accelerator::Netlist::check_frame_end() {
+  if (!frame_active || !phases.finished() || memory->interconnect().port().in_flight() > 0) return;
+  frame_active = false;
+  const Tick end_edge = ctx.clock.edge_at_or_after(phases.end());
+  const uint64_t cycles = ctx.clock.to_cycles(end_edge) - ctx.clock.to_cycles(frame_begin);
+  registers->frame_ended(cycles, std::max(calendar.now(), end_edge));
+}
+
+Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                         const SimulationHooks& hooks, MemoryTarget memory)
+    : sc_core::sc_module(name), irq("irq") {
+  build(config, hooks, memory, nullptr, nullptr);
+}
+
+Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
+                         const MemoryImage& image, const FrameJob& job,
+                         const SimulationHooks& hooks, MemoryTarget memory)
+    : sc_core::sc_module(name), irq("irq") {
+  build(config, hooks, memory, &image, &job);
+}
+
+void Accelerator::build(const AcceleratorConfig& config, const SimulationHooks& hooks,
+                        MemoryTarget memory, const MemoryImage* image, const FrameJob* job) {
+  try {
+    config.validate();
+  } catch (const std::invalid_argument& e) {
+    report_error(kReportConfig, std::string(this->name()) + ": " + e.what());
+  }
+  FrameSetup setup;
+  uint64_t image_memory_bytes = 0;
+  if (image) {
+    setup.fb_base = frame_buffer_after(0, image->bytes().size());
+    setup.camera = job->camera;
+    setup.width = job->width;
+    setup.height = job->height;
+    setup.lvb_culling = config.lvb_culling;
+    image_memory_bytes = setup.fb_base + uint64_t(job->width) * uint64_t(job->height) *
+                                             (config.reflection_depth + 1) * record_stride(config);
+  }
+  net_ = std::make_unique<Netlist>(*this, config, hooks, memory, image, image_memory_bytes);
+  if (image) {
+    net_->preset = program_writes(*image, setup);
+    SC_METHOD(start);  // runs once, when the simulation starts
+  }
+}
+
+Accelerator::~Accelerator() = default;
+
+void Accelerator::end_of_elaboration() {
+  if (net_->trace) net_->trace->end_of_elaboration();
+}
+
+void Accelerator::start() {
+  ControlRegisters& r = *net_->registers;
+  for (const RegisterWrite& w : net_->preset) r.write(w.offset, w.value, 0);
+  r.write(regs::kControl, regs::kStart, 0);
+  if (const uint32_t error = r.read(regs::kStatus) >> regs::kErrorShift)
+    report_error(kReportDevice, std::string(name()) + ": the frame given at construction was " +
+                                    "refused (STATUS error " + std::to_string(error) + ")");
+}
+
+bool Accelerator::finished() const { return net_->phases.finished(); }
+
+const StatsRegistry& Accelerator::stats() const { return net_->stats; }
+
+tlm::tlm_initiator_socket<>& Accelerator::memory_socket() { return net_->memory_socket(); }
+
+Accelerator::TargetSocket& Accelerator::register_socket() { return net_->registers->socket; }
+
+Accelerator::TargetSocket& Accelerator::memory_host_socket() {
+  if (!net_->dram)
+    report_error(kReportInternal, std::string(name()) + ": no built-in memory to load");
+  return net_->dram->host_socket;
+}
+
+uint64_t Accelerator::memory_bytes() const { return net_->memory_bytes; }
+
+AcceleratorResult Accelerator::result() {
+  Netlist& n = *net_;
+  if (!finished())
+    report_error(kReportInternal,
+                 std::string(name()) + ": the simulation ended with rays in flight");
+  if (n.checker && n.checker->open_transactions() > 0)
+    report_error(kReportTlm, std::string(n.checker->name()) + ": " +
+                                 std::to_string(n.checker->open_transactions()) +
+                                 " transactions never ended");
+  if (!n.collected) {
+    if (n.trace) n.trace->close();
+    n.memory->interconnect().port().close_trace();
+    // The frame ends with the last retirement (the watchdog's last look may come later).
+    n.end = n.phases.end();
+    n.generator->finish_accounting(n.end);
+    n.culling->finish_accounting(n.end);
+    for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
+    for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
+    n.frame.close_samples();
+    n.collected = true;
+  }
+  AcceleratorResult out;
+  out.clock_ghz = n.cfg.clock_ghz;
+  const uint64_t first = n.ctx.clock.to_cycles(n.frame_begin);
+  out.cycles_total = n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.end)) - first;
+  out.cycles_primary =
+      n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end())) - first;
+  out.cycles_shadow = out.cycles_total - out.cycles_primary;
+  for (const auto& u : n.shading) {
+    out.primary_rays += u->stats().primary_rays;
+    out.primary_hits += u->stats().primary_hits;
+    out.reflection_rays += u->stats().reflection_rays;
+    out.shadow_rays += u->stats().shadow_rays;
+  }
+  for (const LightStats& l : n.culling->per_light()) {
+    out.shadow_generated.push_back(l.generated);
+    out.shadow_culled.push_back(l.culled);
+  }
+  out.stats = n.stats.values();
+  out.glossary = n.stats.glossary();
+  out.frame = n.frame;
+  return out;
+}
+
+}  // namespace rtsim::model

@@ -1,0 +1,102 @@
+// The accelerator's netlist (model/accelerator.cpp builds it, model/accelerator_frames.cpp runs
+// its frames): every block of one accelerator, built in the accelerator's scope (so each is its
+// child) in the order a ray meets them, then connected: every hop of a ray is a port bound once.
+// Private to the accelerator: a platform needs only model/accelerator.h.
+#pragma once
+
+#include "model/accelerator.h"
+#include "model/device/device_driver.h"
+#include "model/memory/dram.h"
+#include "model/memory/memory_system.h"
+#include "model/memory/tlm_checker.h"
+#include "model/sim/calendar.h"
+#include "model/sim/periodic_probe.h"
+#include "model/sim/report.h"
+#include "model/sim/watchdog.h"
+#include "model/units/ist_unit.h"
+#include "model/units/list_unit.h"
+#include "model/units/lvb_updater.h"
+#include "model/units/phase_controller.h"
+#include "model/units/ray_router.h"
+#include "model/units/shading_unit.h"
+#include "model/units/shadow_culling_unit.h"
+#include "model/units/trv_unit.h"
+
+#include <algorithm>
+
+namespace rtsim::model {
+
+// Bytes per hit record in the frame buffer: a whole memory line.
+inline uint32_t record_stride(const AcceleratorConfig& cfg) {
+  return std::max(kHitRecordBytes, cfg.memory_system().dram.request_bytes);
+}
+
+struct Accelerator::Netlist : FrameEngine {
+  Netlist(Accelerator& top, const AcceleratorConfig& cfg, const SimulationHooks& hooks,
+          MemoryTarget memory_target, const MemoryImage* image, uint64_t image_memory_bytes);
+
+  // FrameEngine: the registers start a frame, or reset the device.
+  void begin_frame(const FrameProgram& program, Tick at) override;
+  void reset() override { memory->invalidate(); }
+  // The frame is over once every ray retired and its records' writes are answered.
+  void check_frame_end();
+
+  void build_memory(const MemoryImage* image, uint64_t image_memory_bytes,
+                    MemoryTarget memory_target);
+  void build_units();
+  void bind_ray_path();
+  void bind_control_and_memory();
+  void declare_order();
+  void build_observers();
+
+  bool pending() const {
+    return pool.in_flight() > 0 || !generator->finished() || !culling->finished();
+  }
+  uint64_t progress_count() const;
+  std::string describe_stall() const;
+  void report_progress(Tick now) const;
+  void register_stats();
+  // The socket towards memory: the protocol checker's, when there is one.
+  tlm::tlm_initiator_socket<>& memory_socket() {
+    if (checker) return checker->initiator_socket;
+    return memory->interconnect().port().socket;
+  }
+
+  Accelerator& top;
+  AcceleratorConfig cfg;
+  FrameJob job;  // the frame running or last run
+  RayPool pool;
+  ModelContext ctx;
+  FrameBuffer frame;
+  HitRecordRegion records;
+  SimulationHooks hooks;
+  Calendar calendar;
+  std::unique_ptr<ControlRegisters> registers;
+  std::unique_ptr<Dram> dram;
+  std::unique_ptr<MemorySystem> memory;
+  std::unique_ptr<TlmChecker> checker;  // between the memory port and the memory, if asked
+  std::unique_ptr<RayGenerator> generator;
+  std::vector<std::unique_ptr<TrvUnit>> trv;
+  std::vector<std::unique_ptr<ListUnit>> list;
+  std::vector<std::unique_ptr<IstUnit>> ist;
+  LvbUpdater lvb;
+  std::vector<std::unique_ptr<ShadingUnit>> shading;
+  std::unique_ptr<ShadowCullingUnit> culling;
+  RayRouter router;
+  PhaseController phases;
+  std::unique_ptr<Watchdog> watchdog;
+  std::unique_ptr<PeriodicProbe> progress;
+  std::unique_ptr<VcdTrace> trace;
+  std::vector<RayUnit*> ray_units;  // TRV, LIST, IST, shading
+  std::vector<RayFifo*> fifos;      // shading, TRV, LIST, IST inputs
+  StatsRegistry stats;
+  Tick end = 0;
+  Tick frame_begin = 0;  // the first edge of the frame running or last run
+  bool frame_active = false;
+  uint64_t frames = 0;  // begun
+  uint64_t memory_bytes = 0;
+  std::vector<RegisterWrite> preset;  // a frame programmed at construction
+  bool collected = false;
+};
+
+}  // namespace rtsim::model

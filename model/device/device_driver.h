@@ -1,0 +1,70 @@
+// The host side of the device, in one place: what a driver writes to put a scene image in memory
+// and start a frame (docs/systemc-integration.md, "The register map"). `rtsim run`'s testbench,
+// examples/platform and the tests drive the accelerator through it; a platform with a driver of
+// its own can read it as the reference sequence.
+#pragma once
+
+#include "kernels/memory_image.h"
+#include "model/device/register_map.h"
+#include "scene/scene.h"
+
+#include <systemc>
+#include <tlm>
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsim::model {
+
+struct RegisterWrite {
+  uint32_t offset, value;
+};
+
+// A frame of an image already in memory.
+struct FrameSetup {
+  uint64_t image_base = 0;  // where the image lies (64-byte aligned)
+  uint64_t fb_base = 0;     // where the hit records go (aligned to RECORD_STRIDE)
+  Camera camera;
+  int width = 0, height = 0;
+  bool lvb_culling = true;
+};
+
+// The register writes that program `setup` over `image` (START not included): the placement,
+// the resolution, the camera, the culling mode, the image's header and its lights' sample counts.
+std::vector<RegisterWrite> program_writes(const MemoryImage& image, const FrameSetup& setup);
+
+// The first 4 KiB boundary after an image at `image_base`: where rtsim run puts the frame buffer.
+inline uint64_t frame_buffer_after(uint64_t image_base, uint64_t image_bytes) {
+  return (image_base + image_bytes + 4095) / 4096 * 4096;
+}
+
+// A driver over an initiator socket that reaches the memory and, at `register_base`, the
+// accelerator's registers (through a router, or a socket bound to the registers alone with base
+// 0). Calls b_transport and waits out the delay each returns, so it runs in an SC_THREAD; an
+// error response is an rtsim/device report naming the access.
+class DeviceDriver {
+ public:
+  DeviceDriver(tlm::tlm_initiator_socket<>& bus, uint64_t register_base)
+      : bus_(bus), register_base_(register_base) {}
+
+  void write(uint64_t addr, const uint8_t* data, uint64_t bytes);  // in 64 KiB transactions
+  std::vector<uint8_t> read(uint64_t addr, uint64_t bytes);
+  void write_register(uint32_t offset, uint32_t value);
+  uint32_t read_register(uint32_t offset);
+
+  // Copies the image into memory at setup.image_base, then programs the frame.
+  void load(const MemoryImage& image, uint64_t image_base);
+  void program(const MemoryImage& image, const FrameSetup& setup);
+  // START with the interrupt enabled; rtsim/device if the device refuses (its error code named).
+  void start();
+  // After the interrupt: clears it, returns the frame's cycles.
+  uint64_t finish();
+
+ private:
+  void transport(tlm::tlm_command cmd, uint64_t addr, uint8_t* data, uint64_t bytes);
+
+  tlm::tlm_initiator_socket<>& bus_;
+  uint64_t register_base_;
+};
+
+}  // namespace rtsim::model
