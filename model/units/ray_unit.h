@@ -114,8 +114,9 @@ class RayUnit : public Unit, public FillListener {
   // The ray waits for `pending` fills (told through on_fill).
   void park(uint32_t ray, uint32_t pending) { fetch_state(ray).waiting_lines = pending; }
   // Fetches a record for `ray`, unless a fill the ray waited for already brought it. A record on
-  // two lines takes each line's bytes into the entry as soon as its time is known: the second
-  // line's allocation may evict the first.
+  // two lines takes each line's bytes into the entry as soon as its time is known when the
+  // second line's allocation may evict the first; else, both in, it is read from the L1 (the
+  // same bytes).
   RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
     FetchState& f = fetch_state(ray);
     f.reading = f.fill_ready;
@@ -128,20 +129,27 @@ class RayUnit : public Unit, public FillListener {
     f.lines[0] = first;
     f.lines[1] = first + line_bytes < addr + bytes ? first + line_bytes : kNoLine;
     if (f.lines[1] == kNoLine) return fetch_record(cache, addr, bytes, now, this, ray);
+    return fetch_two_lines(cache, f, ray, now);
+  }
+  // fetch() of a record on two lines (kept apart so that the common case inlines).
+  RecordFetch fetch_two_lines(Cache& cache, FetchState& f, uint32_t ray, Tick now) {
+    // Once the first line is asked for, the second's allocation is the only one that could evict
+    // it: none when the second is in the L1 already.
     RecordFetch r;
-    for (int i = 0; i < 2; ++i) {
-      const Tick t = cache.fetch_line(f.lines[i], now, this, ray);
-      if (t == kUnknown) {
-        ++r.pending;
-        continue;
-      }
-      r.ready = std::max(r.ready, t);
-      hold_line(f, i);
+    const Tick t0 = cache.fetch_line(f.lines[0], now, this, ray);
+    const bool copy = !cache.contains(f.lines[1]);
+    if (copy && t0 != kUnknown) hold_line(f, 0);
+    const Tick t1 = cache.fetch_line(f.lines[1], now, this, ray);
+    if (copy && t1 != kUnknown) hold_line(f, 1);
+    r.pending = (t0 == kUnknown) + (t1 == kUnknown);
+    if (!r.pending) {
+      r.ready = std::max(t0, t1);
+      f.reading = copy;
+      return r;
     }
-    if (r.pending)
-      r.ready = kUnknown;
-    else
-      f.reading = true;
+    // A line that is in waits in the entry for the other.
+    if (!copy && r.pending == 1) hold_line(f, t0 == kUnknown ? 1 : 0);
+    r.ready = kUnknown;
     return r;
   }
   // The bytes of `line` for the operation fetch() was asked for: the entry's after a fill.
