@@ -1,9 +1,32 @@
 #include "common/yaml_reader.h"
 
+#include "common/utf8.h"
+
 #include <cmath>
 #include <filesystem>
 
 namespace rtsim {
+
+namespace {
+
+// Every key and scalar of a document is UTF-8 text (it may reach a JSON writer); `where` names
+// the file, or the --set that gave it.
+void check_utf8(const YAML::Node& n, const std::string& where, bool file) {
+  auto bad = [&](const YAML::Node& at) {
+    if (file) throw_at_line(where, at.Mark().line + 1, "text that is not UTF-8");
+    throw InputError(fmt::format("{}: text that is not UTF-8", where));
+  };
+  if (n.IsScalar() && !is_utf8(n.Scalar())) bad(n);
+  if (n.IsSequence())
+    for (const YAML::Node& e : n) check_utf8(e, where, file);
+  if (n.IsMap())
+    for (const auto& kv : n) {
+      check_utf8(kv.first, where, file);
+      check_utf8(kv.second, where, file);
+    }
+}
+
+}  // namespace
 
 ConfigOverride parse_override(const std::string& text) {
   const size_t eq = text.find('=');
@@ -28,6 +51,8 @@ ConfigOverride parse_override(const std::string& text) {
     return bad("the value is not valid YAML: " + e.msg);
   }
   if (!o.value.IsDefined() || o.value.IsNull()) return bad("no value");
+  if (!is_utf8(path)) throw InputError("--set: a key path that is not UTF-8 text");
+  check_utf8(o.value, "--set " + path, false);
   return o;
 }
 
@@ -76,6 +101,7 @@ YamlMap YamlMap::load_file(const std::string& path, const std::vector<ConfigOver
   }
   if (!root.IsMap())
     throw_at_line(path, root.Mark().line + 1, "expected a mapping of keys at the top level");
+  check_utf8(root, path, true);
   return from_node(root, path, "", overrides);
 }
 

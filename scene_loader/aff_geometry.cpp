@@ -26,9 +26,10 @@ constexpr int kConeSides = 24;
 // triangles N, each "v0 v1 v2 [n0 n1 n2] [t0 t1 t2]".
 void parse_mesh(Tokenizer& tk, GeometrySink& out) {
   tk.expect("vertices", "after 'm'");
+  // Lists grow as the file shows their items, never to the count it states.
   long nv = tk.count("number of mesh vertices");
-  std::vector<Vec3> verts(static_cast<std::size_t>(nv));
-  for (Vec3& v : verts) v = out.to_frame(tk.vec3("mesh vertex x y z"));
+  std::vector<Vec3> verts;
+  for (long i = 0; i < nv; ++i) verts.push_back(out.to_frame(tk.vec3("mesh vertex x y z")));
 
   long nn = 0, nt = 0;
   std::string_view section = tk.next();
@@ -62,9 +63,9 @@ void parse_mesh(Tokenizer& tk, GeometrySink& out) {
 void parse_polygon(Tokenizer& tk, bool patch, GeometrySink& out) {
   long n = tk.count("number of polygon vertices");
   if (n < 3) tk.fail(std::to_string(n), "at least 3 polygon vertices");
-  std::vector<Vec3> v(static_cast<std::size_t>(n));
-  for (Vec3& p : v) {
-    p = out.to_frame(tk.vec3("polygon vertex x y z"));
+  std::vector<Vec3> v;
+  for (long i = 0; i < n; ++i) {
+    v.push_back(out.to_frame(tk.vec3("polygon vertex x y z")));
     if (patch) tk.vec3("polygon patch normal");
   }
   for (long i = 1; i + 1 < n; ++i) out.add_triangle(v[0], v[i], v[i + 1]);
@@ -89,10 +90,11 @@ void parse_textured_triangle(Tokenizer& tk, bool patch, GeometrySink& out) {
 void parse_animated_triangle(Tokenizer& tk, double time, GeometrySink& out) {
   const long n = tk.count("number of tpa time samples");
   if (n < 1) tk.fail(std::to_string(n), "at least 1 tpa time sample");
-  std::vector<double> times(static_cast<std::size_t>(n));
-  std::vector<std::array<dvec3, 3>> verts(times.size());
-  for (std::size_t k = 0; k < times.size(); ++k) {
-    times[k] = tk.number("tpa sample time");
+  std::vector<double> times;
+  std::vector<std::array<dvec3, 3>> verts;
+  for (std::size_t k = 0; k < std::size_t(n); ++k) {
+    times.push_back(tk.number("tpa sample time"));
+    verts.emplace_back();
     if (k > 0 && !(times[k] > times[k - 1]))
       tk.error("found tpa sample time " + std::to_string(times[k]) + " after " +
                std::to_string(times[k - 1]) + ", expected increasing times");

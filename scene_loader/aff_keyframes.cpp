@@ -21,9 +21,13 @@ Tcb read_tcb(Tokenizer& tk) {
   return c;
 }
 
+// Keys are added as the file shows them, never allocated from the count it states: a count no
+// file could hold ends with the file, as an error, not as an allocation of that size.
 std::vector<KbKey<dvec3>> read_vector_keys(Tokenizer& tk, const char* kind) {
-  std::vector<KbKey<dvec3>> keys(static_cast<std::size_t>(key_count(tk, kind)));
-  for (KbKey<dvec3>& k : keys) {
+  const long n = key_count(tk, kind);
+  std::vector<KbKey<dvec3>> keys;
+  for (long i = 0; i < n; ++i) {
+    KbKey<dvec3>& k = keys.emplace_back();
     k.time = tk.number("key time");
     k.value = tk.vec3("key x y z");
     k.tcb = read_tcb(tk);
@@ -32,8 +36,10 @@ std::vector<KbKey<dvec3>> read_vector_keys(Tokenizer& tk, const char* kind) {
 }
 
 std::vector<KbKey<dquat>> read_rotation_keys(Tokenizer& tk) {
-  std::vector<KbKey<dquat>> keys(static_cast<std::size_t>(key_count(tk, "rot")));
-  for (KbKey<dquat>& k : keys) {
+  const long n = key_count(tk, "rot");
+  std::vector<KbKey<dquat>> keys;
+  for (long i = 0; i < n; ++i) {
+    KbKey<dquat>& k = keys.emplace_back();
     k.time = tk.number("key time");
     dvec3 axis = tk.vec3("rotation key axis");
     // Each key is an absolute orientation; angles beyond 360 only matter modulo 720 here.

@@ -2,6 +2,7 @@
 #include "common/error.h"
 #include "testbench/commands.h"
 #include "testbench/hw_config.h"
+#include "testbench/resources.h"
 #include "testbench/sweep.h"
 
 #include <fmt/format.h>
@@ -292,6 +293,11 @@ extern "C" int sc_main(int argc, char** argv) {
     return 2;
   } catch (const std::filesystem::filesystem_error& e) {
     fmt::print(stderr, "rtsim: error: {}\n", e.what());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    const std::string doing = rtsim::Activity::current();
+    fmt::print(stderr, "rtsim: error: out of memory{}: lower the resolution or free memory\n",
+               doing.empty() ? "" : " while " + doing);
     return 2;
   } catch (const std::exception& e) {
     fmt::print(stderr, "rtsim: internal error: {}\n", e.what());

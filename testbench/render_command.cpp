@@ -2,17 +2,22 @@
 #include "kernels/reference_tracer.h"
 #include "reports/output_files.h"
 #include "testbench/commands.h"
+#include "testbench/resources.h"
 
 #include <fmt/format.h>
 
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
 namespace rtsim {
 
 int run_render(const RenderArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
+  std::optional<Activity> doing(std::in_place, "loading the scene and building its kd-tree");
   PreparedScene p = prepare_scene(args.scene, args.prepare);
+  check_memory(render_memory_need(p.scene));
+  doing.emplace("tracing the frame and writing the outputs");
   TracerOptions opt;
   opt.width = p.scene.width;
   opt.height = p.scene.height;

@@ -10,6 +10,7 @@
 #include "testbench/commands.h"
 #include "testbench/hw_config.h"
 #include "testbench/progress.h"
+#include "testbench/resources.h"
 #include "testbench/scene_file.h"
 #include "testbench/simulate.h"
 
@@ -18,6 +19,7 @@
 #include <sys/resource.h>
 #include <chrono>
 #include <filesystem>
+#include <optional>
 
 namespace rtsim {
 
@@ -209,9 +211,12 @@ int run_model(const RunArgs& args) {
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
   // ran.
+  std::optional<Activity> doing(std::in_place, "loading the scene and building its kd-tree");
   PreparedScene p = prepare_scene(
       c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
+  check_memory(run_memory_need(c.hw, p.scene, c.run.check));
   RunHost host;
+  doing.emplace("computing the light visibility bits");
   const nlohmann::json lvb_json = c.run.lvb ? compute_run_lvb(c, p, host.lvb) : nullptr;
 
   const std::filesystem::path out(args.out);
@@ -220,11 +225,13 @@ int run_model(const RunArgs& args) {
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
   hooks.tlm_checks = c.run.tlm_checks;
   const auto t_sim = std::chrono::steady_clock::now();
+  doing.emplace("simulating the frame");
   const SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width,
                                           p.scene.height, hooks, double(c.run.time_resolution_ps));
   host.simulate = seconds_since(t_sim);
   progress.finish();
 
+  doing.emplace("checking the frame and writing the outputs");
   nlohmann::json check = nullptr;
   uint64_t mismatches = 0;
   if (c.run.check) check = reference_check(p, c.run, r, mismatches);

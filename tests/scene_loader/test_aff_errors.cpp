@@ -64,6 +64,17 @@ TEST(AffErrors, OtherMalformedInputs) {
   EXPECT_THROW(load_aff("/nonexistent/dir/none.aff", 0.0, s), InputError);
 }
 
+// A count no file could hold (issue 22's mutated keyframe block) ends with the file, as an error
+// at the line where the items stop, never as an allocation of that size (std::bad_alloc).
+TEST(AffErrors, AHugeCountIsAnErrorWhereTheFileEndsNotAnAllocation) {
+  const std::string keys = " 0 1 1 1 0 0 0\n";
+  expect_text_error("k a {\n transl 4294967295\n" + keys + "}\n", 4, "key time");
+  expect_text_error("k a {\n rot 4294967295\n 0 0 1 0 0 0 0 0\n}\n", 4, "key time");
+  expect_text_error("m vertices 4294967295\n 0 0 0\n", 2, "mesh vertex");
+  expect_text_error("p 4294967295\n 0 0 0\n", 2, "polygon vertex");
+  expect_text_error("tpa 4294967295\n 0\n", 2, "tpa");
+}
+
 TEST(AffErrors, EveryKeywordMalformedNamesItsLineAndField) {
   // One row per keyword of BART's format: its last field spoiled, on line 2 of the file (or the
   // line of the spoiled field).

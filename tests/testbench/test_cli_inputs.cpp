@@ -207,6 +207,9 @@ TEST(Cli, BadSweepFilesAreNamed) {
         {"scene.yaml:1", "nowhere.yaml", "not found"});
   check("type.yaml", head + "axes:\n  run.reflections: [0, many]\n",
         {"type.yaml", "p0001", "expected an integer"});
+  // Text that is not UTF-8 would reach the JSON writers (issue 22: a mutated axis key).
+  check("utf8.yaml", head + "axes:\n  run.lv\xdb: [on, off]\n", {"utf8.yaml:4", "not UTF-8"});
+  check("utf8v.yaml", head + "axes:\n  run.lvb: [on, \"o\xc3\"]\n", {"utf8v.yaml:4", "not UTF-8"});
   EXPECT_FALSE(fs::exists(dir / "o" / "manifest.json"))
       << "nothing runs before every point is valid";
   fs::remove_all(dir);

@@ -1,0 +1,71 @@
+// Memory before the work (testbench/resources.h): a frame too big for the process's limits is one
+// error naming the estimate and the limit, exit 2, before the frame's state is allocated.
+#include "testbench/resources.h"
+
+#include "common/error.h"
+#include "tests/test_util.h"
+#include "tests/testbench/cli_util.h"
+
+#include <gtest/gtest.h>
+
+namespace rtsim {
+namespace {
+
+Scene frame(int width, int height, size_t lights = 2) {
+  Scene s;
+  s.width = width;
+  s.height = height;
+  s.lights.resize(lights);
+  return s;
+}
+
+TEST(Resources, TheEstimateGrowsWithThePixelsAndNamesItsParts) {
+  const model::AcceleratorConfig hw;
+  const MemoryNeed small = run_memory_need(hw, frame(160, 90), false);
+  const MemoryNeed big = run_memory_need(hw, frame(16384, 16384), false);
+  EXPECT_EQ(big.what, "a 16384x16384 frame");
+  EXPECT_GT(big.total(), 6'000'000'000u);
+  // Per pixel the same: the ratio of the totals is the ratio of the pixels.
+  EXPECT_EQ(big.total() / (16384ull * 16384), small.total() / (160ull * 90));
+  EXPECT_GT(run_memory_need(hw, frame(160, 90), true).total(), small.total());  // --check
+  EXPECT_GT(render_memory_need(frame(16384, 16384)).total(), 4'000'000'000u);
+}
+
+TEST(Resources, ANeedAboveTheRoomIsAnInputErrorNamingTheEstimateAndTheLimit) {
+  const model::AcceleratorConfig hw;
+  const MemoryRoom room{5'000'000'000, "the address-space limit (ulimit -v) (1.0 GB of 6.0 GB)"};
+  check_memory(run_memory_need(hw, frame(1920, 1080), false), room);  // fits: no throw
+  try {
+    check_memory(run_memory_need(hw, frame(16384, 16384), false), room);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    for (const char* part : {"a 16384x16384 frame needs about", "the frame's per-pixel state",
+                             "address-space limit", "leaves 5.0 GB", "lower the resolution"})
+      EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
+  }
+}
+
+// The whole command under an address-space limit (not under AddressSanitizer, whose shadow
+// memory needs more address space than any such limit allows).
+TEST(Resources, ACityFrameTooBigForTheAddressSpaceLimitStopsBeforeTheWork) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves more address space than the limit";
+#else
+  const std::filesystem::path out = test::temp_dir("resources");
+  const test::RunResult r = test::run_command(
+      "bash -c 'ulimit -v 5859375 && " + std::string(RTSIM_BINARY) + " run " +
+      (test::source_dir() / "configs/scenes/city.yaml").string() + " --hw " +
+      (test::source_dir() / "configs/hw/tni-paper.yaml").string() +
+      " --width 16384 --height 16384 --no-plots --quiet --out " + out.string() + "'");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("rtsim: error: a 16384x16384 frame needs about"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("the address-space limit (ulimit -v)"), std::string::npos) << r.err;
+  EXPECT_FALSE(std::filesystem::exists(out / "report.json"));
+  std::filesystem::remove_all(out);
+#endif
+}
+
+}  // namespace
+}  // namespace rtsim
