@@ -7,7 +7,9 @@
 #include <fmt/format.h>
 
 #include <unistd.h>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -23,13 +25,16 @@ void write_file_atomic(const std::string& path, const std::string& contents) {
     out.write(contents.data(), std::streamsize(contents.size()));
     out.close();
     if (!out) {
+      const int err = errno;
       std::remove(tmp.c_str());
-      throw InputError(fmt::format("{}: cannot write", path));
+      throw InputError(fmt::format("{}: cannot write ({})", path, std::strerror(err)));
     }
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const int err = errno;
     std::remove(tmp.c_str());
-    throw InputError(fmt::format("{}: cannot rename the temporary file into place", path));
+    throw InputError(fmt::format("{}: cannot rename the temporary file into place ({})", path,
+                                 std::strerror(err)));
   }
 }
 

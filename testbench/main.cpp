@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <systemc>
 
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
@@ -310,5 +311,8 @@ extern "C" int sc_main(int argc, char** argv) {
 // up the kernel and call sc_main.
 int main(int argc, char** argv) {
   setenv("SYSTEMC_DISABLE_COPYRIGHT_MESSAGE", "DISABLE", 1);
+  // Past a file-size limit (ulimit -f) a write fails with EFBIG, which the writers report,
+  // instead of the signal killing the process with a half-written file.
+  std::signal(SIGXFSZ, SIG_IGN);
   return sc_core::sc_elab_and_sim(argc, argv);
 }

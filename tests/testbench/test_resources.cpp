@@ -67,5 +67,25 @@ TEST(Resources, ACityFrameTooBigForTheAddressSpaceLimitStopsBeforeTheWork) {
 #endif
 }
 
+// Past a file-size limit a write fails: one error naming the file and why, exit 2, and neither a
+// partial file nor a temporary one is left (SIGXFSZ would have killed the process mid-write).
+TEST(Resources, AFileSizeLimitIsOneErrorAndLeavesNoPartialFile) {
+  const std::filesystem::path out = test::temp_dir("fsize");
+  const test::RunResult r =
+      test::run_command("bash -c 'ulimit -f 8 && " + std::string(RTSIM_BINARY) + " render " +
+                        (test::source_dir() / "configs/scenes/city.yaml").string() +
+                        " --width 160 --height 90 --out " + out.string() + "'");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("cannot write (File too large)"), std::string::npos) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  for (const auto& f : std::filesystem::directory_iterator(out)) {
+    EXPECT_EQ(f.path().string().find(".tmp."), std::string::npos) << f.path();
+    EXPECT_LE(std::filesystem::file_size(f.path()), 8u * 1024) << f.path();
+    EXPECT_EQ(r.err.find(f.path().filename().string() + ":"), std::string::npos)
+        << "the file the error names exists: " << f.path();
+  }
+  std::filesystem::remove_all(out);
+}
+
 }  // namespace
 }  // namespace rtsim
