@@ -10,6 +10,10 @@
 
 #include <fmt/format.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +23,30 @@ namespace fs = std::filesystem;
 namespace rtsim {
 
 namespace {
+
+// One sweep at a time in a directory: an exclusive flock on DIR/.lock, held while the sweep runs
+// and released by the kernel when its process ends, however it ends (a SIGKILL leaves no stale
+// lock). Not inherited by the point processes.
+class SweepLock {
+ public:
+  explicit SweepLock(const std::string& dir) {
+    fs::create_directories(dir);
+    const std::string file = (fs::path(dir) / ".lock").string();
+    fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) throw InputError(fmt::format("{}: cannot open the sweep's lock file", file));
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      ::close(fd_);
+      throw InputError(fmt::format(
+          "{}: another sweep is running in this directory; wait for it or use another --out", dir));
+    }
+  }
+  ~SweepLock() { ::close(fd_); }
+  SweepLock(const SweepLock&) = delete;
+  SweepLock& operator=(const SweepLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 // Runs one point in this process and writes its row.
 int run_point(const SweepSpec& s, const std::string& dir, const SweepPoint& p) {
@@ -65,6 +93,7 @@ std::string describe(const SweepPoint& p) {
 }  // namespace
 
 int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool plots) {
+  const SweepLock lock(dir);
   claim_sweep_directory(s, dir);
   std::vector<const SweepPoint*> missing;
   for (const SweepPoint& p : s.points)

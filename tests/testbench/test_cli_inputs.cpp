@@ -5,6 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include <nlohmann/json.hpp>
 
 namespace rtsim::cli_test {
@@ -212,6 +216,25 @@ TEST(Cli, BadSweepFilesAreNamed) {
   check("utf8v.yaml", head + "axes:\n  run.lvb: [on, \"o\xc3\"]\n", {"utf8v.yaml:4", "not UTF-8"});
   EXPECT_FALSE(fs::exists(dir / "o" / "manifest.json"))
       << "nothing runs before every point is valid";
+  fs::remove_all(dir);
+}
+
+// One sweep at a time in a directory: while another process holds DIR/.lock (a running sweep),
+// a second sweep there refuses before it writes anything.
+TEST(Cli, ASecondSweepInTheSameDirectoryRefuses) {
+  const fs::path dir = test::temp_dir("cli_sweep_lock");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+  write(dir / "sweep.yaml", "scenes: [" + scene + "]\nhw: " + hw +
+                                "\naxes:\n  run.width: [16, 32]\n  run.height: [9]\n");
+  fs::create_directories(dir / "out");
+  const int fd = ::open((dir / "out" / ".lock").c_str(), O_RDWR | O_CREAT, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(::flock(fd, LOCK_EX | LOCK_NB), 0);
+  expect_input_error("sweep " + (dir / "sweep.yaml").string() + " --out " + (dir / "out").string(),
+                     {"another sweep is running in this directory"});
+  EXPECT_FALSE(fs::exists(dir / "out" / "manifest.json"));
+  ::close(fd);
   fs::remove_all(dir);
 }
 
