@@ -158,6 +158,11 @@ void add_sweep(CLI::App& app, Commands& c) {
       ->add_option("--point", c.sweep.point, "Run one point of DIR/manifest.json (array tasks)")
       ->check(CLI::Range(0, 1 << 30));
   c.sweep_cmd->add_flag("--no-plots", c.sweep_no_plots, "Skip the figures");
+  c.sweep_cmd
+      ->add_option("--point-timeout", c.sweep.point_timeout,
+                   "Seconds a point may run before it is killed and recorded as failed "
+                   "(default: the sweep file's point_timeout; none)")
+      ->check(CLI::Range(0.0, 1e7));
 }
 
 void add_animate(CLI::App& app, Commands& c) {

@@ -44,23 +44,40 @@ std::string describe_exit(int status) {
 }
 
 void run_pool(size_t count, int jobs, const std::function<pid_t(size_t)>& start,
-              const std::function<void(size_t, int, double)>& done) {
+              const std::function<void(size_t, int, double, bool)>& done, double timeout_seconds) {
   using Clock = std::chrono::steady_clock;
-  std::map<pid_t, std::pair<size_t, Clock::time_point>> running;
+  struct Task {
+    size_t index;
+    Clock::time_point started;
+    bool killed = false;
+  };
+  std::map<pid_t, Task> running;
   size_t next = 0;
   while (next < count || !running.empty()) {
     while (next < count && running.size() < size_t(jobs)) {
       const size_t i = next++;
-      running[start(i)] = {i, Clock::now()};
+      running[start(i)] = Task{i, Clock::now()};
     }
     int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
+    // With a limit, look every 50 ms for a task past it; without, just wait.
+    const pid_t pid = waitpid(-1, &status, timeout_seconds > 0 ? WNOHANG : 0);
     if (pid < 0) break;
+    if (pid == 0) {
+      for (auto& [child, t] : running)
+        if (!t.killed &&
+            std::chrono::duration<double>(Clock::now() - t.started).count() > timeout_seconds) {
+          kill(child, SIGKILL);
+          t.killed = true;
+        }
+      usleep(50000);
+      continue;
+    }
     const auto it = running.find(pid);
     if (it == running.end()) continue;  // a child this pool did not start
-    const auto [i, started] = it->second;
+    const Task t = it->second;
     running.erase(it);
-    done(i, status, std::chrono::duration<double>(Clock::now() - started).count());
+    done(t.index, status, std::chrono::duration<double>(Clock::now() - t.started).count(),
+         t.killed);
   }
 }
 

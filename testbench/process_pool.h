@@ -20,8 +20,11 @@ pid_t spawn_self(const std::vector<std::string>& args, const std::string& log);
 std::string describe_exit(int status);
 
 // Runs tasks 0..count-1, at most `jobs` at once: start(i) spawns task i's process, done(i, status,
-// seconds) follows as each one ends, in the order they end. Returns when all have ended.
+// seconds, timed_out) follows as each one ends, in the order they end. A task still running
+// `timeout_seconds` after its start (0: no limit) is killed (SIGKILL) and ends timed out. Returns
+// when all have ended.
 void run_pool(size_t count, int jobs, const std::function<pid_t(size_t)>& start,
-              const std::function<void(size_t, int, double)>& done);
+              const std::function<void(size_t, int, double, bool)>& done,
+              double timeout_seconds = 0);
 
 }  // namespace rtsim

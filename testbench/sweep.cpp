@@ -16,7 +16,9 @@
 
 #include <chrono>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
+#include <fstream>
 
 namespace fs = std::filesystem;
 
@@ -83,6 +85,19 @@ pid_t spawn_point(const std::string& dir, const SweepPoint& p) {
                     (out / output::kLogTxt).string());
 }
 
+// The last lines of a point's log, for a failure's record.
+std::string log_tail(const fs::path& log, size_t lines = 5) {
+  std::ifstream in(log);
+  std::deque<std::string> tail;
+  for (std::string line; std::getline(in, line);) {
+    tail.push_back(line);
+    if (tail.size() > lines) tail.pop_front();
+  }
+  std::string s;
+  for (const std::string& l : tail) s += l + "\n";
+  return s;
+}
+
 std::string describe(const SweepPoint& p) {
   std::string s = fs::path(p.scene_file).stem().string();
   for (const auto& [k, v] : p.values.items())
@@ -92,7 +107,8 @@ std::string describe(const SweepPoint& p) {
 
 }  // namespace
 
-int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool plots) {
+int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool plots,
+                     double point_timeout) {
   const SweepLock lock(dir);
   claim_sweep_directory(s, dir);
   std::vector<const SweepPoint*> missing;
@@ -106,16 +122,26 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
   auto last_write = std::chrono::steady_clock::now();
   run_pool(
       missing.size(), jobs, [&](size_t i) { return spawn_point(dir, *missing[i]); },
-      [&](size_t i, int status, double secs) {
+      [&](size_t i, int status, double secs, bool timed_out) {
         const SweepPoint* p = missing[i];
         ++finished;
+        const fs::path failure = sweep_failure_file(dir, *p);
         if (sweep_point_done(dir, *p)) {
+          fs::remove(failure);
           fmt::print("[{}/{}] {} done in {:.1f} s ({})\n", finished, missing.size(), p->id, secs,
                      describe(*p));
         } else {
           ++failed;
-          fmt::print("[{}/{}] {} FAILED ({}; {}): see {}/log.txt\n", finished, missing.size(),
-                     p->id, describe_exit(status), describe(*p), sweep_point_dir(dir, *p));
+          const std::string reason =
+              timed_out ? fmt::format("timed out after {:.0f} s (point_timeout)", secs)
+                        : describe_exit(status);
+          const fs::path log = fs::path(sweep_point_dir(dir, *p)) / output::kLogTxt;
+          write_json(failure.string(), {{"point", p->id},
+                                        {"reason", reason},
+                                        {"seconds", secs},
+                                        {"log_tail", log_tail(log)}});
+          fmt::print("[{}/{}] {} FAILED ({}; {}): see {}\n", finished, missing.size(), p->id,
+                     reason, describe(*p), log.string());
         }
         std::fflush(stdout);
         // Keep results current while points finish, but do not reread every row after each point.
@@ -123,7 +149,8 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
           write_sweep_results(s, dir);
           last_write = std::chrono::steady_clock::now();
         }
-      });
+      },
+      point_timeout);
   const size_t rows = write_sweep_results(s, dir);
   std::string note;
   if (plots) note = draw_sweep_figures(s, dir);
@@ -151,7 +178,8 @@ int run_sweep_command(const SweepArgs& a) {
     throw InputError("expected a sweep file (or --merge DIR, or --out DIR --point I)");
   const SweepSpec s = load_sweep(a.file, a.set);
   if (a.emit == "slurm") return emit_slurm(s, a.out);
-  return run_sweep_points(s, a.out, a.jobs, a.plots);
+  return run_sweep_points(s, a.out, a.jobs, a.plots,
+                          a.point_timeout > 0 ? a.point_timeout : s.point_timeout);
 }
 
 }  // namespace rtsim

@@ -11,15 +11,19 @@
 
 namespace rtsim {
 
-// Runs the points without a row in `dir` (jobs at once, each in its own process), keeps
-// results.csv/json current, draws the figures; 0 when every point has its row.
-int run_sweep_points(const SweepSpec& spec, const std::string& dir, int jobs, bool plots);
+// Runs the points without a row in `dir` (jobs at once, each in its own process; one killed past
+// `point_timeout` seconds, 0: no limit), keeps results.csv/json current, records each failed
+// point's reason in its failure.json (listed in results.json; the next run retries the point),
+// draws the figures; 0 when every point has its row.
+int run_sweep_points(const SweepSpec& spec, const std::string& dir, int jobs, bool plots,
+                     double point_timeout = 0);
 
 struct SweepArgs {
   std::string file, out, emit, merge_dir;
   std::vector<std::string> set;
   int jobs = 1;
-  int point = -1;  // run this one point in this process (cluster array tasks)
+  int point = -1;            // run this one point in this process (cluster array tasks)
+  double point_timeout = 0;  // seconds; 0: the sweep file's point_timeout (itself 0: none)
   bool plots = true;
 };
 int run_sweep_command(const SweepArgs& args);

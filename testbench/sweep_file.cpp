@@ -152,6 +152,7 @@ void read_metrics_and_reports(YamlMap& top, SweepSpec& s) {
   }
   // Reports that read the whole sweep: "area" pairs culling off and on per scene and sample count.
   s.reports = top.get<std::vector<std::string>>("reports", {});
+  s.point_timeout = top.get_in_range<double>("point_timeout", 0.0, 0.0, 1e7);
   for (const std::string& r : s.reports) {
     if (r != "area") top.fail("reports", fmt::format("'{}': expected 'area'", r));
     for (const char* axis : {"scene.lights.area_from_points.samples", "run.lvb"})

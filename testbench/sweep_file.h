@@ -29,6 +29,7 @@ struct SweepSpec {
   std::vector<std::string> metrics;  // names of row metrics (see sweep_metric)
   std::vector<std::string> reports;  // figures beyond the sweep's own, by plots.py mode: "area"
   std::vector<SweepPoint> points;
+  double point_timeout = 0;  // seconds a point may run (0: no limit); not part of the manifest
   const std::string& hw_of(const SweepPoint& p) const {
     return p.hw_file.empty() ? hw_file : p.hw_file;
   }

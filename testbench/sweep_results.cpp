@@ -162,8 +162,12 @@ nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann
   return row;
 }
 
+std::string sweep_failure_file(const std::string& dir, const SweepPoint& p) {
+  return (fs::path(sweep_point_dir(dir, p)) / "failure.json").string();
+}
+
 size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
-  nlohmann::json rows = nlohmann::json::array();
+  nlohmann::json rows = nlohmann::json::array(), failed = nlohmann::json::array();
   std::vector<std::string> header{"point", "id", "scene"};
   header.insert(header.end(), s.columns.begin(), s.columns.end());
   header.insert(header.end(), s.metrics.begin(), s.metrics.end());
@@ -171,7 +175,11 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
   for (size_t i = 0; i < header.size(); ++i) csv += (i ? "," : "") + header[i];
   csv += "\n";
   for (const SweepPoint& p : s.points) {
-    if (!sweep_point_done(dir, p)) continue;
+    if (!sweep_point_done(dir, p)) {
+      if (fs::exists(sweep_failure_file(dir, p)))
+        failed.push_back(read_json(sweep_failure_file(dir, p)));
+      continue;
+    }
     const nlohmann::json row = read_json(sweep_row_file(dir, p));
     rows.push_back(row);
     for (size_t i = 0; i < header.size(); ++i) {
@@ -192,7 +200,8 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
                                                                {"axes", s.columns},
                                                                {"metrics", s.metrics},
                                                                {"points", s.points.size()},
-                                                               {"rows", rows}});
+                                                               {"rows", rows},
+                                                               {"failed", failed}});
   return rows.size();
 }
 

@@ -25,6 +25,8 @@ void check_sweep_inputs(const nlohmann::json& manifest, const std::string& dir);
 std::string sweep_point_dir(const std::string& dir, const SweepPoint& p);
 std::string sweep_row_file(const std::string& dir, const SweepPoint& p);
 bool sweep_point_done(const std::string& dir, const SweepPoint& p);
+// Where a failed point's reason and log tail are kept until it succeeds.
+std::string sweep_failure_file(const std::string& dir, const SweepPoint& p);
 
 // One row of results: the point, its scene's name, its column values and its metrics, from the
 // point's report.json.

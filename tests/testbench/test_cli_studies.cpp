@@ -82,6 +82,33 @@ TEST(Cli, AreaLightsAreCheckedAndRenderedWithVisibilityCounts) {
 
 // The area-light measurement on a small scene: a sweep over the samples per light, culling off
 // and on, then plots.py area pairs the runs. Its table's figures are those of the sweep's rows.
+// A point past its time limit is killed and recorded as failed with the reason and its log's
+// tail (failure.json, results.json's "failed"); the same command without the limit finishes it.
+TEST(Cli, APointPastItsTimeLimitFailsWithItsReasonAndTheNextRunFinishesIt) {
+  const fs::path dir = test::temp_dir("cli_sweep_timeout");
+  write(dir / "sweep.yaml",
+        "name: slow\nscenes: [" + (test::source_dir() / "configs/scenes/city.yaml").string() +
+            "]\nhw: " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() +
+            "\npoint_timeout: 0.2\naxes:\n  run.width: [640]\n  run.height: [360]\n");
+  const std::string cmd =
+      "sweep " + (dir / "sweep.yaml").string() + " --out " + (dir / "out").string() + " --no-plots";
+  RunResult r = run(cmd);
+  EXPECT_EQ(r.code, 1) << r.out << r.err;
+  EXPECT_NE(r.out.find("FAILED (timed out after"), std::string::npos) << r.out;
+  const nlohmann::json failed = nlohmann::json::parse(slurp(dir / "out/results.json"))["failed"];
+  ASSERT_EQ(failed.size(), 1u);
+  EXPECT_EQ(failed[0]["point"], "p0000");
+  EXPECT_NE(failed[0]["reason"].get<std::string>().find("point_timeout"), std::string::npos);
+  EXPECT_TRUE(failed[0].contains("log_tail"));
+  r = run(cmd + " --point-timeout 600");  // the command line's limit over the file's
+  EXPECT_EQ(r.code, 0) << r.out << r.err;
+  const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
+  EXPECT_EQ(res["rows"].size(), 1u);
+  EXPECT_TRUE(res["failed"].empty());
+  EXPECT_FALSE(fs::exists(dir / "out/points/p0000/failure.json"));
+  fs::remove_all(dir);
+}
+
 TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
   const fs::path dir = test::temp_dir("cli_area_sweep");
   write(dir / "scene.yaml",
