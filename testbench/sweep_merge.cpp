@@ -11,8 +11,13 @@ int merge_sweep(const std::string& dir, bool plots) {
   const SweepSpec s = spec_from_manifest(read_json(file), file);
   const size_t rows = write_sweep_results(s, dir);
   std::string missing;
-  for (const SweepPoint& p : s.points)
-    if (!sweep_point_done(dir, p)) missing += " " + p.id;
+  for (const SweepPoint& p : s.points) {
+    const std::string problem = sweep_row_problem(dir, p);
+    if (problem == "no row")
+      missing += " " + p.id;
+    else if (!problem.empty())
+      missing += fmt::format(" {} ({})", p.id, problem);
+  }
   if (plots) {
     const std::string note = draw_sweep_figures(s, dir);
     if (!note.empty()) fmt::print(stderr, "rtsim: warning: figures not written: {}\n", note);

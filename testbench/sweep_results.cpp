@@ -143,8 +143,21 @@ std::string sweep_point_dir(const std::string& dir, const SweepPoint& p) {
 std::string sweep_row_file(const std::string& dir, const SweepPoint& p) {
   return (fs::path(sweep_point_dir(dir, p)) / output::kRowJson).string();
 }
+std::string sweep_row_problem(const std::string& dir, const SweepPoint& p) {
+  const std::string file = sweep_row_file(dir, p);
+  if (!fs::exists(file)) return "no row";
+  try {
+    const nlohmann::json row = read_json(file);
+    if (!row.is_object() || row.value("id", "") != p.id) return file + ": not this point's row";
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// A point is done when its row is there and reads as its row: a damaged one is run again.
 bool sweep_point_done(const std::string& dir, const SweepPoint& p) {
-  return fs::exists(sweep_row_file(dir, p));
+  return sweep_row_problem(dir, p).empty();
 }
 
 nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann::json& report) {
@@ -175,9 +188,11 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
   for (size_t i = 0; i < header.size(); ++i) csv += (i ? "," : "") + header[i];
   csv += "\n";
   for (const SweepPoint& p : s.points) {
-    if (!sweep_point_done(dir, p)) {
+    if (const std::string problem = sweep_row_problem(dir, p); !problem.empty()) {
       if (fs::exists(sweep_failure_file(dir, p)))
         failed.push_back(read_json(sweep_failure_file(dir, p)));
+      else if (problem != "no row")
+        failed.push_back({{"point", p.id}, {"reason", "an unreadable row: " + problem}});
       continue;
     }
     const nlohmann::json row = read_json(sweep_row_file(dir, p));

@@ -25,6 +25,8 @@ void check_sweep_inputs(const nlohmann::json& manifest, const std::string& dir);
 std::string sweep_point_dir(const std::string& dir, const SweepPoint& p);
 std::string sweep_row_file(const std::string& dir, const SweepPoint& p);
 bool sweep_point_done(const std::string& dir, const SweepPoint& p);
+// Why a point has no usable row: "no row", or what is wrong with the one there; "" if it is fine.
+std::string sweep_row_problem(const std::string& dir, const SweepPoint& p);
 // Where a failed point's reason and log tail are kept until it succeeds.
 std::string sweep_failure_file(const std::string& dir, const SweepPoint& p);
 

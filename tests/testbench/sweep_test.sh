@@ -101,6 +101,16 @@ set -e
 [ "$code" -eq 1 ] || fail "merge with 7 missing points exited with $code, expected 1"
 grep -q "merged 1 of 8 points" "$work/merge.log" || fail "merge count"
 [ "$(($(wc -l < "$work/b/results.csv") - 1))" -eq 1 ] || fail "merged results.csv should have 1 row"
+# A damaged row is named (and run again by the next sweep), not skipped in silence.
+echo '{"id": ' > "$work/b/points/p0005/row.json"
+set +e
+"$rtsim" sweep --merge "$work/b" --no-plots > "$work/merge2.log" 2>&1
+code=$?
+set -e
+[ "$code" -eq 1 ] || fail "merge with a damaged row exited with $code, expected 1"
+grep -q "merged 0 of 8 points" "$work/merge2.log" || fail "merge count with a damaged row"
+grep -q "p0005 (.*not valid JSON" "$work/merge2.log" || fail "the damaged row is not named"
+grep -q "an unreadable row" "$work/b/results.json" || fail "results.json does not list the damaged row"
 
 # 4. A directory holding another sweep is refused: other points, or an input file that changed.
 refused() {
