@@ -94,19 +94,20 @@ bash -n "$work/b/sweep.sbatch" || fail "sweep.sbatch does not parse"
 grep -q "^#SBATCH --array=0-7$" "$work/b/sweep.sbatch" || fail "array range"
 SLURM_ARRAY_TASK_ID=5 bash "$work/b/sweep.sbatch" > /dev/null
 cmp "$work/a/points/p0005/row.json" "$work/b/points/p0005/row.json" || fail "the array task's row differs from the local one"
-set +e
-"$rtsim" sweep --merge "$work/b" --no-plots > "$work/merge.log" 2>&1
-code=$?
-set -e
+# --merge of b into LOG; its exit code in $code.
+merge_b() {
+  set +e
+  "$rtsim" sweep --merge "$work/b" --no-plots > "$1" 2>&1
+  code=$?
+  set -e
+}
+merge_b "$work/merge.log"
 [ "$code" -eq 1 ] || fail "merge with 7 missing points exited with $code, expected 1"
 grep -q "merged 1 of 8 points" "$work/merge.log" || fail "merge count"
 [ "$(($(wc -l < "$work/b/results.csv") - 1))" -eq 1 ] || fail "merged results.csv should have 1 row"
 # A damaged row is named (and run again by the next sweep), not skipped in silence.
 echo '{"id": ' > "$work/b/points/p0005/row.json"
-set +e
-"$rtsim" sweep --merge "$work/b" --no-plots > "$work/merge2.log" 2>&1
-code=$?
-set -e
+merge_b "$work/merge2.log"
 [ "$code" -eq 1 ] || fail "merge with a damaged row exited with $code, expected 1"
 grep -q "merged 0 of 8 points" "$work/merge2.log" || fail "merge count with a damaged row"
 grep -q "p0005 (.*not valid JSON" "$work/merge2.log" || fail "the damaged row is not named"
