@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""A mutation fuzzer of rtsim's readers (issue 22): seeds of every input kind, mutated (bytes
+"""A mutation fuzzer of rtsim's readers (issue 22): seeds of every input kind (AFF, PLY ascii and
+binary, OBJ+MTL, glTF, scene/hardware/sweep YAML, --set values), mutated (bytes
 flipped, cut, repeated, numbers swapped for extreme ones, bytes that are not UTF-8), each run
 through the command that reads it, under a time and an address-space limit. A case passes when
 rtsim exits 0, or exits 2 with exactly one `rtsim: error:` line on stderr; anything else (exit 1,
@@ -72,6 +73,24 @@ def ply_binary():
             b"property list uchar int vertex_indices\nend_header\n")
     body = struct.pack("<9f", -1, -1, -3, 1, -1, -3, 0, 1, -3) + struct.pack("<B3i", 3, 0, 1, 2)
     return head + body
+
+
+def gltf():
+    """One triangle: float positions and 16-bit indices in a data: URI buffer."""
+    import base64
+    import json
+    data = struct.pack("<9f", -1, -1, -3, 1, -1, -3, 0, 1, -3) + struct.pack("<3H", 0, 1, 2)
+    doc = {"asset": {"version": "2.0"},
+           "buffers": [{"byteLength": len(data),
+                        "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
+                           {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                          "min": [-1, -1, -3], "max": [1, 1, -3]},
+                         {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+           "nodes": [{"mesh": 0, "translation": [0, 0, 0]}], "scenes": [{"nodes": [0]}], "scene": 0}
+    return json.dumps(doc, indent=1).encode()
 
 
 OBJ = b"""mtllib m.mtl
@@ -187,6 +206,10 @@ def case(kind, rng, work, rtsim):
         open(os.path.join(work, "s.ply"), "wb").write(mutate(PLY_ASCII if kind == "ply" else ply_binary(), rng))
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.ply"))
         return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    if kind == "gltf":
+        open(os.path.join(work, "s.gltf"), "wb").write(mutate(gltf(), rng))
+        open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.gltf"))
+        return [rtsim, "info", "scene.yaml", "--scene-root", work]
     if kind == "obj":
         open(os.path.join(work, "s.obj"), "wb").write(mutate(OBJ, rng))
         open(os.path.join(work, "m.mtl"), "wb").write(mutate(MTL, rng) if rng.random() < 0.5 else MTL)
@@ -214,7 +237,7 @@ def case(kind, rng, work, rtsim):
 
 
 MUTATIONS = 1  # 0: the seeds as they are (a check of the seeds)
-KINDS = ["aff", "ply", "plyb", "obj", "scene", "hw", "sweep", "set"]
+KINDS = ["aff", "ply", "plyb", "obj", "gltf", "scene", "hw", "sweep", "set"]
 
 
 def main():
