@@ -4,6 +4,7 @@
 #include "kernels/reference_tracer.h"
 #include "reports/output_files.h"
 #include "testbench/commands.h"
+#include "testbench/resources.h"
 
 #include <fmt/format.h>
 
@@ -108,6 +109,7 @@ nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbRe
 int run_lvb(const LvbArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   PreparedScene p = prepare_scene(args.scene, args.prepare);
+  check_memory(render_memory_need(p.scene));  // it traces the frame
   LvbParams lp = args.lvb;
   lp.shadow_offset = lvb_shadow_offset(p.tree);
   lp.origin_margin = lvb_origin_margin(p.scene, p.tree);
