@@ -1,6 +1,7 @@
 #include "testbench/sweep.h"
 
 #include "common/error.h"
+#include "common/utf8.h"
 #include "reports/output_files.h"
 #include "testbench/commands.h"
 #include "testbench/process_pool.h"
@@ -95,7 +96,7 @@ std::string log_tail(const fs::path& log, size_t lines = 5) {
   }
   std::string s;
   for (const std::string& l : tail) s += l + "\n";
-  return s;
+  return utf8_lossy(s);  // it may quote input that is not UTF-8; it goes into JSON
 }
 
 std::string describe(const SweepPoint& p) {

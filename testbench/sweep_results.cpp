@@ -1,6 +1,7 @@
 #include "testbench/sweep_results.h"
 
 #include "common/error.h"
+#include "common/utf8.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
 #include "testbench/sweep_metrics.h"
@@ -192,7 +193,8 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
       if (fs::exists(sweep_failure_file(dir, p)))
         failed.push_back(read_json(sweep_failure_file(dir, p)));
       else if (problem != "no row")
-        failed.push_back({{"point", p.id}, {"reason", "an unreadable row: " + problem}});
+        failed.push_back(
+            {{"point", p.id}, {"reason", utf8_lossy("an unreadable row: " + problem)}});
       continue;
     }
     const nlohmann::json row = read_json(sweep_row_file(dir, p));
