@@ -51,7 +51,7 @@ std::string cgroup_dir() {
 void tighter(MemoryRoom& room, uint64_t limit, uint64_t used, const std::string& name) {
   const uint64_t left = limit > used ? limit - used : 0;
   if (left < room.bytes)
-    room = {left, fmt::format("{} ({} of {} in use)", name, gb(used), gb(limit))};
+    room = {left, used ? fmt::format("{} ({} of {} in use)", name, gb(used), gb(limit)) : name};
 }
 
 size_t sample_words(const Scene& scene) {
