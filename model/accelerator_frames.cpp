@@ -90,11 +90,7 @@ void Accelerator::build(const AcceleratorConfig& config, const SimulationHooks& 
   FrameSetup setup;
   uint64_t image_memory_bytes = 0;
   if (image) {
-    setup.fb_base = frame_buffer_after(0, image->bytes().size());
-    setup.camera = job->camera;
-    setup.width = job->width;
-    setup.height = job->height;
-    setup.lvb_culling = config.lvb_culling;
+    setup = frame_after_image(*image, job->camera, job->width, job->height, config.lvb_culling);
     image_memory_bytes = setup.fb_base + uint64_t(job->width) * uint64_t(job->height) *
                                              (config.reflection_depth + 1) * record_stride(config);
   }

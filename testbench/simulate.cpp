@@ -76,13 +76,8 @@ SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const Memo
   SimulatedFrame out;
   try {
     model::Accelerator accelerator("rtsim", config, hooks);
-    model::FrameSetup setup;
-    setup.fb_base = model::frame_buffer_after(0, image.bytes().size());
-    setup.camera = camera;
-    setup.width = width;
-    setup.height = height;
-    setup.lvb_culling = config.lvb_culling;
-    Host host("host", image, setup);
+    Host host("host", image,
+              model::frame_after_image(image, camera, width, height, config.lvb_culling));
     sc_core::sc_signal<bool> irq("irq");
     host.registers.bind(accelerator.register_socket());
     host.memory.bind(accelerator.memory_host_socket());

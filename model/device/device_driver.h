@@ -38,6 +38,18 @@ inline uint64_t frame_buffer_after(uint64_t image_base, uint64_t image_bytes) {
   return (image_base + image_bytes + 4095) / 4096 * 4096;
 }
 
+// One frame as rtsim run lays it out: the image at address 0, the frame buffer after it.
+inline FrameSetup frame_after_image(const MemoryImage& image, const Camera& camera, int width,
+                                    int height, bool lvb_culling) {
+  FrameSetup s;
+  s.fb_base = frame_buffer_after(0, image.bytes().size());
+  s.camera = camera;
+  s.width = width;
+  s.height = height;
+  s.lvb_culling = lvb_culling;
+  return s;
+}
+
 // A driver over an initiator socket that reaches the memory and, at `register_base`, the
 // accelerator's registers (through a router, or a socket bound to the registers alone with base
 // 0). Calls b_transport and waits out the delay each returns, so it runs in an SC_THREAD; an
