@@ -34,6 +34,7 @@ MemorySystemConfig AcceleratorConfig::memory_system() const {
   m.shading = shading;
   m.culling_l1 = culling.l1 == CullingL1::kOwn;
   m.memory_link = memory_link;
+  m.write_buffer = write_buffer;
   m.dram = dram;
   m.dram.request_bytes = trv.l2.line_bytes;  // one L2 line per memory transaction
   return m;

@@ -23,22 +23,36 @@ struct UnitTypeConfig : RayUnitConfig, TypeMemoryConfig {};
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
   // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
-  // ports and links as configs/README.md gives them with their sources: single-ported L1s; L2s
-  // of 8 single-ported banks (GPGPU-Sim's GT200); 32-byte flits, 8-byte headers, 2 cycles a hop.
+  // ports, links and queues as configs/README.md gives them with their sources: single-ported
+  // L1s; L2s of 8 single-ported banks (GPGPU-Sim's GT200); MSHRs serving 4 requests each (GT200's
+  // L2 and texture L1); 32-byte flits, 8-byte headers, 2 cycles a hop, 8-flit input buffers.
   UnitTypeConfig trv{{8, 16, 16},
-                     {24, {8192, 2, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+                     {24,
+                      {8192, 2, 64, 1, 16, 1, 1, FillPort::kShared, 4},
+                      {131072, 2, 64, 4, 64, 8, 1, FillPort::kShared, 4},
+                      {2, 32, 8, 8}}};
   UnitTypeConfig list{{2, 16, 16},
-                      {12, {4096, 2, 64, 1, 16, 1, 1}, {32768, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+                      {12,
+                       {4096, 2, 64, 1, 16, 1, 1, FillPort::kShared, 4},
+                       {32768, 2, 64, 4, 64, 8, 1, FillPort::kShared, 4},
+                       {2, 32, 8, 8}}};
   UnitTypeConfig ist{{36, 16, 16},
-                     {12, {16384, 4, 64, 1, 16, 1, 1}, {131072, 2, 64, 4, 64, 8, 1}, {2, 32, 8}}};
+                     {12,
+                      {16384, 4, 64, 1, 16, 1, 1, FillPort::kShared, 4},
+                      {131072, 2, 64, 4, 64, 8, 1, FillPort::kShared, 4},
+                      {2, 32, 8, 8}}};
   // Its L1 sits on the IST L2.
-  UnitTypeConfig shading{{4, 64, 64}, {1, {16384, 4, 64, 1, 16, 1, 1}, {}, {}}};
+  UnitTypeConfig shading{{4, 64, 64},
+                         {1, {16384, 4, 64, 1, 16, 1, 1, FillPort::kShared, 4}, {}, {}}};
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
-  LinkConfig memory_link{2, 32, 8};    // the crossbar between the L2 banks and the DRAM channels
-  uint32_t ray_pool = 2048;            // rays in flight, all units together
-  uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
-  CullingConfig culling;               // one hit record per cycle, read from memory in two phases
-  bool write_records = true;           // shading units write each hit's record to the frame buffer
+  LinkConfig memory_link{2, 32, 8, 8};  // the crossbar between the L2 banks and the DRAM channels
+  uint32_t ray_pool = 2048;             // rays in flight, all units together
+  uint32_t raygen_rays_per_cycle = 1;   // the T&I engine's ray dispatcher: one ray per cycle
+  CullingConfig culling;                // one hit record per cycle, read from memory in two phases
+  bool write_records = true;            // shading units write each hit's record to the frame buffer
+  // A shading unit's posted writes in flight: one per ray it holds (our choice; no source gives
+  // one). 0: unbounded, the ideal.
+  uint32_t write_buffer = 64;
   bool lvb_culling = true;
   RayOrder order = RayOrder::kTiles;
   Schedule schedule = Schedule::kTwoPhase;
@@ -101,6 +115,9 @@ DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {
               describe(v, c.shading, false, 64);
               v.flag("write_records", c.write_records,
                      "every shaded hit's 64-byte record is written to the frame buffer in DRAM");
+              v.number("write_buffer", c.write_buffer, 0, 1 << 20, "lines",
+                       "a unit's posted writes in flight; full, the unit waits for an "
+                       "acknowledgement; 0: unbounded (ideal)");
             });
   v.section("raygen", "the ray generator", [&] {
     v.number("rays_per_cycle", c.raygen_rays_per_cycle, 1, 64, "rays",

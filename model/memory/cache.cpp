@@ -125,9 +125,23 @@ Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t coo
       ++stats_.hits;
       return earliest;
     }
+    Mshr& m = mshrs_[mshr_of_[i]];
+    if (cfg_.max_merge > 0 && m.line == line && m.merged >= cfg_.max_merge) {
+      // Its merge list is full: served by the fill, as a hit then
+      ++stats_.merge_full_events;
+      if (!requeued) ++stats_.mshr_stall_events;
+      if (ready_[i] == kUnknown) {
+        queued_.push_back({line, listener, cookie, arrival});
+        return kUnknown;
+      }
+      stats_.mshr_stall_cycles += ceil_cycles(ready_[i] - now);
+      ++stats_.hits;
+      return ready_[i] + hit_ticks_;
+    }
+    ++m.merged;
     ++stats_.mshr_merges;
     if (ready_[i] != kUnknown) return std::max(ready_[i], earliest);
-    mshrs_[mshr_of_[i]].waiters.push_back({listener, cookie, earliest});
+    m.waiters.push_back({listener, cookie, earliest});
     return kUnknown;
   }
   return miss(line, base, now, listener, cookie, arrival, requeued);
@@ -166,6 +180,9 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   const Tick earliest = issue + hit_ticks_;
   Tick delivered = below_->fetch_line(line, earliest, this, line);
   Mshr& m = mshrs_[mshr];
+  m.line = line;
+  m.merged = 1;
+  mshr_of_[victim] = mshr;
   if (delivered != kUnknown) {
     delivered = fill_slot(line, delivered);
     std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
@@ -175,7 +192,6 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
     return delivered;
   }
   ready_[victim] = kUnknown;
-  mshr_of_[victim] = mshr;
   m.free_at = kUnknown;
   ++awaiting_;
   m.waiters.clear();
@@ -257,11 +273,15 @@ void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {
   r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "count",
             "requests merged into a line already in flight");
   r.counter(prefix + ".mshr_stall_events", &stats_.mshr_stall_events, "count",
-            "misses that waited for a free MSHR or a way not in flight");
+            "misses that waited for a free MSHR or a way not in flight, or requests for a "
+            "line whose MSHR was full");
   r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles",
             "cycles misses waited for an MSHR or a way");
   r.counter(prefix + ".fills", &stats_.fills, "count", "lines written into the data array");
   r.counter(prefix + ".evictions", &stats_.evictions, "count", "valid lines replaced");
+  if (cfg_.max_merge > 0)
+    r.counter(prefix + ".merge_full_events", &stats_.merge_full_events, "count",
+              "requests that found their line's MSHR full (max_merge): served by the fill");
   const CacheStats* s = &stats_;
   r.formula(
       prefix + ".hit_rate",

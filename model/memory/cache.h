@@ -19,6 +19,9 @@
 //    now + H_L1 + H_L2 + (memory's answer to a request made at now + H_L1 + H_L2).
 //    The line is allocated at request time in the LRU way among those not in flight; the MSHR
 //    stays busy until the delivery.
+//  - merge limit: an MSHR serves at most `max_merge` requests (the miss and its merges, GPGPU-Sim's
+//    MSHR "max merged"); one more for its line waits for the fill and is served then, as a hit
+//    (fill + H), counted as an MSHR stall. 0: no limit.
 //  - MSHR / structural stall: a miss needs a free MSHR (at most `mshrs` lines in flight) and a
 //    way of its set that is not in flight. If either is missing but the earliest one frees at a
 //    known time, the miss is issued at that time instead of `now` (the level below may thus be
@@ -72,6 +75,7 @@ struct CacheConfig {
   uint32_t banks = 1;        // power of two, at most the number of sets
   uint32_t ports = 0;        // accesses per bank per cycle; 0: unlimited (ideal)
   FillPort fill_port = FillPort::kShared;
+  uint32_t max_merge = 0;  // requests one MSHR serves, the first included; 0: unbounded
 
   // Throws std::invalid_argument naming the offending field.
   void validate() const;
@@ -94,6 +98,9 @@ DescribeOf<C, CacheConfig> describe(V& v, C& c) {
   v.choice("fill_port", c.fill_port,
            {{"shared", FillPort::kShared}, {"separate", FillPort::kSeparate}},
            "a fill takes one of its bank's slots (shared) or has a port of its own (separate)");
+  v.number("max_merge", c.max_merge, 0, 65536, "requests",
+           "requests an MSHR serves (the miss and its merges); more wait for the fill and hit; "
+           "0: unbounded (ideal)");
 }
 
 struct CacheStats {
@@ -108,6 +115,7 @@ struct CacheStats {
   uint64_t bank_stall_events = 0;  // lookups that found their bank's slots taken
   uint64_t bank_stall_cycles = 0;
   uint64_t fill_stall_cycles = 0;  // fills that waited for a slot of their bank
+  uint64_t merge_full_events = 0;  // requests that found their line's MSHR full (max_merge)
 };
 
 class Cache : public sc_core::sc_object, public LineSource, public FillListener {
@@ -164,6 +172,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   };
   struct Mshr {
     Tick free_at = 0;             // busy while free_at > t; kUnknown until its fill arrives
+    uint64_t line = kInvalidTag;  // the line it was last allocated to
+    uint32_t merged = 0;          // requests for that line, the first included
     std::vector<Waiter> waiters;  // keeps its capacity: no allocation once warmed up
   };
   struct Queued {  // a miss that found no MSHR / way with a known free time

@@ -17,7 +17,8 @@ Crossbar::Crossbar(const char* name, const LinkConfig& config, const Clock& cloc
     : sc_core::sc_object(name),
       cfg_(config),
       clock_(clock),
-      latency_ticks_(clock.cycles(config.latency)) {
+      latency_ticks_(clock.cycles(config.latency)),
+      buffer_ticks_(clock.cycles(config.buffer_flits)) {
   cfg_.validate();
   const uint32_t ports = cfg_.ideal() ? 0 : 1;
   src_out_.assign(sources, PortSchedule(clock_.period(), ports));
@@ -36,9 +37,20 @@ Tick Crossbar::transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, T
   const Tick start = clock_.edge_at_or_after(t);
   Tick sent = 0, received = 0;
   for (uint32_t k = 0; k < flits; ++k) {
-    sent = out.reserve(k == 0 ? start : sent + clock_.period());
-    received = in.reserve(k == 0 ? sent + latency_ticks_
-                                 : std::max(sent + latency_ticks_, received + clock_.period()));
+    Tick ready = k == 0 ? start : sent + clock_.period();
+    const Tick after = k == 0 ? 0 : received + clock_.period();  // flits arrive in order
+    if (buffer_ticks_ > 0) {
+      // Held at the source while the destination's buffer would be full when it arrived
+      const Tick taken = in.peek(std::max(ready + latency_ticks_, after));
+      if (taken > ready + latency_ticks_ + buffer_ticks_) {
+        ++s.held_flits;
+        const Tick held = taken - latency_ticks_ - buffer_ticks_;
+        out.block(ready, held);  // nothing else leaves the source meanwhile
+        ready = held;
+      }
+    }
+    sent = out.reserve(ready);
+    received = in.reserve(std::max(sent + latency_ticks_, after));
   }
   const Tick arrival = received + clock_.period();
   s.queue_cycles += clock_.to_cycles(arrival - (start + latency_ticks_ + clock_.cycles(flits)));
@@ -62,6 +74,9 @@ void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const
     r.counter(p + ".flits", &s.flits, "count", dir + " flits");
     r.counter(p + ".queue_cycles", &s.queue_cycles, "cycles",
               dir + " cycles packets waited for a port, summed");
+    if (cfg_.buffer_flits > 0)
+      r.counter(p + ".held_flits", &s.held_flits, "count",
+                dir + " flits held at their source: the destination's buffer was full");
     r.formula(
         p + ".avg_queue_cycles",
         [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; }, "cycles",

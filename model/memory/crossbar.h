@@ -11,6 +11,13 @@
 // cycles, and packets that meet at a port queue there. A read request is a header-only packet, a
 // reply carries the line.
 //
+// A destination port's input buffer holds `buffer_flits` flits (GPGPU-Sim's 8-flit buffers):
+// a flit that would wait more than buffer_flits cycles there (the flits ahead of it, one served
+// per cycle) is held at its source instead, leaving it as late as that allows (credit-based flow
+// control). Its arrival does not change, but the source's port is blocked until it leaves: the
+// packets behind it at the source wait, whatever their destination (head-of-line blocking).
+// 0: unbounded.
+//
 // `bytes_per_cycle == 0` is the ideal wire: no width, no queueing; only `latency` is added.
 //
 // CrossbarPort puts a crossbar in front of a LineSource (a cache or the DRAM): the upstream cache
@@ -35,6 +42,7 @@ struct LinkConfig {
   uint32_t latency = 0;          // cycles from a flit's departure to its arrival
   uint32_t bytes_per_cycle = 0;  // flit size; 0: an ideal wire of unlimited width
   uint32_t header_bytes = 0;     // added to every packet
+  uint32_t buffer_flits = 0;     // a destination port's input buffer; 0: unbounded
 
   // Throws std::invalid_argument naming the field.
   void validate() const;
@@ -48,12 +56,16 @@ DescribeOf<L, LinkConfig> describe(V& v, L& l) {
   v.number("bytes_per_cycle", l.bytes_per_cycle, 0, 4096, "bytes",
            "flit size; one flit per cycle per port and direction; 0: an ideal wire");
   v.number("header_bytes", l.header_bytes, 0, 4096, "bytes", "added to every packet");
+  v.number("buffer_flits", l.buffer_flits, 0, 65536, "flits",
+           "a destination port's input buffer: a flit waits at its source while it would be "
+           "full; 0: unbounded (ideal)");
 }
 
 struct CrossbarStats {
   uint64_t packets = 0;
   uint64_t flits = 0;
   uint64_t queue_cycles = 0;  // sum over packets of (arrival - arrival on an idle crossbar)
+  uint64_t held_flits = 0;    // flits held at their source by a full destination buffer
 };
 
 class Crossbar : public sc_core::sc_object {
@@ -81,6 +93,7 @@ class Crossbar : public sc_core::sc_object {
   LinkConfig cfg_;
   Clock clock_;
   Tick latency_ticks_;
+  Tick buffer_ticks_;  // buffer_flits cycles: the most a flit may wait in the destination's buffer
   std::vector<PortSchedule> src_out_, src_in_, dst_in_, dst_out_;
   CrossbarStats request_, reply_;
 };

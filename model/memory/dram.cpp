@@ -7,6 +7,7 @@
 #include <cstring>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace rtsim::model {
 
@@ -67,16 +68,37 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_p
     p.set_response_status(status);
     return tlm::TLM_COMPLETED;
   }
+  const Tick arrival = calendar_.now() + calendar_.time().to_tick(delay);
+  if (!engine_.accepts(p.get_address())) {
+    // Its channel is full: END_REQ when the channel has room (activate)
+    if (held_back_)
+      report_error(kReportTlm, std::string(name()) + ": BEGIN_REQ before the END_REQ of the last");
+    held_back_ = &p;
+    held_back_arrival_ = arrival;
+    ++held_back_count_;
+    return tlm::TLM_ACCEPTED;
+  }
+  accept(p, arrival);
+  phase = tlm::END_REQ;
+  return tlm::TLM_UPDATED;
+}
+
+void Dram::accept(tlm::tlm_generic_payload& p, Tick arrival) {
   const uint64_t line = p.get_address();
   const bool write = p.is_write();
   if (write && store_bytes_ > 0)
     std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
   const uint64_t id = next_id_++;
   requesters_.emplace(id, Requester{line, &p});
-  engine_.enqueue(line, calendar_.now() + calendar_.time().to_tick(delay), id, write);
+  engine_.enqueue(line, arrival, id, write);
   wake_for(engine_.next_event_time());
-  phase = tlm::END_REQ;
-  return tlm::TLM_UPDATED;
+}
+
+void Dram::register_stats(StatsRegistry& registry, const std::string& prefix) const {
+  engine_.register_stats(registry, prefix);
+  if (engine_.config().input_queue > 0)
+    registry.counter(prefix + ".held_back", &held_back_count_, "count",
+                     "requests whose channel's input queue was full (END_REQ waited)");
 }
 
 void Dram::respond(tlm::tlm_generic_payload& p) {
@@ -161,6 +183,15 @@ void Dram::activate() {
   const Tick now = calendar_.now();
   done_.clear();
   engine_.advance(now, done_);
+  if (held_back_ && engine_.accepts(held_back_->get_address())) {
+    // Taken now, or when it reaches memory if that is later (the END_REQ's time)
+    tlm::tlm_generic_payload& p = *std::exchange(held_back_, nullptr);
+    const Tick at = std::max(held_back_arrival_, now);
+    accept(p, at);
+    tlm::tlm_phase phase = tlm::END_REQ;
+    sc_core::sc_time t = calendar_.time().to_sc_time(at - now);
+    socket->nb_transport_bw(p, phase, t);
+  }
   // A read's data go at the accelerator's edge after they are in; a write (posted: nobody waits
   // for it) is answered when its data are in.
   for (const DramController::Completion& c : done_)

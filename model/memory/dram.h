@@ -4,7 +4,10 @@
 // SystemC's resolution (model/sim/calendar.h).
 //
 // A read (BEGIN_REQ, its delay annotation = when it reaches memory) is accepted at once
-// (TLM_UPDATED, END_REQ: the controller's queue takes every request) and enqueued in the engine.
+// (TLM_UPDATED, END_REQ) and enqueued in the engine when its channel has room; when the channel's
+// input queue is full (DramConfig::input_queue) it is held back (TLM_ACCEPTED) and END_REQ goes
+// on the backward path at the activation that finds room, the base protocol's backpressure: the
+// initiator sends nothing more until then.
 // An activation on the calendar advances the engine to the current time; a read's response
 // (BEGIN_RESP, with the line's bytes) goes at the first accelerator-clock edge at or after its
 // data are ready (the DRAM runs on its own command clock; the accelerator samples on its own).
@@ -79,9 +82,8 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
 
   const DramController& engine() const { return engine_; }
   const DramStats& stats() const { return engine_.stats(); }
-  void register_stats(StatsRegistry& registry, const std::string& prefix) const {
-    engine_.register_stats(registry, prefix);
-  }
+  // The engine's statistics, and <prefix>.held_back with a bounded input queue.
+  void register_stats(StatsRegistry& registry, const std::string& prefix) const;
 
  private:
   struct Requester {
@@ -100,8 +102,9 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
                                      sc_core::sc_time& delay);
   // A request's response status if it is not one request_bytes line inside the store.
   tlm::tlm_response_status check(const tlm::tlm_generic_payload& p) const;
-  void respond(tlm::tlm_generic_payload& p);  // BEGIN_RESP now
-  void activate() override;                   // on the calendar
+  void accept(tlm::tlm_generic_payload& p, Tick arrival);  // into the engine
+  void respond(tlm::tlm_generic_payload& p);               // BEGIN_RESP now
+  void activate() override;                                // on the calendar
   void wake_for(Tick t);
   bool in_store(uint64_t line_addr) const {
     return line_addr <= store_bytes_ && store_bytes_ - line_addr >= engine_.config().request_bytes;
@@ -122,6 +125,9 @@ class Dram : public sc_core::sc_module, public Calendar::Client {
   std::vector<DramController::Completion> done_;  // scratch
   uint64_t next_id_ = 0;
   const tlm::tlm_generic_payload* awaiting_end_resp_ = nullptr;  // answered TLM_ACCEPTED
+  tlm::tlm_generic_payload* held_back_ = nullptr;  // its channel full: END_REQ not sent yet
+  Tick held_back_arrival_ = 0;
+  uint64_t held_back_count_ = 0;
 };
 
 }  // namespace rtsim::model

@@ -67,6 +67,7 @@ DramConfig gddr3_gt200() {
   c.bus_bytes = 8;       // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
   c.queue_size = 16;     // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
                          // FR-FCFS (cfg:54, 60)
+  c.input_queue = 8;     // the L2-to-DRAM queue of -gpgpu_dram_partition_queues 8:8:8:8
   c.request_bytes = 32;  // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
                          // accelerator sets its own L2 line size here
   c.row_policy = RowPolicy::kOpenPage;       // GPGPU-Sim's DRAM model keeps rows open

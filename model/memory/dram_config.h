@@ -82,6 +82,9 @@ struct DramConfig {
   uint32_t bus_bytes = 0;     // data-bus width of one channel
 
   uint32_t queue_size = 0;  // scheduler queue per channel; excess requests wait in a FIFO
+  // That FIFO's size (GPGPU-Sim's L2-to-DRAM queue); full, a request is held back (the memory's
+  // END_REQ waits for room). 0: unbounded.
+  uint32_t input_queue = 0;
   // The cache line above; one request = request_bytes / burst_bytes bursts
   uint32_t request_bytes = 0;
   // The built-in memory's size, where a platform puts the image and the frame buffer: GT200's
@@ -124,6 +127,9 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
            "beats per burst (DDR: BL/2 cycles of data bus)");
   v.number("bus_bytes", c.bus_bytes, 1, 256, "bytes", "data-bus width of one channel");
   v.number("queue_size", c.queue_size, 1, 4096, "requests", "FR-FCFS scheduler queue per channel");
+  v.number("input_queue", c.input_queue, 0, 1 << 20, "requests",
+           "per channel, waiting for the scheduler queue; full, a request is held back "
+           "(END_REQ waits); 0: unbounded (ideal)");
   v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");
   v.number("capacity_mib", c.capacity_mib, 1, 1 << 20, "MiB",
            "the built-in memory's size (the device's address space for image and frame buffer)");

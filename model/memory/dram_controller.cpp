@@ -1,6 +1,7 @@
 #include "model/memory/dram_controller.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace rtsim::model {
 
@@ -82,6 +83,7 @@ void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   stats_.first_arrival_ps = first ? arrival : std::min(stats_.first_arrival_ps, arrival);
   ++(write ? stats_.write_requests : stats_.requests);
   Channel& ch = channels_[a.channel];
+  if (!has_room(ch)) throw std::logic_error("DramController: a request to a full channel");
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
     ch.next_cycle = choose(ch).cycle;

@@ -42,9 +42,10 @@
 //    arriving (as in GPGPU-Sim's FR-FCFS; the L2 in front merges repeated misses, which bounds it
 //    in practice).
 //  - The scheduler sees queue_size requests per channel (GPGPU-Sim's dram_sched_queue_size).
-//    Requests beyond that are still accepted, into a per-channel overflow FIFO, counted in
-//    queue_full_events; one enters the queue each time a request leaves it (after its last column
-//    command). No request is ever refused, so callers never need to retry.
+//    Requests beyond that wait in a per-channel FIFO of input_queue requests (GPGPU-Sim's L2-to-
+//    DRAM queue; 0: unbounded), counted in queue_full_events; one enters the queue each time a
+//    request leaves it (after its last column command). A request for a channel whose FIFO is
+//    full must wait (accepts() says so): the caller holds it back and offers it again later.
 //  - Row classification is made when a request's first command issues: RD/WR = row hit, ACT = row
 //    miss (bank closed), PRE = row conflict. The row_* statistics count reads and writes.
 //
@@ -123,8 +124,10 @@ class DramController {
   explicit DramController(const DramConfig& config);
 
   // A read (or, with `write`, a write) of the request_bytes-aligned block holding `addr`, arriving
-  // at `now`; `id` comes back in its Completion. Never refused (see the overflow FIFO above).
+  // at `now`; `id` comes back in its Completion. Only when accepts(addr).
   void enqueue(uint64_t addr, Tick now, uint64_t id, bool write = false);
+  // Whether the channel of `addr` has room for a request (its FIFO is not full).
+  bool accepts(uint64_t addr) const { return has_room(channels_[mapping_.decode(addr).channel]); }
   // When the engine next has something to do (a command to issue or a completion to report);
   // kUnknown when idle.
   Tick next_event_time() const;
@@ -192,6 +195,10 @@ class DramController {
     bool operator>(const Pending& o) const { return time != o.time ? time > o.time : seq > o.seq; }
   };
 
+  bool has_room(const Channel& ch) const {
+    return config_.input_queue == 0 || ch.queue.size() < config_.queue_size ||
+           ch.overflow.size() < config_.input_queue;
+  }
   Choice choose(Channel& ch);  // the FR-FCFS pick at the earliest cycle with a legal command
   void issue(uint32_t channel_index, const Choice& c);
 

@@ -13,6 +13,7 @@
 #include <systemc>
 
 #include <cstdint>
+#include <functional>
 
 namespace rtsim::model {
 
@@ -42,11 +43,17 @@ class LineSource : public virtual sc_core::sc_interface {
   virtual uint32_t port_count() const { return 1; }
 };
 
-// Posted writes of whole lines to memory (the frame buffer's hit records).
+// Posted writes of whole lines to memory (the frame buffer's hit records), through a buffer that
+// may bound the writes in flight (issued, not yet acknowledged by memory).
 class LineWriter : public virtual sc_core::sc_interface {
  public:
-  // Writes line_bytes from `data` (copied) at `line_addr`, leaving the writer at `when`.
+  // Writes line_bytes from `data` (copied) at `line_addr`, leaving the writer at `when`. Only
+  // while !full().
   virtual void write_line(uint64_t line_addr, const uint8_t* data, Tick when) = 0;
+  // Whether the buffer is full: the writer waits for an acknowledgement before its next write.
+  virtual bool full() const = 0;
+  // `room(when)` is called when a full buffer gets a free entry at `when` (the writer's wake-up).
+  virtual void on_room(std::function<void(Tick)> room) = 0;
 };
 
 }  // namespace rtsim::model

@@ -1,28 +1,69 @@
 #include "model/memory/memory_interconnect.h"
 
+#include "model/sim/report.h"
+
+#include <algorithm>
+
 namespace rtsim::model {
 
-// A shading unit's way to write the frame buffer: its own source port on the crossbar.
-class MemoryInterconnect::Writer : public sc_core::sc_object, public LineWriter {
+// A shading unit's way to write the frame buffer: its own source port on the crossbar, and a
+// posted-write buffer of `entries` writes in flight (0: unbounded), each freed by its
+// acknowledgement from memory.
+class MemoryInterconnect::Writer : public sc_core::sc_object,
+                                   public LineWriter,
+                                   public FillListener {
  public:
-  Writer(const char* name, MemoryInterconnect& m, uint32_t source, std::string initiator)
-      : sc_core::sc_object(name), m_(m), source_(source), initiator_(std::move(initiator)) {}
+  Writer(const char* name, MemoryInterconnect& m, uint32_t source, std::string initiator,
+         uint32_t entries)
+      : sc_core::sc_object(name),
+        m_(m),
+        source_(source),
+        initiator_(std::move(initiator)),
+        entries_(entries) {}
   const char* kind() const override { return "rtsim_line_writer"; }
   void write_line(uint64_t line, const uint8_t* data, Tick when) override {
+    if (full()) report_error(kReportInternal, std::string(name()) + ": write to a full buffer");
     const Tick arrived = m_.icnt_.request(source_, m_.port_.port_of(line), m_.line_bytes_, when);
-    m_.port_.write_line(line, data, arrived, initiator_);
+    if (entries_ == 0) return m_.port_.write_line(line, data, arrived, initiator_);
+    ++in_flight_;
+    stats_.max_in_flight = std::max(stats_.max_in_flight, uint64_t(in_flight_));
+    m_.port_.write_line(line, data, arrived, initiator_, this, 0);
+  }
+  bool full() const override { return entries_ > 0 && in_flight_ >= entries_; }
+  void on_room(std::function<void(Tick)> room) override { room_ = std::move(room); }
+  void on_fill(uint64_t, uint64_t, Tick when) override {
+    const bool was_full = full();
+    --in_flight_;
+    if (was_full) {
+      ++stats_.full_events;
+      if (room_) room_(when);
+    }
+  }
+  void register_stats(StatsRegistry& r, const std::string& prefix) const {
+    if (entries_ == 0) return;
+    r.counter(prefix + ".max_in_flight", &stats_.max_in_flight, "lines",
+              "most writes in flight at once (bounded: write_buffer)");
+    r.counter(prefix + ".full_events", &stats_.full_events, "count",
+              "times a full buffer freed an entry (the writer had to wait)");
   }
 
  private:
+  struct Stats {
+    uint64_t max_in_flight = 0, full_events = 0;
+  };
   MemoryInterconnect& m_;
   uint32_t source_;
   std::string initiator_;
+  uint32_t entries_;
+  uint32_t in_flight_ = 0;
+  std::function<void(Tick)> room_;
+  Stats stats_;
 };
 
 MemoryInterconnect::MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link,
                                        const DramConfig& dram, const Clock& clock,
                                        Calendar& calendar, uint32_t l2_banks, uint32_t writers,
-                                       bool loosely_timed)
+                                       uint32_t write_buffer, bool loosely_timed)
     : sc_core::sc_module(name),
       port_("port", dram.request_bytes, dram, clock, calendar, loosely_timed),
       icnt_("icnt", link, clock, l2_banks + writers + 1, port_.port_count()),
@@ -32,7 +73,8 @@ MemoryInterconnect::MemoryInterconnect(sc_core::sc_module_name name, const LinkC
   port_.name_requester(record_reader_.get(), "culling");
   for (uint32_t s = 0; s < writers; ++s)
     writers_.push_back(std::make_unique<Writer>(("writer" + std::to_string(s)).c_str(), *this,
-                                                l2_banks + s, "shading" + std::to_string(s)));
+                                                l2_banks + s, "shading" + std::to_string(s),
+                                                write_buffer));
 }
 
 MemoryInterconnect::~MemoryInterconnect() = default;
@@ -45,5 +87,13 @@ std::unique_ptr<CrossbarPort> MemoryInterconnect::l2_port(uint32_t first_source,
 }
 
 LineWriter& MemoryInterconnect::writer(uint32_t s) { return *writers_.at(s); }
+
+void MemoryInterconnect::register_stats(StatsRegistry& r, const std::string& prefix,
+                                        const Tick* end) const {
+  icnt_.register_stats(r, prefix + ".icnt", end);
+  port_.register_stats(r, prefix + ".port");
+  for (size_t s = 0; s < writers_.size(); ++s)
+    writers_[s]->register_stats(r, prefix + ".writer" + std::to_string(s));
+}
 
 }  // namespace rtsim::model

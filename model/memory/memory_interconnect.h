@@ -27,11 +27,11 @@ class MemoryInterconnect : public sc_core::sc_module {
  public:
   // `l2_banks` crossbar sources for the L2s (numbered as the caller assigns them), then one per
   // writer, then the reader. Every transaction is one `dram.request_bytes` line. Writer `s` is
-  // shading unit s (`initiator` shading<s> in the memory trace). `loosely_timed`: the memory
-  // implements b_transport only.
+  // shading unit s (`initiator` shading<s> in the memory trace), with `write_buffer` writes in
+  // flight at most (0: unbounded). `loosely_timed`: the memory implements b_transport only.
   MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link, const DramConfig& dram,
                      const Clock& clock, Calendar& calendar, uint32_t l2_banks, uint32_t writers,
-                     bool loosely_timed = false);
+                     uint32_t write_buffer = 0, bool loosely_timed = false);
   ~MemoryInterconnect() override;
 
   // An L2's way to memory, its banks from crossbar source `first_source` on; `initiator` names it
@@ -43,10 +43,8 @@ class MemoryInterconnect : public sc_core::sc_module {
   // The shadow culling unit's way to read the frame buffer (no cache: records are streamed).
   CrossbarPort& record_reader() { return *record_reader_; }
   MemoryPort& port() { return port_; }
-  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const {
-    icnt_.register_stats(r, prefix + ".icnt", end);
-    port_.register_stats(r, prefix + ".port");
-  }
+  // <prefix>.icnt.*, <prefix>.port.*, and with a bounded write buffer <prefix>.writer<s>.*.
+  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const;
 
  private:
   class Writer;

@@ -84,10 +84,12 @@ Tick MemoryPort::fetch_line(uint64_t line_addr, Tick now, FillListener* listener
 }
 
 void MemoryPort::write_line(uint64_t line_addr, const uint8_t* data, Tick now,
-                            const std::string& initiator) {
+                            const std::string& initiator, FillListener* listener, uint64_t cookie) {
   Transaction* t = make(line_addr, std::max(now, calendar_.now()), true);
   std::memcpy(t->data.data(), data, line_bytes_);
   t->initiator = initiator;
+  t->listener = listener;
+  t->cookie = cookie;
   ++stats_.writes;
   send(t);
 }
@@ -168,8 +170,8 @@ void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
   if (!t->is_response_ok()) failed(*t);
   ++stats_.responses;
   if (drained_ && in_flight() == 0) drained_();
-  if (t->write) {  // posted: nobody waits
-    trace(*t, at);
+  if (t->write) trace(*t, at);
+  if (t->write && !t->listener) {  // posted, and nobody counts its acknowledgement
     t->release();
     return;
   }
@@ -192,8 +194,10 @@ void MemoryPort::response(Transaction* t, Tick at, bool may_deliver_now) {
 
 void MemoryPort::deliver(Transaction* t) {
   const Tick now = calendar_.now();
-  stats_.latency_cycles += clock_.ceil_cycles(now - t->requested);
-  trace(*t, now);
+  if (!t->write) {
+    stats_.latency_cycles += clock_.ceil_cycles(now - t->requested);
+    trace(*t, now);
+  }
   const Transaction* outer = delivering_;
   delivering_ = t;
   if (t->listener) t->listener->on_fill(t->line, t->cookie, now);

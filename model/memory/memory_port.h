@@ -84,8 +84,11 @@ class MemoryPort : public sc_core::sc_module,
   ~MemoryPort() override;
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
-  // A posted write of line_bytes from `data` (copied), by `initiator` (for the trace).
-  void write_line(uint64_t line_addr, const uint8_t* data, Tick now, const std::string& initiator);
+  // A posted write of line_bytes from `data` (copied), by `initiator` (for the trace). With a
+  // `listener`, its acknowledgement (memory has taken its last data beat) is told through
+  // on_fill(line, cookie, when) at the accelerator clock edge after it, as a read's response is.
+  void write_line(uint64_t line_addr, const uint8_t* data, Tick now, const std::string& initiator,
+                  FillListener* listener = nullptr, uint64_t cookie = 0);
   const uint8_t* line_data(uint64_t line_addr) const override;
   uint32_t line_bytes() const override { return line_bytes_; }
   uint32_t port_of(uint64_t line_addr) const override { return mapping_.decode(line_addr).channel; }

@@ -39,9 +39,9 @@ MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock,
     m.first_source = sources;
     sources += groups * m.l2_cfg->l2.banks;
   }
-  interconnect_ =
-      std::make_unique<MemoryInterconnect>("memory", cfg.memory_link, cfg.dram, clock, calendar,
-                                           sources, cfg.shading.count, cfg.loosely_timed_memory);
+  interconnect_ = std::make_unique<MemoryInterconnect>("memory", cfg.memory_link, cfg.dram, clock,
+                                                       calendar, sources, cfg.shading.count,
+                                                       cfg.write_buffer, cfg.loosely_timed_memory);
   for (int t = 0; t < kTypes; ++t) {
     TypeMemory& m = types_[t];
     if (m.private_l2 || t == kCulling || (t == kShading && !ist_private)) continue;

@@ -44,8 +44,9 @@ struct MemorySystemConfig {
   TypeMemoryConfig trv, list, ist, shading;
   // The shadow culling unit has an L1 of its own, a shading L1 on the shading units' L2.
   bool culling_l1 = false;
-  LinkConfig memory_link;  // the crossbar between the L2 banks and the memory channels
-  DramConfig dram;         // the memory's address mapping (the channels) and its request size
+  LinkConfig memory_link;     // the crossbar between the L2 banks and the memory channels
+  uint32_t write_buffer = 0;  // a shading unit's posted writes in flight (0: unbounded)
+  DramConfig dram;            // the memory's address mapping (the channels) and its request size
   bool loosely_timed_memory = false;  // the memory implements b_transport only
 };
 

@@ -56,20 +56,26 @@ void PortSchedule::grow() {
   used_.swap(used);
 }
 
+uint64_t PortSchedule::first_free(uint64_t c) {
+  for (;;) {
+    hold(c | 63);
+    const uint64_t free = ~full()[word_of(c)] & (~uint64_t(0) << (c & 63));
+    if (free) return (c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free));
+    c = (c | 63) + 1;
+  }
+}
+
+Tick PortSchedule::peek(Tick t) {
+  if (ports_ == 0) return t;
+  const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
+  return clock_.cycles(first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked));
+}
+
 Tick PortSchedule::reserve(Tick t) {
   ++stats_.requests;
   if (ports_ == 0) return t;
   const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
-  uint64_t c = asked == last_asked_ ? std::max(asked, last_granted_) : asked;
-  for (;;) {
-    hold(c | 63);
-    const uint64_t free = ~full()[word_of(c)] & (~uint64_t(0) << (c & 63));
-    if (free) {
-      c = (c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free));
-      break;
-    }
-    c = (c | 63) + 1;
-  }
+  const uint64_t c = first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
   const uint64_t bit = uint64_t(1) << (c & 63);
   if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
   last_asked_ = asked;
@@ -80,6 +86,16 @@ Tick PortSchedule::reserve(Tick t) {
     stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, c - asked);
   }
   return clock_.cycles(c);
+}
+
+void PortSchedule::block(Tick from, Tick until) {
+  if (ports_ == 0) return;
+  const uint64_t end = clock_.ceil_cycles(until);
+  for (uint64_t c = std::max(clock_.ceil_cycles(from), base_); c < end; ++c) {
+    hold(c | 63);
+    full()[word_of(c)] |= uint64_t(1) << (c & 63);
+    if (ports_ > 1) used_[word_of(c) * 64 + (c & 63)] = uint8_t(ports_);
+  }
 }
 
 Tick PortSchedule::reserve_run(Tick t, uint32_t n) {

@@ -39,6 +39,11 @@ class PortSchedule {
 
   // The edge of the first cycle at or after `t` with a free slot, which is taken.
   Tick reserve(Tick t);
+  // The edge of the first cycle at or after `t` with a free slot, left free.
+  Tick peek(Tick t);
+  // Takes every slot of the cycles in [from, until) that is still free (a port held by a stalled
+  // sender), without counting them as requests.
+  void block(Tick from, Tick until);
   // `n` slots, one per cycle, the first at or after `t`, each after the previous: the cycle of
   // the last (a transfer of n flits over the port). n >= 1.
   Tick reserve_run(Tick t, uint32_t n);
@@ -60,6 +65,7 @@ class PortSchedule {
     if (cycle >= base_ + uint64_t(words()) * 64) slide_or_grow(cycle);
   }
   void slide_or_grow(uint64_t cycle);
+  uint64_t first_free(uint64_t cycle);  // the first cycle at or after `cycle` with a free slot
   void grow();
 
   Clock clock_;

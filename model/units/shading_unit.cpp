@@ -13,6 +13,20 @@ ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
       frame_(frame),
       region_(region) {}
 
+void ShadingUnit::end_of_elaboration() {
+  RayUnit::end_of_elaboration();
+  if (records.size() > 0) records->on_room([this](Tick when) { wake(when); });
+}
+
+bool ShadingUnit::cycle(Tick now) {
+  if (waiting_ != kNoRay) {
+    if (records->full()) return false;
+    keep(waiting_, now);
+    waiting_ = kNoRay;
+  }
+  return RayUnit::cycle(now);
+}
+
 void ShadingUnit::process(uint32_t id, Tick now) {
   RayState& r = ray_state(id);
   if (r.info.type == RayType::kShadow) return shadow_done(id, now);
@@ -34,6 +48,10 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     s.material = tri.material;
     s.stage = 1;
     return keep(id, std::max(ready, now + ctx_.clock.period()));
+  }
+  if (records.size() > 0 && records->full()) {
+    waiting_ = id;  // its record needs an entry: the unit stalls (see cycle)
+    return;
   }
   const uint64_t addr = h.materials.base + uint64_t(s.material) * image::kMaterialBytes;
   uint8_t bytes[image::kMaterialBytes];

@@ -6,7 +6,9 @@
 // was blocked. A ray that ends retires.
 //
 // Ports: `back` (RayReturn: reflections and retirements), `hits` (one phase: the culling unit
-// takes each shaded hit), `records` (the frame buffer's writes; unbound: none are written).
+// takes each shaded hit), `records` (the frame buffer's writes; unbound: none are written). A hit
+// needs an entry of the posted-write buffer behind `records`: while it is full the unit stalls
+// (an in-order pipeline: the rays behind the hit wait too) until memory acknowledges a write.
 #pragma once
 
 #include "model/memory/cache.h"
@@ -42,6 +44,11 @@ class ShadingUnit : public RayUnit {
  protected:
   void process(uint32_t ray, Tick now) override;
   void admitted(uint32_t ray) override { ray_state(ray).shading.stage = 0; }
+  bool cycle(Tick now) override;
+  Tick next_ready(Tick from) const override {
+    return waiting_ != kNoRay ? kUnknown : RayUnit::next_ready(from);
+  }
+  void end_of_elaboration() override;
 
  private:
   void shadow_done(uint32_t id, Tick now);
@@ -51,7 +58,9 @@ class ShadingUnit : public RayUnit {
   uint32_t latency_;
   FrameBuffer* frame_;
   const HitRecordRegion& region_;
+  static constexpr uint32_t kNoRay = ~uint32_t(0);
   std::vector<uint8_t> line_;  // the record line being written
+  uint32_t waiting_ = kNoRay;  // the hit waiting for room in the write buffer
   ShadingStats stats_;
 };
 

@@ -211,6 +211,36 @@ TEST(Cli, TheTimeResolutionAndTheProtocolCheckerChangeNoFigure) {
   fs::remove_all(b);
 }
 
+// Every hardware queue at one entry: each one fills and holds its producer back (the posted-write
+// buffer stalls the shading unit, the DRAM holds END_REQ, an MSHR's merge list, a crossbar's
+// input buffer), the frame takes longer, and the image is still the reference's, with the
+// protocol checker watching the held-back END_REQs.
+TEST(Cli, QueuesOfOneEntryHoldTheirProducersBackAndChangeNoPixel) {
+  const fs::path free = test::temp_dir("cli_queues_free"), one = test::temp_dir("cli_queues_one");
+  std::string tiny =
+      "--check --set run.tlm_checks=true --set hw.shading.write_buffer=1 "
+      "--set hw.dram.input_queue=1 --set hw.memory_link.buffer_flits=1";
+  for (const char* t : {"trv", "list", "ist"})
+    tiny +=
+        std::string(" --set hw.") + t + ".l2.max_merge=1 --set hw." + t + ".link.buffer_flits=1";
+  ASSERT_EQ(run(city_run(free, "--check")).code, 0);
+  const RunResult r = run(city_run(one, tiny));
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json a = nlohmann::json::parse(slurp(free / "report.json"));
+  const nlohmann::json b = nlohmann::json::parse(slurp(one / "report.json"));
+  EXPECT_EQ(b["reference_check"]["mismatched_pixels"], 0);
+  const nlohmann::json& s = b["stats"];
+  EXPECT_EQ(s["memory"]["writer0"]["max_in_flight"], 1);
+  EXPECT_GT(s["memory"]["writer0"]["full_events"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["dram"]["held_back"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["trv"]["l2"]["merge_full_events"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["trv"]["icnt"]["reply"]["held_flits"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["memory"]["icnt"]["request"]["held_flits"].get<uint64_t>(), 0u);
+  EXPECT_GT(b["cycles_total"].get<uint64_t>(), a["cycles_total"].get<uint64_t>());
+  fs::remove_all(free);
+  fs::remove_all(one);
+}
+
 TEST(Cli, OnePhaseScheduleMatchesTheReferenceAndTheTwoPhaseImage) {
   const fs::path one = test::temp_dir("cli_one_phase"), two = test::temp_dir("cli_two_phase");
   const std::string extra = "--check --reflections 2";

@@ -146,6 +146,44 @@ TEST(Cache, MergeIntoUnknownFillIsToldWithItsOwnCookie) {
   EXPECT_EQ(c.stats().fills, 1u);
 }
 
+// GPGPU-Sim's MSHR "max merged": an MSHR serves max_merge requests (the miss included); the next
+// one for the line waits for the fill and is served then, as a hit.
+TEST(Cache, AFullMergeListServesTheNextRequestAtTheFillAsAHit) {
+  FakeMemory mem;
+  mem.latency = 100 * kNs;
+  CacheConfig cfg = tiny(256, 2);
+  cfg.max_merge = 2;
+  Cache known("known", cfg, Clock(), &mem);
+  EXPECT_EQ(known.fetch_line(0, 0, nullptr, 0), 101 * kNs);        // the miss
+  EXPECT_EQ(known.fetch_line(0, 5 * kNs, nullptr, 0), 101 * kNs);  // its one merge
+  EXPECT_EQ(known.fetch_line(0, 6 * kNs, nullptr, 0), 102 * kNs);  // full: the fill, then a hit
+  EXPECT_EQ(known.stats().mshr_merges, 1u);
+  EXPECT_EQ(known.stats().merge_full_events, 1u);
+  EXPECT_EQ(known.stats().hits, 1u);
+  EXPECT_EQ(known.stats().mshr_stall_cycles, 95u);
+
+  mem.latency = kUnknown;
+  Cache unknown("unknown", cfg, Clock(), &mem);
+  Recorder r;
+  EXPECT_EQ(unknown.fetch_line(128, 0, &r, 1), kUnknown);
+  EXPECT_EQ(unknown.fetch_line(128, 2 * kNs, &r, 2), kUnknown);
+  EXPECT_EQ(unknown.fetch_line(128, 3 * kNs, &r, 3), kUnknown);  // queued behind the fill
+  EXPECT_EQ(unknown.queued_requests(), 1u);
+  unknown.on_fill(128, mem.requests.back().cookie, 90 * kNs);
+  EXPECT_EQ(r.fills,
+            (std::vector<Fill>{{128, 1, 90 * kNs}, {128, 2, 90 * kNs}, {128, 3, 91 * kNs}}));
+  EXPECT_EQ(unknown.stats().accesses,
+            unknown.stats().hits + unknown.stats().misses + unknown.stats().mshr_merges);
+
+  cfg.max_merge = 0;  // unbounded: all three share the fill
+  Cache ideal("ideal", cfg, Clock(), &mem);
+  Recorder q;
+  for (uint64_t k = 1; k <= 3; ++k) ideal.fetch_line(192, k * kNs, &q, k);
+  ideal.on_fill(192, mem.requests.back().cookie, 90 * kNs);
+  EXPECT_EQ(q.fills.size(), 3u);
+  for (const Fill& f : q.fills) EXPECT_EQ(f.when, 90 * kNs);
+}
+
 TEST(Cache, MshrLimitWithKnownTimesDelaysTheMissUntilTheEarliestFrees) {
   // 4 sets x 2 ways, 2 MSHRs; lines 0, 64, 128, 192 fall in different sets.
   FakeMemory mem;

@@ -55,6 +55,20 @@ TEST(Crossbar, RequestsAndRepliesUseSeparateNetworks) {
   EXPECT_EQ(x.reply(0, 0, 64, 0), 2 * kCycle);
 }
 
+// GPGPU-Sim's 8-flit input buffers, here 2: a flit that would wait more than 2 cycles at its
+// destination waits at its source instead, and blocks the source's port meanwhile.
+TEST(Crossbar, AFullDestinationBufferHoldsTheFlitAndBlocksItsSource) {
+  for (uint32_t buffer : {0u, 2u}) {
+    LinkConfig l = link(32);
+    l.buffer_flits = buffer;
+    Crossbar x("x", l, Clock(), 2, 2);
+    for (int k = 0; k < 8; ++k) x.request(0, 0, 0, 0);  // destination 0 busy for 8 cycles
+    EXPECT_EQ(x.request(1, 0, 0, 0), 9 * kCycle);       // its arrival does not change
+    // Source 1's next packet, to an idle destination, waits behind the held flit.
+    EXPECT_EQ(x.request(1, 1, 0, 0), (buffer ? 8 : 2) * kCycle) << buffer;
+  }
+}
+
 TEST(Crossbar, TheIdealWireAddsOnlyItsLatency) {
   Crossbar x("x", link(0, 3), Clock(), 4, 4);
   for (int k = 0; k < 10; ++k) EXPECT_EQ(x.reply(0, 0, 64, 5 * kCycle), 8 * kCycle);

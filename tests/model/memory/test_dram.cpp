@@ -298,6 +298,7 @@ TEST(DramController, LateEnqueueIsTakenAsArrivingAtTheEngineTime) {
 void stream(uint32_t request_bytes) {
   DramConfig c = gt200();
   c.request_bytes = request_bytes;
+  c.input_queue = 0;  // the whole stream waits in the engine at once
   DramController e(c);
   const uint64_t bytes = 4u << 20;  // 4 MB = 32 rows per bank per channel
   for (uint64_t a = 0, id = 0; a < bytes; a += request_bytes) e.enqueue(a, 0, id++);
@@ -319,6 +320,34 @@ TEST(DramController, SequentialStreamingReachesPeakBandwidth) {
   stream(32);
   stream(64);
   stream(128);
+}
+
+// GT200's L2-to-DRAM queue: a channel takes queue_size + input_queue requests, then refuses until
+// a request leaves the scheduler queue; the other channels are not affected.
+TEST(DramController, AFullInputQueueRefusesUntilARequestLeaves) {
+  const DramConfig c = gt200();
+  ASSERT_EQ(c.queue_size, 16u);
+  ASSERT_EQ(c.input_queue, 8u);
+  DramController e(c);
+  const uint64_t row = 1u << 16;  // channel 0 (the channel bits are 8-10)
+  for (uint64_t i = 0; i < 24; ++i) {
+    ASSERT_TRUE(e.accepts(i * row)) << i;
+    e.enqueue(i * row, 0, i);
+  }
+  EXPECT_FALSE(e.accepts(24 * row));
+  EXPECT_TRUE(e.accepts(kChan1));
+  EXPECT_THROW(e.enqueue(24 * row, 0, 24), std::logic_error);
+  // Room comes with the first request to leave: its last (here only) burst issued
+  std::vector<DramController::Completion> done;
+  while (!e.accepts(24 * row)) {
+    EXPECT_EQ(e.stats().bursts, 0u);
+    e.advance(e.next_event_time(), done);
+  }
+  EXPECT_GE(e.stats().bursts, 1u);
+  e.enqueue(24 * row, e.next_event_time(), 24);
+  const auto rest = drain(e);
+  EXPECT_EQ(done.size() + rest.size(), 25u);
+  EXPECT_EQ(e.stats().queue_full_events, 9u);
 }
 
 TEST(DramController, RegistersStatisticsByDottedName) {

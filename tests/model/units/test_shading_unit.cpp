@@ -28,6 +28,8 @@ class RecordingWriter : public sc_core::sc_object, public LineWriter {
     written.push_back({line, std::vector<uint8_t>(data, data + kHitRecordBytes), when});
     to_.write_line(line, data, when);
   }
+  bool full() const override { return to_.full(); }
+  void on_room(std::function<void(Tick)> room) override { to_.on_room(std::move(room)); }
   std::vector<WrittenLine> written;
 
  private:
