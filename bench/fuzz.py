@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """A mutation fuzzer of rtsim's readers (issue 22): seeds of every input kind (AFF, PLY ascii and
-binary, OBJ+MTL, glTF, scene/hardware/sweep YAML, --set values), mutated (bytes
+binary, OBJ+MTL, glTF and GLB, scene/hardware/sweep YAML, --set values, a run's config.json,
+command-line values), mutated (bytes
 flipped, cut, repeated, numbers swapped for extreme ones, bytes that are not UTF-8), each run
 through the command that reads it, under a time and an address-space limit. A case passes when
 rtsim exits 0, or exits 2 with exactly one `rtsim: error:` line on stderr; anything else (exit 1,
@@ -91,6 +92,19 @@ def gltf():
            "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
            "nodes": [{"mesh": 0, "translation": [0, 0, 0]}], "scenes": [{"nodes": [0]}], "scene": 0}
     return json.dumps(doc, indent=1).encode()
+
+
+def glb():
+    """The same triangle as a binary glTF: a JSON chunk and a BIN chunk."""
+    import json
+    data = struct.pack("<9f", -1, -1, -3, 1, -1, -3, 0, 1, -3) + struct.pack("<3H", 0, 1, 2)
+    doc = json.loads(gltf())
+    doc["buffers"] = [{"byteLength": len(data)}]
+    text = json.dumps(doc).encode()
+    text += b" " * (-len(text) % 4)
+    data += b"\0" * (-len(data) % 4)
+    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(data), b"BIN\0") + data
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
 
 
 OBJ = b"""mtllib m.mtl
@@ -210,6 +224,30 @@ def case(kind, rng, work, rtsim):
         open(os.path.join(work, "s.gltf"), "wb").write(mutate(gltf(), rng))
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.gltf"))
         return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    if kind == "glb":
+        open(os.path.join(work, "s.glb"), "wb").write(mutate(glb(), rng))
+        open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.glb"))
+        return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    if kind == "config":
+        # A run's config.json (made once from SCENE by make_config), to repeat with --config
+        open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)  # the scene it names
+        open(os.path.join(work, "config.json"), "wb").write(mutate(CONFIG, rng))
+        return [rtsim, "run", "--config", "config.json", "--out", "o", "--no-plots", "--quiet"]
+    if kind == "args":
+        open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
+        options = [["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--width"],
+                   ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--reflections"],
+                   ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--lvb"],
+                   ["render", "scene.yaml", "--out", "o", "--threads"],
+                   ["lvb", "scene.yaml", "--out", "o", "--lvb-threads"],
+                   ["sweep", "sweep.yaml", "--out", "o", "--jobs"],
+                   ["sweep", "sweep.yaml", "--out", "o", "--point-timeout"],
+                   ["animate", "scene.yaml", "--hw", small_hw, "--out", "o", "--times"]]
+        text = SWEEP.replace(b"SCENE", b"scene.yaml").replace(b"HW", small_hw.encode())
+        open(os.path.join(work, "sweep.yaml"), "wb").write(text)
+        i = rng.randrange(len(options))
+        seed_value = [b"8", b"1", b"on", b"2", b"2", b"1", b"60", b"0:1:1"][i]
+        return [rtsim] + options[i] + [mutate(seed_value, rng).replace(b"\0", b"")]  # argv: no NUL
     if kind == "obj":
         open(os.path.join(work, "s.obj"), "wb").write(mutate(OBJ, rng))
         open(os.path.join(work, "m.mtl"), "wb").write(mutate(MTL, rng) if rng.random() < 0.5 else MTL)
@@ -231,13 +269,24 @@ def case(kind, rng, work, rtsim):
         open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
         value = mutate(rng.choice([b"run.width=8", b"hw.trv.count=2", b"scene.resolution=[8, 8]",
                                    b"run.lvb=on", b"hw.dram.channels=4"]), rng)
-        return [rtsim, "run", "scene.yaml", "--hw", small_hw, "--set", value.decode("latin-1"),
+        return [rtsim, "run", "scene.yaml", "--hw", small_hw, "--set", value.replace(b"\0", b""),
                 "--out", "o", "--no-plots", "--quiet"]
     raise ValueError(kind)
 
 
 MUTATIONS = 1  # 0: the seeds as they are (a check of the seeds)
-KINDS = ["aff", "ply", "plyb", "obj", "gltf", "scene", "hw", "sweep", "set"]
+KINDS = ["aff", "ply", "plyb", "obj", "gltf", "glb", "scene", "hw", "sweep", "set", "config", "args"]
+CONFIG = b""  # a run's config.json
+
+
+def make_config(rtsim, where):
+    """config.json of a tiny run of SCENE in `where` (kept for the cases: it names the scene)."""
+    open(os.path.join(where, "scene.yaml"), "wb").write(SCENE)
+    code, _, err = run([rtsim, "run", "scene.yaml", "--hw", os.path.join(ROOT, "configs/hw/small.yaml"),
+                        "--width", "8", "--height", "8", "--out", "o", "--no-plots", "--quiet"], where, 60)
+    if code != 0:
+        sys.exit(f"fuzz: the run that makes config.json failed: {err.decode('utf-8', 'replace')}")
+    return open(os.path.join(where, "o", "config.json"), "rb").read()
 
 
 def main():
@@ -259,6 +308,9 @@ def main():
     out = args.out or tempfile.mkdtemp(prefix="rtsim-fuzz-")
     findings = 0
     rtsim = os.path.abspath(args.rtsim)
+    global CONFIG  # noqa: PLW0603
+    config_dir = tempfile.mkdtemp(prefix="config-")
+    CONFIG = make_config(rtsim, config_dir)
     # Every seed as it is must run: else its mutations test only the first error.
     global MUTATIONS  # noqa: PLW0603
     MUTATIONS = 0
@@ -286,6 +338,7 @@ def main():
                 print(f"case {n} ({kind}): {v}: {err.decode('utf-8', 'replace').strip()[-200:]}")
         finally:
             shutil.rmtree(work, ignore_errors=True)
+    shutil.rmtree(config_dir, ignore_errors=True)
     print(f"fuzz: {args.cases} cases, seed {args.seed}, {findings} findings" +
           (f" in {out}/findings" if findings else ""))
     return 1 if findings else 0

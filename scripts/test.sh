@@ -2,6 +2,8 @@
 # Installs the dependencies, builds rtsim and runs the whole test suite.
 #   bash scripts/test.sh              Release build in build/
 #   bash scripts/test.sh --sanitize   AddressSanitizer + UBSan build in build-asan/
+#   bash scripts/test.sh --tsan       ThreadSanitizer build in build-tsan/ of what runs threads
+#                                     (the tests labelled `threads`)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh --test
@@ -9,7 +11,7 @@ build=build
 # A warning fails the build here and in CI (plain builds only warn).
 flags=(-DCMAKE_BUILD_TYPE=Release -DRTSIM_WERROR=ON)
 retry=()
-skip=()
+select=()
 if [ "${1:-}" = "--sanitize" ]; then
   # LeakSanitizer's own tracer sometimes segfaults at a passing test's exit on a loaded machine
   # ("Tracer caught signal 11", google/sanitizers#1353): a failing test runs once more; a real
@@ -17,12 +19,23 @@ if [ "${1:-}" = "--sanitize" ]; then
   retry=(--repeat until-pass:2)
   # The brute-force comparisons on the paper's scenes take 100-140 s each under the sanitizers and
   # run the same traversal code as the city one, which stays: the Release pass runs all four.
-  skip=(-E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$')
+  select=(-E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$')
   build=build-asan
   flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DRTSIM_SANITIZE=ON -DRTSIM_BUILD_BENCH=OFF -DRTSIM_WERROR=ON)
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
   export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 fi
+targets=()
+if [ "${1:-}" = "--tsan" ]; then
+  # Only the threaded host code: the reference tracer and the LVB preprocessor (their unit tests
+  # and rtsim render/lvb with threads). The simulator itself runs one SystemC thread.
+  build=build-tsan
+  flags=(-DCMAKE_BUILD_TYPE=Release -DRTSIM_TSAN=ON -DRTSIM_BUILD_BENCH=OFF
+         -DRTSIM_BUILD_EXAMPLES=OFF -DRTSIM_WERROR=ON)
+  targets=(--target rtsim test_tracer test_lvb)
+  select=(-L threads -E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$')
+  export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
+fi
 cmake -S . -B "$build" -G Ninja "${flags[@]}"
-cmake --build "$build" -j "$(nproc)"
-ctest --test-dir "$build" --output-on-failure -j "$(nproc)" "${retry[@]}" "${skip[@]}"
+cmake --build "$build" -j "$(nproc)" "${targets[@]}"
+ctest --test-dir "$build" --output-on-failure -j "$(nproc)" "${retry[@]}" "${select[@]}"

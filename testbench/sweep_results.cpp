@@ -180,35 +180,49 @@ std::string sweep_failure_file(const std::string& dir, const SweepPoint& p) {
   return (fs::path(sweep_point_dir(dir, p)) / "failure.json").string();
 }
 
+namespace {
+
+// One CSV cell of a JSON value, quoted when it holds a comma, a quote or a line break.
+std::string csv_cell(const nlohmann::json& v) {
+  std::string cell = v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump();
+  if (cell.find_first_of(",\"\n") == std::string::npos) return cell;
+  std::string quoted = "\"";
+  for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return quoted + "\"";
+}
+
+}  // namespace
+
+// A failed point is a row too, its metrics empty and the `failure` column holding the reason, so
+// a reader of results.csv sees what is missing and why (a rerun of the command retries it).
 size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
   nlohmann::json rows = nlohmann::json::array(), failed = nlohmann::json::array();
   std::vector<std::string> header{"point", "id", "scene"};
   header.insert(header.end(), s.columns.begin(), s.columns.end());
   header.insert(header.end(), s.metrics.begin(), s.metrics.end());
+  header.push_back("failure");
   std::string csv;
   for (size_t i = 0; i < header.size(); ++i) csv += (i ? "," : "") + header[i];
   csv += "\n";
   for (const SweepPoint& p : s.points) {
+    nlohmann::json row;
     if (const std::string problem = sweep_row_problem(dir, p); !problem.empty()) {
       if (fs::exists(sweep_failure_file(dir, p)))
         failed.push_back(read_json(sweep_failure_file(dir, p)));
       else if (problem != "no row")
         failed.push_back(
             {{"point", p.id}, {"reason", utf8_lossy("an unreadable row: " + problem)}});
-      continue;
+      else
+        continue;  // not run yet
+      const nlohmann::json& f = failed.back();
+      row = {{"point", p.index}, {"id", p.id}, {"failure", f.value("reason", "failed")}};
+      for (const std::string& c : s.columns) row[c] = p.values[c];
+    } else {
+      row = read_json(sweep_row_file(dir, p));
+      rows.push_back(row);
     }
-    const nlohmann::json row = read_json(sweep_row_file(dir, p));
-    rows.push_back(row);
-    for (size_t i = 0; i < header.size(); ++i) {
-      const nlohmann::json& v = row.contains(header[i]) ? row[header[i]] : nlohmann::json(nullptr);
-      std::string cell = v.is_string() ? v.get<std::string>() : v.is_null() ? "" : v.dump();
-      if (cell.find_first_of(",\"\n") != std::string::npos) {
-        std::string quoted = "\"";
-        for (char c : cell) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
-        cell = quoted + "\"";
-      }
-      csv += (i ? "," : "") + cell;
-    }
+    for (size_t i = 0; i < header.size(); ++i)
+      csv += (i ? "," : "") + csv_cell(row.contains(header[i]) ? row[header[i]] : nullptr);
     csv += "\n";
   }
   write_file_atomic((fs::path(dir) / output::kResultsCsv).string(), csv);

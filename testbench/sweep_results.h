@@ -35,8 +35,9 @@ std::string sweep_failure_file(const std::string& dir, const SweepPoint& p);
 nlohmann::json sweep_row(const SweepSpec& spec, const SweepPoint& point,
                          const nlohmann::json& report);
 
-// Writes results.csv and results.json from every point's row.json present; returns the number
-// of points present.
+// Writes results.csv and results.json from every point's row.json present, and lists the failed
+// points (results.json's "failed"; in results.csv a row with the reason in `failure`); returns
+// the number of rows present.
 size_t write_sweep_results(const SweepSpec& spec, const std::string& dir);
 
 // The sweep's figures (plots/) and then its reports (`reports:`), by reports/plots.py; empty on

@@ -80,10 +80,44 @@ TEST(Cli, AreaLightsAreCheckedAndRenderedWithVisibilityCounts) {
   fs::remove_all(dir);
 }
 
+// A CSV file's rows by column name (quoted cells as results.csv writes them: "" is a quote).
+std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
+  std::istringstream csv(slurp(file));
+  auto split = [](const std::string& line) {
+    std::vector<std::string> f(1);
+    bool quoted = false;
+    for (size_t i = 0; i < line.size(); ++i) {
+      const char c = line[i];
+      if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"')
+        f.back() += line[++i];
+      else if (c == '"')
+        quoted = !quoted;
+      else if (c == ',' && !quoted)
+        f.emplace_back();
+      else
+        f.back() += c;
+    }
+    return f;
+  };
+  std::string line;
+  std::getline(csv, line);
+  const std::vector<std::string> header = split(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(csv, line)) {
+    const std::vector<std::string> f = split(line);
+    EXPECT_EQ(f.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (size_t i = 0; i < f.size() && i < header.size(); ++i) row[header[i]] = f[i];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
 // The area-light measurement on a small scene: a sweep over the samples per light, culling off
 // and on, then plots.py area pairs the runs. Its table's figures are those of the sweep's rows.
 // A point past its time limit is killed and recorded as failed with the reason and its log's
-// tail (failure.json, results.json's "failed"); the same command without the limit finishes it.
+// tail (failure.json, results.json's "failed", results.csv's `failure` column); the same command
+// without the limit finishes it.
 TEST(Cli, APointPastItsTimeLimitFailsWithItsReasonAndTheNextRunFinishesIt) {
   const fs::path dir = test::temp_dir("cli_sweep_timeout");
   write(dir / "sweep.yaml",
@@ -100,11 +134,21 @@ TEST(Cli, APointPastItsTimeLimitFailsWithItsReasonAndTheNextRunFinishesIt) {
   EXPECT_EQ(failed[0]["point"], "p0000");
   EXPECT_NE(failed[0]["reason"].get<std::string>().find("point_timeout"), std::string::npos);
   EXPECT_TRUE(failed[0].contains("log_tail"));
+  std::vector<std::map<std::string, std::string>> csv = csv_rows(dir / "out/results.csv");
+  ASSERT_EQ(csv.size(), 1u);  // the failed point is listed, its metrics empty
+  EXPECT_EQ(csv[0]["id"], "p0000");
+  EXPECT_EQ(csv[0]["run.width"], "640");
+  EXPECT_EQ(csv[0]["cycles_total"], "");
+  EXPECT_EQ(csv[0]["failure"], failed[0]["reason"].get<std::string>());
   r = run(cmd + " --point-timeout 600");  // the command line's limit over the file's
   EXPECT_EQ(r.code, 0) << r.out << r.err;
   const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
   EXPECT_EQ(res["rows"].size(), 1u);
   EXPECT_TRUE(res["failed"].empty());
+  csv = csv_rows(dir / "out/results.csv");
+  ASSERT_EQ(csv.size(), 1u);
+  EXPECT_EQ(csv[0]["failure"], "");
+  EXPECT_NE(csv[0]["cycles_total"], "");
   EXPECT_FALSE(fs::exists(dir / "out/points/p0000/failure.json"));
   fs::remove_all(dir);
 }
@@ -163,30 +207,6 @@ TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
   expect_input_error("sweep " + (dir / "bad.yaml").string() + " --out " + (dir / "bad").string(),
                      {"bad.yaml:", "reports", "scene.lights.area_from_points.samples"});
   fs::remove_all(dir);
-}
-
-// A CSV file's rows by column name: one row per time.
-std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
-  std::istringstream csv(slurp(file));
-  auto split = [](const std::string& line) {
-    std::vector<std::string> f;
-    std::stringstream ss(line);
-    for (std::string x; std::getline(ss, x, ',');) f.push_back(x);
-    if (!line.empty() && line.back() == ',') f.push_back("");
-    return f;
-  };
-  std::string line;
-  std::getline(csv, line);
-  const std::vector<std::string> header = split(line);
-  std::vector<std::map<std::string, std::string>> rows;
-  while (std::getline(csv, line)) {
-    const std::vector<std::string> f = split(line);
-    EXPECT_EQ(f.size(), header.size()) << line;
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < f.size() && i < header.size(); ++i) row[header[i]] = f[i];
-    rows.push_back(row);
-  }
-  return rows;
 }
 
 // Each frame's figures agree with one another; the LVB's work and a lazy rebuild's are counted.
@@ -309,7 +329,14 @@ Variants ablation_variants() {
           {"dram-cycles", "{hw.dram.preset: gddr3-gt200-1ghz-cycles}"},
           {"culling-rate", "{hw.culling.records_per_cycle: 1, hw.shading.write_records: true}"},
           {"frame-writes", "{hw.shading.write_records: true}"},
-          {"all", "{hw: " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() + "}"}};
+          {"all", "{hw: " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() + "}"},
+          {"queues", "{hw: " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() +
+                         ", hw.shading.write_buffer: 0, hw.dram.input_queue: 0, "
+                         "hw.trv.l1.max_merge: 0, hw.trv.l2.max_merge: 0, hw.list.l1.max_merge: 0, "
+                         "hw.list.l2.max_merge: 0, hw.ist.l1.max_merge: 0, hw.ist.l2.max_merge: 0, "
+                         "hw.shading.l1.max_merge: 0, hw.trv.link.buffer_flits: 0, "
+                         "hw.list.link.buffer_flits: 0, hw.ist.link.buffer_flits: 0, "
+                         "hw.memory_link.buffer_flits: 0}"}};
 }
 
 void write_ablation_sweep(const fs::path& file, const std::string& scene,
@@ -355,7 +382,7 @@ std::map<std::string, nlohmann::json> expect_an_entry_per_variant(const nlohmann
   for (const char* v :
        {"l1-ports", "l2-banks", "links", "memory-link", "culling-rate", "frame-writes"})
     EXPECT_EQ(in_all[v], true) << v;
-  for (const char* v : {"l2-fill-port-separate", "l2-private", "dram-cycles"})
+  for (const char* v : {"l2-fill-port-separate", "l2-private", "dram-cycles", "queues"})
     EXPECT_EQ(in_all[v], false) << v;
   EXPECT_TRUE(in_all["ideal"].is_null());
   std::map<std::string, nlohmann::json> by_name;
@@ -437,7 +464,7 @@ TEST(Cli, AblationHasARowPerVariantAndItsIdealAndAllRowsArePlainRuns) {
   // A rerun runs no point again and writes the same report.
   const RunResult again = run(cmd);
   ASSERT_EQ(again.code, 0) << again.err;
-  EXPECT_NE(again.out.find("22 points, 22 already done, running 0"), std::string::npos)
+  EXPECT_NE(again.out.find("24 points, 24 already done, running 0"), std::string::npos)
       << again.out;
   EXPECT_EQ(slurp(dir / "out/ablation.md"), md);
   expect_bad_ablation_sweeps_refused(dir, scene);
