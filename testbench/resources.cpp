@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -103,14 +104,26 @@ MemoryRoom memory_room() {
   if (getrlimit(RLIMIT_DATA, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY)
     tighter(room, rl.rlim_cur, proc_kb("/proc/self/status", "VmData"),
             "the data-size limit (ulimit -d)");
+  // The cgroup and the machine are shared with the sweep points running beside this one (a sweep
+  // tells its points how many run at once): each may count on its share.
+  uint64_t share = 1;
+  std::string shared;
+  if (const char* env = std::getenv(kPointsAtOnceEnv); env && std::atoi(env) > 1) {
+    share = uint64_t(std::atoi(env));
+    shared = fmt::format(", shared by {} sweep points at once (--jobs)", share);
+  }
   if (const std::string dir = cgroup_dir(); !dir.empty()) {
     const uint64_t max = cgroup_value(dir + "/memory.max");
+    const uint64_t current = cgroup_value(dir + "/memory.current");
     if (max != ~uint64_t(0))
-      tighter(room, max, cgroup_value(dir + "/memory.current"), "the cgroup's memory.max");
+      tighter(
+          room, (max > current ? max - current : 0) / share, 0,
+          fmt::format("the cgroup's memory.max ({} of {} in use){}", gb(current), gb(max), shared));
   }
   const uint64_t available =
       proc_kb("/proc/meminfo", "MemAvailable") + proc_kb("/proc/meminfo", "SwapFree");
-  if (available > 0) tighter(room, available, 0, "the machine's available memory and swap");
+  if (available > 0)
+    tighter(room, available / share, 0, "the machine's available memory and swap" + shared);
   return room;
 }
 

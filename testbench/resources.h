@@ -33,8 +33,10 @@ struct MemoryRoom {
   std::string limit;  // the limit that binds ("" when none is known)
 };
 // The least of: the address-space limit (ulimit -v) less the mapped size, the data limit less
-// the data size, the cgroup's memory.max less its memory.current, and MemAvailable + SwapFree.
+// the data size, the cgroup's memory.max less its memory.current, and MemAvailable + SwapFree;
+// the last two divided by $RTSIM_POINTS_AT_ONCE (a sweep's points running at once share them).
 MemoryRoom memory_room();
+inline constexpr const char* kPointsAtOnceEnv = "RTSIM_POINTS_AT_ONCE";
 
 // InputError when the need exceeds the room: the estimate, its biggest parts, the limit, and that
 // a smaller resolution reduces it.

@@ -5,6 +5,7 @@
 #include "reports/output_files.h"
 #include "testbench/commands.h"
 #include "testbench/process_pool.h"
+#include "testbench/resources.h"
 #include "testbench/slurm.h"
 #include "testbench/sweep_merge.h"
 #include "testbench/sweep_results.h"
@@ -17,6 +18,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <deque>
 #include <filesystem>
 #include <fstream>
@@ -119,6 +121,9 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
              s.points.size(), s.points.size() - missing.size(), missing.size(), jobs,
              jobs == 1 ? "" : "s");
   std::fflush(stdout);
+  // Each point's memory check counts on its share of the machine (testbench/resources.h)
+  const size_t at_once = std::min(missing.size(), size_t(std::max(jobs, 1)));
+  setenv(kPointsAtOnceEnv, std::to_string(std::max<size_t>(at_once, 1)).c_str(), 1);
   size_t finished = 0, failed = 0;
   auto last_write = std::chrono::steady_clock::now();
   run_pool(

@@ -191,6 +191,15 @@ std::string csv_cell(const nlohmann::json& v) {
   return quoted + "\"";
 }
 
+// The reason, and the log's last line when there is one (rtsim's error names the cause).
+std::string failure_cell(const nlohmann::json& f) {
+  std::string cell = f.value("reason", "failed");
+  std::string tail = f.contains("log_tail") && f["log_tail"].is_string() ? f["log_tail"] : "";
+  while (!tail.empty() && (tail.back() == '\n' || tail.back() == '\r')) tail.pop_back();
+  if (const size_t nl = tail.rfind('\n'); nl != std::string::npos) tail.erase(0, nl + 1);
+  return tail.empty() ? cell : cell + ": " + tail;
+}
+
 }  // namespace
 
 // A failed point is a row too, its metrics empty and the `failure` column holding the reason, so
@@ -215,7 +224,7 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
       else
         continue;  // not run yet
       const nlohmann::json& f = failed.back();
-      row = {{"point", p.index}, {"id", p.id}, {"failure", f.value("reason", "failed")}};
+      row = {{"point", p.index}, {"id", p.id}, {"failure", failure_cell(f)}};
       for (const std::string& c : s.columns) row[c] = p.values[c];
     } else {
       row = read_json(sweep_row_file(dir, p));

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
+
 namespace rtsim {
 namespace {
 
@@ -44,6 +46,23 @@ TEST(Resources, ANeedAboveTheRoomIsAnInputErrorNamingTheEstimateAndTheLimit) {
                              "address-space limit", "leaves 5.0 GB", "lower the resolution"})
       EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
   }
+}
+
+// A sweep's points running at once share the machine: each counts on its share of the available
+// memory (the sweep sets RTSIM_POINTS_AT_ONCE for them), and the limit says so.
+TEST(Resources, SweepPointsRunningAtOnceEachCountOnTheirShare) {
+  unsetenv(kPointsAtOnceEnv);
+  const MemoryRoom alone = memory_room();
+  setenv(kPointsAtOnceEnv, "4", 1);
+  const MemoryRoom shared = memory_room();
+  unsetenv(kPointsAtOnceEnv);
+  if (alone.limit.find("available memory") == std::string::npos)
+    GTEST_SKIP() << "a per-process limit binds here: " << alone.limit;
+  // MemAvailable moves between the two reads: a tenth either way
+  EXPECT_LT(double(shared.bytes), 0.275 * double(alone.bytes));
+  EXPECT_GT(double(shared.bytes), 0.225 * double(alone.bytes));
+  EXPECT_NE(shared.limit.find("shared by 4 sweep points at once (--jobs)"), std::string::npos)
+      << shared.limit;
 }
 
 // The whole command under an address-space limit (not under AddressSanitizer, whose shadow
