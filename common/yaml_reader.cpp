@@ -33,6 +33,11 @@ ConfigOverride parse_override(const std::string& text) {
   auto bad = [&](const std::string& why) -> ConfigOverride {
     throw InputError(fmt::format("--set {}: {} (expected key.path=value)", text, why));
   };
+  // The text goes into config.json and reports: UTF-8 only (a value yaml-cpp stops reading
+  // before its end could otherwise carry any byte through)
+  if (!is_utf8(text))
+    throw InputError(
+        fmt::format("--set {}: not UTF-8 text (expected key.path=value)", utf8_lossy(text)));
   if (eq == std::string::npos) return bad("no '='");
   ConfigOverride o;
   o.text = "--set " + text;

@@ -181,14 +181,16 @@ void stats_table(std::ostringstream& md, const AblationInput& in, const SceneRow
 }
 
 // With culling off or on (`lvb`): the single limit that moves the frame time most, of all
-// variants and of those in `all`, and what `all` does.
+// variants on the sweep's base hardware and of those in `all`, and what `all` does. A variant
+// with a hardware file of its own (`all`; `queues`, all with its queues unbounded) is not one
+// limit on the base.
 void largest_limit(const AblationInput& in, const SceneRows& s, int lvb, json& facts,
                    std::vector<std::string>& said) {
   const double base = s.ms("ideal", lvb);
   std::string best, best_in;
   double best_change = kMissing, best_in_change = kMissing;
   for (const AblationVariant& v : in.variants) {
-    if (v.name == "ideal" || v.name == "all") continue;
+    if (v.name == "ideal" || v.hw_file != in.hw_file) continue;
     const double c = change_pct(s.ms(v.name, lvb), base);
     if (!std::isfinite(c)) continue;
     if (!std::isfinite(best_change) || std::fabs(c) > std::fabs(best_change)) {

@@ -403,6 +403,9 @@ std::map<std::string, nlohmann::json> expect_an_entry_per_variant(const nlohmann
     by_name[v["name"]] = v;
   }
   EXPECT_EQ(sc["facts"]["largest_single_limit_off"]["variant"].is_string(), true);
+  for (const char* lvb : {"off", "on"})  // not a variant with a hardware file of its own
+    for (const char* own : {"all", "queues"})
+      EXPECT_NE(sc["facts"][std::string("largest_single_limit_") + lvb]["variant"], own);
   EXPECT_TRUE(sc["facts"]["all_off_pct"].is_number());
   return by_name;
 }
