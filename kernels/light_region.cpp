@@ -20,6 +20,7 @@ LightFrusta build_light_frusta(const DBox& box, const DVec3& light) {
     if (light[a] >= box.lo[a] && light[a] <= box.hi[a]) continue;
     Frustum& f = out.frusta[out.count++];
     f.axis = a;
+    f.light_side = light[a] > box.hi[a] ? 1 : -1;
     const double face = light[a] > box.hi[a] ? box.hi[a] : box.lo[a];
     const int b = (a + 1) % 3, c = (a + 2) % 3;
     f.face_center[a] = face;
@@ -58,6 +59,19 @@ bool frustum_may_intersect_open(const Frustum& f, const DBox& c) {
     if (pl.eval(p) >= 0) return false;
   }
   return true;
+}
+
+bool frustum_contains(const Frustum& f, const DBox& c) {
+  const double face = f.face_center[f.axis];
+  if (f.light_side > 0 ? c.lo[f.axis] < face : c.hi[f.axis] > face) return false;
+  for (const Plane& pl : f.sides) {
+    if (pl.degenerate()) continue;
+    // The box corner farthest on the outer side decides.
+    DVec3 p;
+    for (int a = 0; a < 3; ++a) p[a] = pl.n[a] > 0 ? c.hi[a] : c.lo[a];
+    if (pl.eval(p) > 0) return false;
+  }
+  return frustum_may_intersect_open(f, c);
 }
 
 bool boxes_overlap_open(const DBox& a, const DBox& b) {

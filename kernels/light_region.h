@@ -43,6 +43,7 @@ struct Plane {
 // the four planes through the light and the face's edges.
 struct Frustum {
   int axis = 0;
+  int light_side = 1;  // +1: the light lies above the face on `axis`, -1: below
   DVec3 face_center{0.0};
   std::array<Plane, 4> sides;
 };
@@ -64,6 +65,12 @@ LightFrusta build_light_frusta(const DBox& box, const DVec3& light);
 // that only touches the frustum's boundary is outside. Conservative: never false for a box that
 // truly reaches the interior.
 bool frustum_may_intersect_open(const Frustum& f, const DBox& c);
+
+// The literal reading of the paper's frustum inclusion test ("contained in the frustum"): `c`
+// lies wholly inside the closed pyramid between the face and the light, and reaches its open
+// interior (so a box that passes also passes frustum_may_intersect_open, and a cell holding it
+// does too: pruning cells with the overlap test stays sound).
+bool frustum_contains(const Frustum& f, const DBox& c);
 
 // The paper's candidate filter: the separating-axis test on the three coordinate axes between the
 // box enclosing `box` and the light and `c`; interiors must overlap (touching does not count).

@@ -64,6 +64,7 @@ struct LazyCounters {
 // Which boxes may hold an occluder: the paper's frusta (open) or the exact hull (closed).
 struct Region {
   bool exact = false;
+  bool contained = false;  // the paper's test read literally (leaf boxes only)
   LightFrusta frusta;
   DBox enclosing;
   HullTest hull;
@@ -74,6 +75,16 @@ struct Region {
     if (!boxes_overlap_open(enclosing, b)) return false;
     for (int i = 0; i < frusta.count; ++i)
       if (frustum_may_intersect_open(frusta.frusta[i], b)) return true;
+    return false;
+  }
+
+  // A leaf's box as a candidate occluder. Containment implies overlap, so a cell that fails
+  // may_hold holds no leaf box that passes here: the walk prunes with may_hold.
+  bool holds_candidate(const DBox& b, Counters& c) const {
+    if (!may_hold(b, c)) return false;
+    if (!contained || exact) return true;
+    for (int i = 0; i < frusta.count; ++i)
+      if (frustum_contains(frusta.frusta[i], b)) return true;
     return false;
   }
 };
@@ -224,6 +235,7 @@ class Preprocessor {
       r.frusta = build_light_frusta(box(b), light);
       if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
       r.enclosing = enclosing_box(box(b), light);
+      r.contained = p_.frustum_test == LvbFrustumTest::kContained;
     }
     if (dirty && !*dirty) {
       // Moved geometry in the leaf's own cell, or somewhere the region reaches.
@@ -249,7 +261,7 @@ class Preprocessor {
   bool candidate_blocks(Query& q, uint32_t l, Counters& c) const {
     if (tree_.leaves[l].count == 0 || (l == q.b && (!exact_ || q.own_done))) return false;
     if (l == q.b) q.own_done = true;
-    if (!q.region.may_hold(box(l), c)) return false;
+    if (!q.region.holds_candidate(box(l), c)) return false;
     return !exact_ || pair_blocks(q, l, c);
   }
 

@@ -15,11 +15,16 @@ namespace rtsim {
 enum class LvbMethod { kPaper, kHierarchical };  // all-pairs scan, or a walk of the kd-tree
 enum class LvbBounds { kCell, kGeometry };       // leaf cell, or its geometry clipped to the cell
 enum class LvbSelfOcclusion { kIgnore, kTest };  // the paper's method, or the exact one
+// The paper's frustum inclusion test read two ways: a candidate box that reaches into a frustum
+// counts (overlap), or only one lying wholly inside it (contained, Section 3.3's literal words).
+enum class LvbFrustumTest { kOverlap, kContained };
 
 struct LvbParams {
   LvbMethod method = LvbMethod::kHierarchical;
   LvbBounds bounds = LvbBounds::kCell;
   LvbSelfOcclusion self_occlusion = LvbSelfOcclusion::kTest;
+  // The paper's method with a point light only; the exact mode and area lights test the hull.
+  LvbFrustumTest frustum_test = LvbFrustumTest::kOverlap;
   // Exact mode only: how far a shadow ray's origin may lie outside the leaf's cell (the tracer's
   // origin offset plus its hit-acceptance slack), in world units. See lvb_origin_margin().
   double origin_margin = 0;
@@ -30,6 +35,7 @@ struct LvbParams {
 const char* to_string(LvbMethod m);
 const char* to_string(LvbBounds b);
 const char* to_string(LvbSelfOcclusion s);
+const char* to_string(LvbFrustumTest f);
 
 struct LvbLightStats {
   uint64_t culled_leaves = 0;  // non-empty leaves whose bit is 0

@@ -12,6 +12,9 @@ namespace rtsim {
 
 const char* to_string(LvbMethod m) { return m == LvbMethod::kPaper ? "paper" : "hierarchical"; }
 const char* to_string(LvbBounds b) { return b == LvbBounds::kCell ? "cell" : "geometry"; }
+const char* to_string(LvbFrustumTest f) {
+  return f == LvbFrustumTest::kOverlap ? "overlap" : "contained";
+}
 const char* to_string(LvbSelfOcclusion s) {
   return s == LvbSelfOcclusion::kIgnore ? "ignore" : "test";
 }

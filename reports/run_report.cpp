@@ -118,10 +118,14 @@ void title(std::ostringstream& md, const json& r, bool lvb) {
   md << fmt::format("Scene file `{}`, hardware `{}`, clock {} GHz",
                     r["config"]["scene_file"].get<std::string>(),
                     r["config"]["hw_file"].get<std::string>(), r["clock_ghz"].get<double>());
-  if (lvb)
+  if (lvb) {
+    const json& l = r["lvb"];
     md << fmt::format("; LVB method {}, bounds {}, self-occlusion {}",
-                      r["lvb"]["method"].get<std::string>(), r["lvb"]["bounds"].get<std::string>(),
-                      r["lvb"]["self_occlusion"].get<std::string>());
+                      l["method"].get<std::string>(), l["bounds"].get<std::string>(),
+                      l["self_occlusion"].get<std::string>());
+    if (l["self_occlusion"] == "ignore" && l.contains("frustum_test"))
+      md << ", frustum test " << l["frustum_test"].get<std::string>();
+  }
   md << ". Schema " << r["schema"].get<std::string>()
      << "; every figure below is in report.json.\n\n";
 }

@@ -14,6 +14,12 @@
 namespace rtsim {
 
 namespace {
+
+// The frustum test's reading matters to the paper's method only.
+std::string frustum_note(const LvbParams& lp) {
+  if (lp.self_occlusion != LvbSelfOcclusion::kIgnore) return "";
+  return fmt::format(", frustum test {}", to_string(lp.frustum_test));
+}
 double rate(uint64_t part, uint64_t whole) {
   return whole ? 100.0 * double(part) / double(whole) : 0.0;
 }
@@ -84,6 +90,7 @@ nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbRe
           {"method", to_string(lp.method)},
           {"bounds", to_string(lp.bounds)},
           {"self_occlusion", to_string(lp.self_occlusion)},
+          {"frustum_test", to_string(lp.frustum_test)},
           {"verify", verify},
           {"shadow_offset", lp.shadow_offset},
           {"origin_margin", lp.origin_margin},
@@ -130,11 +137,11 @@ int run_lvb(const LvbArgs& args) {
   }
 
   fmt::print(
-      "{}: {} lights, {} non-empty of {} leaves; method {}, bounds {}, self-occlusion {}; "
+      "{}: {} lights, {} non-empty of {} leaves; method {}, bounds {}, self-occlusion {}{}; "
       "preprocessing {:.3f} s ({} threads)\n\n",
       p.scene.name, p.scene.lights.size(), p.tree.stats.leaves - p.tree.stats.empty_leaves,
       p.tree.stats.leaves, to_string(lp.method), to_string(lp.bounds), to_string(lp.self_occlusion),
-      lvb.stats.seconds, lp.threads);
+      frustum_note(lp), lvb.stats.seconds, lp.threads);
   print_table4(p, lvb);
   print_table5(p, r, args.verify);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

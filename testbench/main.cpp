@@ -40,7 +40,8 @@ struct Commands {
   rtsim::RenderArgs render;
   rtsim::InfoArgs info;
   rtsim::LvbArgs lvb;
-  std::string method = "hierarchical", bounds = "cell", self_occlusion = "test";
+  std::string method = "hierarchical", bounds = "cell", self_occlusion = "test",
+              frustum_test = "overlap";
   rtsim::RunArgs run;
   std::string lvb_switch = "on";
   int run_width = 0, run_height = 0, run_reflections = 0;
@@ -87,6 +88,11 @@ void add_lvb(CLI::App& app, Commands& c) {
       ->add_option("--self-occlusion", c.self_occlusion,
                    "test (exact, never wrong) or ignore (the paper)")
       ->check(CLI::IsMember({"test", "ignore"}));
+  c.lvb_cmd
+      ->add_option("--frustum-test", c.frustum_test,
+                   "overlap (a box reaching into a frustum counts) or contained (only a box "
+                   "wholly inside; the paper's words); --self-occlusion ignore only")
+      ->check(CLI::IsMember({"overlap", "contained"}));
   c.lvb_cmd->add_flag("--verify", c.lvb.verify,
                       "Also trace culled rays and count those that were occluded");
   c.lvb_cmd->add_option("--threads", c.lvb.threads, "Host threads for tracing (0 = all cores)")
@@ -237,6 +243,8 @@ bool finish(Commands& c) {
   c.lvb.lvb.bounds = c.bounds == "geometry" ? rtsim::LvbBounds::kGeometry : rtsim::LvbBounds::kCell;
   c.lvb.lvb.self_occlusion = c.self_occlusion == "ignore" ? rtsim::LvbSelfOcclusion::kIgnore
                                                           : rtsim::LvbSelfOcclusion::kTest;
+  c.lvb.lvb.frustum_test = c.frustum_test == "contained" ? rtsim::LvbFrustumTest::kContained
+                                                         : rtsim::LvbFrustumTest::kOverlap;
   return true;
 }
 

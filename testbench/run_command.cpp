@@ -110,6 +110,7 @@ nlohmann::json compute_run_lvb(const RunConfig& c, PreparedScene& p, double& sec
   nlohmann::json j = {{"method", to_string(lp.method)},
                       {"bounds", to_string(lp.bounds)},
                       {"self_occlusion", to_string(lp.self_occlusion)},
+                      {"frustum_test", to_string(lp.frustum_test)},
                       {"nodes_visited", lvb.stats.nodes_visited},
                       {"region_tests", lvb.stats.region_tests},
                       {"pair_tests", lvb.stats.pair_tests},

@@ -58,6 +58,8 @@ RunSettings read_run_settings(YamlMap m) {
       read_choice(m, "lvb_bounds", r.lvb_params.bounds, {LvbBounds::kCell, LvbBounds::kGeometry});
   r.lvb_params.self_occlusion = read_choice(m, "lvb_self_occlusion", r.lvb_params.self_occlusion,
                                             {LvbSelfOcclusion::kTest, LvbSelfOcclusion::kIgnore});
+  r.lvb_params.frustum_test = read_choice(m, "lvb_frustum_test", r.lvb_params.frustum_test,
+                                          {LvbFrustumTest::kOverlap, LvbFrustumTest::kContained});
   r.reflections = m.get_in_range("reflections", r.reflections, 0, 8);
   r.width = m.get_in_range("width", r.width, 0, 16384);
   r.height = m.get_in_range("height", r.height, 0, 16384);
@@ -159,6 +161,7 @@ nlohmann::json run_settings_json(const RunSettings& r) {
                       {"lvb_method", to_string(r.lvb_params.method)},
                       {"lvb_bounds", to_string(r.lvb_params.bounds)},
                       {"lvb_self_occlusion", to_string(r.lvb_params.self_occlusion)},
+                      {"lvb_frustum_test", to_string(r.lvb_params.frustum_test)},
                       {"reflections", r.reflections},
                       {"width", r.width},
                       {"height", r.height},

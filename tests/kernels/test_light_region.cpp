@@ -117,6 +117,48 @@ TEST(LightRegion, FrustaCoverExactlyTheRegionBetweenBoxAndLight) {
       }
 }
 
+// The literal reading: a box counts only when every point of it lies in the pyramid with its apex
+// at the light and its base the box face. With the light straight above the top face (one frustum)
+// a point is inside when the line from the light through it meets y = 2 within the face.
+TEST(LightRegion, ContainmentIsTheClosedPyramidBetweenTheFaceAndTheLight) {
+  const DVec3 light(0.5, 5, 1.5);
+  const LightFrusta lf = build_light_frusta(kBox, light);
+  ASSERT_EQ(lf.count, 1);
+  const Frustum& f = lf.frusta[0];
+  auto in_pyramid = [&](const DVec3& p) {
+    if (p.y < 2 || p.y > 5) return false;
+    const double s = (5 - 2) / (5 - p.y + 1e-300);  // scale from p's height to the face's
+    const DVec3 q = light + (p - light) * s;
+    return q.x >= 0 && q.x <= 1 && q.z >= 0 && q.z <= 3;
+  };
+  EXPECT_TRUE(frustum_contains(f, DBox(DVec3(0.4, 3, 1.4), DVec3(0.6, 3.2, 1.6))));
+  // A slab of the face's full width just above it: narrower than the face at y = 2.5.
+  const DBox slab(DVec3(0, 2, 0), DVec3(1, 2.5, 3));
+  EXPECT_FALSE(frustum_contains(f, slab));
+  EXPECT_TRUE(frustum_may_intersect_open(f, slab));
+  // Straddling the face's plane, or lying behind it.
+  EXPECT_FALSE(frustum_contains(f, DBox(DVec3(0.4, 1.5, 1), DVec3(0.6, 2.5, 2))));
+  EXPECT_FALSE(frustum_contains(f, DBox(DVec3(0.4, 1.0, 1), DVec3(0.6, 1.5, 2))));
+  // A box touching the pyramid from outside reaches no interior: not contained either.
+  EXPECT_FALSE(frustum_contains(f, DBox(DVec3(0.5, 5, 1.5), DVec3(0.6, 5.5, 1.6))));
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> u(-0.5, 1.5), v(1.5, 5.5), w(-0.5, 3.5), size(0, 0.6);
+  int contained = 0;
+  for (int i = 0; i < 20000; ++i) {
+    const DVec3 lo(u(rng), v(rng), w(rng));
+    const DBox b(lo, lo + DVec3(size(rng), size(rng), size(rng)));
+    bool corners_in = true;
+    for (int k = 0; k < 8; ++k) corners_in &= in_pyramid(b.corner(k));
+    const bool c = frustum_contains(f, b);
+    contained += c;
+    EXPECT_EQ(c, corners_in) << "box " << i;
+    if (c) {
+      EXPECT_TRUE(frustum_may_intersect_open(f, b)) << "containment implies overlap";
+    }
+  }
+  EXPECT_GT(contained, 200);
+}
+
 TEST(LightRegion, SeparatingAxisTestOnTouchingOverlappingAndSeparatedBoxes) {
   const DBox a(DVec3(0, 0, 0), DVec3(1, 1, 1));
   EXPECT_TRUE(boxes_overlap_open(a, DBox(DVec3(0.5, 0.5, 0.5), DVec3(2, 2, 2))));  // overlapping

@@ -54,8 +54,10 @@ Scene random_scene(uint32_t seed) {
   return s;
 }
 
-LvbResult run(const Scene& s, const KdTree& t, LvbMethod m, LvbBounds b, LvbSelfOcclusion so) {
+LvbResult run(const Scene& s, const KdTree& t, LvbMethod m, LvbBounds b, LvbSelfOcclusion so,
+              LvbFrustumTest ft = LvbFrustumTest::kOverlap) {
   LvbParams p;
+  p.frustum_test = ft;
   p.method = m;
   p.bounds = b;
   p.self_occlusion = so;
@@ -159,6 +161,36 @@ TEST(Lvb, RandomScenesExactModeNeverWrongAndMethodsAgree) {
       "%llu culled, %d wrong\n",
       checked, (unsigned long long)culled_cell, (unsigned long long)culled_geometry,
       (unsigned long long)culled_paper, wrong_paper);
+}
+
+// The literal reading of the frustum test (contained): the walk prunes cells with the overlap test,
+// which is sound because a contained box overlaps; it must give the scan's bits, and it can only
+// clear bits the overlap reading sets.
+TEST(Lvb, ContainedFrustumTestWalkEqualsScanAndCullsAtLeastAsMuch) {
+  uint64_t culled_overlap = 0, culled_contained = 0;
+  for (uint32_t seed = 1; seed <= 200; ++seed) {
+    const Scene s = random_scene(seed);
+    const KdTree t = build_kdtree(s.triangles);
+    for (LvbBounds b : {LvbBounds::kCell, LvbBounds::kGeometry}) {
+      const LvbSelfOcclusion so = LvbSelfOcclusion::kIgnore;
+      const LvbResult paper = run(s, t, LvbMethod::kPaper, b, so, LvbFrustumTest::kContained);
+      const LvbResult hier = run(s, t, LvbMethod::kHierarchical, b, so, LvbFrustumTest::kContained);
+      ASSERT_EQ(paper.words, hier.words) << "seed " << seed << " bounds " << to_string(b);
+      const LvbResult overlap = run(s, t, LvbMethod::kHierarchical, b, so);
+      for (size_t l = 0; l < hier.words.size(); ++l)
+        EXPECT_EQ(hier.words[l] & ~overlap.words[l], 0u) << "seed " << seed << " leaf " << l;
+      culled_overlap += culled(overlap);
+      culled_contained += culled(hier);
+    }
+    // The exact mode does not read the frustum test.
+    EXPECT_EQ(run(s, t, LvbMethod::kHierarchical, LvbBounds::kCell, LvbSelfOcclusion::kTest,
+                  LvbFrustumTest::kContained)
+                  .words,
+              run(s, t, LvbMethod::kHierarchical, LvbBounds::kCell, LvbSelfOcclusion::kTest).words);
+  }
+  EXPECT_GT(culled_contained, culled_overlap) << "the readings must differ on these scenes";
+  std::printf("paper mode, leaf-lights culled: overlap %llu, contained %llu\n",
+              (unsigned long long)culled_overlap, (unsigned long long)culled_contained);
 }
 
 // Area lights: the random scenes with each light made a parallelogram of random size and

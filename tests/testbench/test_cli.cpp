@@ -130,6 +130,33 @@ TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
   expect_input_error("lvb x.yaml --out d --method fastest", {"--method"});
 }
 
+// The paper's method under both readings of its frustum test: the literal one (contained) culls
+// at least the leaves the overlap one culls, and --verify counts what each gets wrong.
+TEST(Cli, LvbFrustumTestReadingsBothRunAndContainedCullsMore) {
+  const fs::path out = test::temp_dir("cli_lvb_frustum");
+  const std::string base = "lvb " + (test::source_dir() / "configs/scenes/city.yaml").string() +
+                           " --width 64 --height 36 --verify --self-occlusion ignore";
+  uint64_t leaves[2] = {0, 0}, rays[2] = {0, 0};
+  const char* readings[2] = {"overlap", "contained"};
+  for (int i = 0; i < 2; ++i) {
+    const fs::path dir = out / readings[i];
+    const RunResult r = run(base + " --frustum-test " + readings[i] + " --out " + dir.string());
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find(std::string("frustum test ") + readings[i]), std::string::npos) << r.out;
+    const nlohmann::json j = nlohmann::json::parse(slurp(dir / "lvb.json"));
+    EXPECT_EQ(j["frustum_test"], readings[i]);
+    for (const nlohmann::json& pl : j["per_light"]) {
+      leaves[i] += pl["culled_leaves"].get<uint64_t>();
+      rays[i] += pl["culled_rays"].get<uint64_t>();
+      EXPECT_LE(pl["wrong_culls"].get<uint64_t>(), pl["culled_rays"].get<uint64_t>());
+    }
+  }
+  EXPECT_GT(leaves[1], leaves[0]);
+  EXPECT_GE(rays[1], rays[0]);
+  fs::remove_all(out);
+  expect_input_error(base + " --out d --frustum-test inside", {"--frustum-test"});
+}
+
 TEST(Cli, InfoPrintsSceneAndTreeAsJson) {
   const RunResult r =
       run("info " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --json");

@@ -165,6 +165,8 @@ TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
                      {"city.yaml", "kdtree.max_depth", "expected an integer"});
   expect_input_error(base + "run.lvb=sometimes", {"--set run.lvb=sometimes", "true or false"});
   expect_input_error(base + "run.lvb_bounds=sphere", {"lvb_bounds", "'cell' or 'geometry'"});
+  expect_input_error(base + "run.lvb_frustum_test=inside",
+                     {"lvb_frustum_test", "'overlap' or 'contained'"});
   expect_input_error(base + "hw.shading.count=65", {"shading.count", "[1, 64]"});
   expect_input_error(base + "hw.dram.tRCD=0", {"dram.tRCD", "[1, 1000]"});
   expect_input_error(base + "hw.schedule=eager",
