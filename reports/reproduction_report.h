@@ -16,12 +16,23 @@ namespace rtsim::report {
 
 inline constexpr const char* kReproductionSchema = "rtsim-reproduction/1";
 
-// One setup's finished runs, by variant: culling "off", on with the "paper"'s method, on "exact".
+// The culling variants of configs/sweeps/paper-reproduction.yaml, in column order: the paper's
+// method with its frustum test read as overlap and as containment, and the exact mode.
+struct CulledVariant {
+  const char* name;
+  const char* label;
+};
+inline constexpr CulledVariant kCulledVariants[] = {
+    {"paper", "paper's method"},
+    {"paper-contained", "paper's method, contained"},
+    {"exact", "exact"}};
+
+// One setup's finished runs, by variant: culling "off", and the culling variants above.
 struct ReproductionScene {
   std::string name;
   std::map<std::string, nlohmann::json> runs;  // the runs' report.json
   std::map<std::string, std::string> dirs;     // their directories, relative to the report
-  // "paper" and "exact": pixels whose shadow mask differs from culling off's, of how many.
+  // Each culling variant: pixels whose shadow mask differs from culling off's, of how many.
   std::map<std::string, std::pair<uint64_t, uint64_t>> mask_differs;
 };
 

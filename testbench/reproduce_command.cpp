@@ -71,7 +71,8 @@ std::vector<report::ReproductionScene> gather_setups(const SweepSpec& spec,
   for (report::ReproductionScene& s : scenes) {
     if (!s.runs.count("off")) continue;
     const auto off = read_npy_u16((fs::path(out) / s.dirs["off"] / output::kMaskNpy).string());
-    for (const char* var : {"paper", "exact"}) {
+    for (const report::CulledVariant& cv : report::kCulledVariants) {
+      const std::string var = cv.name;
       if (!s.runs.count(var)) continue;
       const auto mask = read_npy_u16((fs::path(out) / s.dirs[var] / output::kMaskNpy).string());
       uint64_t differ = 0;

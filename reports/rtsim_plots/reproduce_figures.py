@@ -12,7 +12,13 @@ from rtsim_plots.sweep_figures import check_schema
 # One colour per source, the same in both figures; the paper's figures are the reference, in gray.
 SOURCES = [("paper", "paper (published)", "tab:gray"),
            ("ours_paper", "ours, paper's method", "tab:orange"),
+           ("ours_paper_contained", "ours, paper's method, contained", "tab:green"),
            ("ours_exact", "ours, exact mode", "tab:blue")]
+BAR = 0.8 / len(SOURCES)  # bar width: the sources side by side in 0.8 of a slot
+
+
+def bar_offset(k):
+    return (k - (len(SOURCES) - 1) / 2) * BAR
 REPRO_COLS = 3  # scenes per row; more scenes wrap
 REPRO_MIN_WIDTH = 9.5  # inches: the figure titles must fit above a single scene
 
@@ -68,6 +74,8 @@ def parse_reproduction(rep):
         else:
             s["missing"].append("our culling-off run")
         for var, key, label in (("paper", "ours_paper", "our paper's-method run"),
+                                ("paper-contained", "ours_paper_contained",
+                                 "our paper's-method run with the contained reading"),
                                 ("exact", "ours_exact", "our exact-mode run")):
             o = ours.get(var)
             if o is None:
@@ -150,15 +158,15 @@ def nothing_here(ax):
 def per_light_panel(ax, s, kind):
     # The scene's own light count (the larger of the paper's and ours), not the widest scene's: no rows of n/a.
     nlights = max([1] + [len(v) for k in ("rays", "leaves") for v in s[k].values()])
-    x, bw = np.arange(nlights), 0.27
+    x = np.arange(nlights)
     top = 0.0
     for k, (key, _, colour) in enumerate(SOURCES):
         if key not in s[kind]:
             continue  # the whole source is missing: said in the panel title, not with n/a on every light
         vals = s[kind][key]
         vals = [vals[i] if i < len(vals) else None for i in range(nlights)]
-        xs = x + (k - 1) * bw
-        ax.bar(xs, [v or 0 for v in vals], bw, color=colour)
+        xs = x + bar_offset(k)
+        ax.bar(xs, [v or 0 for v in vals], BAR, color=colour)
         value_labels(ax, xs, vals, fmt_pct, rotation=90, fontsize=7)
         top = max([top] + [v for v in vals if v is not None])
     ax.set_xticks(x, [f"L{i + 1}" for i in range(nlights)])
@@ -171,7 +179,7 @@ def per_light_panel(ax, s, kind):
         ax.set_xticks([])  # no light to name
     extra = ""
     if kind == "rays" and s["pixels"]:
-        items = ", ".join(f"{label.split(', ')[1]} {s['pixels'][key]:,.0f}"
+        items = ", ".join(f"{label.split(', ', 1)[1]} {s['pixels'][key]:,.0f}"
                           for key, label, _ in SOURCES if key in s["pixels"])
         head = "shadow pixels changed by culling:"
         extra = f"\n{head}" + ("\n" if len(head) + len(items) > 60 else " ") + items  # break between, not inside
@@ -235,13 +243,13 @@ def plot_reproduce_time(scenes, path, written):
         return
     top, main = fig.subfigures(2, 1, height_ratios=[0.35, 5.4 * nrows])  # legend strip, panels
     legend_strip(top)
-    x, bw = np.arange(2), 0.27
+    x = np.arange(2)
     for k, (ax, s) in enumerate(zip(scene_grid(main, n), scenes)):
         vals_all = []
         for j, (key, _, colour) in enumerate(SOURCES):
             vals = s["time"].get(key, [None, None])
-            xs = x + (j - 1) * bw
-            ax.bar(xs, [v or 0 for v in vals], bw, color=colour)
+            xs = x + bar_offset(j)
+            ax.bar(xs, [v or 0 for v in vals], BAR, color=colour)
             value_labels(ax, xs, vals, lambda v: fmt_pct(v) + " %")
             vals_all += [v for v in vals if v is not None]
         lo, hi = min([0.0] + vals_all), max([0.0] + vals_all)

@@ -1,0 +1,56 @@
+// rtsim reproduce on a small sweep of the city: reproduction.md and reproduction.json carry a
+// column and an entry for every culling variant, with the figures of the runs' own reports.
+#include "tests/test_util.h"
+#include "tests/testbench/cli_util.h"
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+namespace rtsim::cli_test {
+namespace {
+
+TEST(Cli, ReproduceReportsBothReadingsOfTheFrustumTestBesideTheExactMode) {
+  const fs::path dir = test::temp_dir("cli_reproduce");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+  const std::string paper = "run.lvb: on, run.lvb_bounds: cell, run.lvb_self_occlusion: ignore";
+  write(dir / "reproduce.yaml", "name: reproduce-city\nscenes: [" + scene + "]\nhw: " + hw +
+                                    "\nvariants:\n  off: {run.lvb: off}\n  paper: {" + paper +
+                                    "}\n  paper-contained: {" + paper +
+                                    ", run.lvb_frustum_test: contained}\n  exact: {run.lvb: on}\n"
+                                    "metrics: [cycles_total, frame_ms_all]\n");
+  const RunResult r = run("reproduce --sweep " + (dir / "reproduce.yaml").string() + " --out " +
+                          (dir / "out").string() + " --width 48 --height 27 --jobs 2");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const std::string md = slurp(dir / "out/reproduction.md");
+  for (const char* column : {"ours, paper's method |", "ours, paper's method, contained |",
+                             "ours, exact |", "ours on (paper's method, contained)"})
+    EXPECT_NE(md.find(column), std::string::npos) << column;
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "out/reproduction.json"));
+  ASSERT_EQ(j["scenes"].size(), 1u);
+  const nlohmann::json& ours = j["scenes"][0]["ours"];
+  // The points run in file order: off, paper, paper-contained, exact.
+  const char* variants[] = {"paper", "paper-contained", "exact"};
+  for (int v = 0; v < 3; ++v) {
+    const nlohmann::json rep = nlohmann::json::parse(
+        slurp(dir / "out/points" / ("p000" + std::to_string(v + 1)) / "report.json"));
+    const nlohmann::json& o = ours[variants[v]];
+    EXPECT_EQ(rep["lvb"]["frustum_test"], v == 1 ? "contained" : "overlap");
+    ASSERT_EQ(o["culled_leaves"].size(), rep["lvb"]["per_light"].size());
+    for (size_t l = 0; l < o["culled_leaves"].size(); ++l)
+      EXPECT_EQ(o["culled_leaves"][l], rep["lvb"]["per_light"][l]["culled_leaves"]);
+    EXPECT_EQ(o["frame_ms_all"], rep["frame_ms"]["all"]);
+  }
+  uint64_t overlap = 0, contained = 0;
+  for (size_t l = 0; l < ours["paper"]["culled_leaves"].size(); ++l) {
+    overlap += ours["paper"]["culled_leaves"][l].get<uint64_t>();
+    contained += ours["paper-contained"]["culled_leaves"][l].get<uint64_t>();
+  }
+  EXPECT_GT(contained, overlap) << "the literal reading culls more leaves";
+  EXPECT_EQ(ours["exact"]["pixels_shadow_differs_from_off"], 0) << "the exact mode is never wrong";
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rtsim::cli_test
