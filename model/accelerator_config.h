@@ -72,10 +72,12 @@ template <class V, class U>
 DescribeOf<U, UnitTypeConfig> describe(V& v, U& u, bool has_l2, uint32_t max_count) {
   v.number("count", u.count, 1, max_count, "units", "units of this type");
   v.number("latency", u.latency, 1, 10000, "cycles",
-           "pipeline latency; one operation issues per cycle");
+           "pipeline latency; an operation issues every initiation_interval cycles");
   v.number("capacity", u.capacity, 1, 65536, "rays",
            "rays held (TRV: rays owned, its ray accumulation buffer)");
   v.number("fifo_depth", u.fifo_depth, 1, 65536, "rays", "the input FIFO");
+  v.number("initiation_interval", u.initiation_interval, 1, 10000, "cycles",
+           "cycles from one operation's issue to the next: 1 = pipelined, latency = one at a time");
   v.section(
       "l1", "each unit's L1", [&] { describe(v, u.l1); }, [&] { u.l1.validate(); });
   if (!has_l2) return;

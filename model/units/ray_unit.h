@@ -13,6 +13,7 @@
 #include "model/sim/unit.h"
 #include "model/units/model_context.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace rtsim::model {
@@ -22,6 +23,9 @@ struct RayUnitConfig {
   uint32_t latency = 1;      // pipeline latency in cycles (one operation issues per cycle)
   uint32_t capacity = 16;    // rays held (TRV: rays owned, the ray accumulation buffer)
   uint32_t fifo_depth = 16;  // input FIFO
+  // Cycles from one operation's issue to the next one's: 1 = fully pipelined (the paper's units,
+  // our default), `latency` = one operation at a time. Not published for the T&I engine.
+  uint32_t initiation_interval = 1;
 };
 
 class RayUnit : public Unit, public FillListener {
@@ -56,7 +60,8 @@ class RayUnit : public Unit, public FillListener {
         in("in", cfg.fifo_depth, this),
         ctx_(ctx),
         stage_(Stage(type)),
-        capacity_(cfg.capacity) {
+        capacity_(cfg.capacity),
+        interval_(ctx.clock.cycles(cfg.initiation_interval)) {
     static_assert(Stage(MemorySystem::kTrv) == kTrvStage &&
                       Stage(MemorySystem::kList) == kListStage &&
                       Stage(MemorySystem::kIst) == kIstStage &&
@@ -86,7 +91,8 @@ class RayUnit : public Unit, public FillListener {
       ++held_;
       admitted(ray);
     }
-    if (ready_.next_time() > now) return false;
+    if (ready_.next_time() > now || now < next_issue_) return false;
+    next_issue_ = now + interval_;
     process(ready_.pop(), now);
     return true;
   }
@@ -94,7 +100,7 @@ class RayUnit : public Unit, public FillListener {
     if (blocked_.out) return kUnknown;  // the consumer wakes us when it frees a slot
     Tick t = ready_.next_time();
     if (!in.empty() && can_admit()) t = std::min(t, in.head_ready());
-    return t == kUnknown ? kUnknown : std::max(t, from);
+    return t == kUnknown ? kUnknown : std::max({t, from, next_issue_});
   }
   bool holds_work() const override { return held_ > 0 || !in.empty(); }
 
@@ -202,6 +208,8 @@ class RayUnit : public Unit, public FillListener {
   Cache* l1_ = nullptr;
   Stage stage_;
   uint32_t capacity_;
+  Tick interval_;        // the initiation interval
+  Tick next_issue_ = 0;  // no operation issues before this
   uint32_t held_ = 0;
   Blocked blocked_;
   ReadyQueue ready_;
