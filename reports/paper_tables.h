@@ -9,13 +9,15 @@
 namespace rtsim::report {
 
 struct PaperScene {
+  std::string name;  // the paper's setup (bunny, kitchen, robots)
   std::string title;
   double triangles = 0, lights = 0, nodes = 0, leaves = 0, rays_per_light = 0;
   std::vector<double> culled_leaves, culled_rays;                 // per light (Tables 4 and 5)
   double all_on = 0, all_off = 0, shadow_on = 0, shadow_off = 0;  // ms (Table 6)
 };
 
-// By setup name (bunny, kitchen, robots). Throws InputError naming the file and key.
+// By setup name (bunny, kitchen, robots, and each one's `also` names). Throws InputError naming the
+// file and key.
 std::map<std::string, PaperScene> load_paper_tables(const std::string& path);
 
 }  // namespace rtsim::report

@@ -236,8 +236,10 @@ json culled_variant(std::ostringstream& md, const Setup& c, const CulledVariant&
 
 json setup_section(std::ostringstream& md, const Setup& c) {
   const json& res = c.any["scene"]["resolution"];
-  md << fmt::format("## {} ({}x{})\n\n", c.paper ? c.paper->title : c.s.name, res[0].get<int>(),
-                    res[1].get<int>());
+  // A setup of our own beside the paper's (bunny-10k) says which it is.
+  const std::string setup = c.paper && c.paper->name != c.s.name ? ", " + c.s.name : "";
+  md << fmt::format("## {}{} ({}x{})\n\n", c.paper ? c.paper->title : c.s.name, setup,
+                    res[0].get<int>(), res[1].get<int>());
   json js = {
       {"name", c.s.name}, {"title", c.paper ? c.paper->title : c.s.name}, {"ours", json::object()}};
   if (c.paper) js["paper"] = paper_json(*c.paper);

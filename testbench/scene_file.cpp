@@ -6,6 +6,7 @@
 #include "scene_loader/obj_loader.h"
 #include "scene_loader/ply_loader.h"
 #include "scene_loader/procedural.h"
+#include "scene_loader/simplify.h"
 
 #include <algorithm>
 #include <cmath>
@@ -125,6 +126,18 @@ void load_procedural(YamlMap& g, Scene& scene) {
   c.lights = p.get_in_range("lights", c.lights, 1, kMaxLights);
   p.finish();
   make_city(c, scene);
+}
+
+// `simplify: {triangles: N}`: the entry's triangles (one material) decimated to at most N.
+void simplify_entry(YamlMap& g, size_t first, Scene& scene) {
+  YamlMap m = g.map("simplify");
+  const uint64_t target = m.get_in_range<uint64_t>("triangles", 0, 4, uint64_t(1) << 31);
+  if (target == 0) m.fail("triangles", "expected the number of triangles to keep");
+  m.finish();
+  for (size_t i = first; i < scene.triangles.size(); ++i)
+    if (scene.triangles[i].material != scene.triangles[first].material)
+      g.fail("simplify", "expected an entry of one material (this one has several)");
+  simplify_triangles(scene.triangles, first, size_t(target));
 }
 
 // Whatever its source (this file or a geometry file), the camera must make an image.
@@ -253,12 +266,14 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
   for (YamlMap& g : top.list_of_maps("geometry")) {
     const int kinds = g.has("file") + g.has("triangles") + g.has("procedural");
     if (kinds != 1) g.fail("file", "expected exactly one of 'file', 'triangles', 'procedural'");
+    const size_t first = scene.triangles.size();
     if (g.has("file"))
       load_geometry_file(g, root, scene.time, scene);
     else if (g.has("triangles"))
       load_triangles(g, scene);
     else
       load_procedural(g, scene);
+    if (g.has("simplify")) simplify_entry(g, first, scene);
     g.finish();
   }
   if (top.has("camera")) {

@@ -157,6 +157,29 @@ TEST(Cli, LvbFrustumTestReadingsBothRunAndContainedCullsMore) {
   expect_input_error(base + " --out d --frustum-test inside", {"--frustum-test"});
 }
 
+// Every shipped scene loads (those of the paper's files where ../shared/scenes is there) and
+// every shipped sweep resolves into points (a job script, which reads every input it names).
+TEST(Cli, EveryShippedSceneAndSweepLoads) {
+  int scenes = 0, sweeps = 0;
+  for (const auto& e : fs::directory_iterator(test::source_dir() / "configs/scenes")) {
+    if (e.path().stem() != "city" && !test::have_shared_scenes()) continue;
+    const RunResult r =
+        run("info " + e.path().string() + " --scene-root " + test::shared_scenes().string());
+    EXPECT_EQ(r.code, 0) << e.path() << ": " << r.err;
+    ++scenes;
+  }
+  const fs::path out = test::temp_dir("cli_shipped");
+  for (const auto& e : fs::directory_iterator(test::source_dir() / "configs/sweeps")) {
+    const fs::path dir = out / e.path().stem();
+    const RunResult r = run("sweep " + e.path().string() + " --emit slurm --out " + dir.string());
+    EXPECT_EQ(r.code, 0) << e.path() << ": " << r.err;
+    ++sweeps;
+  }
+  fs::remove_all(out);
+  EXPECT_GE(scenes, 1);
+  EXPECT_GE(sweeps, 10);
+}
+
 TEST(Cli, InfoPrintsSceneAndTreeAsJson) {
   const RunResult r =
       run("info " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --json");

@@ -70,6 +70,18 @@ TEST(Cli, UnknownYamlKeyIsNamed) {
                      {"n.yaml:2", "geometry[0].procedural.seeds"});
   write(dir / "r.yaml", "geometry:\n  - procedural: {kind: city}\nresolution: [8, -8]\n");
   expect_input_error("info " + (dir / "r.yaml").string(), {"r.yaml:3", "resolution", "expected"});
+  // simplify: a count of at least 4, on an entry of one material (the city has several).
+  const std::string quad =
+      "geometry:\n  - triangles: {vertices: [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], indices: "
+      "[[0, 1, 2], [0, 2, 3]]}\n    simplify: ";
+  write(dir / "s0.yaml", quad + "{triangles: 2}\n");
+  expect_input_error("info " + (dir / "s0.yaml").string(), {"s0.yaml", "simplify.triangles"});
+  write(dir / "s1.yaml", quad + "{}\n");
+  expect_input_error("info " + (dir / "s1.yaml").string(), {"s1.yaml", "simplify.triangles"});
+  write(dir / "s2.yaml",
+        "geometry:\n  - procedural: {kind: city, blocks: 2}\n    simplify: "
+        "{triangles: 100}\n");
+  expect_input_error("info " + (dir / "s2.yaml").string(), {"s2.yaml", "simplify", "one material"});
   fs::remove_all(dir);
 }
 
