@@ -223,13 +223,16 @@ json culled_variant(std::ostringstream& md, const Setup& c, const CulledVariant&
   o["leaves"] = r["kdtree"]["leaves"];  // all leaves, empty included: the paper's denominator
   const auto d = c.s.mask_differs.find(var);
   if (c.run("off") && d != c.s.mask_differs.end()) {
-    const bool paper = var != "exact";
+    const char* why = var == "exact" ? ""
+                      : var == "paper"
+                          ? " (the paper's method ignores occluders in the hit's own leaf)"
+                          : " (the literal reading also ignores occluders whose boxes only reach "
+                            "into the region between a leaf and the light)";
     o["pixels_shadow_differs_from_off"] = d->second.first;
     md << fmt::format(
         "With the {} culling, {} of {} pixels have a shadow result different from "
         "culling off{}.\n",
-        cv.label, d->second.first, d->second.second,
-        paper ? " (the paper's method ignores occluders in the hit's own leaf)" : "");
+        cv.label, d->second.first, d->second.second, why);
   }
   return o;
 }
