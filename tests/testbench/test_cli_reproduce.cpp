@@ -52,5 +52,36 @@ TEST(Cli, ReproduceReportsBothReadingsOfTheFrustumTestBesideTheExactMode) {
   fs::remove_all(dir);
 }
 
+// A setup of the paper (bunny-10k compares with the paper's bunny): the report ends with what is
+// left, the paper's figures beside the runs' own.
+TEST(Cli, ReproduceSaysWhatIsLeftBesideThePapersFigures) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  const fs::path dir = test::temp_dir("cli_reproduce_left");
+  const std::string scene = (test::source_dir() / "configs/scenes/bunny-10k.yaml").string();
+  const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+  write(dir / "reproduce.yaml", "name: left\nscenes: [" + scene + "]\nhw: " + hw +
+                                    "\nvariants:\n  off: {run.lvb: off}\n  exact: {run.lvb: on}\n"
+                                    "metrics: [cycles_total]\n");
+  const RunResult r =
+      run("reproduce --sweep " + (dir / "reproduce.yaml").string() + " --out " +
+          (dir / "out").string() + " --width 32 --height 18 --jobs 2 --scene-root " +
+          test::shared_scenes().string());
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const std::string md = slurp(dir / "out/reproduction.md");
+  EXPECT_NE(md.find("## Stanford Bunny, bunny-10k (32x18)"), std::string::npos) << md;
+  const nlohmann::json off =
+      nlohmann::json::parse(slurp(dir / "out/points/p0000/report.json"))["frame_ms"]["all"];
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "out/reproduction.json"));
+  ASSERT_EQ(j["what_is_left"].size(), 1u);
+  EXPECT_EQ(j["what_is_left"][0]["ours_off_ms"], off);
+  EXPECT_EQ(j["what_is_left"][0]["paper_off_ms"], 13.76);
+  EXPECT_TRUE(j["what_is_left"][0]["paper"]["mean_leaves_culled"].is_null()) << "not run";
+  char row[96];
+  std::snprintf(row, sizeof row, "| bunny-10k | 13.76 / %.3f (%.2fx) | 0.07%% / n/a / n/a / ",
+                off.get<double>(), off.get<double>() / 13.76);
+  EXPECT_NE(md.find(row), std::string::npos) << row << " not in:\n" << md;
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace rtsim::cli_test
