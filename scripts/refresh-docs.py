@@ -1,0 +1,226 @@
+#!/usr/bin/env python3
+"""Reruns the studies behind the generated tables in docs/ and rewrites those tables (issue 19).
+
+A generated table sits in its doc between `<!-- generated: ID -->` and `<!-- end generated: ID -->`;
+this script reruns study ID (a sweep or `rtsim reproduce --ablation`, resumable, in RUNS/ID), renders
+the table from the run's own files and replaces the block, stamped with the commit of the source
+tree the binary was built from and the date. The prose around a table is ours: read it again after
+a refresh.
+
+  python3 scripts/refresh-docs.py --list                  the studies, their docs and costs
+  python3 scripts/refresh-docs.py                         all of them (several hours on 2 cores)
+  python3 scripts/refresh-docs.py --only cache-trv-l1,cache-ist-l1 [--runs DIR] [--jobs 2]
+
+A study's runs are reused only if they were made from the same commit (RUNS/ID/commit.txt);
+otherwise the directory is emptied and the study runs again (--reuse keeps them, and the stamp
+names their commit). The binary is built first
+(`cmake --build build --target rtsim`) unless --no-build is given.
+"""
+
+import argparse
+import csv
+import datetime
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def fmt_int(v):
+    return f"{int(round(float(v))):,}"
+
+
+def fmt_pct(v):
+    return f"{100 * float(v):.1f}%"
+
+
+def fmt_1(v):
+    return f"{float(v):.1f}" if v not in ("", None) else "-"
+
+
+def rows_of(run_dir):
+    with open(os.path.join(run_dir, "results.csv"), newline="") as f:
+        return list(csv.DictReader(f))
+
+
+# The cache sweeps' columns (docs/cache-sweeps.md): every row against the Table-2 point of its
+# scene in the same sweep.
+CACHE_COLUMNS = [
+    ("TRV L1 hits", "trv_l1_hit_rate", fmt_pct), ("IST L1 hits", "ist_l1_hit_rate", fmt_pct),
+    ("IST L2 hits", "ist_l2_hit_rate", fmt_pct), ("TRV busy", "trv_busy", fmt_pct),
+    ("TRV reply queue", "stats.trv.icnt.reply.avg_queue_cycles", fmt_1),
+    ("IST reply queue", "stats.ist.icnt.reply.avg_queue_cycles", fmt_1),
+    ("IST L2 bank stalls", "stats.ist.l2.bank.stall_cycles", fmt_int),
+    ("DRAM GB/s", "dram_bandwidth_gbps", fmt_1)]
+
+
+def cache_table(key, label, baseline):
+    def render(run_dir):
+        rows = rows_of(run_dir)
+        base = {r["scene"]: float(r["cycles_total"]) for r in rows if r[key] == baseline}
+        head = ["scene", label, "cycles", "vs Table 2"] + [c[0] for c in CACHE_COLUMNS]
+        out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+        for r in rows:
+            if r.get("failure"):
+                out.append(f"| {r['scene']} | {r[key]} | failed: {r['failure']} |")
+                continue
+            cyc = float(r["cycles_total"])
+            cells = [r["scene"], r[key], fmt_int(cyc), f"{100 * (cyc / base[r['scene']] - 1):+.1f}%"]
+            cells += [f(r[m]) if r[m] != "" else "-" for _, m, f in CACHE_COLUMNS]
+            out.append("| " + " | ".join(cells) + " |")
+        return "\n".join(out)
+    return render
+
+
+def knob_table(run_dir):
+    """The unpublished parameters: frame ms off / on per setup and variant, change against today."""
+    rows = rows_of(run_dir)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    ms = {(r["scene"], r["variant"], r["run.lvb"]): float(r["frame_ms_all"])
+          for r in rows if not r.get("failure")}
+    head = ["variant"] + [f"{s} off / on (ms)" for s in scenes] + [f"{s} off vs today" for s in scenes]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for v in variants:
+        cells = [v]
+        for s in scenes:
+            off, on = ms.get((s, v, "false")), ms.get((s, v, "true"))
+            cells.append(f"{off:.3f} / {on:.3f}" if off is not None and on is not None else "failed")
+        for s in scenes:
+            off, today = ms.get((s, v, "false")), ms.get((s, "today", "false"))
+            cells.append(f"{100 * (off / today - 1):+.1f}%" if off and today else "-")
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def copy_markdown(name, first_heading):
+    """A report the run wrote (area_lights.md, ablation.md), from `first_heading` on, its headings
+    one level down."""
+    def render(run_dir):
+        with open(os.path.join(run_dir, name)) as f:
+            text = f.read()
+        start = text.find(first_heading)
+        if start < 0:
+            raise SystemExit(f"refresh-docs: {name} in {run_dir} has no '{first_heading}'")
+        text = text[start:].strip()
+        return re.sub(r"^(#+) ", r"#\1 ", text, flags=re.M)
+    return render
+
+
+class Study:
+    def __init__(self, ident, doc, minutes, command, render, sweep=True, plots=False):
+        self.id, self.doc, self.minutes, self.command, self.render = ident, doc, minutes, command, render
+        self.sweep = sweep
+        self.plots = plots  # the run's report (area_lights.md) is written with its figures
+
+
+STUDIES = [
+    Study("cache-trv-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-trv-l1.yaml"],
+          cache_table("hw.trv.l1.size_kb", "TRV L1 KB", "8")),
+    Study("cache-ist-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-ist-l1.yaml"],
+          cache_table("hw.ist.l1.size_kb", "IST L1 KB", "16")),
+    Study("cache-l2-size", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-size.yaml"],
+          cache_table("variant", "L2", "table2-128k")),
+    Study("cache-l2-banks", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-banks.yaml"],
+          cache_table("variant", "L2 banks", "banks-8")),
+    Study("unpublished-knobs", "docs/ablation.md", 35,
+          ["sweep", "configs/sweeps/unpublished-knobs.yaml"], knob_table),
+    Study("unpublished-knobs-hd", "docs/ablation.md", 45,
+          ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml"], knob_table),
+    Study("area-lights", "docs/area-lights.md", 30, ["sweep", "configs/sweeps/area-lights.yaml"],
+          copy_markdown("area_lights.md", "| scene"), plots=True),
+    Study("area-lights-hd", "docs/area-lights.md", 70,
+          ["sweep", "configs/sweeps/area-lights-hd.yaml"],
+          copy_markdown("area_lights.md", "| scene"), plots=True),
+    Study("ablation", "docs/ablation.md", 65, ["reproduce", "--ablation"],
+          copy_markdown("ablation.md", "Sweep `ablation.yaml`"), sweep=False),
+]
+
+
+def source_commit():
+    return subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty", "--abbrev=7"],
+                          check=True, capture_output=True, text=True).stdout.strip()
+
+
+def replace_block(doc_path, ident, body):
+    with open(doc_path) as f:
+        text = f.read()
+    begin, end = f"<!-- generated: {ident} -->", f"<!-- end generated: {ident} -->"
+    i, j = text.find(begin), text.find(end)
+    if i < 0 or j < i:
+        raise SystemExit(f"refresh-docs: {doc_path} has no block '{begin}' ... '{end}'")
+    text = text[:i + len(begin)] + "\n" + body.strip() + "\n" + text[j:]
+    tmp = doc_path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, doc_path)
+
+
+def run_study(s, args, commit):
+    """Runs (or resumes) the study; returns its directory, the minutes it took and the commit its
+    points were run from."""
+    out = os.path.join(args.runs, s.id)
+    stamp = os.path.join(out, "commit.txt")
+    recorded = open(stamp).read().strip() if os.path.exists(stamp) else None
+    if os.path.isdir(out) and recorded != commit and not (args.reuse and recorded):
+        shutil.rmtree(out)  # runs of another model: start again
+    if recorded and args.reuse:
+        commit = recorded  # the points' own commit; new points come from this binary's
+    os.makedirs(out, exist_ok=True)
+    with open(stamp, "w") as f:
+        f.write(commit + "\n")
+    # Absolute paths: a sweep's manifest names its inputs as resolved from them.
+    command = [os.path.join(ROOT, a) if a.endswith(".yaml") else a for a in s.command]
+    cmd = [args.rtsim] + command + ["--out", out, "--jobs", str(args.jobs)]
+    if s.sweep and not s.plots:
+        cmd.append("--no-plots")
+    print("refresh-docs:", " ".join(cmd), file=sys.stderr, flush=True)
+    start = datetime.datetime.now()
+    code = subprocess.run(cmd, cwd=ROOT).returncode
+    minutes = (datetime.datetime.now() - start).total_seconds() / 60
+    if code != 0:
+        raise SystemExit(f"refresh-docs: {s.id} failed (exit {code}); its points' log.txt say why")
+    return out, minutes, commit
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--rtsim", default=os.path.join(ROOT, "build", "rtsim"))
+    ap.add_argument("--runs", default=os.path.join(ROOT, "out", "refresh-docs"))
+    ap.add_argument("--jobs", type=int, default=2)
+    ap.add_argument("--only", default="", help="comma-separated study ids (default: all)")
+    ap.add_argument("--list", action="store_true")
+    ap.add_argument("--no-build", action="store_true")
+    ap.add_argument("--reuse", action="store_true",
+                    help="keep a study's runs made from another commit (stamped with that commit); "
+                         "only where the model's cycles have not changed since")
+    args = ap.parse_args()
+    if args.list:
+        for s in STUDIES:
+            print(f"{s.id:20} {s.doc:22} ~{s.minutes} min   rtsim {' '.join(s.command)}")
+        return
+    wanted = [x for x in args.only.split(",") if x] or [s.id for s in STUDIES]
+    unknown = set(wanted) - {s.id for s in STUDIES}
+    if unknown:
+        print(f"refresh-docs: unknown study {', '.join(sorted(unknown))} (see --list)", file=sys.stderr)
+        sys.exit(2)
+    if not args.no_build:
+        subprocess.run(["cmake", "--build", os.path.join(ROOT, "build"), "--target", "rtsim"], check=True)
+    commit = source_commit()
+    for s in STUDIES:
+        if s.id not in wanted:
+            continue
+        out, minutes, ran_at = run_study(s, args, commit)
+        table = s.render(out)
+        note = (f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`rtsim "
+                f"{' '.join(s.command)}`) from commit {ran_at} on {datetime.date.today()}; this sitting "
+                f"took {minutes:.0f} min with --jobs {args.jobs}._")
+        replace_block(os.path.join(ROOT, s.doc), s.id, note + "\n\n" + table)
+        print(f"refresh-docs: {s.doc}: {s.id} rewritten ({minutes:.0f} min)", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
