@@ -38,7 +38,7 @@ def fmt_pct(v):
 
 
 def fmt_1(v):
-    return f"{float(v):.1f}" if v not in ("", None) else "-"
+    return f"{float(v):.1f}"
 
 
 def rows_of(run_dir):
