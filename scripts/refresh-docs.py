@@ -110,33 +110,142 @@ def copy_markdown(name, first_heading):
     return render
 
 
+def median(values):
+    v = sorted(values)
+    n = len(v)
+    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
+
+
+def animation_frames(run_dir):
+    """An `rtsim animate` run's frames.csv rows, numbers as floats ('' as None), host.csv's seconds
+    joined by time."""
+    def floats(path):
+        with open(path, newline="") as f:
+            return [{k: float(v) if v != "" else None for k, v in r.items()} for r in csv.DictReader(f)]
+    host = {r["time"]: r for r in floats(os.path.join(run_dir, "host.csv"))}
+    frames = floats(os.path.join(run_dir, "frames.csv"))
+    for r in frames:
+        r.update({k: v for k, v in host.get(r["time"], {}).items() if k != "time"})
+        r["saved"] = r["cycles_off"] - r["cycles_on"]
+        r["tests"] = r["lvb_region_tests"] + r["lvb_pair_tests"]
+        if r["lazy_region_tests"] is not None:
+            r["lazy"] = r["lazy_dirty_tests"] + r["lazy_region_tests"] + r["lazy_pair_tests"]
+    return frames
+
+
+ANIMATION_SCENES = ["robots", "kitchen"]
+
+
+def animation_table(run_dir):
+    """docs/animation.md at 480x270: per scene, medians over the frames with their range."""
+    def m(v):
+        return f"{v / 1e6:.2f} M"
+
+    def ratio(a, b):
+        return a / b if b else float("inf")
+
+    def cells(fr):
+        def col(k):
+            return [r[k] for r in fr if r.get(k) is not None]
+        saved, off, tests = col("saved"), col("cycles_off"), col("tests")
+        pct = [100 * r["saved"] / r["cycles_off"] for r in fr]
+        per_saved = [ratio(r["tests"], r["saved"]) for r in fr]
+        lazy = [r for r in fr if r.get("lazy") is not None]
+        lazy_per_saved = [ratio(r["lazy"], r["saved"]) for r in lazy]
+        mlazy = median([r["lazy"] for r in lazy]) if lazy else None
+        checked = col("check_mismatched_pixels")
+        share = [100 * x for x in col("culled_share")]
+        yield f"{fmt_int(median(off))} ({min(off) / 1e6:.2f}-{max(off) / 1e6:.2f} M)"
+        yield (f"{fmt_int(median(saved))} ({fmt_int(min(saved))}-{fmt_int(max(saved))}), "
+               f"{median(pct):.1f}% ({min(pct):.1f}-{max(pct):.1f}%)")
+        yield f"{median(share):.1f}% ({min(share):.1f}-{max(share):.1f}%)"
+        yield " / ".join(m(median(col(k))) for k in ["lvb_nodes_visited", "lvb_region_tests", "lvb_pair_tests"])
+        yield (f"{median(tests) / median(saved):.1f} ({min(per_saved):.1f}-{max(per_saved):.1f})"
+               if median(saved) else "no saving")
+        yield f"{median(col('kdtree_seconds')):.2f} / {median(col('lvb_seconds')):.2f}"
+        if not lazy:
+            yield from ["-"] * 3
+        else:
+            dirty = [100 * r["lazy_dirty_pairs"] / r["lazy_pairs"] for r in lazy if r["lazy_pairs"]]
+            yield f"{median(dirty):.1f}% ({min(dirty):.1f}-{max(dirty):.1f}%)"
+            yield (f"{m(mlazy)} ({100 * mlazy / median(tests):.0f}% of full; "
+                   f"{m(median([r['lazy_dirty_tests'] for r in lazy]))} of it finding the dirty pairs)")
+            yield (f"{mlazy / median(saved):.1f} ({min(lazy_per_saved):.1f}-{max(lazy_per_saved):.1f})"
+                   if median(saved) else "no saving")
+        yield f"{fmt_int(sum(checked))} in {len(checked)} frames x 2 runs"
+
+    labels = ["cycles, culling off", "cycles culling saves", "shadow rays culled",
+              "LVB work: nodes visited / region tests / pair tests",
+              "LVB tests (region + pair) per saved cycle", "host seconds: kd-tree / LVB (1 thread)",
+              "lazy: dirty pairs", "lazy: tests (dirty + region + pair)", "lazy tests per saved cycle",
+              "`--check-every 5`: pixels differing from the reference"]
+    columns = [list(cells(animation_frames(os.path.join(run_dir, s)))) for s in ANIMATION_SCENES]
+    out = ["| per frame, 480x270 | " + " | ".join(ANIMATION_SCENES) + " |", "|---|" + "---|" * len(columns)]
+    for i, label in enumerate(labels):
+        out.append(f"| {label} | " + " | ".join(c[i] for c in columns) + " |")
+    return "\n".join(out)
+
+
+def animation_hd_table(run_dir):
+    """docs/animation.md at 1920x1080: a row per frame, its saving against the same frame's at
+    480x270 (the `animation` study's runs, when they are there)."""
+    small_dir = os.path.join(os.path.dirname(run_dir), "animation")
+    out = ["| frame | cycles off / on at 1920x1080 | saved | saved, x of 480x270's | LVB tests per saved cycle |",
+           "|---|---|---|---|---|"]
+    for s in ANIMATION_SCENES:
+        small = {}
+        if os.path.exists(os.path.join(small_dir, s, "frames.csv")):
+            small = {r["time"]: r["saved"] for r in animation_frames(os.path.join(small_dir, s))}
+        for r in animation_frames(os.path.join(run_dir, s)):
+            x = f"{r['saved'] / small[r['time']]:.1f}" if small.get(r["time"]) else "-"
+            per = f"{r['tests'] / r['saved']:.1f}" if r["saved"] > 0 else "no saving"
+            out.append(f"| {s} t = {r['time']:g} | {fmt_int(r['cycles_off'])} / {fmt_int(r['cycles_on'])} | "
+                       f"{fmt_int(r['saved'])} ({100 * r['saved'] / r['cycles_off']:.1f}%) | {x} | {per} |")
+    return "\n".join(out)
+
+
 class Study:
-    def __init__(self, ident, doc, minutes, command, render, sweep=True, plots=False):
-        self.id, self.doc, self.minutes, self.command, self.render = ident, doc, minutes, command, render
-        self.sweep = sweep
-        self.plots = plots  # the run's report (area_lights.md) is written with its figures
+    """A generated block: the runs behind it (one `rtsim` command, or several, each in its own
+    sub-directory) and the function that renders the block from the run directory."""
+
+    def __init__(self, ident, doc, minutes, command, render, runs=None):
+        self.id, self.doc, self.minutes, self.render = ident, doc, minutes, render
+        self.runs = runs or [("", command)]
+
+    def describe(self):
+        return "; ".join("rtsim " + " ".join(c) for _, c in self.runs)
 
 
+def animate(scene, times, *options):
+    return (scene, ["animate", f"configs/scenes/{scene}.yaml", "--hw", "configs/hw/tni-paper.yaml",
+                    "--times", times, *options, "--lvb", "both"])
+
+
+SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
 STUDIES = [
-    Study("cache-trv-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-trv-l1.yaml"],
+    Study("cache-trv-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-trv-l1.yaml", "--no-plots"],
           cache_table("hw.trv.l1.size_kb", "TRV L1 KB", "8")),
-    Study("cache-ist-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-ist-l1.yaml"],
+    Study("cache-ist-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-ist-l1.yaml", "--no-plots"],
           cache_table("hw.ist.l1.size_kb", "IST L1 KB", "16")),
-    Study("cache-l2-size", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-size.yaml"],
+    Study("cache-l2-size", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-size.yaml", "--no-plots"],
           cache_table("variant", "L2", "table2-128k")),
-    Study("cache-l2-banks", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-banks.yaml"],
+    Study("cache-l2-banks", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-banks.yaml", "--no-plots"],
           cache_table("variant", "L2 banks", "banks-8")),
     Study("unpublished-knobs", "docs/ablation.md", 35,
-          ["sweep", "configs/sweeps/unpublished-knobs.yaml"], knob_table),
+          ["sweep", "configs/sweeps/unpublished-knobs.yaml", "--no-plots"], knob_table),
     Study("unpublished-knobs-hd", "docs/ablation.md", 45,
-          ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml"], knob_table),
+          ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml", "--no-plots"], knob_table),
+    # The area-light reports are written with their figures (area_lights.md names them).
     Study("area-lights", "docs/area-lights.md", 30, ["sweep", "configs/sweeps/area-lights.yaml"],
-          copy_markdown("area_lights.md", "| scene"), plots=True),
-    Study("area-lights-hd", "docs/area-lights.md", 70,
-          ["sweep", "configs/sweeps/area-lights-hd.yaml"],
-          copy_markdown("area_lights.md", "| scene"), plots=True),
+          copy_markdown("area_lights.md", "| scene")),
+    Study("area-lights-hd", "docs/area-lights.md", 70, ["sweep", "configs/sweeps/area-lights-hd.yaml"],
+          copy_markdown("area_lights.md", "| scene")),
     Study("ablation", "docs/ablation.md", 65, ["reproduce", "--ablation"],
-          copy_markdown("ablation.md", "Sweep `ablation.yaml`"), sweep=False),
+          copy_markdown("ablation.md", "Sweep `ablation.yaml`")),
+    Study("animation", "docs/animation.md", 25, None, animation_table,
+          runs=[animate("robots", "0:10:0.5", *SMALL), animate("kitchen", "0:20:1", *SMALL)]),
+    Study("animation-hd", "docs/animation.md", 26, None, animation_hd_table,
+          runs=[animate("robots", "0:10:5"), animate("kitchen", "0:20:10")]),
 ]
 
 
@@ -172,17 +281,16 @@ def run_study(s, args, commit):
     os.makedirs(out, exist_ok=True)
     with open(stamp, "w") as f:
         f.write(commit + "\n")
-    # Absolute paths: a sweep's manifest names its inputs as resolved from them.
-    command = [os.path.join(ROOT, a) if a.endswith(".yaml") else a for a in s.command]
-    cmd = [args.rtsim] + command + ["--out", out, "--jobs", str(args.jobs)]
-    if s.sweep and not s.plots:
-        cmd.append("--no-plots")
-    print("refresh-docs:", " ".join(cmd), file=sys.stderr, flush=True)
     start = datetime.datetime.now()
-    code = subprocess.run(cmd, cwd=ROOT).returncode
+    for sub, command in s.runs:
+        # Absolute paths: a sweep's manifest names its inputs as resolved from them.
+        command = [os.path.join(ROOT, a) if a.endswith(".yaml") else a for a in command]
+        cmd = [args.rtsim] + command + ["--out", os.path.join(out, sub), "--jobs", str(args.jobs)]
+        print("refresh-docs:", " ".join(cmd), file=sys.stderr, flush=True)
+        code = subprocess.run(cmd, cwd=ROOT).returncode
+        if code != 0:
+            raise SystemExit(f"refresh-docs: {s.id} failed (exit {code}); its points' log.txt say why")
     minutes = (datetime.datetime.now() - start).total_seconds() / 60
-    if code != 0:
-        raise SystemExit(f"refresh-docs: {s.id} failed (exit {code}); its points' log.txt say why")
     return out, minutes, commit
 
 
@@ -200,7 +308,7 @@ def main():
     args = ap.parse_args()
     if args.list:
         for s in STUDIES:
-            print(f"{s.id:20} {s.doc:22} ~{s.minutes} min   rtsim {' '.join(s.command)}")
+            print(f"{s.id:20} {s.doc:22} ~{s.minutes} min   {s.describe()}")
         return
     wanted = [x for x in args.only.split(",") if x] or [s.id for s in STUDIES]
     unknown = set(wanted) - {s.id for s in STUDIES}
@@ -215,8 +323,7 @@ def main():
             continue
         out, minutes, ran_at = run_study(s, args, commit)
         table = s.render(out)
-        note = (f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`rtsim "
-                f"{' '.join(s.command)}`) from commit {ran_at} on {datetime.date.today()}; this sitting "
+        note = (f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`{s.describe()}`) from commit {ran_at} on {datetime.date.today()}; this sitting "
                 f"took {minutes:.0f} min with --jobs {args.jobs}._")
         replace_block(os.path.join(ROOT, s.doc), s.id, note + "\n\n" + table)
         print(f"refresh-docs: {s.doc}: {s.id} rewritten ({minutes:.0f} min)", file=sys.stderr)

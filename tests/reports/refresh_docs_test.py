@@ -49,6 +49,39 @@ with tempfile.TemporaryDirectory() as tmp:
     except SystemExit as e:
         check("no block" in str(e), "the error names the block")
 
+# An animation's frames: the 480x270 table's medians and ranges, the HD table against it.
+with tempfile.TemporaryDirectory() as tmp:
+    def frames(run_dir, rows):
+        os.makedirs(run_dir)
+        keys = ["time", "cycles_off", "cycles_on", "culled_share", "lvb_nodes_visited", "lvb_region_tests",
+                "lvb_pair_tests", "lazy_dirty_pairs", "lazy_pairs", "lazy_dirty_tests", "lazy_region_tests",
+                "lazy_pair_tests", "check_mismatched_pixels"]
+        with open(os.path.join(run_dir, "frames.csv"), "w") as f:
+            f.write(",".join(keys) + "\n" + "".join(",".join(map(str, r)) + "\n" for r in rows))
+        with open(os.path.join(run_dir, "host.csv"), "w") as f:
+            f.write("time,kdtree_seconds,lvb_seconds,simulate_seconds_off,simulate_seconds_on\n")
+            f.write("".join(f"{r[0]},0.25,0.5,1,1\n" for r in rows))
+    small = os.path.join(tmp, "animation")
+    for scene in ["robots", "kitchen"]:
+        frames(os.path.join(small, scene), [
+            (0, 1000, 900, 0.1, 10, 200, 0, "", "", "", "", "", 0),
+            (1, 2000, 1900, 0.3, 20, 400, 100, 5, 20, 30, 20, 10, ""),
+            (2, 4000, 3600, 0.2, 30, 300, 200, 10, 20, 50, 10, 20, 3)])
+        frames(os.path.join(tmp, "animation-hd", scene), [(1, 20000, 18000, 0.3, 20, 400, 400, "", "", "", "", "", "")])
+    table = refresh.animation_table(small)
+    for row in ["| cycles, culling off | 2,000 (0.00-0.00 M) |",
+                "| cycles culling saves | 100 (100-400), 10.0% (5.0-10.0%) |",  # 10%, 5%, 10%
+                "| shadow rays culled | 20.0% (10.0-30.0%) |",
+                "| LVB tests (region + pair) per saved cycle | 5.0 (1.2-5.0) |",  # 500 / 100; 2, 5, 1.25
+                "| lazy: dirty pairs | 37.5% (25.0-50.0%) |",
+                "| lazy tests per saved cycle | 0.7 (0.2-0.6) |",  # median(60, 80) / 100; 0.6, 0.2
+                "| lazy: tests (dirty + region + pair) | 0.00 M (14% of full;",  # 70 / 500
+                "| `--check-every 5`: pixels differing from the reference | 3 in 2 frames x 2 runs |"]:
+        check(row.split(" | ")[0] in table and any(line.startswith(row) for line in table.splitlines()),
+              f"animation row {row}:\n{table}")
+    hd = refresh.animation_hd_table(os.path.join(tmp, "animation-hd"))
+    check("| robots t = 1 | 20,000 / 18,000 | 2,000 (10.0%) | 20.0 | 0.4 |" in hd, "the HD row:\n" + hd)
+
 ids = {s.id for s in refresh.STUDIES}
 for s in refresh.STUDIES:
     text = open(os.path.join(src, s.doc)).read()
