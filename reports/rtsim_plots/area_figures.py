@@ -76,7 +76,10 @@ def area(folder, written):
     ax.set_xscale("log", base=2)
     ax.set_xlabel("shadow rays per hit and light (samples)")
     ax.set_ylabel("frame-time reduction with culling (%)")
-    ax.set_ylim(bottom=0)
+    if min(100 * p[1] for pts in curves.values() for p in pts) >= 0:
+        ax.set_ylim(bottom=0)
+    else:  # culling made a frame slower: keep that point in view, and where zero is
+        ax.axhline(0, color="0.4", lw=0.8)
     ax.grid(alpha=0.3)
     ax.legend()
     ax.set_title(f"Culling and area lights (sweep {name})", fontsize=10)

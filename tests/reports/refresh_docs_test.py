@@ -87,6 +87,7 @@ for s in refresh.STUDIES:
     text = open(os.path.join(src, s.doc)).read()
     check(f"<!-- generated: {s.id} -->" in text and f"<!-- end generated: {s.id} -->" in text,
           f"{s.doc} has no block for {s.id}")
+    check(not s.figure or os.path.exists(os.path.join(src, s.figure[1])), f"{s.id}: no {s.figure}")
 for name in os.listdir(os.path.join(src, "docs")):
     if name.endswith(".md"):
         for ident in re.findall(r"<!-- generated: ([\w-]+) -->", open(os.path.join(src, "docs", name)).read()):
