@@ -222,20 +222,19 @@ def animate(scene, times, *options):
                     "--times", times, *options, "--lvb", "both"])
 
 
+def cache_study(name, minutes, key, label, baseline):
+    """docs/cache-sweeps.md: configs/sweeps/cache-NAME.yaml, its table and its cycles plot."""
+    return Study(f"cache-{name}", "docs/cache-sweeps.md", minutes, ["sweep", f"configs/sweeps/cache-{name}.yaml"],
+                 cache_table(key, label, baseline),
+                 figure=(f"plots/cycles_total_vs_{key}.png", f"docs/figures/sweep-{name}.png"))
+
+
 SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
 STUDIES = [
-    Study("cache-trv-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-trv-l1.yaml"],
-          cache_table("hw.trv.l1.size_kb", "TRV L1 KB", "8"),
-          figure=("plots/cycles_total_vs_hw.trv.l1.size_kb.png", "docs/figures/sweep-trv-l1.png")),
-    Study("cache-ist-l1", "docs/cache-sweeps.md", 3, ["sweep", "configs/sweeps/cache-ist-l1.yaml"],
-          cache_table("hw.ist.l1.size_kb", "IST L1 KB", "16"),
-          figure=("plots/cycles_total_vs_hw.ist.l1.size_kb.png", "docs/figures/sweep-ist-l1.png")),
-    Study("cache-l2-size", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-size.yaml"],
-          cache_table("variant", "L2", "table2-128k"),
-          figure=("plots/cycles_total_vs_variant.png", "docs/figures/sweep-l2-size.png")),
-    Study("cache-l2-banks", "docs/cache-sweeps.md", 5, ["sweep", "configs/sweeps/cache-l2-banks.yaml"],
-          cache_table("variant", "L2 banks", "banks-8"),
-          figure=("plots/cycles_total_vs_variant.png", "docs/figures/sweep-l2-banks.png")),
+    cache_study("trv-l1", 3, "hw.trv.l1.size_kb", "TRV L1 KB", "8"),
+    cache_study("ist-l1", 3, "hw.ist.l1.size_kb", "IST L1 KB", "16"),
+    cache_study("l2-size", 5, "variant", "L2", "table2-128k"),
+    cache_study("l2-banks", 5, "variant", "L2 banks", "banks-8"),
     Study("unpublished-knobs", "docs/ablation.md", 35,
           ["sweep", "configs/sweeps/unpublished-knobs.yaml", "--no-plots"], knob_table),
     Study("unpublished-knobs-hd", "docs/ablation.md", 45,
