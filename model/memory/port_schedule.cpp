@@ -22,7 +22,7 @@ PortSchedule::PortSchedule(Tick period, uint32_t ports)
   if (period == 0) throw std::invalid_argument("PortSchedule: zero clock period");
   if (ports_ == 0) return;
   if (ports_ > 255) throw std::invalid_argument("PortSchedule: at most 255 slots per cycle");
-  if (ports_ > 1) used_.assign(kInlineWords * 64, 0);
+  if (ports_ > 1) used_.assign(kFirstWords * 64, 0);
 }
 
 void PortSchedule::slide_or_grow(uint64_t cycle) {
@@ -41,6 +41,7 @@ void PortSchedule::slide_or_grow(uint64_t cycle) {
     base_ = now;
   }
   while (cycle >= base_ + uint64_t(words()) * 64) grow();
+  held_until_ = base_ + uint64_t(words()) * 64;
 }
 
 void PortSchedule::grow() {
@@ -52,11 +53,12 @@ void PortSchedule::grow() {
     ring[to] = full()[from];
     if (!used.empty()) std::copy_n(&used_[from * 64], 64, &used[to * 64]);
   }
-  heap_.swap(ring);
+  ring_.swap(ring);
+  mask_ = ring_.size() - 1;
   used_.swap(used);
 }
 
-uint64_t PortSchedule::first_free(uint64_t c) {
+uint64_t PortSchedule::first_free_beyond(uint64_t c) {
   for (;;) {
     hold(c | 63);
     const uint64_t free = ~full()[word_of(c)] & (~uint64_t(0) << (c & 63));
@@ -71,9 +73,7 @@ Tick PortSchedule::peek(Tick t) {
   return clock_.cycles(first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked));
 }
 
-Tick PortSchedule::reserve(Tick t) {
-  ++stats_.requests;
-  if (ports_ == 0) return t;
+Tick PortSchedule::reserve_slot(Tick t) {
   const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
   const uint64_t c = first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
   const uint64_t bit = uint64_t(1) << (c & 63);

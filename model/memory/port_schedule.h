@@ -38,7 +38,10 @@ class PortSchedule {
   PortSchedule(Tick period, uint32_t ports);
 
   // The edge of the first cycle at or after `t` with a free slot, which is taken.
-  Tick reserve(Tick t);
+  Tick reserve(Tick t) {
+    ++stats_.requests;
+    return ports_ == 0 ? t : reserve_slot(t);
+  }
   // The edge of the first cycle at or after `t` with a free slot, left free.
   Tick peek(Tick t);
   // Takes every slot of the cycles in [from, until) that is still free (a port held by a stalled
@@ -54,28 +57,39 @@ class PortSchedule {
   const PortStats& stats() const { return stats_; }
 
  private:
-  // The ring: 256 cycles inside the object (most ports never need more, and a reservation then
-  // touches one cache line), on the heap once it has grown.
-  uint64_t* full() { return heap_.empty() ? inline_ : heap_.data(); }
-  size_t words() const { return heap_.empty() ? kInlineWords : heap_.size(); }
-  size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & (words() - 1); }
+  // The ring: 256 cycles to start with (most ports never need more), doubled when reservations
+  // reach further ahead.
+  uint64_t* full() { return ring_.data(); }
+  size_t words() const { return ring_.size(); }
+  size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & mask_; }
   // Makes the ring hold every cycle up to `cycle` (sliding past the cycles that are over, or
   // growing).
   void hold(uint64_t cycle) {
-    if (cycle >= base_ + uint64_t(words()) * 64) slide_or_grow(cycle);
+    if (cycle >= held_until_) slide_or_grow(cycle);
   }
   void slide_or_grow(uint64_t cycle);
-  uint64_t first_free(uint64_t cycle);  // the first cycle at or after `cycle` with a free slot
+  // The first cycle at or after `cycle` with a free slot: the word of `cycle` first (inline: most
+  // requests find their slot there), then the rest.
+  uint64_t first_free(uint64_t c) {
+    if (c < held_until_) {
+      const uint64_t free = ~full()[word_of(c)] & (~uint64_t(0) << (c & 63));
+      if (free) return (c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free));
+    }
+    return first_free_beyond(c);
+  }
+  uint64_t first_free_beyond(uint64_t cycle);
   void grow();
+  Tick reserve_slot(Tick t);  // reserve() of a real port
 
   Clock clock_;
   uint32_t ports_;
-  static constexpr size_t kInlineWords = 4;
+  static constexpr size_t kFirstWords = 4;
   uint64_t base_ = 0;  // first cycle held, a multiple of 64; the ring holds 64 * words
+  uint64_t held_until_ = kFirstWords * 64;  // base_ + 64 * words
   // Bit c % 64 of word c / 64: cycle c has no slot left.
-  uint64_t inline_[kInlineWords] = {};
-  std::vector<uint64_t> heap_;
-  std::vector<uint8_t> used_;  // ports > 1: slots taken per cycle (index c % cycles held)
+  std::vector<uint64_t> ring_ = std::vector<uint64_t>(kFirstWords, 0);
+  size_t mask_ = kFirstWords - 1;  // words - 1
+  std::vector<uint8_t> used_;      // ports > 1: slots taken per cycle (index c % cycles held)
   // The last request's asked and granted cycles: cycles in between were full and stay full, so a
   // pile-up on one cycle resumes the search where the previous request found room.
   uint64_t last_asked_ = ~uint64_t(0), last_granted_ = 0;

@@ -31,7 +31,10 @@ void Calendar::add(Client* c, Tick period) {
                  std::string(name()) + ": blocks must be added before any is scheduled");
   c->period_ = period;
   clients_.push_back(c);
-  if (period_ == 0) period_ = period;
+  if (period_ == 0 && period != 0) {
+    period_ = period;
+    ring_clock_ = Clock::with_period(period);
+  }
 }
 
 void Calendar::set_rank(Client& c, uint32_t rank) {
@@ -50,41 +53,17 @@ void Calendar::fix_order() {
   fixed_ = true;
 }
 
-void Calendar::schedule(Client* c, Tick at) {
-  if (__builtin_expect(!fixed_, 0)) fix_order();
-  const Tick now = this->now();
-  if (at < now) at = now;
-  if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;
-  c->armed_at_ = at;
-  const uint64_t cycle = period_ ? at / period_ : 0;
-  if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at &&
-      at - now < kSlots * period_) {
-    const uint64_t slot = cycle % kSlots;
-    uint64_t& word = ring_[slot * words_ + c->id_ / 64];
-    const uint64_t bit = uint64_t(1) << (c->id_ % 64);
-    if (!(word & bit)) {
-      word |= bit;
-      ++slot_count_[slot];
-      ++ring_entries_;
-    }
-  } else {
-    heap_.push({at, c->id_});
-  }
-  // While run() drains the current time it re-arms the event itself.
-  if (!running_ && at < event_at_) notify_at(at);
-}
-
 void Calendar::notify_at(Tick at) {
   event_at_ = at;
   event_.notify(time_.delay_until(at));
 }
 
-bool Calendar::pop_due(Tick now, uint32_t& id) {
+// Inlined into run(): it runs once per activation.
+inline bool Calendar::pop_due(Tick now, const Due& due, uint32_t& id) {
   uint32_t best = UINT32_MAX;
   if (!heap_.empty() && heap_.top().at == now) best = heap_.top().id;
-  const uint64_t slot = period_ ? (now / period_) % kSlots : 0;
-  const bool edge = period_ && now % period_ == 0 && slot_count_[slot] > 0;
-  if (edge) {
+  const uint64_t slot = due.slot;
+  if (due.edge && slot_count_[slot] > 0) {
     for (size_t w = 0; w < words_; ++w) {
       const uint64_t bits = ring_[slot * words_ + w];
       if (bits) {
@@ -129,7 +108,12 @@ void Calendar::run() {
     // Blocks woken for `now` while this runs are served in this same loop: the lowest id queued
     // for `now` runs next.
     uint32_t id = 0;
-    while (pop_due(now, id)) {
+    Due due;
+    if (period_) {
+      const uint64_t cycle = ring_clock_.to_cycles(now);
+      due = {cycle % kSlots, cycle * period_ == now};
+    }
+    while (pop_due(now, due, id)) {
       Client* c = clients_[id];
       if (c->armed_at_ != now) continue;  // superseded by an earlier arming
       c->armed_at_ = kUnknown;

@@ -55,8 +55,30 @@ class Calendar : public sc_core::sc_module {
   // anything is scheduled (the order is fixed then; rtsim/internal otherwise).
   void set_rank(Client& c, uint32_t rank);
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
-  // the past) stands; a later one is replaced.
-  void schedule(Client* c, Tick at);
+  // the past) stands; a later one is replaced. Inline: every unit activation ends here.
+  void schedule(Client* c, Tick at) {
+    if (__builtin_expect(!fixed_, 0)) fix_order();
+    const Tick now = this->now();
+    if (at < now) at = now;
+    if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now) return;
+    c->armed_at_ = at;
+    const uint64_t cycle = period_ ? ring_clock_.to_cycles(at) : 0;
+    if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at &&
+        at - now < kSlots * period_) {
+      const uint64_t slot = cycle % kSlots;
+      uint64_t& word = ring_[slot * words_ + c->id_ / 64];
+      const uint64_t bit = uint64_t(1) << (c->id_ % 64);
+      if (!(word & bit)) {
+        word |= bit;
+        ++slot_count_[slot];
+        ++ring_entries_;
+      }
+    } else {
+      heap_.push({at, c->id_});
+    }
+    // While run() drains the current time it re-arms the event itself.
+    if (!running_ && at < event_at_) notify_at(at);
+  }
   // Called after each activation, once every block due has acted (the accelerator looks there
   // for the end of a frame).
   void on_settled(std::function<void()> f) { settled_ = std::move(f); }
@@ -74,7 +96,11 @@ class Calendar : public sc_core::sc_module {
   void notify_at(Tick at);
   void fix_order();          // ids by (rank, order added), at the first schedule
   Tick next_time(Tick now);  // the earliest queued time at or after now; kUnknown if none
-  bool pop_due(Tick now, uint32_t& id);  // the lowest id queued for `now`
+  struct Due {               // `now`'s place in the ring
+    uint64_t slot = 0;
+    bool edge = false;  // `now` is an edge of the ring's clock
+  };
+  bool pop_due(Tick now, const Due& due, uint32_t& id);  // the lowest id queued for `now`
 
   static constexpr uint64_t kSlots = 256;  // cycles ahead held in the ring
   struct Entry {
@@ -84,7 +110,8 @@ class Calendar : public sc_core::sc_module {
   };
   std::vector<Client*> clients_;  // by id once the order is fixed
   bool fixed_ = false;
-  Tick period_ = 0;                   // the ring's clock: the first block's
+  Tick period_ = 0;  // the ring's clock: the first block's
+  Clock ring_clock_;
   size_t words_ = 1;                  // 64-bit words per ring slot
   std::vector<uint64_t> ring_;        // kSlots x words_ bits: slot = cycle % kSlots
   std::vector<uint32_t> slot_count_;  // bits set per slot

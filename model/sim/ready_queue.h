@@ -1,23 +1,30 @@
 // Rays waiting inside a unit, ordered by the time they can issue (then by id: deterministic).
+// A unit holds a few rays (its capacity), so the queue is a vector sorted latest first: the next
+// ray is at the back, and a new one, usually due soon, is moved in from the back.
 #pragma once
 
 #include "model/sim/time.h"
 
 #include <cstdint>
-#include <queue>
 #include <vector>
 
 namespace rtsim::model {
 
 class ReadyQueue {
  public:
-  void push(Tick when, uint32_t ray) { heap_.push({when, ray}); }
-  bool empty() const { return heap_.empty(); }
-  size_t size() const { return heap_.size(); }
-  Tick next_time() const { return heap_.empty() ? kUnknown : heap_.top().when; }
+  void push(Tick when, uint32_t ray) {
+    const Item x{when, ray};
+    size_t i = items_.size();
+    items_.push_back(x);
+    for (; i > 0 && items_[i - 1].before(x); --i) items_[i] = items_[i - 1];
+    items_[i] = x;
+  }
+  bool empty() const { return items_.empty(); }
+  size_t size() const { return items_.size(); }
+  Tick next_time() const { return items_.empty() ? kUnknown : items_.back().when; }
   uint32_t pop() {
-    const uint32_t r = heap_.top().ray;
-    heap_.pop();
+    const uint32_t r = items_.back().ray;
+    items_.pop_back();
     return r;
   }
 
@@ -25,9 +32,9 @@ class ReadyQueue {
   struct Item {
     Tick when;
     uint32_t ray;
-    bool operator>(const Item& o) const { return when != o.when ? when > o.when : ray > o.ray; }
+    bool before(const Item& o) const { return when != o.when ? when < o.when : ray < o.ray; }
   };
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap_;
+  std::vector<Item> items_;  // latest first
 };
 
 }  // namespace rtsim::model

@@ -9,12 +9,6 @@ Unit::Unit(sc_core::sc_module_name name, Calendar& calendar, const Clock& clock)
   calendar_.add(this, clock.period());
 }
 
-void Unit::wake(Tick at) {
-  Calendar& s = calendar_;
-  // Never twice in one cycle: the earliest next activation is the cycle after the last one.
-  s.schedule(this, clock_.edge_at_or_after(std::max({at, s.now(), accounted_to_})));
-}
-
 void Unit::activate() {
   const Tick now = now_ps();
   // The gap since the last activation: stalled if the unit held work, idle otherwise.

@@ -12,6 +12,8 @@
 
 #include <systemc>
 
+#include <algorithm>
+
 #include <string>
 
 namespace rtsim::model {
@@ -25,7 +27,11 @@ struct UnitStats {
 class Unit : public sc_core::sc_module, public Calendar::Client {
  public:
   // Schedules an activation at time `at` (or at once if `at` has passed); the earliest wins.
-  void wake(Tick at);
+  // Never twice in one cycle: the earliest next activation is the cycle after the last one.
+  void wake(Tick at) {
+    calendar_.schedule(this,
+                       clock_.edge_at_or_after(std::max({at, calendar_.now(), accounted_to_})));
+  }
   // Closes the accounting at `end` (the end of the run).
   void finish_accounting(Tick end);
   const UnitStats& unit_stats() const { return stats_; }
