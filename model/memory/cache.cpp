@@ -76,18 +76,13 @@ void Cache::name_requester(const FillListener* requester, const std::string& typ
   requester_type_.push_back({requester, index});
 }
 
-Tick Cache::lookup_slot(uint64_t line, Tick now, const FillListener* requester) {
-  const Tick slot = banks_[port_of(line)].reserve(now);
-  if (slot > now) {
-    const uint64_t wait = ceil_cycles(slot - now);
-    ++stats_.bank_stall_events;
-    stats_.bank_stall_cycles += wait;
-    uint32_t type = 0;
-    for (const auto& [who, t] : requester_type_)
-      if (who == requester) type = t;
-    stall_cycles_by_type_[type] += wait;
-  }
-  return slot;
+void Cache::count_bank_stall(uint64_t wait, const FillListener* requester) {
+  ++stats_.bank_stall_events;
+  stats_.bank_stall_cycles += wait;
+  uint32_t type = 0;
+  for (const auto& [who, t] : requester_type_)
+    if (who == requester) type = t;
+  stall_cycles_by_type_[type] += wait;
 }
 
 Tick Cache::fill_slot(uint64_t line, Tick when) {
@@ -98,24 +93,20 @@ Tick Cache::fill_slot(uint64_t line, Tick when) {
 }
 
 uint32_t Cache::find_way(uint64_t line) const {
-  const uint32_t base = uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
+  const uint32_t base = set_base(line);
   for (uint32_t i = base; i < base + cfg_.ways; ++i)
     if (tags_[i] == line) return i;
   return kNoWay;
 }
 
-Tick Cache::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
-  if (line & (cfg_.line_bytes - 1))
-    report_error(kReportInternal, std::string(name()) + ": line address " + std::to_string(line) +
-                                      " not line-aligned");
-  ++stats_.accesses;
-  if (!banks_.empty()) now = lookup_slot(line, now, listener);
-  return access(line, now, listener, cookie, now, false);
+void Cache::misaligned(uint64_t line) const {
+  report_error(kReportInternal, std::string(name()) + ": line address " + std::to_string(line) +
+                                    " not line-aligned");
 }
 
 Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
                    bool requeued) {
-  const uint32_t base = uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
+  const uint32_t base = set_base(line);
   for (uint32_t i = base; i < base + cfg_.ways; ++i) {
     if (tags_[i] != line) continue;
     lru_[i] = ++stamp_;
@@ -258,7 +249,8 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
 const uint8_t* Cache::line_data(uint64_t addr) const {
   const uint64_t line = addr & ~uint64_t(cfg_.line_bytes - 1);
   if (handing_.data && handing_.line == line) return handing_.data + (addr - line);
-  const uint32_t way = find_way(line);
+  // A line is in one way at most: the latest hit's way when it is that line.
+  const uint32_t way = tags_[last_way_] == line ? last_way_ : find_way(line);
   if (way != kNoWay && ready_[way] != kUnknown)
     return &data_[size_t(way) * cfg_.line_bytes + (addr - line)];
   return below_->line_data(addr);

@@ -129,7 +129,22 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
 
   // `line_addr` must be line-aligned (rtsim/internal otherwise). `listener` may be null when
   // the caller does not need a kUnknown completion.
-  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) final;
+  // A hit is served inline (most requests); everything else by access().
+  Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) final {
+    if (__builtin_expect(line_addr & (cfg_.line_bytes - 1), 0)) misaligned(line_addr);
+    ++stats_.accesses;
+    if (!banks_.empty()) now = lookup_slot(line_addr, now, listener);
+    const uint32_t base = set_base(line_addr);
+    for (uint32_t i = base; i < base + cfg_.ways; ++i) {
+      if (tags_[i] != line_addr) continue;
+      if (ready_[i] > now) break;  // in flight: a merge
+      lru_[i] = ++stamp_;
+      ++stats_.hits;
+      last_way_ = i;
+      return now + hit_ticks_;
+    }
+    return access(line_addr, now, listener, cookie, now, false);
+  }
   // The bytes of the line being handed to a listener in on_fill (as they were when its delivery
   // was decided), else the cache's own copy when it holds the line's bytes, else the level
   // below's.
@@ -194,7 +209,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     const uint8_t* data = nullptr;
   };
 
+  uint32_t set_base(uint64_t line) const {  // the global index of the line's set's first way
+    return uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
+  }
   uint32_t find_way(uint64_t line_addr) const;  // global way index or kNoWay
+  [[noreturn]] void misaligned(uint64_t line_addr) const;
   // The access proper, at time `now`. `arrival` is when the request first arrived (< now for a
   // queued request served at a fill); `requeued` says its stall event was already counted.
   Tick access(uint64_t line, Tick now, FillListener* listener, uint64_t cookie, Tick arrival,
@@ -203,7 +222,12 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
             Tick arrival, bool requeued);
   uint64_t ceil_cycles(Tick t) const { return clock_.ceil_cycles(t); }
   // The cycle a lookup by `requester` made at `now` gets a slot of the line's bank.
-  Tick lookup_slot(uint64_t line, Tick now, const FillListener* requester);
+  Tick lookup_slot(uint64_t line, Tick now, const FillListener* requester) {
+    const Tick slot = banks_[port_of(line)].reserve(now);
+    if (slot > now) count_bank_stall(ceil_cycles(slot - now), requester);
+    return slot;
+  }
+  void count_bank_stall(uint64_t wait, const FillListener* requester);
   // The time a fill of `line` arriving at `when` is written into the array.
   Tick fill_slot(uint64_t line, Tick when);
 
@@ -222,6 +246,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   std::vector<uint32_t> mshr_of_;  // the MSHR serving the way while ready_ is kUnknown
   std::vector<uint8_t> data_;
   uint64_t stamp_ = 0;
+  uint32_t last_way_ = 0;  // the way of the latest hit: line_data()'s first guess
 
   std::vector<Mshr> mshrs_;
   uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time

@@ -192,6 +192,9 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
   const uint64_t last = now / config_.tCK_ps;  // the last command cycle at or before now
   for (uint32_t i = 0; i < channels_.size(); ++i) {
     Channel& ch = channels_[i];
+    // next_cycle is the choice made after the channel last changed (a command or a request):
+    // a channel whose next command lies beyond `last` would choose it again.
+    if (ch.next_cycle > last) continue;
     for (;;) {
       const Choice c = choose(ch);
       if (c.cycle == kNever || c.cycle > last) {

@@ -73,21 +73,6 @@ Tick PortSchedule::peek(Tick t) {
   return clock_.cycles(first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked));
 }
 
-Tick PortSchedule::reserve_slot(Tick t) {
-  const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
-  const uint64_t c = first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
-  const uint64_t bit = uint64_t(1) << (c & 63);
-  if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
-  last_asked_ = asked;
-  last_granted_ = c;
-  if (c > asked) {
-    ++stats_.delayed;
-    stats_.wait_cycles += c - asked;
-    stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, c - asked);
-  }
-  return clock_.cycles(c);
-}
-
 void PortSchedule::block(Tick from, Tick until) {
   if (ports_ == 0) return;
   const uint64_t end = clock_.ceil_cycles(until);

@@ -19,6 +19,7 @@
 #include "model/memory/line_source.h"
 #include "model/sim/time.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -79,7 +80,21 @@ class PortSchedule {
   }
   uint64_t first_free_beyond(uint64_t cycle);
   void grow();
-  Tick reserve_slot(Tick t);  // reserve() of a real port
+  // reserve() of a real port.
+  Tick reserve_slot(Tick t) {
+    const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
+    const uint64_t c = first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
+    const uint64_t bit = uint64_t(1) << (c & 63);
+    if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
+    last_asked_ = asked;
+    last_granted_ = c;
+    if (c > asked) {
+      ++stats_.delayed;
+      stats_.wait_cycles += c - asked;
+      stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, c - asked);
+    }
+    return clock_.cycles(c);
+  }
 
   Clock clock_;
   uint32_t ports_;
