@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -207,8 +208,13 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   // Collect every completion first and call the listeners last, so they may call back in. Each
   // takes the line's bytes as they are when it is decided: a request served below may evict the
   // line before its listener reads it, and the data travel with the delivery.
-  std::vector<Delivery> out;
-  std::vector<uint8_t> bytes;
+  // Scratch of this depth (a listener's call back in may fill again): no allocation per fill.
+  if (fill_depth_ == fill_scratch_.size()) fill_scratch_.push_back(std::make_unique<FillScratch>());
+  FillScratch& scratch = *fill_scratch_[fill_depth_++];
+  std::vector<Delivery>& out = scratch.out;
+  std::vector<uint8_t>& bytes = scratch.bytes;
+  out.clear();
+  bytes.clear();
   const auto deliver = [&](FillListener* listener, uint64_t l, uint64_t cookie, Tick t) {
     out.push_back({listener, l, cookie, t});
     const uint8_t* data = line_data(l);
@@ -221,7 +227,8 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   // The freed MSHR serves the queued requests in arrival order, as accesses made at the fill time.
   // One that still cannot go (its set is all in flight on unknown fills) is queued again.
   if (!queued_.empty()) {
-    std::vector<Queued> waiting;
+    std::vector<Queued>& waiting = scratch.waiting;
+    waiting.clear();
     waiting.swap(queued_);
     for (const Queued& q : waiting) {
       // Without an MSHR that frees at a known time, only a request whose line is now in the cache
@@ -243,6 +250,7 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
     if (d.listener) d.listener->on_fill(d.line, d.cookie, d.when);
   }
   handing_ = outer;
+  --fill_depth_;
 }
 
 // An upstream cache of a smaller line asks for an address inside one of ours.

@@ -59,6 +59,7 @@
 #include <systemc>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -204,6 +205,12 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     Tick when;
   };
 
+  struct FillScratch {  // on_fill's lists, kept between fills
+    std::vector<Delivery> out;
+    std::vector<uint8_t> bytes;
+    std::vector<Queued> waiting;
+  };
+
   struct Handing {  // the line an on_fill listener is being told of, and its bytes
     uint64_t line = 0;
     const uint8_t* data = nullptr;
@@ -247,6 +254,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   std::vector<uint8_t> data_;
   uint64_t stamp_ = 0;
   uint32_t last_way_ = 0;  // the way of the latest hit: line_data()'s first guess
+  std::vector<std::unique_ptr<FillScratch>> fill_scratch_;  // by depth of on_fill calls
+  uint32_t fill_depth_ = 0;
 
   std::vector<Mshr> mshrs_;
   uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time

@@ -248,18 +248,12 @@ AddressMapping::Field AddressMapping::field_of(uint32_t bit) const {
 }
 
 DramAddress AddressMapping::decode(uint64_t addr) const {
-  auto gather = [&](Field f) {
-    uint64_t v = 0;
-    const std::vector<uint8_t>& p = positions_[f];
-    for (size_t k = 0; k < p.size(); ++k) v |= ((addr >> p[k]) & 1u) << k;
-    return v;
-  };
   DramAddress a;
-  a.channel = uint32_t(gather(kChannel));
-  a.bank = uint32_t(gather(kBank));
-  a.column = gather(kColumn);
-  a.byte = uint32_t(gather(kByte));
-  a.row = gather(kRow);
+  a.channel = channel(addr);
+  a.bank = uint32_t(gather(positions_[kBank], addr));
+  a.column = gather(positions_[kColumn], addr);
+  a.byte = uint32_t(gather(positions_[kByte], addr));
+  a.row = gather(positions_[kRow], addr);
   if (top_ < 64) a.row |= (addr >> top_) << bits(kRow);
   return a;
 }

@@ -157,12 +157,19 @@ class AddressMapping {
   AddressMapping(const std::string& spec, uint32_t channels);
 
   DramAddress decode(uint64_t addr) const;
+  // decode(addr).channel alone (a crossbar asks it of every request).
+  uint32_t channel(uint64_t addr) const { return uint32_t(gather(positions_[kChannel], addr)); }
   uint32_t bits(Field f) const { return uint32_t(positions_[f].size()); }
   // The field that address bit `bit` belongs to (bits at or above top_bit() are row bits).
   Field field_of(uint32_t bit) const;
   uint32_t top_bit() const { return top_; }
 
  private:
+  static uint64_t gather(const std::vector<uint8_t>& positions, uint64_t addr) {
+    uint64_t v = 0;
+    for (size_t k = 0; k < positions.size(); ++k) v |= ((addr >> positions[k]) & 1u) << k;
+    return v;
+  }
   std::array<std::vector<uint8_t>, kFields> positions_;  // address bits of each field, LSB first
   uint32_t top_ = 0;                                     // first bit above every named bit
 };

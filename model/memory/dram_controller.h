@@ -127,7 +127,7 @@ class DramController {
   // at `now`; `id` comes back in its Completion. Only when accepts(addr).
   void enqueue(uint64_t addr, Tick now, uint64_t id, bool write = false);
   // Whether the channel of `addr` has room for a request (its FIFO is not full).
-  bool accepts(uint64_t addr) const { return has_room(channels_[mapping_.decode(addr).channel]); }
+  bool accepts(uint64_t addr) const { return has_room(channels_[mapping_.channel(addr)]); }
   // When the engine next has something to do (a command to issue or a completion to report);
   // kUnknown when idle.
   Tick next_event_time() const;

@@ -91,7 +91,7 @@ class MemoryPort : public sc_core::sc_module,
                   FillListener* listener = nullptr, uint64_t cookie = 0);
   const uint8_t* line_data(uint64_t line_addr) const override;
   uint32_t line_bytes() const override { return line_bytes_; }
-  uint32_t port_of(uint64_t line_addr) const override { return mapping_.decode(line_addr).channel; }
+  uint32_t port_of(uint64_t line_addr) const override { return mapping_.channel(line_addr); }
   uint32_t port_count() const override { return channels_; }
 
   // The trace's name for the requests of `listener` (default "?").

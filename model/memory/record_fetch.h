@@ -37,6 +37,11 @@ RecordFetch fetch_record(Source& source, uint64_t addr, uint32_t bytes, Tick now
 template <class Source>
 void read_record(const Source& source, uint64_t addr, uint32_t bytes, uint8_t* out) {
   const uint64_t line_bytes = source.line_bytes();
+  const uint64_t first = addr & ~(line_bytes - 1);
+  if (addr + bytes <= first + line_bytes) {  // on one line: most records
+    std::memcpy(out, source.line_data(first) + (addr - first), bytes);
+    return;
+  }
   uint32_t done = 0;
   while (done < bytes) {
     const uint64_t a = addr + done;
