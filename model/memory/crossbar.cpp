@@ -36,6 +36,14 @@ Tick Crossbar::transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, T
   s.flits += flits;
   const Tick start = clock_.edge_at_or_after(t);
   Tick sent = 0, received = 0;
+  // Both ports free for the whole packet (the common case): each flit leaves and arrives one
+  // cycle after the previous, as the loop below would find.
+  const uint64_t first = clock_.to_cycles(start), hop = clock_.to_cycles(latency_ticks_);
+  if (out.run_free(first, flits) && in.run_free(first + hop, flits)) {
+    out.take_run(first, flits);
+    in.take_run(first + hop, flits);
+    return clock_.cycles(first + hop + flits);  // no queueing
+  }
   for (uint32_t k = 0; k < flits; ++k) {
     Tick ready = k == 0 ? start : sent + clock_.period();
     const Tick after = k == 0 ? 0 : received + clock_.period();  // flits arrive in order

@@ -51,6 +51,19 @@ class PortSchedule {
   // `n` slots, one per cycle, the first at or after `t`, each after the previous: the cycle of
   // the last (a transfer of n flits over the port). n >= 1.
   Tick reserve_run(Tick t, uint32_t n);
+  // Whether a one-slot port has cycles [first, first + n) all free: then n reserve()s asking for
+  // them one after the other would get exactly them, and take_run() takes them so.
+  bool run_free(uint64_t first, uint32_t n) const {
+    if (ports_ != 1 || first < base_ || first + n > held_until_) return false;
+    for (uint64_t c = first; c < first + n; ++c)
+      if ((ring_[word_of(c)] >> (c & 63)) & 1) return false;
+    return true;
+  }
+  void take_run(uint64_t first, uint32_t n) {
+    for (uint64_t c = first; c < first + n; ++c) full()[word_of(c)] |= uint64_t(1) << (c & 63);
+    stats_.requests += n;
+    last_asked_ = last_granted_ = first + n - 1;
+  }
 
   bool ideal() const { return ports_ == 0; }
   uint32_t ports() const { return ports_; }
