@@ -254,11 +254,10 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
 }
 
 // An upstream cache of a smaller line asks for an address inside one of ours.
-const uint8_t* Cache::line_data(uint64_t addr) const {
+const uint8_t* Cache::line_data_elsewhere(uint64_t addr) const {
   const uint64_t line = addr & ~uint64_t(cfg_.line_bytes - 1);
   if (handing_.data && handing_.line == line) return handing_.data + (addr - line);
-  // A line is in one way at most: the latest hit's way when it is that line.
-  const uint32_t way = tags_[last_way_] == line ? last_way_ : find_way(line);
+  const uint32_t way = find_way(line);
   if (way != kNoWay && ready_[way] != kUnknown)
     return &data_[size_t(way) * cfg_.line_bytes + (addr - line)];
   return below_->line_data(addr);

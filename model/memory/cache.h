@@ -149,7 +149,13 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // The bytes of the line being handed to a listener in on_fill (as they were when its delivery
   // was decided), else the cache's own copy when it holds the line's bytes, else the level
   // below's.
-  const uint8_t* line_data(uint64_t line_addr) const final;
+  const uint8_t* line_data(uint64_t addr) const final {
+    const uint64_t line = addr & ~uint64_t(cfg_.line_bytes - 1);
+    const uint32_t w = last_way_;  // a line is in one way at most: the latest hit's, usually
+    if ((!handing_.data || handing_.line != line) && tags_[w] == line && ready_[w] != kUnknown)
+      return &data_[size_t(w) * cfg_.line_bytes + (addr - line)];
+    return line_data_elsewhere(addr);
+  }
   uint32_t line_bytes() const final { return cfg_.line_bytes; }
   // A fill from below for a line this cache asked for with an unknown time.
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
@@ -219,7 +225,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   uint32_t set_base(uint64_t line) const {  // the global index of the line's set's first way
     return uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
   }
-  uint32_t find_way(uint64_t line_addr) const;  // global way index or kNoWay
+  uint32_t find_way(uint64_t line_addr) const;              // global way index or kNoWay
+  const uint8_t* line_data_elsewhere(uint64_t addr) const;  // line_data() but the latest hit
   [[noreturn]] void misaligned(uint64_t line_addr) const;
   // The access proper, at time `now`. `arrival` is when the request first arrived (< now for a
   // queued request served at a fill); `requeued` says its stall event was already counted.

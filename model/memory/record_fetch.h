@@ -33,15 +33,10 @@ RecordFetch fetch_record(Source& source, uint64_t addr, uint32_t bytes, Tick now
   return f;
 }
 
-// The record's bytes, once every line was delivered (or is known to be).
+// A record's bytes line by line (read_record's case of a record across lines).
 template <class Source>
-void read_record(const Source& source, uint64_t addr, uint32_t bytes, uint8_t* out) {
+void read_record_lines(const Source& source, uint64_t addr, uint32_t bytes, uint8_t* out) {
   const uint64_t line_bytes = source.line_bytes();
-  const uint64_t first = addr & ~(line_bytes - 1);
-  if (addr + bytes <= first + line_bytes) {  // on one line: most records
-    std::memcpy(out, source.line_data(first) + (addr - first), bytes);
-    return;
-  }
   uint32_t done = 0;
   while (done < bytes) {
     const uint64_t a = addr + done;
@@ -50,6 +45,19 @@ void read_record(const Source& source, uint64_t addr, uint32_t bytes, uint8_t* o
     std::memcpy(out + done, source.line_data(line) + (a - line), n);
     done += n;
   }
+}
+
+// The record's bytes, once every line was delivered (or is known to be). Always inlined: a unit
+// reads a record of a size known where it calls, and the copy of a record on one line (most)
+// becomes a few moves.
+template <class Source>
+[[gnu::always_inline]] inline void read_record(const Source& source, uint64_t addr, uint32_t bytes,
+                                               uint8_t* out) {
+  const uint64_t first = addr & ~(uint64_t(source.line_bytes()) - 1);
+  if (addr + bytes <= first + source.line_bytes())
+    std::memcpy(out, source.line_data(first) + (addr - first), bytes);
+  else
+    read_record_lines(source, addr, bytes, out);
 }
 
 }  // namespace rtsim::model

@@ -166,7 +166,8 @@ class RayUnit : public Unit, public FillListener {
   }
   // Reads a record for `ray` into `out` and returns when it is there; kUnknown when a line is
   // still to come (the ray is parked until it arrives, then issues again and reads it).
-  Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, uint8_t* out, Tick now) {
+  [[gnu::always_inline]] Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes,
+                                   uint8_t* out, Tick now) {
     const RecordFetch f = fetch(cache, ray, addr, bytes, now);
     if (f.ready == kUnknown) {
       park(ray, f.pending);
