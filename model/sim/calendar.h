@@ -55,7 +55,7 @@ class Calendar : public sc_core::sc_module {
   // anything is scheduled (the order is fixed then; rtsim/internal otherwise).
   void set_rank(Client& c, uint32_t rank);
   // Arms `c` for time `at` (now if earlier). A pending activation at or before `at` (and not in
-  // the past) stands; a later one is replaced. Inline: every unit activation ends here.
+  // the past) stands; a later one is replaced. In the header: every unit activation ends here.
   void schedule(Client* c, Tick at) {
     if (__builtin_expect(!fixed_, 0)) fix_order();
     const Tick now = this->now();

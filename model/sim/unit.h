@@ -13,7 +13,6 @@
 #include <systemc>
 
 #include <algorithm>
-
 #include <string>
 
 namespace rtsim::model {
