@@ -247,7 +247,7 @@ STUDIES = [
           copy_markdown("area_lights.md", "| scene")),
     Study("ablation", "docs/ablation.md", 65, ["reproduce", "--ablation"],
           copy_markdown("ablation.md", "Sweep `ablation.yaml`")),
-    Study("animation", "docs/animation.md", 25, None, animation_table,
+    Study("animation", "docs/animation.md", 12, None, animation_table,
           runs=[animate("robots", "0:10:0.5", *SMALL), animate("kitchen", "0:20:1", *SMALL)]),
     Study("animation-hd", "docs/animation.md", 26, None, animation_hd_table,
           runs=[animate("robots", "0:10:5"), animate("kitchen", "0:20:10")]),
