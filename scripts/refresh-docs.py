@@ -255,8 +255,12 @@ STUDIES = [
 
 
 def source_commit():
-    return subprocess.run(["git", "-C", ROOT, "describe", "--always", "--dirty", "--abbrev=7"],
-                          check=True, capture_output=True, text=True).stdout.strip()
+    """The commit of the source tree, `-dirty` when files outside docs/ differ from it (a refresh
+    rewrites docs/ itself)."""
+    def git(*a):
+        return subprocess.run(["git", "-C", ROOT, *a], check=True, capture_output=True, text=True).stdout.strip()
+    dirty = git("status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)docs")
+    return git("rev-parse", "--short=7", "HEAD") + ("-dirty" if dirty else "")
 
 
 def replace_block(doc_path, ident, body):
