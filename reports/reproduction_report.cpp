@@ -280,8 +280,7 @@ std::pair<double, double> mean_culled(const Setup& c, const std::string& var) {
 json what_is_left(std::ostringstream& md, const std::vector<Setup>& setups) {
   md << "## What is left\n\nPer setup: the culling-off frame time (the paper's, ours, ours over "
         "the paper's), and culling's reduction of it, the culled leaves (of all leaves) and the "
-        "culled "
-        "shadow rays (means over the lights), each as paper / ours: ";
+        "culled shadow rays (means over the lights), each as paper / ours: ";
   for (const CulledVariant& cv : kCulledVariants)
     md << (&cv == &kCulledVariants[0] ? "" : " / ") << cv.label;
   md << ".\n\n| setup | frame off (ms) | reduction | leaves culled | rays culled |\n"
