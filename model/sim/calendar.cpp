@@ -60,27 +60,23 @@ void Calendar::notify_at(Tick at) {
 
 // Inlined into run(): it runs once per activation.
 inline bool Calendar::pop_due(Tick now, const Due& due, uint32_t& id) {
-  uint32_t best = UINT32_MAX;
-  if (!heap_.empty() && heap_.top().at == now) best = heap_.top().id;
-  const uint64_t slot = due.slot;
-  if (due.edge && slot_count_[slot] > 0) {
-    for (size_t w = 0; w < words_; ++w) {
-      const uint64_t bits = ring_[slot * words_ + w];
-      if (bits) {
-        best = std::min<uint32_t>(best, uint32_t(w * 64 + __builtin_ctzll(bits)));
-        break;
-      }
+  const bool heap_due = !heap_.empty() && heap_.top().at == now;
+  if (due.edge && slot_count_[due.slot] > 0) {
+    uint64_t* words = &ring_[due.slot * words_];
+    size_t w = 0;
+    while (!words[w]) ++w;  // a bit is set: the slot's count says so
+    const uint32_t lowest = uint32_t(w * 64 + __builtin_ctzll(words[w]));
+    if (!heap_due || lowest < heap_.top().id) {
+      words[w] &= words[w] - 1;
+      --slot_count_[due.slot];
+      --ring_entries_;
+      id = lowest;
+      return true;
     }
   }
-  if (best == UINT32_MAX) return false;
-  if (!heap_.empty() && heap_.top().at == now && heap_.top().id == best) {
-    heap_.pop();
-  } else {
-    ring_[slot * words_ + best / 64] &= ~(uint64_t(1) << (best % 64));
-    --slot_count_[slot];
-    --ring_entries_;
-  }
-  id = best;
+  if (!heap_due) return false;
+  id = heap_.top().id;
+  heap_.pop();
   return true;
 }
 
@@ -113,6 +109,8 @@ void Calendar::run() {
       const uint64_t cycle = ring_clock_.to_cycles(now);
       due = {cycle % kSlots, cycle * period_ == now};
     }
+    edge_ = due.edge;
+    slot_ = due.slot;
     while (pop_due(now, due, id)) {
       Client* c = clients_[id];
       if (c->armed_at_ != now) continue;  // superseded by an earlier arming

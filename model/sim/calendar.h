@@ -65,19 +65,21 @@ class Calendar : public sc_core::sc_module {
     const uint64_t cycle = period_ ? ring_clock_.to_cycles(at) : 0;
     if (c->period_ != 0 && c->period_ == period_ && cycle * period_ == at &&
         at - now < kSlots * period_) {
-      const uint64_t slot = cycle % kSlots;
-      uint64_t& word = ring_[slot * words_ + c->id_ / 64];
-      const uint64_t bit = uint64_t(1) << (c->id_ % 64);
-      if (!(word & bit)) {
-        word |= bit;
-        ++slot_count_[slot];
-        ++ring_entries_;
-      }
+      arm_in_ring(cycle % kSlots, c->id_);
     } else {
       heap_.push({at, c->id_});
     }
     // While run() drains the current time it re-arms the event itself.
     if (!running_ && at < event_at_) notify_at(at);
+  }
+  // schedule(c, at), quicker when `at` is the ring clock's edge after the one running now and `c`
+  // is on that clock (a busy unit re-arming for its next cycle: most activations).
+  void schedule_next(Client* c, Tick at) {
+    if (!running_ || !edge_ || c->period_ != period_ || at != now_ + period_)
+      return schedule(c, at);
+    if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now_) return;
+    c->armed_at_ = at;
+    arm_in_ring((slot_ + 1) % kSlots, c->id_);
   }
   // Called after each activation, once every block due has acted (the accelerator looks there
   // for the end of a frame).
@@ -101,6 +103,14 @@ class Calendar : public sc_core::sc_module {
     bool edge = false;  // `now` is an edge of the ring's clock
   };
   bool pop_due(Tick now, const Due& due, uint32_t& id);  // the lowest id queued for `now`
+  void arm_in_ring(uint64_t slot, uint32_t id) {
+    uint64_t& word = ring_[slot * words_ + id / 64];
+    const uint64_t bit = uint64_t(1) << (id % 64);
+    if (word & bit) return;
+    word |= bit;
+    ++slot_count_[slot];
+    ++ring_entries_;
+  }
 
   static constexpr uint64_t kSlots = 256;  // cycles ahead held in the ring
   struct Entry {
@@ -120,7 +130,9 @@ class Calendar : public sc_core::sc_module {
   sc_core::sc_event event_;
   Tick event_at_ = kUnknown;  // time of the pending SystemC notification
   bool running_ = false;
-  Tick now_ = 0;  // while running
+  Tick now_ = 0;       // while running
+  bool edge_ = false;  // while running: now_ is an edge of the ring's clock, in ring slot slot_
+  uint64_t slot_ = 0;
   TimeBase time_;
   std::function<void()> settled_;
 };

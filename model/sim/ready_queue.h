@@ -14,26 +14,20 @@ namespace rtsim::model {
 class ReadyQueue {
  public:
   void push(Tick when, uint32_t ray) {
-    if (size_ == buf_.size()) grow();
     const Item x{when, ray};
-    const size_t mask = buf_.size() - 1;
-    if (size_ > 0 && x.before(buf_[head_])) {
-      head_ = (head_ + mask) & mask;
-      buf_[head_] = x;
-      ++size_;
+    // Most pushes are an operation that just issued: due after every ray already waiting.
+    if (size_ == 0 || (size_ <= mask_ && !x.before(buf_[(head_ + size_ - 1) & mask_]))) {
+      buf_[(head_ + size_++) & mask_] = x;
       return;
     }
-    size_t i = size_++;  // the new tail, moved towards the head past every later item
-    for (; i > 0 && x.before(buf_[(head_ + i - 1) & mask]); --i)
-      buf_[(head_ + i) & mask] = buf_[(head_ + i - 1) & mask];
-    buf_[(head_ + i) & mask] = x;
+    insert(x);
   }
   bool empty() const { return size_ == 0; }
   size_t size() const { return size_; }
   Tick next_time() const { return size_ == 0 ? kUnknown : buf_[head_].when; }
   uint32_t pop() {
     const uint32_t r = buf_[head_].ray;
-    head_ = (head_ + 1) & (buf_.size() - 1);
+    head_ = (head_ + 1) & mask_;
     --size_;
     return r;
   }
@@ -44,13 +38,29 @@ class ReadyQueue {
     uint32_t ray;
     bool before(const Item& o) const { return when != o.when ? when < o.when : ray < o.ray; }
   };
+  // push() of an item due before the tail, or into a full ring.
+  void insert(const Item& x) {
+    if (size_ > mask_) grow();
+    if (x.before(buf_[head_])) {
+      head_ = (head_ + mask_) & mask_;
+      buf_[head_] = x;
+      ++size_;
+      return;
+    }
+    size_t i = size_++;  // the new tail, moved towards the head past every later item
+    for (; i > 0 && x.before(buf_[(head_ + i - 1) & mask_]); --i)
+      buf_[(head_ + i) & mask_] = buf_[(head_ + i - 1) & mask_];
+    buf_[(head_ + i) & mask_] = x;
+  }
   void grow() {
     std::vector<Item> bigger(buf_.size() * 2);
-    for (size_t i = 0; i < size_; ++i) bigger[i] = buf_[(head_ + i) & (buf_.size() - 1)];
+    for (size_t i = 0; i < size_; ++i) bigger[i] = buf_[(head_ + i) & mask_];
     buf_.swap(bigger);
+    mask_ = buf_.size() - 1;
     head_ = 0;
   }
   std::vector<Item> buf_ = std::vector<Item>(16);  // a power of two
+  size_t mask_ = 15;                               // buf_.size() - 1
   size_t head_ = 0, size_ = 0;
 };
 

@@ -53,8 +53,36 @@ class Unit : public sc_core::sc_module, public Calendar::Client {
   Tick now_ps() const { return calendar_.now(); }
   Calendar& calendar() const { return calendar_; }
 
+  // One activation as activate() does it, with the steps seen as `U`'s: a unit whose steps are
+  // final overrides activate() with activate_as<Self>() and the compiler calls them directly (the
+  // ray units: one activation per operation, millions per frame). `U` befriends Unit.
+  template <class U>
+  void activate_as() {
+    U& u = static_cast<U&>(*this);
+    const Tick now = now_ps();
+    // The gap since the last activation: stalled if the unit held work, idle otherwise.
+    if (now > accounted_to_) {
+      const uint64_t gap = clock_.to_cycles(now - accounted_to_);
+      (held_work_ ? stats_.stalled_cycles : stats_.idle_cycles) += gap;
+    }
+    const bool issued = u.cycle(now);
+    held_work_ = u.holds_work();
+    if (issued) {
+      last_issue_ = now;
+      ++stats_.busy_cycles;
+    } else {
+      ++(held_work_ ? stats_.stalled_cycles : stats_.idle_cycles);
+    }
+    accounted_to_ = now + clock_.period();
+    const Tick next = u.next_ready(accounted_to_);
+    if (next == accounted_to_)
+      calendar_.schedule_next(this, next);  // busy: the next cycle
+    else if (next != kUnknown)
+      wake(next);
+  }
+
  private:
-  void activate() override;
+  void activate() override { activate_as<Unit>(); }
 
   Calendar& calendar_;
   const Clock clock_;       // a copy: a temporary clock cannot outlive the unit

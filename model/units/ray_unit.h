@@ -73,12 +73,17 @@ class RayUnit : public Unit, public FillListener {
 
   // Works on one ready ray at `now`.
   virtual void process(uint32_t ray, Tick now) = 0;
-  // Whether a new ray may enter from the input FIFO (default: room inside the unit).
-  virtual bool can_admit() const { return held_ < capacity_; }
   // A ray entered from the input FIFO: the unit sets up its part of the ray's state.
   virtual void admitted(uint32_t) {}
+  // Whether a unit holding a ray back (hold_back) may let it go.
+  virtual bool gate_open() const { return true; }
 
-  bool cycle(Tick now) override {
+  bool cycle(Tick now) final {
+    if (gated_ != kNoRay) {
+      if (!gate_open()) return false;
+      keep(gated_, now);
+      gated_ = kNoRay;
+    }
     if (blocked_.out) {
       if (!blocked_.out->push(blocked_.ray, std::max(blocked_.when, now), now)) return false;
       blocked_.out = nullptr;
@@ -96,15 +101,27 @@ class RayUnit : public Unit, public FillListener {
     process(ready_.pop(), now);
     return true;
   }
-  Tick next_ready(Tick from) const override {
-    if (blocked_.out) return kUnknown;  // the consumer wakes us when it frees a slot
+  Tick next_ready(Tick from) const final {
+    // Held back or refused: whoever frees the way wakes the unit.
+    if (gated_ != kNoRay || blocked_.out) return kUnknown;
     Tick t = ready_.next_time();
     if (!in.empty() && can_admit()) t = std::min(t, in.head_ready());
     return t == kUnknown ? kUnknown : std::max({t, from, next_issue_});
   }
-  bool holds_work() const override { return held_ > 0 || !in.empty(); }
+  bool holds_work() const final { return held_ > 0 || !in.empty() || *slots_ > 0; }
+
+  // Whether a new ray may enter from the input FIFO: a slot free (see count_slots).
+  bool can_admit() const { return *slots_ < capacity_; }
+  // The unit's slots are counted by `*owned` instead of the rays inside it (TRV: its rays keep
+  // their slot while LIST and IST work on them).
+  void count_slots(const uint32_t* owned) { slots_ = owned; }
+  // `ray` (taken from the ready queue by process) stalls the pipeline: nothing issues until
+  // gate_open(), then it issues first (an in-order unit's head waiting for a resource; whoever
+  // frees the resource wakes the unit).
+  void hold_back(uint32_t ray) { gated_ = ray; }
 
   static constexpr uint64_t kNoLine = ~uint64_t(0);
+  static constexpr uint32_t kNoRay = ~uint32_t(0);
 
   RayState& ray_state(uint32_t ray) const { return (*ctx_.pool)[ray]; }
   // Copies the L1's bytes of the entry's line `i` into the entry.
@@ -200,6 +217,9 @@ class RayUnit : public Unit, public FillListener {
   const ModelContext& ctx_;
 
  private:
+  friend class Unit;  // activate_as
+  void activate() override { activate_as<RayUnit>(); }
+
   struct Blocked {  // a ray its consumer refused, retried when woken
     RaySink* out = nullptr;
     uint32_t ray = 0;
@@ -212,6 +232,8 @@ class RayUnit : public Unit, public FillListener {
   Tick interval_;        // the initiation interval
   Tick next_issue_ = 0;  // no operation issues before this
   uint32_t held_ = 0;
+  const uint32_t* slots_ = &held_;
+  uint32_t gated_ = kNoRay;  // the ray held back (hold_back)
   Blocked blocked_;
   ReadyQueue ready_;
 };

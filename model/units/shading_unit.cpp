@@ -18,15 +18,6 @@ void ShadingUnit::end_of_elaboration() {
   if (records.size() > 0) records->on_room([this](Tick when) { wake(when); });
 }
 
-bool ShadingUnit::cycle(Tick now) {
-  if (waiting_ != kNoRay) {
-    if (records->full()) return false;
-    keep(waiting_, now);
-    waiting_ = kNoRay;
-  }
-  return RayUnit::cycle(now);
-}
-
 void ShadingUnit::process(uint32_t id, Tick now) {
   RayState& r = ray_state(id);
   if (r.info.type == RayType::kShadow) return shadow_done(id, now);
@@ -50,8 +41,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     return keep(id, std::max(ready, now + ctx_.clock.period()));
   }
   if (records.size() > 0 && records->full()) {
-    waiting_ = id;  // its record needs an entry: the unit stalls (see cycle)
-    return;
+    return hold_back(id);  // its record needs an entry: the unit stalls
   }
   const uint64_t addr = h.materials.base + uint64_t(s.material) * image::kMaterialBytes;
   uint8_t bytes[image::kMaterialBytes];

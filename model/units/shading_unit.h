@@ -44,10 +44,7 @@ class ShadingUnit : public RayUnit {
  protected:
   void process(uint32_t ray, Tick now) override;
   void admitted(uint32_t ray) override { ray_state(ray).shading.stage = 0; }
-  bool cycle(Tick now) override;
-  Tick next_ready(Tick from) const override {
-    return waiting_ != kNoRay ? kUnknown : RayUnit::next_ready(from);
-  }
+  bool gate_open() const override { return !records->full(); }
   void end_of_elaboration() override;
 
  private:
@@ -58,9 +55,7 @@ class ShadingUnit : public RayUnit {
   uint32_t latency_;
   FrameBuffer* frame_;
   const HitRecordRegion& region_;
-  static constexpr uint32_t kNoRay = ~uint32_t(0);
   std::vector<uint8_t> line_;  // the record line being written
-  uint32_t waiting_ = kNoRay;  // the hit waiting for room in the write buffer
   ShadingStats stats_;
 };
 

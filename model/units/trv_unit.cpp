@@ -9,9 +9,9 @@ TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const Ra
       to_shading("to_shading", this),
       owner("owner"),
       latency_(cfg.latency),
-      capacity_(cfg.capacity),
       index_(uint16_t(index)) {
   owner.bind(*this);
+  count_slots(&owned_);
 }
 
 void TrvUnit::admitted(uint32_t ray) {

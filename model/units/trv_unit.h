@@ -41,12 +41,10 @@ class TrvUnit : public RayUnit, public RayOwner {
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  bool can_admit() const override { return owned_ < capacity_; }
   void admitted(uint32_t ray) override;
-  bool holds_work() const override { return RayUnit::holds_work() || owned_ > 0; }
 
  private:
-  uint32_t latency_, capacity_;
+  uint32_t latency_;
   uint32_t owned_ = 0;
   uint16_t index_;
   TrvStats stats_;
