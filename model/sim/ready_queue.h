@@ -13,7 +13,7 @@ namespace rtsim::model {
 
 class ReadyQueue {
  public:
-  void push(Tick when, uint32_t ray) {
+  [[gnu::always_inline]] void push(Tick when, uint32_t ray) {
     const Item x{when, ray};
     // Most pushes are an operation that just issued: due after every ray already waiting.
     if (size_ == 0 || (size_ <= mask_ && !x.before(buf_[(head_ + size_ - 1) & mask_]))) {
@@ -39,7 +39,7 @@ class ReadyQueue {
     bool before(const Item& o) const { return when != o.when ? when < o.when : ray < o.ray; }
   };
   // push() of an item due before the tail, or into a full ring.
-  void insert(const Item& x) {
+  [[gnu::noinline]] void insert(const Item& x) {
     if (size_ > mask_) grow();
     if (x.before(buf_[head_])) {
       head_ = (head_ + mask_) & mask_;
