@@ -5,6 +5,7 @@ docs/BENCHMARKS.md compares it with Embree).
 
     python3 bench/model_vs_tracer.py [--build build] [--scene configs/scenes/robots.yaml]
         [--hw configs/hw/tni-paper.yaml] [--width 1920 --height 1080] [--runs 3] [--set K=V ...]
+        [--rtsim BIN]   (the model's binary, default BUILD/rtsim: a profile-guided build's, say)
 
 Tracer: build/bench/bench_tracer, one core, the frame's primary rays and one shadow ray per light
 per hit (all of them: what a tracer without culling traces), median of --runs. Model: `rtsim run`
@@ -36,7 +37,7 @@ def tracer_seconds(args):
 
 def model_run(args):
     with tempfile.TemporaryDirectory() as out:
-        cmd = ["taskset", "-c", "0", os.path.join(args.build, "rtsim"), "run", args.scene, "--hw", args.hw,
+        cmd = ["taskset", "-c", "0", args.rtsim or os.path.join(args.build, "rtsim"), "run", args.scene, "--hw", args.hw,
                "--width", str(args.width), "--height", str(args.height), "--out", out, "--no-plots", "--quiet"]
         cmd += [x for s in args.set for x in ("--set", s)]
         subprocess.run(cmd, cwd=ROOT, check=True)
@@ -54,6 +55,7 @@ def main():
     p.add_argument("--height", type=int, default=1080)
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--set", action="append", default=[], help="an override for the model's runs")
+    p.add_argument("--rtsim", help="the model's binary (default: BUILD/rtsim)")
     args = p.parse_args()
     tracer, model = [], []
     cycles = rays = 0

@@ -116,8 +116,8 @@ class RayUnit : public Unit, public FillListener {
   // their slot while LIST and IST work on them).
   void count_slots(const uint32_t* owned) { slots_ = owned; }
   // `ray` (taken from the ready queue by process) stalls the pipeline: nothing issues until
-  // gate_open(), then it issues first (an in-order unit's head waiting for a resource; whoever
-  // frees the resource wakes the unit).
+  // gate_open(), then the ray is ready again at once (an in-order unit's head waiting for a
+  // resource; whoever frees the resource wakes the unit).
   void hold_back(uint32_t ray) { gated_ = ray; }
 
   static constexpr uint64_t kNoLine = ~uint64_t(0);
