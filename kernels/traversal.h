@@ -43,8 +43,8 @@ struct TraversalState {
   uint32_t node = 0;         // the node to fetch next
   float tmin = 0, tmax = 0;  // the current cell's range along the ray
   uint32_t leaf = 0;         // the leaf being tested (after kLeaf)
-  Entry stack[kTraversalStackDepth];
   int sp = 0;
+  Entry stack[kTraversalStackDepth];  // last: a step reads only its top, near the fields above
 };
 
 // The closest hit so far (the first one, for an any-hit ray).

@@ -50,10 +50,7 @@ Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineS
   while ((1u << line_shift_) < cfg_.line_bytes) ++line_shift_;
   set_mask_ = cfg_.sets() - 1;
   const size_t n = size_t(cfg_.sets()) * cfg_.ways;
-  tags_.assign(n, kInvalidTag);
-  ready_.assign(n, 0);
-  lru_.assign(n, 0);
-  mshr_of_.assign(n, 0);
+  ways_.assign(n, Way{});
   data_.assign(n * cfg_.line_bytes, 0);
   mshrs_.resize(cfg_.mshrs);
   if (cfg_.ports > 0) banks_.assign(cfg_.banks, PortSchedule(clock_.period(), cfg_.ports));
@@ -62,9 +59,7 @@ Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineS
 void Cache::invalidate() {
   if (awaiting_ > 0 || !queued_.empty())
     report_error(kReportInternal, std::string(name()) + ": invalidated with misses in flight");
-  std::fill(tags_.begin(), tags_.end(), kInvalidTag);
-  std::fill(ready_.begin(), ready_.end(), 0);
-  std::fill(lru_.begin(), lru_.end(), 0);
+  std::fill(ways_.begin(), ways_.end(), Way{});
 }
 
 void Cache::name_requester(const FillListener* requester, const std::string& type) {
@@ -96,7 +91,7 @@ Tick Cache::fill_slot(uint64_t line, Tick when) {
 uint32_t Cache::find_way(uint64_t line) const {
   const uint32_t base = set_base(line);
   for (uint32_t i = base; i < base + cfg_.ways; ++i)
-    if (tags_[i] == line) return i;
+    if (ways_[i].tag == line) return i;
   return kNoWay;
 }
 
@@ -109,30 +104,31 @@ Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t coo
                    bool requeued) {
   const uint32_t base = set_base(line);
   for (uint32_t i = base; i < base + cfg_.ways; ++i) {
-    if (tags_[i] != line) continue;
-    lru_[i] = ++stamp_;
+    Way& way = ways_[i];
+    if (way.tag != line) continue;
+    way.lru = ++stamp_;
     if (requeued && now > arrival) stats_.mshr_stall_cycles += ceil_cycles(now - arrival);
     const Tick earliest = now + hit_ticks_;
-    if (ready_[i] <= now) {
+    if (way.ready <= now) {
       ++stats_.hits;
       return earliest;
     }
-    Mshr& m = mshrs_[mshr_of_[i]];
+    Mshr& m = mshrs_[way.mshr];
     if (cfg_.max_merge > 0 && m.line == line && m.merged >= cfg_.max_merge) {
       // Its merge list is full: served by the fill, as a hit then
       ++stats_.merge_full_events;
       if (!requeued) ++stats_.mshr_stall_events;
-      if (ready_[i] == kUnknown) {
+      if (way.ready == kUnknown) {
         queued_.push_back({line, listener, cookie, arrival});
         return kUnknown;
       }
-      stats_.mshr_stall_cycles += ceil_cycles(ready_[i] - now);
+      stats_.mshr_stall_cycles += ceil_cycles(way.ready - now);
       ++stats_.hits;
-      return ready_[i] + hit_ticks_;
+      return way.ready + hit_ticks_;
     }
     ++m.merged;
     ++stats_.mshr_merges;
-    if (ready_[i] != kUnknown) return std::max(ready_[i], earliest);
+    if (way.ready != kUnknown) return std::max(way.ready, earliest);
     m.waiters.push_back({listener, cookie, earliest});
     return kUnknown;
   }
@@ -149,7 +145,7 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
       // Earliest, lowest index
       if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;
   Tick way_free = kUnknown;
-  for (uint32_t i = base; i < base + cfg_.ways; ++i) way_free = std::min(way_free, ready_[i]);
+  for (uint32_t i = base; i < base + cfg_.ways; ++i) way_free = std::min(way_free, ways_[i].ready);
   const Tick issue = std::max({now, mshr_free, way_free});
 
   if (issue == kUnknown) {  // nothing frees at a known time: wait for a fill
@@ -164,26 +160,28 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   // Victim: the LRU way among those not in flight at the issue time (never-used ways have stamp 0).
   uint32_t victim = kNoWay;
   for (uint32_t i = base; i < base + cfg_.ways; ++i)
-    if (ready_[i] <= issue && (victim == kNoWay || lru_[i] < lru_[victim])) victim = i;
-  if (tags_[victim] != kInvalidTag) ++stats_.evictions;
-  tags_[victim] = line;
-  lru_[victim] = ++stamp_;
+    if (ways_[i].ready <= issue && (victim == kNoWay || ways_[i].lru < ways_[victim].lru))
+      victim = i;
+  Way& v = ways_[victim];
+  if (v.tag != kInvalidTag) ++stats_.evictions;
+  v.tag = line;
+  v.lru = ++stamp_;
 
   const Tick earliest = issue + hit_ticks_;
   Tick delivered = below_->fetch_line(line, earliest, this, line);
   Mshr& m = mshrs_[mshr];
   m.line = line;
   m.merged = 1;
-  mshr_of_[victim] = mshr;
+  v.mshr = mshr;
   if (delivered != kUnknown) {
     delivered = fill_slot(line, delivered);
     std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
     ++stats_.fills;
-    ready_[victim] = delivered;
+    v.ready = delivered;
     m.free_at = delivered;
     return delivered;
   }
-  ready_[victim] = kUnknown;
+  v.ready = kUnknown;
   m.free_at = kUnknown;
   ++awaiting_;
   m.waiters.clear();
@@ -193,15 +191,15 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
 
 void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick when) {
   const uint32_t way = find_way(line);
-  if (way == kNoWay || ready_[way] != kUnknown)
+  if (way == kNoWay || ways_[way].ready != kUnknown)
     report_error(kReportInternal, std::string(name()) + ": fill for line " + std::to_string(line) +
                                       " that is not awaited");
   when = fill_slot(line, when);
   std::memcpy(&data_[size_t(way) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
   ++stats_.fills;
-  ready_[way] = when;
-  lru_[way] = ++stamp_;  // the waiters use it now
-  Mshr& m = mshrs_[mshr_of_[way]];
+  ways_[way].ready = when;
+  ways_[way].lru = ++stamp_;  // the waiters use it now
+  Mshr& m = mshrs_[ways_[way].mshr];
   m.free_at = when;
   --awaiting_;
 
@@ -258,7 +256,7 @@ const uint8_t* Cache::line_data_elsewhere(uint64_t addr) const {
   const uint64_t line = addr & ~uint64_t(cfg_.line_bytes - 1);
   if (handing_.data && handing_.line == line) return handing_.data + (addr - line);
   const uint32_t way = find_way(line);
-  if (way != kNoWay && ready_[way] != kUnknown)
+  if (way != kNoWay && ways_[way].ready != kUnknown)
     return &data_[size_t(way) * cfg_.line_bytes + (addr - line)];
   return below_->line_data(addr);
 }

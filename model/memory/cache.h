@@ -137,9 +137,10 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     if (!banks_.empty()) now = lookup_slot(line_addr, now, listener);
     const uint32_t base = set_base(line_addr);
     for (uint32_t i = base; i < base + cfg_.ways; ++i) {
-      if (tags_[i] != line_addr) continue;
-      if (ready_[i] > now) break;  // in flight: a merge
-      lru_[i] = ++stamp_;
+      Way& way = ways_[i];
+      if (way.tag != line_addr) continue;
+      if (way.ready > now) break;  // in flight: a merge
+      way.lru = ++stamp_;
       ++stats_.hits;
       last_way_ = i;
       return now + hit_ticks_;
@@ -152,7 +153,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   const uint8_t* line_data(uint64_t addr) const final {
     const uint64_t line = addr & ~uint64_t(cfg_.line_bytes - 1);
     const uint32_t w = last_way_;  // a line is in one way at most: the latest hit's, usually
-    if ((!handing_.data || handing_.line != line) && tags_[w] == line && ready_[w] != kUnknown)
+    if ((!handing_.data || handing_.line != line) && ways_[w].tag == line &&
+        ways_[w].ready != kUnknown)
       return &data_[size_t(w) * cfg_.line_bytes + (addr - line)];
     return line_data_elsewhere(addr);
   }
@@ -217,6 +219,13 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     std::vector<Queued> waiting;
   };
 
+  struct Way {
+    uint64_t tag = kInvalidTag;
+    Tick ready = 0;     // delivery time of the line's data; kUnknown while awaiting a fill
+    uint64_t lru = 0;   // last-use stamp; the smallest is the LRU
+    uint32_t mshr = 0;  // the MSHR serving the way while ready is kUnknown
+  };
+
   struct Handing {  // the line an on_fill listener is being told of, and its bytes
     uint64_t line = 0;
     const uint8_t* data = nullptr;
@@ -245,33 +254,30 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // The time a fill of `line` arriving at `when` is written into the array.
   Tick fill_slot(uint64_t line, Tick when);
 
+  // What a hit touches first, together: the host's cache misses on these, not on the arithmetic.
   CacheConfig cfg_;
-  Clock clock_;
-  LineSource* below_;
-  Handing handing_;
   Tick hit_ticks_;
   uint32_t line_shift_;
   uint64_t set_mask_;
-
-  // Flat per-way arrays, indexed set * ways + way.
-  std::vector<uint64_t> tags_;
-  std::vector<Tick> ready_;    // delivery time of the line's data; kUnknown while awaiting a fill
-  std::vector<uint64_t> lru_;  // last-use stamp; the smallest is the LRU
-  std::vector<uint32_t> mshr_of_;  // the MSHR serving the way while ready_ is kUnknown
-  std::vector<uint8_t> data_;
   uint64_t stamp_ = 0;
   uint32_t last_way_ = 0;  // the way of the latest hit: line_data()'s first guess
+  std::vector<Way> ways_;  // indexed set * ways + way: a set's ways are adjacent
+  std::vector<uint8_t> data_;
+  std::vector<PortSchedule> banks_;  // empty: ideal
+  Handing handing_;
+  CacheStats stats_;
+
+  Clock clock_;
+  LineSource* below_;
   std::vector<std::unique_ptr<FillScratch>> fill_scratch_;  // by depth of on_fill calls
   uint32_t fill_depth_ = 0;
 
   std::vector<Mshr> mshrs_;
   uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time
   std::vector<Queued> queued_;
-  std::vector<PortSchedule> banks_;  // empty: ideal
   std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;
   std::vector<std::string> type_names_{"other"};
   std::vector<uint64_t> stall_cycles_by_type_{0};
-  CacheStats stats_;
 };
 
 }  // namespace rtsim::model

@@ -12,12 +12,12 @@
 // frees, whatever the port was bound to: a FIFO, or a block that routes each ray to one.
 #pragma once
 
+#include "model/sim/ring.h"
 #include "model/sim/unit.h"
 
 #include <systemc>
 
 #include <algorithm>
-#include <deque>
 #include <string>
 #include <vector>
 
@@ -125,8 +125,8 @@ class RayFifo : public sc_core::sc_object, public RayQueueIn {
     Tick ready;
   };
   uint32_t depth_;
-  std::deque<Entry> entries_;
-  std::vector<Unit*> producers_;  // woken when a full FIFO frees a slot
+  Ring<Entry> entries_{std::min<uint32_t>(depth_, 64)};  // grows up to depth_ if it must
+  std::vector<Unit*> producers_;                         // woken when a full FIFO frees a slot
   Unit* consumer_;
   Tick last_change_ = 0;
   FifoStats stats_;

@@ -4,10 +4,10 @@
 // all others (a ray just admitted) put before the head, and any other moved in from the tail.
 #pragma once
 
+#include "model/sim/ring.h"
 #include "model/sim/time.h"
 
 #include <cstdint>
-#include <vector>
 
 namespace rtsim::model {
 
@@ -16,19 +16,18 @@ class ReadyQueue {
   [[gnu::always_inline]] void push(Tick when, uint32_t ray) {
     const Item x{when, ray};
     // Most pushes are an operation that just issued: due after every ray already waiting.
-    if (size_ == 0 || (size_ <= mask_ && !x.before(buf_[(head_ + size_ - 1) & mask_]))) {
-      buf_[(head_ + size_++) & mask_] = x;
+    if (q_.empty() || (!q_.full() && !x.before(q_.back()))) {
+      q_.push_back(x);
       return;
     }
     insert(x);
   }
-  bool empty() const { return size_ == 0; }
-  size_t size() const { return size_; }
-  Tick next_time() const { return size_ == 0 ? kUnknown : buf_[head_].when; }
+  bool empty() const { return q_.empty(); }
+  size_t size() const { return q_.size(); }
+  Tick next_time() const { return q_.empty() ? kUnknown : q_.front().when; }
   uint32_t pop() {
-    const uint32_t r = buf_[head_].ray;
-    head_ = (head_ + 1) & mask_;
-    --size_;
+    const uint32_t r = q_.front().ray;
+    q_.pop_front();
     return r;
   }
 
@@ -40,28 +39,16 @@ class ReadyQueue {
   };
   // push() of an item due before the tail, or into a full ring.
   [[gnu::noinline]] void insert(const Item& x) {
-    if (size_ > mask_) grow();
-    if (x.before(buf_[head_])) {
-      head_ = (head_ + mask_) & mask_;
-      buf_[head_] = x;
-      ++size_;
+    if (x.before(q_.front())) {
+      q_.push_front(x);
       return;
     }
-    size_t i = size_++;  // the new tail, moved towards the head past every later item
-    for (; i > 0 && x.before(buf_[(head_ + i - 1) & mask_]); --i)
-      buf_[(head_ + i) & mask_] = buf_[(head_ + i - 1) & mask_];
-    buf_[(head_ + i) & mask_] = x;
+    size_t i = q_.size();  // the new tail, moved towards the head past every later item
+    q_.grow_back();
+    for (; i > 0 && x.before(q_[i - 1]); --i) q_[i] = q_[i - 1];
+    q_[i] = x;
   }
-  void grow() {
-    std::vector<Item> bigger(buf_.size() * 2);
-    for (size_t i = 0; i < size_; ++i) bigger[i] = buf_[(head_ + i) & mask_];
-    buf_.swap(bigger);
-    mask_ = buf_.size() - 1;
-    head_ = 0;
-  }
-  std::vector<Item> buf_ = std::vector<Item>(16);  // a power of two
-  size_t mask_ = 15;                               // buf_.size() - 1
-  size_t head_ = 0, size_ = 0;
+  Ring<Item> q_;
 };
 
 }  // namespace rtsim::model

@@ -46,9 +46,9 @@ struct FetchState {
 
 // TRV: the walk through the kd-tree, and which TRV unit owns the ray's slot.
 struct TrvState {
-  TraversalState walk;
   uint16_t owner = 0;
   bool started = false;  // traversal_begin done
+  TraversalState walk;   // last: its stack ends the ray's state
 };
 
 // LIST: the current leaf's record and primitive list.
@@ -74,13 +74,16 @@ struct ShadingState {
   SurfacePoint surface;
 };
 
-struct RayState {
+// Laid out for the host's caches: a 2048-ray pool outgrows them, and each step of a ray touches
+// its state at a random place in the pool. What every stage reads comes first, packed into few
+// lines; the traversal stack, of which a step reads only the top, comes last.
+struct alignas(64) RayState {
   RayInfo info;
-  TrvState trv;
-  ListState list;
   IstState ist;
+  ListState list;
   ShadingState shading;
   FetchState fetch[kStages];  // by stage: each ray unit's own entry, written by that unit alone
+  TrvState trv;               // last
 };
 
 class RayPool {

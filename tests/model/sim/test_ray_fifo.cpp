@@ -124,6 +124,19 @@ TEST(RayFifo, IntegratesItsOccupancyOverTime) {
   EXPECT_DOUBLE_EQ(r.value("f.mean_occupancy"), 30.0 / 40.0);
 }
 
+TEST(RayFifo, HoldsItsDepthBeyondItsFirstBuffer) {
+  // A deep FIFO (an ideal setting) starts small and grows: its entries stay in order.
+  RayFifo fifo("deep_fifo", 200, nullptr);
+  for (uint32_t r = 0; r < 200; ++r) ASSERT_TRUE(fifo.push(r, r, 0));
+  EXPECT_TRUE(fifo.full());
+  EXPECT_FALSE(fifo.push(200, 0, 0));
+  for (uint32_t r = 0; r < 200; ++r) {
+    EXPECT_EQ(fifo.head_ready(), Tick(r));
+    EXPECT_EQ(fifo.pop(0), r);
+  }
+  EXPECT_TRUE(fifo.empty());
+}
+
 TEST(RoundRobin, DealsToTheNextFifoWithRoomAfterTheLastOneUsed) {
   Scenario& s = run();
   EXPECT_EQ(s.dealt, (std::vector<RayQueueIn*>{&s.a, &s.b, &s.c, nullptr, &s.b}));

@@ -1,0 +1,58 @@
+// The ring behind the FIFOs and ready queues: first in, first out through growth and wrap-around,
+// compared with a std::deque on random interleavings of pushes at either end and pops.
+#include "model/sim/ring.h"
+
+#include <gtest/gtest.h>
+
+#include <deque>
+#include <random>
+
+namespace rtsim::model {
+namespace {
+
+TEST(Ring, MatchesADequeThroughGrowthAndWrapAround) {
+  std::mt19937_64 rng(5);
+  for (int round = 0; round < 100; ++round) {
+    Ring<int> ring(1 + rng() % 8);
+    std::deque<int> ref;
+    for (int k = 0; k < 500; ++k) {
+      const uint64_t kind = rng() % 6;
+      if (kind < 2) {
+        ring.push_back(k);
+        ref.push_back(k);
+      } else if (kind == 2) {
+        ring.push_front(k);
+        ref.push_front(k);
+      } else if (kind == 3) {
+        ring.grow_back();
+        ring[ring.size() - 1] = k;
+        ref.push_back(k);
+      } else if (!ref.empty()) {
+        ASSERT_EQ(ring.front(), ref.front());
+        ring.pop_front();
+        ref.pop_front();
+      }
+      ASSERT_EQ(ring.size(), ref.size());
+      for (size_t i = 0; i < ref.size(); ++i) ASSERT_EQ(ring[i], ref[i]);
+      if (!ref.empty()) {
+        ASSERT_EQ(ring.back(), ref.back());
+      }
+    }
+  }
+}
+
+TEST(Ring, FullAtItsRoundedUpCapacityUntilItGrows) {
+  Ring<int> ring(5);  // 8 slots
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_FALSE(ring.full());
+    ring.push_back(i);
+  }
+  EXPECT_TRUE(ring.full());
+  ring.push_back(8);
+  EXPECT_FALSE(ring.full());
+  for (int i = 0; i <= 8; ++i, ring.pop_front()) EXPECT_EQ(ring.front(), i);
+  EXPECT_TRUE(ring.empty());
+}
+
+}  // namespace
+}  // namespace rtsim::model
