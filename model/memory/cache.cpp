@@ -53,6 +53,7 @@ Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineS
   ways_.assign(n, Way{});
   data_.assign(n * cfg_.line_bytes, 0);
   mshrs_.resize(cfg_.mshrs);
+  mshr_free_at_.assign(cfg_.mshrs, 0);
   if (cfg_.ports > 0) banks_.assign(cfg_.banks, PortSchedule(clock_.period(), cfg_.ports));
 }
 
@@ -143,7 +144,7 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   if (awaiting_ < cfg_.mshrs)  // else every MSHR waits for a fill of unknown time
     for (uint32_t m = 0; m < cfg_.mshrs; ++m)
       // Earliest, lowest index
-      if (mshrs_[m].free_at < mshr_free) mshr_free = mshrs_[m].free_at, mshr = m;
+      if (mshr_free_at_[m] < mshr_free) mshr_free = mshr_free_at_[m], mshr = m;
   Tick way_free = kUnknown;
   for (uint32_t i = base; i < base + cfg_.ways; ++i) way_free = std::min(way_free, ways_[i].ready);
   const Tick issue = std::max({now, mshr_free, way_free});
@@ -178,11 +179,11 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
     std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], below_->line_data(line), cfg_.line_bytes);
     ++stats_.fills;
     v.ready = delivered;
-    m.free_at = delivered;
+    mshr_free_at_[mshr] = delivered;
     return delivered;
   }
   v.ready = kUnknown;
-  m.free_at = kUnknown;
+  mshr_free_at_[mshr] = kUnknown;
   ++awaiting_;
   m.waiters.clear();
   m.waiters.push_back({listener, cookie, earliest});
@@ -200,7 +201,7 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   ways_[way].ready = when;
   ways_[way].lru = ++stamp_;  // the waiters use it now
   Mshr& m = mshrs_[ways_[way].mshr];
-  m.free_at = when;
+  mshr_free_at_[ways_[way].mshr] = when;
   --awaiting_;
 
   // Collect every completion first and call the listeners last, so they may call back in. Each

@@ -195,7 +195,6 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     Tick earliest;  // the requester's arrival + hit latency
   };
   struct Mshr {
-    Tick free_at = 0;             // busy while free_at > t; kUnknown until its fill arrives
     uint64_t line = kInvalidTag;  // the line it was last allocated to
     uint32_t merged = 0;          // requests for that line, the first included
     std::vector<Waiter> waiters;  // keeps its capacity: no allocation once warmed up
@@ -273,6 +272,9 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   uint32_t fill_depth_ = 0;
 
   std::vector<Mshr> mshrs_;
+  // By MSHR: busy while > t; kUnknown until its fill arrives. Apart from the MSHRs: a miss scans
+  // them all.
+  std::vector<Tick> mshr_free_at_;
   uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time
   std::vector<Queued> queued_;
   std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;

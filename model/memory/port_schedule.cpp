@@ -18,7 +18,7 @@ Tick sim_time() {
 }  // namespace
 
 PortSchedule::PortSchedule(Tick period, uint32_t ports)
-    : clock_(Clock::with_period(period)), ports_(ports) {
+    : ports_(ports), clock_(Clock::with_period(period)) {
   if (period == 0) throw std::invalid_argument("PortSchedule: zero clock period");
   if (ports_ == 0) return;
   if (ports_ > 255) throw std::invalid_argument("PortSchedule: at most 255 slots per cycle");
@@ -53,8 +53,8 @@ void PortSchedule::grow() {
     ring[to] = full()[from];
     if (!used.empty()) std::copy_n(&used_[from * 64], 64, &used[to * 64]);
   }
-  ring_.swap(ring);
-  mask_ = ring_.size() - 1;
+  grown_.swap(ring);
+  mask_ = grown_.size() - 1;
   used_.swap(used);
 }
 

@@ -33,7 +33,7 @@ struct PortStats {
   uint64_t max_wait_cycles = 0;
 };
 
-class PortSchedule {
+class alignas(64) PortSchedule {
  public:
   // `period`: the port's clock period (ps); `ports`: slots per cycle (0: unlimited).
   PortSchedule(Tick period, uint32_t ports);
@@ -56,7 +56,7 @@ class PortSchedule {
   bool run_free(uint64_t first, uint32_t n) const {
     if (ports_ != 1 || first < base_ || first + n > held_until_) return false;
     for (uint64_t c = first; c < first + n; ++c)
-      if ((ring_[word_of(c)] >> (c & 63)) & 1) return false;
+      if ((full()[word_of(c)] >> (c & 63)) & 1) return false;
     return true;
   }
   void take_run(uint64_t first, uint32_t n) {
@@ -71,10 +71,11 @@ class PortSchedule {
   const PortStats& stats() const { return stats_; }
 
  private:
-  // The ring: 256 cycles to start with (most ports never need more), doubled when reservations
-  // reach further ahead.
-  uint64_t* full() { return ring_.data(); }
-  size_t words() const { return ring_.size(); }
+  // The ring: 256 cycles in the object to start with (most ports never need more: no pointer to
+  // follow), moved to the heap and doubled when reservations reach further ahead.
+  uint64_t* full() { return grown_.empty() ? first_ : grown_.data(); }
+  const uint64_t* full() const { return grown_.empty() ? first_ : grown_.data(); }
+  size_t words() const { return grown_.empty() ? kFirstWords : grown_.size(); }
   size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & mask_; }
   // Makes the ring hold every cycle up to `cycle` (sliding past the cycles that are over, or
   // growing).
@@ -109,19 +110,21 @@ class PortSchedule {
     return clock_.cycles(c);
   }
 
-  Clock clock_;
+  // What a request reads and writes, first (a cache's banks are an array of these).
   uint32_t ports_;
   static constexpr size_t kFirstWords = 4;
+  size_t mask_ = kFirstWords - 1;  // words - 1
+  Clock clock_;
   uint64_t base_ = 0;  // first cycle held, a multiple of 64; the ring holds 64 * words
   uint64_t held_until_ = kFirstWords * 64;  // base_ + 64 * words
-  // Bit c % 64 of word c / 64: cycle c has no slot left.
-  std::vector<uint64_t> ring_ = std::vector<uint64_t>(kFirstWords, 0);
-  size_t mask_ = kFirstWords - 1;  // words - 1
-  std::vector<uint8_t> used_;      // ports > 1: slots taken per cycle (index c % cycles held)
   // The last request's asked and granted cycles: cycles in between were full and stay full, so a
   // pile-up on one cycle resumes the search where the previous request found room.
   uint64_t last_asked_ = ~uint64_t(0), last_granted_ = 0;
   PortStats stats_;
+  // Bit c % 64 of word c / 64: cycle c has no slot left. In first_ until the ring grows.
+  uint64_t first_[kFirstWords] = {};
+  std::vector<uint64_t> grown_;
+  std::vector<uint8_t> used_;  // ports > 1: slots taken per cycle (index c % cycles held)
 };
 
 }  // namespace rtsim::model
