@@ -26,11 +26,12 @@ class Ring {
   const T& operator[](size_t i) const { return buf_[(head_ + i) & mask_]; }
   const T& front() const { return buf_[head_]; }
   const T& back() const { return (*this)[size_ - 1]; }
-  void push_back(const T& x) {
+  // By value: `x` may be one of the ring's own values, which growing would free.
+  void push_back(T x) {
     if (full()) grow();
     buf_[(head_ + size_++) & mask_] = x;
   }
-  void push_front(const T& x) {
+  void push_front(T x) {
     if (full()) grow();
     head_ = (head_ + mask_) & mask_;
     buf_[head_] = x;

@@ -54,5 +54,17 @@ TEST(Ring, FullAtItsRoundedUpCapacityUntilItGrows) {
   EXPECT_TRUE(ring.empty());
 }
 
+TEST(Ring, PushesOneOfItsOwnValuesThroughGrowth) {
+  // A full ring grows on the push: the value pushed must survive its old buffer.
+  Ring<int> back(4), front(4);
+  for (int i = 1; i <= 4; ++i) back.push_back(i), front.push_back(i);
+  back.push_back(back[0]);
+  front.push_front(front[3]);
+  EXPECT_EQ(back.back(), 1);
+  EXPECT_EQ(front.front(), 4);
+  EXPECT_EQ(back.size(), 5u);
+  EXPECT_EQ(front[1], 1);
+}
+
 }  // namespace
 }  // namespace rtsim::model
