@@ -89,7 +89,8 @@ class RayUnit : public Unit, public FillListener {
       blocked_.out = nullptr;
       --held_;
     }
-    while (!in.empty() && in.head_ready() <= now && can_admit()) {
+    // Room first: a full unit (TRV, mostly) need not read its FIFO's head, a host cache miss.
+    while (!in.empty() && can_admit() && in.head_ready() <= now) {
       const Tick t = in.head_ready();
       const uint32_t ray = in.pop(now);
       ready_.push(t, ray);
