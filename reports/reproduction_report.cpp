@@ -16,13 +16,13 @@ using nlohmann::json;
 constexpr const char* kIntro =
     "# rtsim reproduce: the paper's Tables 3-6 beside ours\n\n"
     "Each setup (configs/scenes/*.yaml, ../shared/scenes/README.md) ran on the Table-2 hardware "
-    "(configs/hw/tni-paper.yaml) four times: culling **off**; on with the **paper**'s method (LVB "
+    "(configs/hw/tni-paper.yaml) with culling **off**; on with the **paper**'s method (LVB "
     "bits from kd-tree cell boxes, a leaf's own triangles ignored), its frustum test read as "
     "overlap (a box reaching into a frustum counts); the same with the test read literally, "
     "**paper-contained** (only a box wholly inside a frustum counts); on with our **exact** mode "
     "(never wrong). Every figure below comes from the runs' report.json files under points/ "
     "(configs/sweeps/paper-reproduction.yaml); the paper's figures come from "
-    "configs/paper/tables.yaml.\n\n";
+    "configs/paper/tables.yaml. A variant left out (`rtsim reproduce --variants`) shows '-'.\n\n";
 
 constexpr const char* kWhyTheyDiffer =
     "## Why our figures differ from the paper's\n\n- **Scenes.** Our files are the original BART "

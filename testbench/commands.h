@@ -60,6 +60,7 @@ int run_model(const RunArgs& args);
 struct ReproduceArgs {
   std::string out, scene_root;
   std::string sweep;  // the sweep file to run instead of the shipped one (empty: the shipped one)
+  std::vector<std::string> variants;  // only these of the sweep's variants (empty: all)
   bool ablation = false;
   int jobs = 1;
   int width = 0, height = 0;  // 0 = the setups' 1920x1080

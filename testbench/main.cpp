@@ -151,6 +151,9 @@ void add_sweep(CLI::App& app, Commands& c) {
                           "Output directory (results.csv, results.json, points/, plots/)");
   c.sweep_cmd->add_option("--jobs", c.sweep.jobs, "Points run at once")->check(CLI::Range(1, 1024));
   c.sweep_cmd
+      ->add_option("--variants", c.sweep.variants, "Only these of the file's variants (a,b,...)")
+      ->delimiter(',');
+  c.sweep_cmd
       ->add_option("--set", c.sweep.set,
                    "Override a key in every point: hw.PATH=VALUE, scene.PATH=VALUE, run.PATH=VALUE")
       ->expected(1)
@@ -225,6 +228,10 @@ void add_params_and_reproduce(CLI::App& app, Commands& c) {
   c.reproduce_cmd->add_option("--sweep", c.reproduce.sweep,
                               "Sweep file to run instead of the shipped one "
                               "(paper-reproduction.yaml, or ablation.yaml with --ablation)");
+  c.reproduce_cmd
+      ->add_option("--variants", c.reproduce.variants,
+                   "Only these of the sweep's variants (off,paper,exact: the paper's 9 runs)")
+      ->delimiter(',');
 }
 
 // The defaults that depend on what was given; false when a combination is refused.

@@ -100,7 +100,7 @@ int lvb_value(const nlohmann::json& v) {
 SweepSpec load_ablation_sweep(const ReproduceArgs& a, const std::vector<std::string>& extra) {
   const std::string file =
       a.sweep.empty() ? std::string(RTSIM_CONFIGS_DIR) + "/sweeps/ablation.yaml" : a.sweep;
-  SweepSpec spec = load_sweep(file, extra);
+  SweepSpec spec = load_sweep(file, extra, a.variants);
   if (!has(spec.columns, "variant") || !has(spec.columns, "run.lvb") || spec.columns.size() != 2 ||
       !has(spec.metrics, "frame_ms_all"))
     throw InputError(
@@ -210,7 +210,7 @@ int run_reproduce(const ReproduceArgs& a) {
   const std::string file = a.sweep.empty()
                                ? std::string(RTSIM_CONFIGS_DIR) + "/sweeps/paper-reproduction.yaml"
                                : a.sweep;
-  const SweepSpec spec = load_sweep(file, extra);
+  const SweepSpec spec = load_sweep(file, extra, a.variants);
   const std::map<std::string, PaperScene> paper = paper_tables();
   const int sweep_code = run_sweep_points(spec, a.out, a.jobs, true);
   const report::ReportText r = report::reproduction_report(gather_setups(spec, a.out), paper);

@@ -182,7 +182,7 @@ int run_sweep_command(const SweepArgs& a) {
   }
   if (a.file.empty())
     throw InputError("expected a sweep file (or --merge DIR, or --out DIR --point I)");
-  const SweepSpec s = load_sweep(a.file, a.set);
+  const SweepSpec s = load_sweep(a.file, a.set, a.variants);
   if (a.emit == "slurm") return emit_slurm(s, a.out);
   return run_sweep_points(s, a.out, a.jobs, a.plots,
                           a.point_timeout > 0 ? a.point_timeout : s.point_timeout);

@@ -21,6 +21,7 @@ int run_sweep_points(const SweepSpec& spec, const std::string& dir, int jobs, bo
 struct SweepArgs {
   std::string file, out, emit, merge_dir;
   std::vector<std::string> set;
+  std::vector<std::string> variants;  // only these of the file's variants (empty: all)
   int jobs = 1;
   int point = -1;            // run this one point in this process (cluster array tasks)
   double point_timeout = 0;  // seconds; 0: the sweep file's point_timeout (itself 0: none)

@@ -123,6 +123,26 @@ std::vector<Variant> read_variants(YamlMap& top, const std::string& path, SweepS
   return variants;
 }
 
+// The variants named in `only` (--variants), in the file's order.
+std::vector<Variant> choose_variants(std::vector<Variant> variants,
+                                     const std::vector<std::string>& only,
+                                     const std::string& path) {
+  if (only.empty()) return variants;
+  std::string names;
+  for (const Variant& v : variants) names += (names.empty() ? "" : ", ") + v.name;
+  for (const std::string& name : only)
+    if (std::none_of(variants.begin(), variants.end(),
+                     [&](const Variant& v) { return v.name == name; }))
+      throw InputError(fmt::format("--variants: '{}' is not a variant of {} (expected one of: {})",
+                                   name, path, names.empty() ? "none, it has no variants" : names));
+  variants.erase(std::remove_if(variants.begin(), variants.end(),
+                                [&](const Variant& v) {
+                                  return std::find(only.begin(), only.end(), v.name) == only.end();
+                                }),
+                 variants.end());
+  return variants;
+}
+
 Axes read_axes(YamlMap& top, SweepSpec& s) {
   Axes axes;
   if (!top.has("axes")) return axes;
@@ -216,7 +236,8 @@ void check_points(const SweepSpec& s, const std::string& path) {
 
 }  // namespace
 
-SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set) {
+SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set,
+                     const std::vector<std::string>& only_variants) {
   YamlMap top = YamlMap::load_file(path);
   SweepSpec s;
   s.file = path;
@@ -226,7 +247,8 @@ SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& ex
   if (top.has("set"))
     for (const auto& [k, v] : read_overrides(top, "set")) base.push_back(k + "=" + v);
   for (const std::string& e : extra_set) base.push_back(e);
-  const std::vector<Variant> variants = read_variants(top, path, s);
+  const std::vector<Variant> variants =
+      choose_variants(read_variants(top, path, s), only_variants, path);
   const Axes axes = read_axes(top, s);
   read_metrics_and_reports(top, s);
   top.finish();

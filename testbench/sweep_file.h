@@ -35,7 +35,10 @@ struct SweepSpec {
   }
 };
 
-// `extra_set` ("--set" syntax) applies to every point, after the file's own `set`.
-SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set = {});
+// `extra_set` ("--set" syntax) applies to every point, after the file's own `set`. A non-empty
+// `only_variants` keeps those of the file's variants (in the file's order; the points are numbered
+// after the choice); a name the file does not have is an InputError.
+SweepSpec load_sweep(const std::string& path, const std::vector<std::string>& extra_set = {},
+                     const std::vector<std::string>& only_variants = {});
 
 }  // namespace rtsim

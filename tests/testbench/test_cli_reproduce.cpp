@@ -83,5 +83,49 @@ TEST(Cli, ReproduceSaysWhatIsLeftBesideThePapersFigures) {
   fs::remove_all(dir);
 }
 
+// --variants runs those of the sweep's variants (the paper's 9 runs: off,paper,exact), numbered
+// after the choice; a name the sweep lacks is refused before anything runs.
+TEST(Cli, ReproduceRunsOnlyTheVariantsAsked) {
+  const fs::path dir = test::temp_dir("cli_reproduce_variants");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const std::string hw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+  write(dir / "reproduce.yaml", "name: variants\nscenes: [" + scene + "]\nhw: " + hw +
+                                    "\nvariants:\n  off: {run.lvb: off}\n  paper: {run.lvb: on, "
+                                    "run.lvb_self_occlusion: ignore}\n  exact: {run.lvb: on}\n"
+                                    "metrics: [cycles_total]\n");
+  const std::string sweep = "reproduce --sweep " + (dir / "reproduce.yaml").string() +
+                            " --width 32 --height 18 --jobs 2 --out ";
+  const RunResult bad = run(sweep + (dir / "bad").string() + " --variants off,nope");
+  EXPECT_EQ(bad.code, 2) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find("--variants: 'nope' is not a variant of"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("expected one of: off, paper, exact"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(dir / "bad/points"));
+
+  // Asked out of order: they run in the file's.
+  const RunResult r = run(sweep + (dir / "out").string() + " --variants exact,off");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const char* expected[] = {"off", "exact"};
+  for (int p = 0; p < 2; ++p) {
+    const nlohmann::json rep = nlohmann::json::parse(
+        slurp(dir / "out/points" / ("p000" + std::to_string(p)) / "report.json"));
+    EXPECT_EQ(rep["config"]["run"]["lvb"], p == 1) << expected[p];
+  }
+  EXPECT_FALSE(fs::exists(dir / "out/points/p0002"));
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "out/reproduction.json"));
+  const nlohmann::json& ours = j["scenes"][0]["ours"];
+  EXPECT_TRUE(ours.contains("exact"));
+  EXPECT_FALSE(ours.contains("paper")) << "not run";
+
+  // rtsim sweep takes the same choice.
+  const RunResult one =
+      run("sweep " + (dir / "reproduce.yaml").string() + " --variants paper " +
+          "--set run.width=32 --set run.height=18 --no-plots --out " + (dir / "sweep").string());
+  ASSERT_EQ(one.code, 0) << one.out << one.err;
+  const nlohmann::json rows = nlohmann::json::parse(slurp(dir / "sweep/results.json"));
+  ASSERT_EQ(rows["rows"].size(), 1u) << rows.dump();
+  EXPECT_EQ(rows["rows"][0]["variant"], "paper");
+  fs::remove_all(dir);
+}
+
 }  // namespace
 }  // namespace rtsim::cli_test
