@@ -128,13 +128,14 @@ std::vector<Variant> choose_variants(std::vector<Variant> variants,
                                      const std::vector<std::string>& only,
                                      const std::string& path) {
   if (only.empty()) return variants;
+  if (variants.empty()) throw InputError(fmt::format("--variants: {} has no variants", path));
   std::string names;
   for (const Variant& v : variants) names += (names.empty() ? "" : ", ") + v.name;
   for (const std::string& name : only)
     if (std::none_of(variants.begin(), variants.end(),
                      [&](const Variant& v) { return v.name == name; }))
       throw InputError(fmt::format("--variants: '{}' is not a variant of {} (expected one of: {})",
-                                   name, path, names.empty() ? "none, it has no variants" : names));
+                                   name, path, names));
   variants.erase(std::remove_if(variants.begin(), variants.end(),
                                 [&](const Variant& v) {
                                   return std::find(only.begin(), only.end(), v.name) == only.end();

@@ -116,7 +116,15 @@ TEST(Cli, ReproduceRunsOnlyTheVariantsAsked) {
   EXPECT_TRUE(ours.contains("exact"));
   EXPECT_FALSE(ours.contains("paper")) << "not run";
 
-  // rtsim sweep takes the same choice.
+  // rtsim sweep takes the same choice; a file without variants has none to choose.
+  write(dir / "plain.yaml",
+        "name: plain\nscenes: [" + scene + "]\nhw: " + hw + "\nmetrics: [cycles_total]\n");
+  const RunResult none = run("sweep " + (dir / "plain.yaml").string() + " --variants off --out " +
+                             (dir / "plain").string());
+  EXPECT_EQ(none.code, 2) << none.out << none.err;
+  EXPECT_NE(none.err.find("--variants: " + (dir / "plain.yaml").string() + " has no variants"),
+            std::string::npos)
+      << none.err;
   const RunResult one =
       run("sweep " + (dir / "reproduce.yaml").string() + " --variants paper " +
           "--set run.width=32 --set run.height=18 --no-plots --out " + (dir / "sweep").string());
