@@ -95,13 +95,21 @@ cmp "$work/a/results.csv" "$work/c/results.csv" || fail "the same sweep gave dif
 # 2c. Killed at random moments (SIGKILL), rerun each time until it finishes: the results are an
 # uninterrupted run's, and no kill leaves the directory locked or a point half-recorded.
 if [ -z "$sanitize" ]; then
+  # The kills' moments scale with an uninterrupted sweep's time here, so the first lands inside a
+  # run on a fast machine as on a slow one (a fixed 0-3 s let a fast machine finish first).
+  start_ns=$(date +%s%N)
+  "$rtsim" sweep "$work/sweep.yaml" --out "$work/t" --jobs 2 --no-plots > /dev/null 2>&1 || fail "the timing sweep failed"
+  full_ms=$((($(date +%s%N) - start_ns) / 1000000))
+  cmp "$work/a/results.csv" "$work/t/results.csv" || fail "an uninterrupted sweep gave other results"
   RANDOM=22
   kills=0
   for attempt in $(seq 1 40); do
     "$rtsim" sweep "$work/sweep.yaml" --out "$work/d" --jobs 2 --no-plots > "$work/d.log" 2>&1 &
     sweep_pid=$!
-    # Up to 3 s, longer as the attempts go on (a slow machine still finishes).
-    sleep "$(printf '%d.%03d' $((RANDOM % 3 + attempt / 3)) $((RANDOM % 1000)))"
+    # Within the first half of a whole sweep's time, later as the attempts go on (each resumes the
+    # last, and from the ninth on it has a whole sweep's time).
+    wait_ms=$((RANDOM % (full_ms / 2 + 1) + (attempt - 1) * full_ms / 8))
+    sleep "$(printf '%d.%03d' $((wait_ms / 1000)) $((wait_ms % 1000)))"
     if kill -KILL "$sweep_pid" 2> /dev/null; then kills=$((kills + 1)); fi
     set +e
     wait "$sweep_pid" 2> /dev/null
