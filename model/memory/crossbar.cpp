@@ -17,8 +17,7 @@ Crossbar::Crossbar(const char* name, const LinkConfig& config, const Clock& cloc
     : sc_core::sc_object(name),
       cfg_(config),
       clock_(clock),
-      latency_ticks_(clock.cycles(config.latency)),
-      buffer_ticks_(clock.cycles(config.buffer_flits)) {
+      latency_ticks_(clock.cycles(config.latency)) {
   cfg_.validate();
   const uint32_t ports = cfg_.ideal() ? 0 : 1;
   src_out_.assign(sources, PortSchedule(clock_.period(), ports));
@@ -34,35 +33,36 @@ Tick Crossbar::transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, T
   const uint32_t flits = std::max<uint32_t>(
       1, (payload + cfg_.header_bytes + cfg_.bytes_per_cycle - 1) / cfg_.bytes_per_cycle);
   s.flits += flits;
-  const Tick start = clock_.edge_at_or_after(t);
-  Tick sent = 0, received = 0;
+  // In cycles of the crossbar's clock: every time below is one of its edges.
+  const uint64_t first = clock_.ceil_cycles(t), hop = cfg_.latency;
   // Both ports free for the whole packet (the common case): each flit leaves and arrives one
   // cycle after the previous, as the loop below would find.
-  const uint64_t first = clock_.to_cycles(start), hop = clock_.to_cycles(latency_ticks_);
   if (out.run_free(first, flits) && in.run_free(first + hop, flits)) {
     out.take_run(first, flits);
     in.take_run(first + hop, flits);
     return clock_.cycles(first + hop + flits);  // no queueing
   }
+  const uint64_t buffer = cfg_.buffer_flits;  // the most cycles a flit may wait there
+  uint64_t sent = 0, received = 0;
   for (uint32_t k = 0; k < flits; ++k) {
-    Tick ready = k == 0 ? start : sent + clock_.period();
-    const Tick after = k == 0 ? 0 : received + clock_.period();  // flits arrive in order
-    if (buffer_ticks_ > 0) {
+    uint64_t ready = k == 0 ? first : sent + 1;
+    const uint64_t after = k == 0 ? 0 : received + 1;  // flits arrive in order
+    if (buffer > 0) {
       // Held at the source while the destination's buffer would be full when it arrived
-      const Tick taken = in.peek(std::max(ready + latency_ticks_, after));
-      if (taken > ready + latency_ticks_ + buffer_ticks_) {
+      const uint64_t taken = in.peek_cycle(std::max(ready + hop, after));
+      if (taken > ready + hop + buffer) {
         ++s.held_flits;
-        const Tick held = taken - latency_ticks_ - buffer_ticks_;
-        out.block(ready, held);  // nothing else leaves the source meanwhile
+        const uint64_t held = taken - hop - buffer;
+        out.block(clock_.cycles(ready), clock_.cycles(held));  // nothing else leaves meanwhile
         ready = held;
       }
     }
-    sent = out.reserve(ready);
-    received = in.reserve(std::max(sent + latency_ticks_, after));
+    sent = out.reserve_cycle(ready);
+    received = in.reserve_cycle(std::max(sent + hop, after));
   }
-  const Tick arrival = received + clock_.period();
-  s.queue_cycles += clock_.to_cycles(arrival - (start + latency_ticks_ + clock_.cycles(flits)));
-  return arrival;
+  const uint64_t arrival = received + 1;
+  s.queue_cycles += arrival - (first + hop + flits);
+  return clock_.cycles(arrival);
 }
 
 Tick Crossbar::request(uint32_t src, uint32_t dst, uint32_t payload, Tick t) {

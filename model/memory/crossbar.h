@@ -93,7 +93,6 @@ class Crossbar : public sc_core::sc_object {
   LinkConfig cfg_;
   Clock clock_;
   Tick latency_ticks_;
-  Tick buffer_ticks_;  // buffer_flits cycles: the most a flit may wait in the destination's buffer
   std::vector<PortSchedule> src_out_, src_in_, dst_in_, dst_out_;
   CrossbarStats request_, reply_;
 };

@@ -67,12 +67,6 @@ uint64_t PortSchedule::first_free_beyond(uint64_t c) {
   }
 }
 
-Tick PortSchedule::peek(Tick t) {
-  if (ports_ == 0) return t;
-  const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
-  return clock_.cycles(first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked));
-}
-
 void PortSchedule::block(Tick from, Tick until) {
   if (ports_ == 0) return;
   const uint64_t end = clock_.ceil_cycles(until);

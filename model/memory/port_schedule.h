@@ -41,10 +41,20 @@ class alignas(64) PortSchedule {
   // The edge of the first cycle at or after `t` with a free slot, which is taken.
   Tick reserve(Tick t) {
     ++stats_.requests;
-    return ports_ == 0 ? t : reserve_slot(t);
+    return ports_ == 0 ? t : clock_.cycles(reserve_slot(clock_.ceil_cycles(t)));
+  }
+  // reserve() and peek() in cycles of the port's clock (a crossbar works on its edges).
+  uint64_t reserve_cycle(uint64_t c) {
+    ++stats_.requests;
+    return ports_ == 0 ? c : reserve_slot(c);
+  }
+  uint64_t peek_cycle(uint64_t c) {
+    if (ports_ == 0) return c;
+    const uint64_t asked = std::max(c, base_);
+    return first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
   }
   // The edge of the first cycle at or after `t` with a free slot, left free.
-  Tick peek(Tick t);
+  Tick peek(Tick t) { return clock_.cycles(peek_cycle(clock_.ceil_cycles(t))); }
   // Takes every slot of the cycles in [from, until) that is still free (a port held by a stalled
   // sender), without counting them as requests.
   void block(Tick from, Tick until);
@@ -94,9 +104,9 @@ class alignas(64) PortSchedule {
   }
   uint64_t first_free_beyond(uint64_t cycle);
   void grow();
-  // reserve() of a real port.
-  Tick reserve_slot(Tick t) {
-    const uint64_t asked = std::max(clock_.ceil_cycles(t), base_);
+  // reserve() of a real port, asked for `cycle`: the cycle granted.
+  uint64_t reserve_slot(uint64_t cycle) {
+    const uint64_t asked = std::max(cycle, base_);
     const uint64_t c = first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
     const uint64_t bit = uint64_t(1) << (c & 63);
     if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
@@ -107,7 +117,7 @@ class alignas(64) PortSchedule {
       stats_.wait_cycles += c - asked;
       stats_.max_wait_cycles = std::max(stats_.max_wait_cycles, c - asked);
     }
-    return clock_.cycles(c);
+    return c;
   }
 
   // What a request reads and writes, first (a cache's banks are an array of these).
