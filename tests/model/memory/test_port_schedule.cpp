@@ -58,6 +58,27 @@ TEST(PortSchedule, RunsTakeConsecutiveFreeCycles) {
   EXPECT_EQ(p.reserve_run(2 * kCycle, 3), 5 * kCycle);
 }
 
+// run_free/take_run (a crossbar packet on free ports) agree with one reserve() per cycle, for runs
+// inside one 64-cycle word of the ring and across two.
+TEST(PortSchedule, AFreeRunIsTakenAsReservesWouldTakeIt) {
+  for (const uint64_t first : {uint64_t(3), uint64_t(61), uint64_t(64), uint64_t(126)}) {
+    PortSchedule runs(kCycle, 1), one_by_one(kCycle, 1);
+    EXPECT_EQ(runs.reserve((first + 4) * kCycle), (first + 4) * kCycle);
+    EXPECT_TRUE(runs.run_free(first, 4)) << first;
+    EXPECT_FALSE(runs.run_free(first, 5)) << first;      // its last cycle is taken
+    EXPECT_FALSE(runs.run_free(first + 2, 3)) << first;  // from inside the run
+    runs.take_run(first, 4);
+    EXPECT_FALSE(runs.run_free(first + 3, 1)) << first;
+    EXPECT_TRUE(runs.run_free(first + 5, 3)) << first;
+    // The same cycles taken one by one: every later request gets the same answer.
+    one_by_one.reserve((first + 4) * kCycle);
+    for (uint64_t c = first; c < first + 4; ++c) one_by_one.reserve(c * kCycle);
+    for (int k = 0; k < 4; ++k)
+      EXPECT_EQ(runs.reserve(first * kCycle), one_by_one.reserve(first * kCycle)) << first;
+    EXPECT_EQ(runs.stats().requests, one_by_one.stats().requests);
+  }
+}
+
 TEST(PortSchedule, TheIdealPortNeverDelays) {
   PortSchedule p(kCycle, 0);
   for (int k = 0; k < 100; ++k) EXPECT_EQ(p.reserve(7 * kCycle + 3), 7 * kCycle + 3);
