@@ -48,11 +48,7 @@ class alignas(64) PortSchedule {
     ++stats_.requests;
     return ports_ == 0 ? c : reserve_slot(c);
   }
-  uint64_t peek_cycle(uint64_t c) {
-    if (ports_ == 0) return c;
-    const uint64_t asked = std::max(c, base_);
-    return first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
-  }
+  uint64_t peek_cycle(uint64_t c) { return ports_ == 0 ? c : first_free_for(std::max(c, base_)); }
   // The edge of the first cycle at or after `t` with a free slot, left free.
   Tick peek(Tick t) { return clock_.cycles(peek_cycle(clock_.ceil_cycles(t))); }
   // Takes every slot of the cycles in [from, until) that is still free (a port held by a stalled
@@ -103,11 +99,16 @@ class alignas(64) PortSchedule {
     return first_free_beyond(c);
   }
   uint64_t first_free_beyond(uint64_t cycle);
+  // first_free() for a request asking for `asked`: a pile-up on the last request's cycle resumes
+  // where that one found room (see last_asked_).
+  uint64_t first_free_for(uint64_t asked) {
+    return first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
+  }
   void grow();
   // reserve() of a real port, asked for `cycle`: the cycle granted.
   uint64_t reserve_slot(uint64_t cycle) {
     const uint64_t asked = std::max(cycle, base_);
-    const uint64_t c = first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
+    const uint64_t c = first_free_for(asked);
     const uint64_t bit = uint64_t(1) << (c & 63);
     if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
     last_asked_ = asked;
