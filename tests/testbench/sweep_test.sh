@@ -39,7 +39,8 @@ running_point() {
   done
   return 1
 }
-# Fails when the sweep ends first (on a fast machine every point may finish before one is seen).
+# Returns 1 when the sweep ends first (on a fast machine every point may finish before one is
+# seen), 2 when none is seen running within 60 s.
 wait_for_running_point() {
   local victim=""
   for _ in $(seq 1 6000); do
@@ -47,7 +48,7 @@ wait_for_running_point() {
     kill -0 "$sweep_pid" 2> /dev/null || return 1
     sleep 0.01
   done
-  [ -n "$victim" ] || return 1
+  [ -n "$victim" ] || return 2
   echo "$victim"
 }
 rows_of() { ls "$1"/points/*/row.json 2> /dev/null | wc -l; }
@@ -58,7 +59,10 @@ sweep_pid=$!
 # The point chosen may write its row and exit in the instant before the kill (CI at 402dd1e:
 # 'kill: No such process'): then the next running one, until the sweep has none left.
 for _ in $(seq 1 50); do
-  victim=$(wait_for_running_point "$work/a") || break
+  found=0
+  victim=$(wait_for_running_point "$work/a") || found=$?
+  [ "$found" -ne 2 ] || fail "no running point seen in 60 s"
+  [ "$found" -eq 0 ] || break  # the sweep ended first
   kill -KILL "$victim" 2> /dev/null && break
 done
 set +e
@@ -86,7 +90,8 @@ rows=$(($(wc -l < "$work/a/results.csv") - 1))
 # 2b. Kill the sweep itself midway: its points die with it, the rerun runs the rest.
 "$rtsim" sweep "$work/sweep.yaml" --out "$work/c" --jobs 2 --no-plots > /dev/null 2>&1 &
 sweep_pid=$!
-wait_for_running_point "$work/c" > /dev/null || fail "the sweep ended before a point was seen running"
+wait_for_running_point "$work/c" > /dev/null ||
+  fail "no running point seen (the sweep ended first, or none ran within 60 s)"
 kill -KILL "$sweep_pid" 2> /dev/null || fail "the sweep ended before it could be killed"
 wait "$sweep_pid" 2> /dev/null || true
 sweep_pid=""
