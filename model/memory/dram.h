@@ -57,7 +57,8 @@
 
 namespace rtsim::model {
 
-class Dram : public sc_core::sc_module, public Calendar::Client {
+// The calendar's side first, as for Unit (model/sim/unit.h).
+class Dram : public Calendar::Client, public sc_core::sc_module {
  public:
   tlm_utils::simple_target_socket<Dram> socket;
   // The platform's way in (a host bus window onto the memory, as a PCIe BAR onto a GPU's): any

@@ -13,7 +13,6 @@ Calendar::Calendar(sc_core::sc_module_name name) : sc_core::sc_module(name) {
   sensitive << event_;
   dont_initialize();
   ring_.assign(kSlots * words_, 0);
-  slot_count_.assign(kSlots, 0);
 }
 
 void Calendar::end_of_elaboration() {
@@ -60,15 +59,14 @@ void Calendar::notify_at(Tick at) {
 
 // Inlined into run(): it runs once per activation.
 inline bool Calendar::pop_due(Tick now, const Due& due, uint32_t& id) {
-  const bool heap_due = !heap_.empty() && heap_.top().at == now;
-  if (due.edge && slot_count_[due.slot] > 0) {
+  const bool heap_due = heap_next_ == now;
+  if (due.edge) {
     uint64_t* words = &ring_[due.slot * words_];
-    size_t w = 0;
-    while (!words[w]) ++w;  // a bit is set: the slot's count says so
-    const uint32_t lowest = uint32_t(w * 64 + __builtin_ctzll(words[w]));
-    if (!heap_due || lowest < heap_.top().id) {
+    for (size_t w = 0; w < words_; ++w) {
+      if (!words[w]) continue;
+      const uint32_t lowest = uint32_t(w * 64 + __builtin_ctzll(words[w]));
+      if (heap_due && heap_.top().id <= lowest) break;
       words[w] &= words[w] - 1;
-      --slot_count_[due.slot];
       --ring_entries_;
       id = lowest;
       return true;
@@ -77,16 +75,23 @@ inline bool Calendar::pop_due(Tick now, const Due& due, uint32_t& id) {
   if (!heap_due) return false;
   id = heap_.top().id;
   heap_.pop();
+  heap_next_ = heap_.empty() ? kUnknown : heap_.top().at;
+  return true;
+}
+
+bool Calendar::slot_empty(uint64_t slot) const {
+  for (size_t w = 0; w < words_; ++w)
+    if (ring_[slot * words_ + w]) return false;
   return true;
 }
 
 Tick Calendar::next_time(Tick now) {
-  Tick next = heap_.empty() ? kUnknown : heap_.top().at;
+  Tick next = heap_next_;
   if (ring_entries_ > 0) {
     const uint64_t first = (now + period_ - 1) / period_;  // the first edge at or after now
     for (uint64_t c = first; c < first + kSlots; ++c) {
       if (c * period_ >= next) break;
-      if (slot_count_[c % kSlots] > 0) return c * period_;
+      if (!slot_empty(c % kSlots)) return c * period_;
     }
   }
   return next;

@@ -24,6 +24,7 @@
 
 #include <systemc>
 
+#include <algorithm>
 #include <cstdint>
 #include <functional>
 #include <queue>
@@ -68,6 +69,7 @@ class Calendar : public sc_core::sc_module {
       arm_in_ring(cycle % kSlots, c->id_);
     } else {
       heap_.push({at, c->id_});
+      heap_next_ = std::min(heap_next_, at);
     }
     // While run() drains the current time it re-arms the event itself.
     if (!running_ && at < event_at_) notify_at(at);
@@ -103,12 +105,12 @@ class Calendar : public sc_core::sc_module {
     bool edge = false;  // `now` is an edge of the ring's clock
   };
   bool pop_due(Tick now, const Due& due, uint32_t& id);  // the lowest id queued for `now`
+  bool slot_empty(uint64_t slot) const;
   void arm_in_ring(uint64_t slot, uint32_t id) {
     uint64_t& word = ring_[slot * words_ + id / 64];
     const uint64_t bit = uint64_t(1) << (id % 64);
     if (word & bit) return;
     word |= bit;
-    ++slot_count_[slot];
     ++ring_entries_;
   }
 
@@ -122,11 +124,11 @@ class Calendar : public sc_core::sc_module {
   bool fixed_ = false;
   Tick period_ = 0;  // the ring's clock: the first block's
   Clock ring_clock_;
-  size_t words_ = 1;                  // 64-bit words per ring slot
-  std::vector<uint64_t> ring_;        // kSlots x words_ bits: slot = cycle % kSlots
-  std::vector<uint32_t> slot_count_;  // bits set per slot
+  size_t words_ = 1;            // 64-bit words per ring slot
+  std::vector<uint64_t> ring_;  // kSlots x words_ bits: slot = cycle % kSlots
   uint64_t ring_entries_ = 0;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> heap_;
+  Tick heap_next_ = kUnknown;  // heap_.top().at; kUnknown when empty
   sc_core::sc_event event_;
   Tick event_at_ = kUnknown;  // time of the pending SystemC notification
   bool running_ = false;

@@ -45,8 +45,15 @@ TEST(Calendar, RunsTheLowestIdFirstAndHonoursEarlierArmings) {
   s.schedule(&c1, 5 * kCycle);
   s.schedule(&c3, 300 * kCycle);  // beyond the ring's 256 cycles
   s.schedule(&c4, 2500);          // between edges
-  c0.on_activate = [&] {
+  c0.on_activate = [&, first = true]() mutable {
     s.schedule(&c1, 0);  // earlier than its pending 5 cycles: replaces it, runs now, before c2
+    if (first) s.schedule(&c0, 300 * kCycle);  // the heap, first at 300 cycles (lowest id)
+    first = false;
+  };
+  c1.on_activate = [&] {
+    if (s.now() == 4 * kCycle) s.schedule(&c1, 100 * kCycle);
+    // The ring at 300 cycles, between c0 and c3 on the heap
+    if (s.now() == 100 * kCycle) s.schedule(&c2, 300 * kCycle);
   };
   c2.on_activate = [&, first = true]() mutable {
     if (!first) return;
@@ -61,9 +68,19 @@ TEST(Calendar, RunsTheLowestIdFirstAndHonoursEarlierArmings) {
   };
   test::simulate();
 
-  const std::vector<std::pair<Tick, int>> expected = {
-      {0, 0},    {0, 1},          {0, 2},          {kCycle, 2},
-      {2500, 4}, {4 * kCycle, 1}, {4 * kCycle, 4}, {300 * kCycle, 3}};
+  // At 300 cycles c0 (heap) wakes c1 for the same time (ring): by id, heap and ring interleaved.
+  const std::vector<std::pair<Tick, int>> expected = {{0, 0},
+                                                      {0, 1},
+                                                      {0, 2},
+                                                      {kCycle, 2},
+                                                      {2500, 4},
+                                                      {4 * kCycle, 1},
+                                                      {4 * kCycle, 4},
+                                                      {100 * kCycle, 1},
+                                                      {300 * kCycle, 0},
+                                                      {300 * kCycle, 1},
+                                                      {300 * kCycle, 2},
+                                                      {300 * kCycle, 3}};
   EXPECT_EQ(activations, expected);
 }
 
