@@ -71,15 +71,20 @@ void Cache::name_requester(const FillListener* requester, const std::string& typ
     stall_cycles_by_type_.push_back(0);
   }
   requester_type_.push_back({requester, index});
+  stall_type_.known = false;
 }
 
 void Cache::count_bank_stall(uint64_t wait, const FillListener* requester) {
   ++stats_.bank_stall_events;
   stats_.bank_stall_cycles += wait;
-  uint32_t type = 0;
-  for (const auto& [who, t] : requester_type_)
-    if (who == requester) type = t;
-  stall_cycles_by_type_[type] += wait;
+  // The last requester's type is kept: an L1 has one requester, and an L2's come in runs.
+  if (!stall_type_.known || stall_type_.requester != requester) {
+    uint32_t type = 0;
+    for (const auto& [who, t] : requester_type_)
+      if (who == requester) type = t;
+    stall_type_ = {true, requester, type};
+  }
+  stall_cycles_by_type_[stall_type_.type] += wait;
 }
 
 Tick Cache::fill_slot(uint64_t line, Tick when) {

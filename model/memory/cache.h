@@ -280,6 +280,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;
   std::vector<std::string> type_names_{"other"};
   std::vector<uint64_t> stall_cycles_by_type_{0};
+  struct {  // count_bank_stall's last requester and its type
+    bool known = false;
+    const FillListener* requester = nullptr;
+    uint32_t type = 0;
+  } stall_type_;
 };
 
 }  // namespace rtsim::model

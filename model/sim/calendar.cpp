@@ -114,7 +114,7 @@ void Calendar::run() {
       const uint64_t cycle = ring_clock_.to_cycles(now);
       due = {cycle % kSlots, cycle * period_ == now};
     }
-    edge_ = due.edge;
+    next_edge_ = due.edge ? now + period_ : kUnknown;
     slot_ = due.slot;
     while (pop_due(now, due, id)) {
       Client* c = clients_[id];
@@ -126,6 +126,7 @@ void Calendar::run() {
     if (next > stamp) {          // kUnknown too
       if (settled_) settled_();  // still running, at `now`
       running_ = false;
+      next_edge_ = kUnknown;
       if (next != kUnknown) notify_at(next);
       return;
     }

@@ -77,8 +77,7 @@ class Calendar : public sc_core::sc_module {
   // schedule(c, at), quicker when `at` is the ring clock's edge after the one running now and `c`
   // is on that clock (a busy unit re-arming for its next cycle: most activations).
   void schedule_next(Client* c, Tick at) {
-    if (!running_ || !edge_ || c->period_ != period_ || at != now_ + period_)
-      return schedule(c, at);
+    if (at != next_edge_ || c->period_ != period_) return schedule(c, at);
     if (c->armed_at_ != kUnknown && c->armed_at_ <= at && c->armed_at_ >= now_) return;
     c->armed_at_ = at;
     arm_in_ring((slot_ + 1) % kSlots, c->id_);
@@ -132,8 +131,10 @@ class Calendar : public sc_core::sc_module {
   sc_core::sc_event event_;
   Tick event_at_ = kUnknown;  // time of the pending SystemC notification
   bool running_ = false;
-  Tick now_ = 0;       // while running
-  bool edge_ = false;  // while running: now_ is an edge of the ring's clock, in ring slot slot_
+  Tick now_ = 0;  // while running
+  // While running at an edge of the ring's clock (in ring slot slot_): the next edge; else
+  // kUnknown.
+  Tick next_edge_ = kUnknown;
   uint64_t slot_ = 0;
   TimeBase time_;
   std::function<void()> settled_;

@@ -43,10 +43,7 @@ class ReadyQueue {
       q_.push_front(x);
       return;
     }
-    size_t i = q_.size();  // the new tail, moved towards the head past every later item
-    q_.grow_back();
-    for (; i > 0 && x.before(q_[i - 1]); --i) q_[i] = q_[i - 1];
-    q_[i] = x;
+    q_.insert_from_back(x, [](const Item& a, const Item& b) { return a.before(b); });
   }
   Ring<Item> q_;
 };

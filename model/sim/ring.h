@@ -37,10 +37,18 @@ class Ring {
     buf_[head_] = x;
     ++size_;
   }
-  // One more value at the tail, its slot left as it is (the caller fills it through []).
-  void grow_back() {
+  // Inserts `x` after the tail's run of values it goes before (`less(x, v)`), moving them one
+  // place on: a sorted ring's insert, from the tail. The ring's fields are read once, not after
+  // every move (a moved value's store could alias them).
+  template <class Less>
+  void insert_from_back(T x, Less less) {
     if (full()) grow();
-    ++size_;
+    T* const buf = buf_.data();
+    const size_t head = head_, mask = mask_;
+    size_t i = size_++;
+    for (; i > 0 && less(x, buf[(head + i - 1) & mask]); --i)
+      buf[(head + i) & mask] = buf[(head + i - 1) & mask];
+    buf[(head + i) & mask] = x;
   }
   void pop_front() {
     head_ = (head_ + 1) & mask_;
