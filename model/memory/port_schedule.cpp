@@ -53,8 +53,9 @@ void PortSchedule::grow() {
     ring[to] = full()[from];
     if (!used.empty()) std::copy_n(&used_[from * 64], 64, &used[to * 64]);
   }
-  grown_.swap(ring);
-  mask_ = grown_.size() - 1;
+  bits_.grown.swap(ring);
+  bits_.repoint();
+  mask_ = bits_.grown.size() - 1;
   used_.swap(used);
 }
 

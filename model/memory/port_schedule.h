@@ -20,6 +20,7 @@
 #include "model/sim/time.h"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -48,7 +49,9 @@ class alignas(64) PortSchedule {
     ++stats_.requests;
     return ports_ == 0 ? c : reserve_slot(c);
   }
-  uint64_t peek_cycle(uint64_t c) { return ports_ == 0 ? c : first_free_for(std::max(c, base_)); }
+  uint64_t peek_cycle(uint64_t c) {
+    return ports_ == 0 ? c : first_free_for(std::max(c, base_)).cycle;
+  }
   // The edge of the first cycle at or after `t` with a free slot, left free.
   Tick peek(Tick t) { return clock_.cycles(peek_cycle(clock_.ceil_cycles(t))); }
   // Takes every slot of the cycles in [from, until) that is still free (a port held by a stalled
@@ -77,11 +80,27 @@ class alignas(64) PortSchedule {
   const PortStats& stats() const { return stats_; }
 
  private:
-  // The ring: 256 cycles in the object to start with (most ports never need more: no pointer to
-  // follow), moved to the heap and doubled when reservations reach further ahead.
-  uint64_t* full() { return grown_.empty() ? first_ : grown_.data(); }
-  const uint64_t* full() const { return grown_.empty() ? first_ : grown_.data(); }
-  size_t words() const { return grown_.empty() ? kFirstWords : grown_.size(); }
+  static constexpr size_t kFirstWords = 4;
+  // The ring: bit c % 64 of word c / 64 set when cycle c has no slot left. Its first 256 cycles
+  // are in the object (most ports never need more: no pointer to follow); it moves to the heap
+  // and doubles when reservations reach further ahead. `words` points at the ring either way.
+  struct Bits {
+    uint64_t* words = first.data();
+    std::array<uint64_t, kFirstWords> first{};
+    std::vector<uint64_t> grown;
+    Bits() = default;
+    Bits(const Bits& o) : first(o.first), grown(o.grown) { repoint(); }
+    Bits& operator=(const Bits& o) {
+      first = o.first;
+      grown = o.grown;
+      repoint();
+      return *this;
+    }
+    void repoint() { words = grown.empty() ? first.data() : grown.data(); }
+  };
+  uint64_t* full() { return bits_.words; }
+  const uint64_t* full() const { return bits_.words; }
+  size_t words() const { return mask_ + 1; }
   size_t word_of(uint64_t cycle) const { return size_t(cycle >> 6) & mask_; }
   // Makes the ring hold every cycle up to `cycle` (sliding past the cycles that are over, or
   // growing).
@@ -89,28 +108,32 @@ class alignas(64) PortSchedule {
     if (cycle >= held_until_) slide_or_grow(cycle);
   }
   void slide_or_grow(uint64_t cycle);
-  // The first cycle at or after `cycle` with a free slot: the word of `cycle` first (inline: most
-  // requests find their slot there), then the rest.
-  uint64_t first_free(uint64_t c) {
+  // The first cycle with a free slot for a request asking for `asked`, and its word: the word of
+  // the cycle asked for first (inline: most requests find their slot there), then the rest. A
+  // pile-up on the last request's cycle resumes where that one found room (see last_asked_).
+  struct Free {
+    uint64_t cycle;
+    uint64_t* word;  // the ring's word holding `cycle`
+  };
+  Free first_free_for(uint64_t asked) {
+    uint64_t c = asked == last_asked_ ? std::max(asked, last_granted_) : asked;
     if (c < held_until_) {
-      const uint64_t free = ~full()[word_of(c)] & (~uint64_t(0) << (c & 63));
-      if (free) return (c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free));
+      uint64_t* w = full() + word_of(c);
+      const uint64_t free = ~*w & (~uint64_t(0) << (c & 63));
+      if (free) return {(c & ~uint64_t(63)) + uint64_t(__builtin_ctzll(free)), w};
     }
-    return first_free_beyond(c);
+    c = first_free_beyond(c);
+    return {c, full() + word_of(c)};
   }
   uint64_t first_free_beyond(uint64_t cycle);
-  // first_free() for a request asking for `asked`: a pile-up on the last request's cycle resumes
-  // where that one found room (see last_asked_).
-  uint64_t first_free_for(uint64_t asked) {
-    return first_free(asked == last_asked_ ? std::max(asked, last_granted_) : asked);
-  }
   void grow();
   // reserve() of a real port, asked for `cycle`: the cycle granted.
   uint64_t reserve_slot(uint64_t cycle) {
     const uint64_t asked = std::max(cycle, base_);
-    const uint64_t c = first_free_for(asked);
+    // The slot is taken in the word that was found (no second look-up of the ring).
+    const auto [c, word] = first_free_for(asked);
     const uint64_t bit = uint64_t(1) << (c & 63);
-    if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) full()[word_of(c)] |= bit;
+    if (ports_ == 1 || ++used_[word_of(c) * 64 + (c & 63)] == ports_) *word |= bit;
     last_asked_ = asked;
     last_granted_ = c;
     if (c > asked) {
@@ -123,7 +146,6 @@ class alignas(64) PortSchedule {
 
   // What a request reads and writes, first (a cache's banks are an array of these).
   uint32_t ports_;
-  static constexpr size_t kFirstWords = 4;
   size_t mask_ = kFirstWords - 1;  // words - 1
   Clock clock_;
   uint64_t base_ = 0;  // first cycle held, a multiple of 64; the ring holds 64 * words
@@ -132,9 +154,7 @@ class alignas(64) PortSchedule {
   // pile-up on one cycle resumes the search where the previous request found room.
   uint64_t last_asked_ = ~uint64_t(0), last_granted_ = 0;
   PortStats stats_;
-  // Bit c % 64 of word c / 64: cycle c has no slot left. In first_ until the ring grows.
-  uint64_t first_[kFirstWords] = {};
-  std::vector<uint64_t> grown_;
+  Bits bits_;
   std::vector<uint8_t> used_;  // ports > 1: slots taken per cycle (index c % cycles held)
 };
 

@@ -87,5 +87,23 @@ TEST(PortSchedule, TheIdealPortNeverDelays) {
   EXPECT_EQ(p.stats().delayed, 0u);
 }
 
+// A copy (a crossbar's ports are copies of one) holds its own ring, in the object or grown onto
+// the heap: reservations on the one are not seen by the other.
+TEST(PortSchedule, ACopyKeepsItsOwnRing) {
+  for (const uint64_t far : {uint64_t(100), uint64_t(5000)}) {  // in the object; grown
+    PortSchedule a(kCycle, 1);
+    a.reserve(far * kCycle);
+    PortSchedule b(a);
+    PortSchedule c(kCycle, 1);
+    c = a;
+    EXPECT_EQ(b.reserve(far * kCycle), (far + 1) * kCycle) << far;  // sees a's reservation
+    EXPECT_EQ(c.reserve(far * kCycle), (far + 1) * kCycle) << far;
+    EXPECT_EQ(a.reserve(far * kCycle), (far + 1) * kCycle) << far;  // not b's or c's
+    EXPECT_EQ(b.reserve(3 * kCycle), 3 * kCycle) << far;
+    EXPECT_EQ(a.reserve(3 * kCycle), 3 * kCycle) << far;
+    EXPECT_EQ(c.reserve(3 * kCycle), 3 * kCycle) << far;
+  }
+}
+
 }  // namespace
 }  // namespace rtsim::model
