@@ -141,10 +141,12 @@ class RoundRobin {
   RayQueueIn* next_free() {
     const std::vector<RayQueueIn*>& fifos = bound();
     const size_t n = fifos.size();
-    for (size_t i = 0; i < n; ++i) {
-      RayQueueIn* f = fifos[(next_ + i) % n];
+    // Indices wrap by a compare, not a division (next_ < n): this scans every FIFO while all
+    // are full.
+    for (size_t i = 0, k = next_; i < n; ++i, k = k + 1 == n ? 0 : k + 1) {
+      RayQueueIn* f = fifos[k];
       if (!f->full()) {
-        next_ = (next_ + i + 1) % n;
+        next_ = k + 1 == n ? 0 : k + 1;
         return f;
       }
     }

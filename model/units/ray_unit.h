@@ -142,7 +142,11 @@ class RayUnit : public Unit, public FillListener {
   // second line's allocation may evict the first; else, both in, it is read from the L1 (the
   // same bytes).
   RecordFetch fetch(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes, Tick now) {
-    FetchState& f = fetch_state(ray);
+    return fetch(cache, fetch_state(ray), ray, addr, bytes, now);
+  }
+  // fetch() given the ray's entry `f`.
+  RecordFetch fetch(Cache& cache, FetchState& f, uint32_t ray, uint64_t addr, uint32_t bytes,
+                    Tick now) {
     f.reading = f.fill_ready;
     if (f.fill_ready) {
       f.fill_ready = false;
@@ -186,12 +190,14 @@ class RayUnit : public Unit, public FillListener {
   // still to come (the ray is parked until it arrives, then issues again and reads it).
   [[gnu::always_inline]] Tick load(Cache& cache, uint32_t ray, uint64_t addr, uint32_t bytes,
                                    uint8_t* out, Tick now) {
-    const RecordFetch f = fetch(cache, ray, addr, bytes, now);
+    // The entry found once: the caches' stores in between would make the compiler find it again.
+    FetchState& entry = fetch_state(ray);
+    const RecordFetch f = fetch(cache, entry, ray, addr, bytes, now);
     if (f.ready == kUnknown) {
-      park(ray, f.pending);
+      entry.waiting_lines = f.pending;  // parked
       return kUnknown;
     }
-    if (fetch_state(ray).reading)
+    if (entry.reading)
       read_record(EntryLines{this, ray}, addr, bytes, out);
     else
       read_record(cache, addr, bytes, out);
