@@ -12,6 +12,13 @@ namespace rtsim {
 
 using Vec3 = glm::vec3;
 
+// v[i] without a branch: glm's operator[] switches on i, and the hot loops' indices (a kd-node's
+// axis, a ray's shear axes) change from one ray to the next, which the host cannot predict.
+inline float component(const Vec3& v, int i) {
+  const float c[3] = {v.x, v.y, v.z};
+  return c[i];
+}
+
 struct AABB {
   Vec3 lo{std::numeric_limits<float>::infinity()};
   Vec3 hi{-std::numeric_limits<float>::infinity()};

@@ -47,9 +47,10 @@ inline Vec3 unit_normal(const Vec3& v0, const Vec3& v1, const Vec3& v2) {
 inline bool intersect_triangle(const Ray& ray, const RayShear& s, const Vec3& p0, const Vec3& p1,
                                const Vec3& p2, float& t_out) {
   Vec3 a = p0 - ray.o, b = p1 - ray.o, c = p2 - ray.o;
-  float ax = a[s.kx] + s.sx * a[s.kz], ay = a[s.ky] + s.sy * a[s.kz];
-  float bx = b[s.kx] + s.sx * b[s.kz], by = b[s.ky] + s.sy * b[s.kz];
-  float cx = c[s.kx] + s.sx * c[s.kz], cy = c[s.ky] + s.sy * c[s.kz];
+  const float a_kz = component(a, s.kz), b_kz = component(b, s.kz), c_kz = component(c, s.kz);
+  float ax = component(a, s.kx) + s.sx * a_kz, ay = component(a, s.ky) + s.sy * a_kz;
+  float bx = component(b, s.kx) + s.sx * b_kz, by = component(b, s.ky) + s.sy * b_kz;
+  float cx = component(c, s.kx) + s.sx * c_kz, cy = component(c, s.ky) + s.sy * c_kz;
   float u = cx * by - cy * bx;
   float v = ax * cy - ay * cx;
   float w = bx * ay - by * ax;
@@ -62,7 +63,7 @@ inline bool intersect_triangle(const Ray& ray, const RayShear& s, const Vec3& p0
   if ((u < 0.f || v < 0.f || w < 0.f) && (u > 0.f || v > 0.f || w > 0.f)) return false;
   float det = u + v + w;
   if (det == 0.f) return false;
-  float az = s.sz * a[s.kz], bz = s.sz * b[s.kz], cz = s.sz * c[s.kz];
+  float az = s.sz * a_kz, bz = s.sz * b_kz, cz = s.sz * c_kz;
   float t_scaled = u * az + v * bz + w * cz;
   float t = t_scaled / det;
   if (!(t > ray.tmin && t < ray.tmax)) return false;

@@ -118,9 +118,9 @@ inline TraversalStep traversal_node(TraversalState& s, const TraversalResult& r,
   }
   const int axis = node.axis();
   const float split = node.split();
-  const float t_plane = (split - s.ray.o[axis]) * s.inv[axis];
-  const bool below_first =
-      s.ray.o[axis] < split || (s.ray.o[axis] == split && s.ray.d[axis] <= 0.f);
+  const float o = component(s.ray.o, axis);
+  const float t_plane = (split - o) * component(s.inv, axis);
+  const bool below_first = o < split || (o == split && component(s.ray.d, axis) <= 0.f);
   const uint32_t first = below_first ? s.node + 1 : node.above_child();
   const uint32_t second = below_first ? node.above_child() : s.node + 1;
   // The same slack as the leaves': a cell thinner than the rounding of t must still be visited.

@@ -9,6 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
 #include <random>
 
 namespace rtsim {
@@ -125,6 +127,18 @@ TEST(ReferenceTracer, MatchesBruteForceOnKitchen) {
 TEST(ReferenceTracer, MatchesBruteForceOnRobots) {
   RTSIM_REQUIRE_SHARED_SCENES();
   check_against_brute_force(load_setup("robots"), 10000, 4);
+}
+
+TEST(Geometry, ComponentReadsTheSameBitsAsGlmIndexing) {
+  // The kernels read a ray's axes with component() (no branch on the index).
+  const Vec3 v(-0.f, std::nextafter(1.f, 2.f), -INFINITY);
+  for (int i = 0; i < 3; ++i) {
+    uint32_t a, b;
+    const float c = component(v, i);
+    std::memcpy(&a, &c, 4);
+    std::memcpy(&b, &v[i], 4);
+    EXPECT_EQ(a, b) << "axis " << i;
+  }
 }
 
 Scene scene_of(std::vector<Triangle> tris) {
