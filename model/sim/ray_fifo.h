@@ -143,10 +143,11 @@ class RoundRobin {
     const size_t n = fifos.size();
     // Indices wrap by a compare, not a division (next_ < n): this scans every FIFO while all
     // are full.
-    for (size_t i = 0, k = next_; i < n; ++i, k = k + 1 == n ? 0 : k + 1) {
+    const auto after = [n](size_t k) { return k + 1 == n ? 0 : k + 1; };
+    for (size_t i = 0, k = next_; i < n; ++i, k = after(k)) {
       RayQueueIn* f = fifos[k];
       if (!f->full()) {
-        next_ = k + 1 == n ? 0 : k + 1;
+        next_ = after(k);
         return f;
       }
     }
