@@ -74,8 +74,8 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
 // `image_memory_bytes` in all; else it is empty, of its configured capacity.
 void Accelerator::Netlist::build_memory(const MemoryImage* image, uint64_t image_memory_bytes,
                                         MemoryTarget memory_target) {
-  MemorySystemConfig mem = cfg.memory_system();
-  mem.loosely_timed_memory = memory_target == MemoryTarget::kLooselyTimed;
+  topology = memory_topology(cfg, memory_target);
+  const MemorySystemConfig& mem = topology.memory;
   memory_bytes = image_memory_bytes;
   if (memory_target == MemoryTarget::kBuiltin && image)
     dram = std::make_unique<Dram>("dram", mem.dram, &image->bytes(), ctx.clock, calendar,
@@ -97,17 +97,18 @@ void Accelerator::Netlist::build_units() {
   generator =
       std::make_unique<RayGenerator>("raygen", ctx, cfg.order, cfg.tile, cfg.raygen_rays_per_cycle);
   for (uint32_t i = 0; i < cfg.trv.count; ++i)
-    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, *memory, i));
+    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, i));
   for (uint32_t j = 0; j < cfg.list.count; ++j)
-    list.push_back(
-        std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list, *memory, j));
+    list.push_back(std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list));
   for (uint32_t k = 0; k < cfg.ist.count; ++k)
-    ist.push_back(std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist, *memory, k));
+    ist.push_back(std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist));
   for (uint32_t s = 0; s < cfg.shading.count; ++s)
     shading.push_back(std::make_unique<ShadingUnit>(indexed("shading", s).c_str(), ctx, cfg.shading,
-                                                    *memory, s, &frame, records));
-  culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.culling, memory.get(), &frame,
-                                                records);
+                                                    &frame, records));
+  // Its own L1 is a shading L1.
+  const bool own_l1 = cfg.culling.l1 == CullingL1::kOwn;
+  culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.culling,
+                                                own_l1 ? &cfg.shading : nullptr, &frame, records);
 }
 
 // Forward: generator -> TRV -> LIST -> IST -> shading (TRV unit i -> LIST unit i x list / trv
@@ -137,10 +138,20 @@ void Accelerator::Netlist::bind_ray_path() {
   router.phases.bind(phases.retirements);
 }
 
-// The phase controller's reach, and the memory the shading and culling units use besides their
-// caches: the frame buffer's writes and reads, and the L1 the culling unit reads the lights
-// through (shading unit 0's single port unless it has its own).
+// The phase controller's reach; where each unit's caches reach below (the topology); the memory
+// the shading and culling units use besides their caches: the frame buffer's writes and reads,
+// and the L1 the culling unit reads the lights through (shading unit 0's single port unless it
+// has its own).
 void Accelerator::Netlist::bind_control_and_memory() {
+  for (uint32_t i = 0; i < cfg.trv.count; ++i)
+    trv[i]->mem_side.bind(reach(*memory, topology.trv[i]));
+  for (uint32_t j = 0; j < cfg.list.count; ++j)
+    list[j]->mem_side.bind(reach(*memory, topology.list[j]));
+  for (uint32_t k = 0; k < cfg.ist.count; ++k)
+    ist[k]->mem_side.bind(reach(*memory, topology.ist[k]));
+  for (uint32_t s = 0; s < cfg.shading.count; ++s)
+    shading[s]->mem_side.bind(reach(*memory, topology.shading[s]));
+  if (culling->own_l1()) culling->mem_side.bind(reach(*memory, topology.culling));
   phases.primaries.bind(generator->control);
   phases.shadows.bind(culling->control);
   if (cfg.write_records)
@@ -199,6 +210,12 @@ void Accelerator::Netlist::build_observers() {
   }
 }
 
+void Accelerator::Netlist::invalidate_caches() {
+  memory->invalidate();
+  for (RayUnit* u : ray_units) u->caches().invalidate();
+  if (Cache* own = culling->own_l1()) own->invalidate();
+}
+
 uint64_t Accelerator::Netlist::progress_count() const {
   // A DRAM draining its queues (a backlog of posted writes) is progress too.
   const MemoryPortStats& port = memory->interconnect().port().stats();
@@ -254,6 +271,22 @@ void Accelerator::Netlist::register_stats() {
   add_totals("list", raw(list));
   add_totals("ist", raw(ist));
   add_totals("shading", raw(shading));
+  // Each unit's caches, and totals per type: its L1s, and its L2s when they are private.
+  auto cache_totals = [this](const std::string& type, const auto& units) {
+    std::vector<const Cache*> l1s, l2s;
+    for (const auto& u : units) {
+      u->caches().register_stats(stats, top, &end);
+      l1s.push_back(&u->l1());
+      if (u->caches().l2()) l2s.push_back(u->caches().l2());
+    }
+    register_cache_totals(stats, type + ".l1", l1s);
+    if (!l2s.empty()) register_cache_totals(stats, type + ".l2", l2s);
+  };
+  cache_totals("trv", trv);
+  cache_totals("list", list);
+  cache_totals("ist", ist);
+  cache_totals("shading", shading);
+  if (const Cache* own = culling->own_l1()) own->register_stats(stats, stat_prefix(*own, top));
   memory->register_stats(stats, top, &end);
   generator->register_unit_stats(stats, stat_prefix(*generator, top));
   culling->register_stats(stats, stat_prefix(*culling, top));

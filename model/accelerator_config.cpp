@@ -23,21 +23,13 @@ void AcceleratorConfig::validate() const {
         "unit)");
   if (reflection_depth < 0 || reflection_depth > 8)
     throw std::invalid_argument("reflection_depth: expected 0..8");
-  memory_system().dram.validate();
+  memory_dram().validate();
 }
 
-MemorySystemConfig AcceleratorConfig::memory_system() const {
-  MemorySystemConfig m;
-  m.trv = trv;
-  m.list = list;
-  m.ist = ist;
-  m.shading = shading;
-  m.culling_l1 = culling.l1 == CullingL1::kOwn;
-  m.memory_link = memory_link;
-  m.write_buffer = write_buffer;
-  m.dram = dram;
-  m.dram.request_bytes = trv.l2.line_bytes;  // one L2 line per memory transaction
-  return m;
+DramConfig AcceleratorConfig::memory_dram() const {
+  DramConfig d = dram;
+  d.request_bytes = trv.l2.line_bytes;  // one L2 line per memory transaction
+  return d;
 }
 
 }  // namespace rtsim::model

@@ -4,9 +4,9 @@
 #pragma once
 
 #include "model/memory/cache.h"
+#include "model/memory/client_caches.h"
 #include "model/memory/crossbar.h"
 #include "model/memory/dram_config.h"
-#include "model/memory/memory_system.h"
 #include "model/units/phase_controller.h"
 #include "model/units/ray_generator.h"
 #include "model/units/ray_unit.h"
@@ -15,10 +15,6 @@
 #include <cstdint>
 
 namespace rtsim::model {
-
-// A unit type's section of the hardware file: its units' pipelines (model/units/ray_unit.h) and
-// their caches (model/memory/memory_system.h).
-struct UnitTypeConfig : RayUnitConfig, TypeMemoryConfig {};
 
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
@@ -62,8 +58,8 @@ struct AcceleratorConfig {
 
   // Throws std::invalid_argument naming the field.
   void validate() const;
-  // The memory hierarchy's part: the units' caches, the links, the memory's address mapping.
-  MemorySystemConfig memory_system() const;
+  // The memory as the accelerator uses it: `dram` with one L2 line per request.
+  DramConfig memory_dram() const;
 };
 
 // Every field of a unit type, once (model/sim/config_description.h): `has_l2` for TRV, LIST and IST

@@ -45,7 +45,7 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   frame.levels = cfg.reflection_depth + 1;
   frame.allocate(ctx.light_samples);
   records = record_region(cfg, p);
-  memory->invalidate();
+  invalidate_caches();
   generator->begin_frame(p.camera, p.width, p.height);
   culling->begin_frame(p.lvb_culling);
   phases.begin_frame(begin);

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "model/accelerator.h"
+#include "model/accelerator_topology.h"
 #include "model/device/device_driver.h"
 #include "model/memory/dram.h"
 #include "model/memory/memory_system.h"
@@ -28,7 +29,7 @@ namespace rtsim::model {
 
 // Bytes per hit record in the frame buffer: a whole memory line.
 inline uint32_t record_stride(const AcceleratorConfig& cfg) {
-  return std::max(kHitRecordBytes, cfg.memory_system().dram.request_bytes);
+  return std::max(kHitRecordBytes, cfg.memory_dram().request_bytes);
 }
 
 struct Accelerator::Netlist : FrameEngine {
@@ -37,12 +38,15 @@ struct Accelerator::Netlist : FrameEngine {
 
   // FrameEngine: the registers start a frame, or reset the device.
   void begin_frame(const FrameProgram& program, Tick at) override;
-  void reset() override { memory->invalidate(); }
+  void reset() override { invalidate_caches(); }
+  // Empties every cache: the units' own and the shared L2s.
+  void invalidate_caches();
   // The frame is over once every ray retired and its records' writes are answered.
   void check_frame_end();
 
   void build_memory(const MemoryImage* image, uint64_t image_memory_bytes,
                     MemoryTarget memory_target);
+
   void build_units();
   void bind_ray_path();
   void bind_control_and_memory();
@@ -73,6 +77,7 @@ struct Accelerator::Netlist : FrameEngine {
   Calendar calendar;
   std::unique_ptr<ControlRegisters> registers;
   std::unique_ptr<Dram> dram;
+  MemoryTopology topology;
   std::unique_ptr<MemorySystem> memory;
   std::unique_ptr<TlmChecker> checker;  // between the memory port and the memory, if asked
   std::unique_ptr<RayGenerator> generator;

@@ -73,7 +73,7 @@ uint64_t MemoryNeed::total() const {
 MemoryNeed run_memory_need(const model::AcceleratorConfig& hw, const Scene& scene, bool check) {
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
   const uint64_t entries = pixels * uint64_t(hw.reflection_depth + 1);
-  const uint64_t stride = std::max<uint64_t>(64, hw.memory_system().dram.request_bytes);
+  const uint64_t stride = std::max<uint64_t>(64, hw.memory_dram().request_bytes);
   const uint64_t entry_bytes = sizeof(model::PixelState) + 8 * sample_words(scene);
   MemoryNeed n;
   n.what = fmt::format("a {}x{} frame", scene.width, scene.height);

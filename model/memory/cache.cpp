@@ -44,7 +44,6 @@ Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineS
   } catch (const std::invalid_argument& e) {
     report_error(kReportConfig, std::string(this->name()) + ": " + e.what());
   }
-  if (!below_) report_error(kReportConfig, std::string(this->name()) + ": no level below");
   hit_ticks_ = clock_.cycles(cfg_.hit_latency);
   line_shift_ = 0;
   while ((1u << line_shift_) < cfg_.line_bytes) ++line_shift_;

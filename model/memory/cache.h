@@ -121,7 +121,8 @@ struct CacheStats {
 
 class Cache : public sc_core::sc_object, public LineSource, public FillListener {
  public:
-  // `below` must outlive the cache; the cache registers itself as below's listener. A bad
+  // `below` must outlive the cache; the cache registers itself as below's listener. It may be
+  // null when the level below is bound later (connect, before the first access). A bad
   // configuration is reported as rtsim/config.
   Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineSource* below);
   const char* kind() const override { return "rtsim_cache"; }
@@ -159,6 +160,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     return line_data_elsewhere(addr);
   }
   uint32_t line_bytes() const final { return cfg_.line_bytes; }
+  // The level below, when it was not known at construction (a unit's port, bound later).
+  void connect(LineSource& below) { below_ = &below; }
   // A fill from below for a line this cache asked for with an unknown time.
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
 

@@ -104,13 +104,17 @@ void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const
   network("reply", reply_, &dst_out_, &src_in_);
 }
 
-CrossbarPort::CrossbarPort(Crossbar* crossbar, uint32_t first_source, const LineSource* requester,
+CrossbarPort::CrossbarPort(Crossbar* crossbar, uint32_t first_source, uint32_t source_ports,
                            LineSource* below, uint32_t line_bytes)
     : xbar_(crossbar),
       first_(first_source),
-      requester_(requester),
+      source_mask_(source_ports - 1),
       below_(below),
-      line_bytes_(line_bytes) {}
+      line_bytes_(line_bytes) {
+  if (source_ports == 0 || (source_ports & (source_ports - 1)) != 0)
+    report_error(kReportInternal, std::string(xbar_->name()) + ": source ports not a power of two");
+  while ((uint64_t(1) << line_shift_) < line_bytes_) ++line_shift_;
+}
 
 Tick CrossbarPort::fetch_line(uint64_t line, Tick now, FillListener* listener, uint64_t cookie) {
   if (upstream_ && listener != upstream_)

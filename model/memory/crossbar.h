@@ -97,13 +97,14 @@ class Crossbar : public sc_core::sc_object {
   CrossbarStats request_, reply_;
 };
 
-// One upstream requester's way to a LineSource through a crossbar. `first_source` is the
-// requester's first source port; a banked requester (an L2) uses one source port per bank, chosen
-// by its own port_of(line). The destination port is the level below's port_of(line).
+// One upstream requester's way to a LineSource through a crossbar. The requester uses
+// `source_ports` source ports from `first_source` on (a power of two): an L1 one, an L2 one per
+// bank, chosen by the line's bank as the L2 banks its lines (model/memory/cache.h: line number
+// mod banks, lines of `line_bytes`). The destination port is the level below's port_of(line).
 class CrossbarPort : public LineSource, public FillListener {
  public:
-  CrossbarPort(Crossbar* crossbar, uint32_t first_source, const LineSource* requester,
-               LineSource* below, uint32_t line_bytes);
+  CrossbarPort(Crossbar* crossbar, uint32_t first_source, uint32_t source_ports, LineSource* below,
+               uint32_t line_bytes);
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
   uint32_t line_bytes() const override { return line_bytes_; }
@@ -114,17 +115,16 @@ class CrossbarPort : public LineSource, public FillListener {
   uint32_t port_count() const override { return below_->port_count(); }
   // The level below answered a request whose time it did not know: the reply crosses back.
   void on_fill(uint64_t line_addr, uint64_t cookie, Tick when) override;
-  // The banked requester whose port_of chooses the source port (it is built after its port).
-  void set_requester(const LineSource* requester) { requester_ = requester; }
 
  private:
   uint32_t source(uint64_t line) const {
-    return first_ + (requester_ ? requester_->port_of(line) : 0);
+    return first_ + uint32_t((line >> line_shift_) & source_mask_);
   }
 
   Crossbar* xbar_;
   uint32_t first_;
-  const LineSource* requester_;
+  uint64_t source_mask_;
+  uint32_t line_shift_ = 0;
   LineSource* below_;
   uint32_t line_bytes_;
   FillListener* upstream_ = nullptr;  // the requester (one listener per port)

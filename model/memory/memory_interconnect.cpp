@@ -6,7 +6,7 @@
 
 namespace rtsim::model {
 
-// A shading unit's way to write the frame buffer: its own source port on the crossbar, and a
+// A writer's way to the frame buffer: its own source port on the crossbar, and a
 // posted-write buffer of `entries` writes in flight (0: unbounded), each freed by its
 // acknowledgement from memory.
 class MemoryInterconnect::Writer : public sc_core::sc_object,
@@ -62,26 +62,27 @@ class MemoryInterconnect::Writer : public sc_core::sc_object,
 
 MemoryInterconnect::MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link,
                                        const DramConfig& dram, const Clock& clock,
-                                       Calendar& calendar, uint32_t l2_banks, uint32_t writers,
-                                       uint32_t write_buffer, bool loosely_timed)
+                                       Calendar& calendar, uint32_t l2_banks,
+                                       const std::vector<std::string>& writers,
+                                       const std::string& reader, uint32_t write_buffer,
+                                       bool loosely_timed)
     : sc_core::sc_module(name),
       port_("port", dram.request_bytes, dram, clock, calendar, loosely_timed),
-      icnt_("icnt", link, clock, l2_banks + writers + 1, port_.port_count()),
+      icnt_("icnt", link, clock, l2_banks + uint32_t(writers.size()) + 1, port_.port_count()),
       line_bytes_(dram.request_bytes) {
-  record_reader_ =
-      std::make_unique<CrossbarPort>(&icnt_, l2_banks + writers, nullptr, &port_, line_bytes_);
-  port_.name_requester(record_reader_.get(), "culling");
-  for (uint32_t s = 0; s < writers; ++s)
+  const uint32_t reader_source = l2_banks + uint32_t(writers.size());
+  record_reader_ = std::make_unique<CrossbarPort>(&icnt_, reader_source, 1, &port_, line_bytes_);
+  port_.name_requester(record_reader_.get(), reader);
+  for (uint32_t s = 0; s < writers.size(); ++s)
     writers_.push_back(std::make_unique<Writer>(("writer" + std::to_string(s)).c_str(), *this,
-                                                l2_banks + s, "shading" + std::to_string(s),
-                                                write_buffer));
+                                                l2_banks + s, writers[s], write_buffer));
 }
 
 MemoryInterconnect::~MemoryInterconnect() = default;
 
-std::unique_ptr<CrossbarPort> MemoryInterconnect::l2_port(uint32_t first_source,
+std::unique_ptr<CrossbarPort> MemoryInterconnect::l2_port(uint32_t first_source, uint32_t banks,
                                                           const std::string& initiator) {
-  auto p = std::make_unique<CrossbarPort>(&icnt_, first_source, nullptr, &port_, line_bytes_);
+  auto p = std::make_unique<CrossbarPort>(&icnt_, first_source, banks, &port_, line_bytes_);
   port_.name_requester(p.get(), initiator);
   return p;
 }

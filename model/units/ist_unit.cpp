@@ -2,9 +2,8 @@
 
 namespace rtsim::model {
 
-IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-                 MemorySystem& memory, uint32_t index)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kIst, index),
+IstUnit::IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg)
+    : RayUnit(name, ctx, cfg, kIstStage, "ist"),
       back("back"),
       to_shading("to_shading", this),
       lvb("lvb"),

@@ -24,9 +24,7 @@ class IstUnit : public RayUnit {
   RayOut to_shading;
   sc_core::sc_port<LvbUpdate> lvb;
 
-  // Unit `index` of the IST units.
-  IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-          MemorySystem& memory, uint32_t index);
+  IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg);
   const IstStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 

@@ -2,11 +2,8 @@
 
 namespace rtsim::model {
 
-ListUnit::ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-                   MemorySystem& memory, uint32_t index)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kList, index),
-      to_ist("to_ist", this),
-      latency_(cfg.latency) {}
+ListUnit::ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg)
+    : RayUnit(name, ctx, cfg, kListStage, "list"), to_ist("to_ist", this), latency_(cfg.latency) {}
 
 void ListUnit::admitted(uint32_t ray) {
   // A new leaf (TRV sends a ray here once per leaf).

@@ -18,9 +18,7 @@ class ListUnit : public RayUnit {
  public:
   RayOut to_ist;
 
-  // Unit `index` of the LIST units.
-  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-           MemorySystem& memory, uint32_t index);
+  ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg);
   const ListStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 

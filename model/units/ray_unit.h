@@ -2,11 +2,12 @@
 // input FIFO `in`, wait in a ready queue ordered by issue time, park while a line comes from
 // memory (on_fill puts them back: the T&I engine's ray accumulation buffer), and leave through an
 // output port; a refused push blocks the unit until the consumer frees a slot. A unit's children
-// are its input FIFO `in`, its ports and its caches (`l1`, and `l2` and `icnt` when L2s are
-// private).
+// are its input FIFO `in`, its ports and its caches (`l1`, and `l2` and `icnt` when its L2 is
+// private, model/memory/client_caches.h); its port `mem_side` reaches the level below them (a
+// shared L2's crossbar, or memory), as the netlist binds it.
 #pragma once
 
-#include "model/memory/memory_system.h"
+#include "model/memory/client_caches.h"
 #include "model/memory/record_fetch.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/ready_queue.h"
@@ -28,9 +29,13 @@ struct RayUnitConfig {
   uint32_t initiation_interval = 1;
 };
 
+// A unit type's section of the hardware file: its units' pipelines and their caches.
+struct UnitTypeConfig : RayUnitConfig, TypeMemoryConfig {};
+
 class RayUnit : public Unit, public FillListener {
  public:
   RayFifo in;
+  sc_core::sc_port<LineSource> mem_side;  // below the unit's own caches
 
   // A line a parked ray waited for arrived; the ray may issue again at `when`.
   void on_fill(uint64_t line, uint64_t ray, Tick when) override {
@@ -42,6 +47,8 @@ class RayUnit : public Unit, public FillListener {
     wake(when);
   }
   Cache& l1() const { return *l1_; }
+  const ClientCaches& caches() const { return caches_; }
+  ClientCaches& caches() { return caches_; }
 
   // A ray's entry seen as a line source (read_record's view of it).
   struct EntryLines {
@@ -53,23 +60,21 @@ class RayUnit : public Unit, public FillListener {
   uint32_t held() const { return held_; }
 
  protected:
-  // Builds the unit's input FIFO and its caches (unit `index` of `type` in `memory`).
-  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-          MemorySystem& memory, MemorySystem::Type type, uint32_t index)
+  // Builds the unit's input FIFO and its caches; `stage` is its entry in a ray's state, `type`
+  // names it in its caches' statistics.
+  RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+          Stage stage, const char* type)
       : Unit(name, *ctx.calendar, ctx.clock),
         in("in", cfg.fifo_depth, this),
+        mem_side("mem_side"),
         ctx_(ctx),
-        stage_(Stage(type)),
+        caches_(cfg, cfg.l2_sharing == L2Sharing::kUnit, ctx.clock, this, type),
+        l1_(&caches_.l1()),
+        stage_(stage),
         capacity_(cfg.capacity),
-        interval_(ctx.clock.cycles(cfg.initiation_interval)) {
-    static_assert(Stage(MemorySystem::kTrv) == kTrvStage &&
-                      Stage(MemorySystem::kList) == kListStage &&
-                      Stage(MemorySystem::kIst) == kIstStage &&
-                      Stage(MemorySystem::kShading) == kShadingStage,
-                  "a ray unit's stage is its memory type");
-    memory_ = memory.build_unit(type, index, this);
-    l1_ = memory_->l1.get();
-  }
+        interval_(ctx.clock.cycles(cfg.initiation_interval)) {}
+  // The caches reach what mem_side is bound to.
+  void end_of_elaboration() override { caches_.connect(*mem_side[0]); }
 
   // Works on one ready ray at `now`.
   virtual void process(uint32_t ray, Tick now) = 0;
@@ -232,8 +237,8 @@ class RayUnit : public Unit, public FillListener {
     uint32_t ray = 0;
     Tick when = 0;
   };
-  std::unique_ptr<UnitMemory> memory_;
-  Cache* l1_ = nullptr;
+  ClientCaches caches_;
+  Cache* l1_;
   Stage stage_;
   uint32_t capacity_;
   Tick interval_;        // the initiation interval

@@ -3,9 +3,9 @@
 namespace rtsim::model {
 
 ShadingUnit::ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
-                         const RayUnitConfig& cfg, MemorySystem& memory, uint32_t index,
-                         FrameBuffer* frame, const HitRecordRegion& region)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kShading, index),
+                         const UnitTypeConfig& cfg, FrameBuffer* frame,
+                         const HitRecordRegion& region)
+    : RayUnit(name, ctx, cfg, kShadingStage, "shading"),
       back("back"),
       hits("hits"),
       records("records"),

@@ -33,11 +33,10 @@ class ShadingUnit : public RayUnit {
   sc_core::sc_port<ShadedHits, 1, sc_core::SC_ZERO_OR_MORE_BOUND> hits;
   sc_core::sc_port<LineWriter, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
 
-  // Unit `index` of the shading units; hits land in `frame`, and their records at `region` (both
-  // the accelerator's, updated in place for each frame).
-  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-              MemorySystem& memory, uint32_t index, FrameBuffer* frame,
-              const HitRecordRegion& region);
+  // Hits land in `frame`, and their records at `region` (both the accelerator's, updated in place
+  // for each frame).
+  ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+              FrameBuffer* frame, const HitRecordRegion& region);
   const ShadingStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 

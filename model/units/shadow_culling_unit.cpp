@@ -7,11 +7,12 @@
 namespace rtsim::model {
 
 ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
-                                     const CullingConfig& config, MemorySystem* memory,
+                                     const CullingConfig& config, const TypeMemoryConfig* own_l1,
                                      FrameBuffer* frame, const HitRecordRegion& region)
     : Unit(name, *ctx.calendar, ctx.clock),
       to_trv("to_trv", this),
       lights("lights"),
+      mem_side("mem_side"),
       records("records"),
       hits("hits"),
       control("control"),
@@ -25,10 +26,10 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
   control.bind(*this);
   light_stats_.reserve(image::kMaxLights);
   if (config.l1 != CullingL1::kOwn) return;
-  if (!memory)
+  if (!own_l1)
     report_error(kReportInternal,
-                 std::string(this->name()) + ": an own L1 needs the memory system");
-  own_l1_ = memory->build_unit(MemorySystem::kCulling, 0, this);
+                 std::string(this->name()) + ": an own L1 needs its configuration");
+  own_l1_ = std::make_unique<ClientCaches>(*own_l1, false, ctx.clock, this, "culling");
 }
 
 void ShadowCullingUnit::begin_frame(bool culling) {
@@ -46,6 +47,11 @@ void ShadowCullingUnit::begin_frame(bool culling) {
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
+  if (own_l1_) {
+    if (mem_side.size() == 0)
+      report_error(kReportInternal, std::string(name()) + ": its own L1 reaches nothing below");
+    own_l1_->connect(*mem_side[0]);
+  }
   l1_ = lights[0];
   reader_ = records.size() > 0 ? records[0] : nullptr;
 }

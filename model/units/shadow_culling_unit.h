@@ -19,7 +19,7 @@
 #pragma once
 
 #include "model/memory/cache.h"
-#include "model/memory/memory_system.h"
+#include "model/memory/client_caches.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/unit.h"
 #include "model/units/frame_buffer.h"
@@ -68,21 +68,23 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
  public:
   RayDeal to_trv;                       // the TRV units' inputs, dealt in turn
   sc_core::sc_port<LineSource> lights;  // the L1 the light records come through
+  // Below its own L1, when it has one (the level it shares with the shading units' L1s).
+  sc_core::sc_port<LineSource, 1, sc_core::SC_ZERO_OR_MORE_BOUND> mem_side;
   // Two phases at a limited rate: the frame buffer's records (unbound: from the host-side frame).
   sc_core::sc_port<LineSource, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
   sc_core::sc_export<ShadedHits> hits;     // one phase: hits as they are shaded
   sc_core::sc_export<ShadowRays> control;  // the phase controller's
 
   // `frame` and `region` (where the records lie in memory) are the accelerator's, updated in
-  // place for each frame; `memory` builds the unit's own L1 (`own_l1`) when the configuration
-  // asks for one (else it may be null).
+  // place for each frame; `own_l1` configures the unit's own L1 (`own_l1()`, a shading L1) when
+  // the configuration asks for one (else it may be null).
   ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
-                    const CullingConfig& config, MemorySystem* memory, FrameBuffer* frame,
+                    const CullingConfig& config, const TypeMemoryConfig* own_l1, FrameBuffer* frame,
                     const HitRecordRegion& region);
   // A new frame (the context holds its lights), with LVB culling on or off.
   void begin_frame(bool culling);
   // Its own L1 (null when it shares shading unit 0's).
-  Cache* own_l1() const { return own_l1_ ? own_l1_->l1.get() : nullptr; }
+  Cache* own_l1() const { return own_l1_ ? &own_l1_->l1() : nullptr; }
 
   // ShadowRays.
   void scan_all(Tick now) override;
@@ -139,7 +141,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
 
   const ModelContext& ctx_;
   bool culling_ = true;
-  std::unique_ptr<UnitMemory> own_l1_;
+  std::unique_ptr<ClientCaches> own_l1_;
   LineSource* l1_ = nullptr;
   FrameBuffer* frame_;
   RoundRobin inputs_;  // over to_trv

@@ -2,9 +2,9 @@
 
 namespace rtsim::model {
 
-TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-                 MemorySystem& memory, uint32_t index)
-    : RayUnit(name, ctx, cfg, memory, MemorySystem::kTrv, index),
+TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+                 uint32_t index)
+    : RayUnit(name, ctx, cfg, kTrvStage, "trv"),
       to_list("to_list", this),
       to_shading("to_shading", this),
       owner("owner"),

@@ -27,9 +27,9 @@ class TrvUnit : public RayUnit, public RayOwner {
   RayOut to_shading;
   sc_core::sc_export<RayOwner> owner;
 
-  // Unit `index` of the TRV units.
-  TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const RayUnitConfig& cfg,
-          MemorySystem& memory, uint32_t index);
+  // Unit `index` of the TRV units (the owner its rays come back to).
+  TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
+          uint32_t index);
 
   // RayOwner.
   bool leaf_done(uint32_t ray, Tick when) override;

@@ -170,7 +170,7 @@ TEST(Device, RegistersRefuseABadProgramWithAnErrorCode) {
     s.fb_base = 0;
     regs.program(*city.image, s);
     got["overlap"] = start();
-    s.fb_base = uint64_t(cfg.memory_system().dram.capacity_mib) << 20;
+    s.fb_base = uint64_t(cfg.memory_dram().capacity_mib) << 20;
     regs.program(*city.image, s);
     got["outside"] = start();
     s.fb_base = frame_buffer_after(0, city.image->bytes().size());

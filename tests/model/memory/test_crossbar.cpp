@@ -104,7 +104,7 @@ TEST(CrossbarPort, RepliesFromOneBankQueueAtItsPortAndFromTwoBanksDoNot) {
   l2.fetch_line(64, 0, nullptr, 0);
   l2.fetch_line(128, 0, nullptr, 0);
   Crossbar x("x", link(32), Clock(), 2, 2);
-  CrossbarPort a(&x, 0, nullptr, &l2, 64), b(&x, 1, nullptr, &l2, 64);
+  CrossbarPort a(&x, 0, 1, &l2, 64), b(&x, 1, 1, &l2, 64);
   // Request: one flit (1 cycle); L2 hit: 4; reply: 2 flits.
   const Tick t = 100 * kCycle;
   EXPECT_EQ(a.fetch_line(0, t, nullptr, 0), t + 7 * kCycle);

@@ -32,9 +32,12 @@ struct ChainBench : Bench {
   ChainBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()),
         lvb("lvb_updater"),
-        ist("ist0", ctx, cfg.ist, memory, 0),
-        list("list0", ctx, cfg.list, memory, 0),
-        trv("trv0", ctx, cfg.trv, memory, 0) {
+        ist("ist0", ctx, cfg.ist),
+        list("list0", ctx, cfg.list),
+        trv("trv0", ctx, cfg.trv, 0) {
+    attach(ist.mem_side, topology.ist[0]);
+    attach(list.mem_side, topology.list[0]);
+    attach(trv.mem_side, topology.trv[0]);
     trv.to_list.bind(list.in);
     trv.to_shading.bind(done);
     list.to_ist.bind(ist.in);

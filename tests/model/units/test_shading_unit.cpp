@@ -58,7 +58,7 @@ constexpr uint32_t kLvb = 0x3;
 struct ShadingBench : Bench {
   ShadingBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()),
-        shading("shading0", ctx, cfg.shading, memory, 0, &frame, records),
+        shading("shading0", ctx, cfg.shading, &frame, records),
         writer("writer", memory.interconnect().writer(0)),
         written(writer.written) {
     frame.levels = 2;                // one mirror bounce
@@ -66,6 +66,7 @@ struct ShadingBench : Bench {
     frame.allocate(ctx.light_samples);
     shading.back.bind(*this);
     shading.records.bind(writer);
+    attach(shading.mem_side, topology.shading[0]);
   }
   ShadingUnit shading;
   RecordingWriter writer;

@@ -1,14 +1,15 @@
 // A bench for testing one unit of the model on its own
 // (tests/model/units/test_{trv,list,ist,shading}_unit.cpp, test_lvb_updater.cpp): an sc_module
 // holding what an Accelerator gives its units, built for real but small and with round timing. Its
-// calendar, ray pool and ModelContext; a real MemorySystem (one unit per type, ideal links and
-// banks, so no crossbar hop and no port wait) whose TLM-2.0 socket is bound to a FixedLatencyMemory
-// holding the image; a FrameBuffer; and fakes to bind the unit's ports to: the bench itself stands
-// for the router (RayReturn: it records what the units hand back, and pops a ray's stack after a
-// leaf as its TRV unit would), a FIFO `done` for the shading units' inputs. The unit under test is
-// built by the test inside the bench's constructor (so the bench's scope names it), bound there,
-// and fed through its input FIFO. Several benches run side by side in one simulation, each with
-// its own calendar.
+// calendar, ray pool and ModelContext; a real MemorySystem built from the accelerator's topology
+// (one unit per type, ideal links and banks, so no crossbar hop and no port wait) whose TLM-2.0
+// socket is bound to a FixedLatencyMemory holding the image, and to which a test attaches each
+// unit's mem_side where the accelerator would; a FrameBuffer; and fakes to bind the unit's ports
+// to: the bench itself stands for the router (RayReturn: it records what the units hand back, and
+// pops a ray's stack after a leaf as its TRV unit would), a FIFO `done` for the shading units'
+// inputs. The unit under test is built by the test inside the bench's constructor (so the bench's
+// scope names it), bound there, and fed through its input FIFO. Several benches run side by side in
+// one simulation, each with its own calendar.
 //
 // Timing (docs/model-design.md, "Memory accesses"): a hit costs the level's hit latency, a miss
 // its tag check plus the delivery time of the level below, so with these settings
@@ -22,6 +23,7 @@
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator_config.h"
+#include "model/accelerator_topology.h"
 #include "model/memory/memory_system.h"
 #include "model/sim/calendar.h"
 #include "model/sim/ray_fifo.h"
@@ -77,7 +79,8 @@ class Bench : public sc_core::sc_module, public RayReturn {
         cfg(config),
         calendar("calendar"),
         pool(64),
-        memory(cfg.memory_system(), Clock(), calendar),
+        topology(memory_topology(cfg, MemoryTarget::kApproximatelyTimed)),
+        memory(topology.memory, Clock(), calendar),
         ram("ram", memory_bytes(image, frame_entries),
             sc_core::sc_time(double(kMemory) - 0.5, sc_core::SC_NS)),
         done("done", 64, nullptr) {
@@ -116,6 +119,12 @@ class Bench : public sc_core::sc_module, public RayReturn {
     pool.release(ray);
   }
 
+  // Binds a unit's mem_side to where the topology says its caches reach.
+  template <class Port>
+  void attach(Port& mem_side, const MemoryAttachment& a) {
+    mem_side.bind(reach(memory, a));
+  }
+
   // A new ray in the pool.
   uint32_t add_ray(const Ray& ray, RayType type = RayType::kPrimary, uint32_t pixel = 0) {
     RayInfo info;
@@ -148,6 +157,7 @@ class Bench : public sc_core::sc_module, public RayReturn {
   Calendar calendar;
   RayPool pool;
   ModelContext ctx;
+  MemoryTopology topology;
   MemorySystem memory;
   example::FixedLatencyMemory ram;
   RayFifo done;  // the shading unit's input, as TRV and IST see it

@@ -1,0 +1,58 @@
+#include "model/memory/client_caches.h"
+
+#include "model/sim/report.h"
+
+namespace rtsim::model {
+
+ClientCaches::ClientCaches(const TypeMemoryConfig& cfg, bool private_l2, const Clock& clock,
+                           const FillListener* requester, const std::string& type) {
+  if (private_l2) {
+    l2_ = std::make_unique<Cache>("l2", cfg.l2, clock, nullptr);
+    icnt_ = std::make_unique<Crossbar>("icnt", cfg.link, clock, 1, cfg.l2.banks);
+    to_l2_ = std::make_unique<CrossbarPort>(icnt_.get(), 0, 1, l2_.get(), cfg.l2.line_bytes);
+    l2_->name_requester(to_l2_.get(), type);
+  }
+  l1_ = std::make_unique<Cache>("l1", cfg.l1, clock, to_l2_.get());
+  l1_->name_requester(requester, type);
+}
+
+ClientCaches::~ClientCaches() = default;
+
+void ClientCaches::connect(LineSource& below) { (l2_ ? *l2_ : *l1_).connect(below); }
+
+void ClientCaches::invalidate() {
+  l1_->invalidate();
+  if (l2_) l2_->invalidate();
+}
+
+void ClientCaches::register_stats(StatsRegistry& r, const sc_core::sc_object& top,
+                                  const Tick* end) const {
+  l1_->register_stats(r, stat_prefix(*l1_, top));
+  if (!l2_) return;
+  l2_->register_stats(r, stat_prefix(*l2_, top));
+  icnt_->register_stats(r, stat_prefix(*icnt_, top), end);
+}
+
+void register_cache_totals(StatsRegistry& r, const std::string& prefix,
+                           std::vector<const Cache*> caches) {
+  auto sum = [caches](uint64_t CacheStats::*field) {
+    return [caches, field] {
+      uint64_t n = 0;
+      for (const Cache* c : caches) n += c->stats().*field;
+      return double(n);
+    };
+  };
+  for (auto [name, field] :
+       {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
+        std::pair{"misses", &CacheStats::misses},
+        std::pair{"mshr_merges", &CacheStats::mshr_merges}})
+    r.formula(prefix + "." + name, sum(field), "count", "all of " + prefix + ": " + name);
+  r.formula(
+      prefix + ".hit_rate",
+      [h = sum(&CacheStats::hits), a = sum(&CacheStats::accesses)] {
+        return a() > 0 ? h() / a() : 0.0;
+      },
+      "ratio", "all of " + prefix + ": hits / accesses");
+}
+
+}  // namespace rtsim::model
