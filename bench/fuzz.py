@@ -206,12 +206,15 @@ def verdict(code, err):
     return f"exit {code}" if code != 2 else f"exit 2 with {len(errors)} error lines"
 
 
-def case(kind, rng, work, rtsim):
-    """Writes one mutated input of `kind` into `work` and returns the command that reads it."""
-    small_hw = os.path.join(ROOT, "configs/hw/small.yaml")
-    scene_for = lambda geom: (b"geometry:\n  - file: " + geom.encode() +
-                              b"\nresolution: [16, 9]\ncamera: {eye: [0, 0, 2], dir: [0, 0, -1], "
-                              b"up: [0, 1, 0], vfov_deg: 45}\nlights:\n  add:\n    - position: [1, 3, 1]\n")
+def scene_for(geom):
+    """A scene of the one geometry file `geom`, at 16x9."""
+    return (b"geometry:\n  - file: " + geom.encode() +
+            b"\nresolution: [16, 9]\ncamera: {eye: [0, 0, 2], dir: [0, 0, -1], "
+            b"up: [0, 1, 0], vfov_deg: 45}\nlights:\n  add:\n    - position: [1, 3, 1]\n")
+
+
+def geometry_case(kind, rng, work, rtsim):
+    """A mutated geometry file of `kind` under a scene that loads it; None for another kind."""
     if kind == "aff":
         open(os.path.join(work, "s.aff"), "wb").write(mutate(AFF, rng))
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.aff"))
@@ -228,33 +231,47 @@ def case(kind, rng, work, rtsim):
         open(os.path.join(work, "s.glb"), "wb").write(mutate(glb(), rng))
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.glb"))
         return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    if kind == "obj":
+        open(os.path.join(work, "s.obj"), "wb").write(mutate(OBJ, rng))
+        open(os.path.join(work, "m.mtl"), "wb").write(mutate(MTL, rng) if rng.random() < 0.5 else MTL)
+        open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.obj"))
+        return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    return None
+
+
+def args_case(rng, work, rtsim, small_hw):
+    """A mutated value of one command-line option that takes a value."""
+    open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
+    options = [["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--width"],
+               ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--reflections"],
+               ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--lvb"],
+               ["render", "scene.yaml", "--out", "o", "--threads"],
+               ["lvb", "scene.yaml", "--out", "o", "--lvb-threads"],
+               ["sweep", "sweep.yaml", "--out", "o", "--jobs"],
+               ["sweep", "sweep.yaml", "--out", "o", "--point-timeout"],
+               ["animate", "scene.yaml", "--hw", small_hw, "--out", "o", "--times"]]
+    # One point: the values under test are the command line's, not the sweep's work
+    text = SWEEP.replace(b"SCENE", b"scene.yaml").replace(b"HW", small_hw.encode())
+    text = text.replace(b"  hw.trv.l1.size_kb: [4, 8]\n", b"").replace(b"[on, off]", b"[on]")
+    open(os.path.join(work, "sweep.yaml"), "wb").write(text)
+    i = rng.randrange(len(options))
+    seed_value = [b"8", b"1", b"on", b"2", b"2", b"1", b"60", b"0:1:1"][i]
+    return [rtsim] + options[i] + [mutate(seed_value, rng).replace(b"\0", b"")]  # argv: no NUL
+
+
+def case(kind, rng, work, rtsim):
+    """Writes one mutated input of `kind` into `work` and returns the command that reads it."""
+    small_hw = os.path.join(ROOT, "configs/hw/small.yaml")
+    cmd = geometry_case(kind, rng, work, rtsim)
+    if cmd is not None:
+        return cmd
     if kind == "config":
         # A run's config.json (made once from SCENE by make_config), to repeat with --config
         open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)  # the scene it names
         open(os.path.join(work, "config.json"), "wb").write(mutate(CONFIG, rng))
         return [rtsim, "run", "--config", "config.json", "--out", "o", "--no-plots", "--quiet"]
     if kind == "args":
-        open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
-        options = [["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--width"],
-                   ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--reflections"],
-                   ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--lvb"],
-                   ["render", "scene.yaml", "--out", "o", "--threads"],
-                   ["lvb", "scene.yaml", "--out", "o", "--lvb-threads"],
-                   ["sweep", "sweep.yaml", "--out", "o", "--jobs"],
-                   ["sweep", "sweep.yaml", "--out", "o", "--point-timeout"],
-                   ["animate", "scene.yaml", "--hw", small_hw, "--out", "o", "--times"]]
-        # One point: the values under test are the command line's, not the sweep's work
-        text = SWEEP.replace(b"SCENE", b"scene.yaml").replace(b"HW", small_hw.encode())
-        text = text.replace(b"  hw.trv.l1.size_kb: [4, 8]\n", b"").replace(b"[on, off]", b"[on]")
-        open(os.path.join(work, "sweep.yaml"), "wb").write(text)
-        i = rng.randrange(len(options))
-        seed_value = [b"8", b"1", b"on", b"2", b"2", b"1", b"60", b"0:1:1"][i]
-        return [rtsim] + options[i] + [mutate(seed_value, rng).replace(b"\0", b"")]  # argv: no NUL
-    if kind == "obj":
-        open(os.path.join(work, "s.obj"), "wb").write(mutate(OBJ, rng))
-        open(os.path.join(work, "m.mtl"), "wb").write(mutate(MTL, rng) if rng.random() < 0.5 else MTL)
-        open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.obj"))
-        return [rtsim, "info", "scene.yaml", "--scene-root", work]
+        return args_case(rng, work, rtsim, small_hw)
     if kind == "scene":
         open(os.path.join(work, "scene.yaml"), "wb").write(mutate(SCENE, rng))
         return [rtsim, "run", "scene.yaml", "--hw", small_hw, "--out", "o", "--no-plots", "--quiet"]

@@ -98,11 +98,8 @@ def median(values):
     return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
 
 
-def animate_summary(rows, host):
-    """Markdown: a row per frame, then the medians. Builder cycles assume one test (region or pair) per cycle."""
-    def cell(v, fmt="{:,.0f}"):
-        return "" if v is None or (isinstance(v, float) and math.isnan(v)) else fmt.format(v)
-
+def summary_table(rows, host):
+    """Per frame, the figures of a summary row (None where a column is empty)."""
     def ratio(a, b):
         return a / b if a is not None and b else None
 
@@ -118,6 +115,15 @@ def animate_summary(rows, host):
                       "dirty": ratio(r.get("lazy_dirty_pairs"), r.get("lazy_pairs")), "lazy": lazy,
                       "lazy_share": ratio(lazy, build), "lazy_pays": ratio(saved, lazy),
                       "off": r.get("cycles_off"), "on": r.get("cycles_on")})
+    return table
+
+
+def animate_summary(rows, host):
+    """Markdown: a row per frame, then the medians. Builder cycles assume one test (region or pair) per cycle."""
+    def cell(v, fmt="{:,.0f}"):
+        return "" if v is None or (isinstance(v, float) and math.isnan(v)) else fmt.format(v)
+
+    table = summary_table(rows, host)
     head = ("| time | cycles off | cycles on | saved cycles | shadow rays culled | LVB tests (builder cycles) "
             "| saved / LVB tests | LVB s | kd-tree s | lazy: dirty pairs | lazy: tests | lazy / full "
             "| saved / lazy tests |")

@@ -9,6 +9,41 @@ from rtsim_plots.common import (
 from rtsim_plots.files import CULLED_NPY, REPORT_JSON
 
 
+def parse_units(stats, hw):
+    """Per unit type, (label, busy, stalled, idle) cycles; (label, None, None, None) when it is absent."""
+    units = []
+    for label, path, count_path in [("raygen", "raygen", None), ("TRV", "trv.total", "trv.count"),
+                                    ("LIST", "list.total", "list.count"), ("IST", "ist.total", "ist.count"),
+                                    ("shading", "shading.total", "shading.count"), ("culling", "culling", None)]:
+        s = field(stats, path, None)
+        count = field(hw, count_path, None) if count_path else None
+        if is_number(count):
+            label += f" (×{count:g})"
+        if isinstance(s, dict):
+            where = f"{REPORT_JSON}: stats.{path}"
+            units.append((label, *(number(s, k, where) for k in ("busy_cycles", "stalled_cycles", "idle_cycles"))))
+        else:
+            units.append((label, None, None, None))
+    return units
+
+
+def parse_caches(stats):
+    """Per unit type, (label, [L1, L2] hit rate in %), and the DRAM row-hit rate; None where unknown."""
+    def hit_rate(path):
+        c = field(stats, path, None)
+        if not isinstance(c, dict) or not is_number(c.get("hit_rate")):
+            return None
+        if is_number(c.get("accesses")) and c["accesses"] == 0:
+            return None  # a cache nobody used reports 0, which is not a hit rate
+        return 100.0 * c["hit_rate"]
+
+    caches = [(t, [hit_rate(f"{key}.{lvl}") for lvl in ("l1", "l2")])
+              for t, key in [("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]]
+    dram = field(stats, "dram.row_hit_rate", None)
+    dram = 100.0 * dram if is_number(dram) else None
+    return caches, dram
+
+
 def parse_report(rep):
     """Everything the run figures need, checked up front so bad input writes no file."""
     if not isinstance(rep, dict):
@@ -37,33 +72,8 @@ def parse_report(rep):
                    number(l, "nonempty_leaves", where=f"{REPORT_JSON}: lvb.per_light[{i}]")) for i, l in enumerate(pl)]
 
     stats = field(rep, "stats")
-    hw = field(rep, "config.hw", {})
-    units = []  # (label, busy, stalled, idle) or (label, None...) when the unit type is absent
-    for label, path, count_path in [("raygen", "raygen", None), ("TRV", "trv.total", "trv.count"),
-                                    ("LIST", "list.total", "list.count"), ("IST", "ist.total", "ist.count"),
-                                    ("shading", "shading.total", "shading.count"), ("culling", "culling", None)]:
-        s = field(stats, path, None)
-        count = field(hw, count_path, None) if count_path else None
-        if is_number(count):
-            label += f" (×{count:g})"
-        if isinstance(s, dict):
-            where = f"{REPORT_JSON}: stats.{path}"
-            units.append((label, *(number(s, k, where) for k in ("busy_cycles", "stalled_cycles", "idle_cycles"))))
-        else:
-            units.append((label, None, None, None))
-
-    def hit_rate(path):
-        c = field(stats, path, None)
-        if not isinstance(c, dict) or not is_number(c.get("hit_rate")):
-            return None
-        if is_number(c.get("accesses")) and c["accesses"] == 0:
-            return None  # a cache nobody used reports 0, which is not a hit rate
-        return 100.0 * c["hit_rate"]
-
-    caches = [(t, [hit_rate(f"{key}.{lvl}") for lvl in ("l1", "l2")])
-              for t, key in [("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]]
-    dram = field(stats, "dram.row_hit_rate", None)
-    dram = 100.0 * dram if is_number(dram) else None
+    units = parse_units(stats, field(rep, "config.hw", {}))
+    caches, dram = parse_caches(stats)
 
     title = (f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
              + (f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""))
