@@ -75,23 +75,36 @@ class _Parser(argparse.ArgumentParser):
 
 
 def main(argv=None):
-    parser = _Parser(prog="plots.py", description="PNG figures for an rtsim run, sweep or reproduce directory.")
+    parser = _Parser(
+        prog="plots.py", description="PNG figures for an rtsim run, sweep or reproduce directory."
+    )
     parser.add_argument("--verbose", action="store_true", help="list the files written")
-    sub = parser.add_subparsers(dest="mode", required=True, metavar="{run,sweep,reproduce,animate,area}")
-    for mode, text in (("run", "figures for a run directory (report.json, culled.npy)"),
-                       ("sweep", "figures for a sweep directory (results.json)"),
-                       ("reproduce", "paper-vs-ours figures for an rtsim reproduce directory (reproduction.json)"),
-                       ("animate", "figures over time and frames.gif for an rtsim animate directory (frames.csv)"),
-                       ("area", "culling against samples per light for an area-light sweep (results.json)")):
+    sub = parser.add_subparsers(
+        dest="mode", required=True, metavar="{run,sweep,reproduce,animate,area}"
+    )
+    for mode, text in (
+        ("run", "figures for a run directory (report.json, culled.npy)"),
+        ("sweep", "figures for a sweep directory (results.json)"),
+        ("reproduce", "paper-vs-ours figures for an rtsim reproduce directory (reproduction.json)"),
+        ("animate", "figures over time and frames.gif for an rtsim animate directory (frames.csv)"),
+        ("area", "culling against samples per light for an area-light sweep (results.json)"),
+    ):
         p = sub.add_parser(mode, help=text)
         p.add_argument("dir", metavar="DIR")
-        p.add_argument("--verbose", action="store_true", default=argparse.SUPPRESS, help="list the files written")
+        p.add_argument(
+            "--verbose",
+            action="store_true",
+            default=argparse.SUPPRESS,
+            help="list the files written",
+        )
     written = []
     try:
         args = parser.parse_args(argv)
         if not os.path.isdir(args.dir):
             raise InputError(f"{args.dir}: not a directory")
-        {"run": run, "sweep": sweep, "reproduce": reproduce, "animate": animate, "area": area}[args.mode](args.dir, written)
+        {"run": run, "sweep": sweep, "reproduce": reproduce, "animate": animate, "area": area}[
+            args.mode
+        ](args.dir, written)
     except (InputError, OSError) as e:
         print("plots.py: error: " + " ".join(str(e).split()), file=sys.stderr)
         return 2

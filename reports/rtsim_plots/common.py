@@ -89,8 +89,11 @@ def write_atomically(path, write, written):
 def save(fig, path, written):
     try:
         # No Software tag: the bytes should not depend on the matplotlib version.
-        write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None}),
-                         written)
+        write_atomically(
+            path,
+            lambda tmp: fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None}),
+            written,
+        )
     finally:
         plt.close(fig)
 
@@ -99,6 +102,7 @@ def write_text(path, text, written):
     def write(tmp):
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)
+
     write_atomically(path, write, written)
 
 
@@ -116,7 +120,6 @@ def pct(part, whole):
 
 
 # ----------------------------------------------------------------------------------------------- run
-
 
 
 def read_csv(folder, name):
