@@ -238,8 +238,8 @@ def verdict(code, err):
         return "timeout"
     if code == 0:
         return None
-    lines = [l for l in err.decode("utf-8", "replace").splitlines() if l.strip()]
-    errors = [l for l in lines if l.startswith("rtsim: error:")]
+    lines = [line for line in err.decode("utf-8", "replace").splitlines() if line.strip()]
+    errors = [line for line in lines if line.startswith("rtsim: error:")]
     if code == 2 and len(errors) == 1:
         return None
     return f"exit {code}" if code != 2 else f"exit 2 with {len(errors)} error lines"

@@ -99,9 +99,9 @@ def main():
         )
     mt, mm = statistics.median(tracer), statistics.median(model)
     print(
-        f"{os.path.basename(args.scene)} {args.width}x{args.height}: tracer {mt:.3f} s for {rays:,} rays, "
-        f"model {mm:.1f} s; model / tracer = {mm / mt:.1f}x; {cycles / mm / 1e3:.0f} k simulated cycles "
-        f"per host second (medians of {args.runs})"
+        f"{os.path.basename(args.scene)} {args.width}x{args.height}: "
+        f"tracer {mt:.3f} s for {rays:,} rays, model {mm:.1f} s; model / tracer = {mm / mt:.1f}x; "
+        f"{cycles / mm / 1e3:.0f} k simulated cycles per host second (medians of {args.runs})"
     )
 
 

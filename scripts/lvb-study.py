@@ -3,7 +3,8 @@
 variants of the robots setup, printed as the markdown tables of docs/lvb.md ("What the published
 leaf rates need").
 
-    python3 scripts/lvb-study.py [--out DIR] [--rtsim build/rtsim] [--scene-root DIR] [--only a,b,c,d]
+    python3 scripts/lvb-study.py [--out DIR] [--rtsim build/rtsim] [--scene-root DIR]
+                                 [--only a,b,c,d]
 
 Every row is one `rtsim lvb SCENE --out DIR/runs/NAME --self-occlusion ignore --bounds B
 --width 16 --height 9` (the paper's method, hierarchical walk: the same bits as the all-pairs
@@ -126,7 +127,7 @@ def pct(part, whole):
 
 
 def rates(j, key):
-    return ", ".join(f"{100.0 * l[key]:.2f}" for l in j["per_light"])
+    return ", ".join(f"{100.0 * p[key]:.2f}" for p in j["per_light"])
 
 
 def num(v):
@@ -137,8 +138,9 @@ def study_a(r):
     runs = {b: r.lvb("robots", scene_text(), b) for b in ("cell", "geometry")}
     kd = runs["cell"]["kdtree"]
     out = [
-        f"Robots as configured: {num(kd['leaves'])} leaves, {num(kd['nonempty_leaves'])} non-empty. "
-        "Culled leaves per light: count, % of non-empty leaves, % of all leaves (the paper's denominator).\n",
+        f"Robots as configured: {num(kd['leaves'])} leaves, {num(kd['nonempty_leaves'])} "
+        "non-empty. Culled leaves per light: count, % of non-empty leaves, % of all leaves (the "
+        "paper's denominator).\n",
         "| light | position | paper (of 34,509 leaves) | cell bounds | of non-empty | of all "
         "| geometry bounds | of non-empty | of all |",
         "|---|---|---|---|---|---|---|---|---|",
@@ -151,10 +153,10 @@ def study_a(r):
             else "| - "
         )
         for b in ("cell", "geometry"):
-            l = runs[b]["per_light"][i]
+            pl = runs[b]["per_light"][i]
             row += (
-                f"| {num(l['culled_leaves'])} | {pct(l['culled_leaves'], l['nonempty_leaves'])} "
-                f"| {pct(l['culled_leaves'], l['leaves'])} "
+                f"| {num(pl['culled_leaves'])} | {pct(pl['culled_leaves'], pl['nonempty_leaves'])} "
+                f"| {pct(pl['culled_leaves'], pl['leaves'])} "
             )
         out.append(row + "|")
     return out
@@ -162,11 +164,11 @@ def study_a(r):
 
 def study_b(r):
     out = [
-        "Cell bounds unless the row says otherwise. *non-empty share* = non-empty / all leaves, the highest "
-        "rate of all leaves any test could reach (only non-empty leaves have an LVB). *tri/leaf* = triangle "
-        "references per non-empty leaf. Rates per light 1-6, in %.\n",
-        "| kd-tree | leaves (all / non-empty) | non-empty share | tri/leaf | culled, % of all leaves | "
-        "culled, % of non-empty leaves |",
+        "Cell bounds unless the row says otherwise. *non-empty share* = non-empty / all leaves, "
+        "the highest rate of all leaves any test could reach (only non-empty leaves have an LVB). "
+        "*tri/leaf* = triangle references per non-empty leaf. Rates per light 1-6, in %.\n",
+        "| kd-tree | leaves (all / non-empty) | non-empty share | tri/leaf "
+        "| culled, % of all leaves | culled, % of non-empty leaves |",
         "|---|---|---|---|---|---|",
     ]
     for i, (label, kd, bounds) in enumerate(TREES):
@@ -189,12 +191,14 @@ def study_c(r):
             runs[(y, b)] = r.lvb(f"grid-y{y}", scene_text(lights=lights), b)
     kd = runs[(GRID_Y[0], "cell")]["kdtree"]
     out = [
-        f"Nine lights over the three streets that run along z (x = {', '.join(map(str, GRID_X))}), at three "
-        f"cross streets (z = {', '.join(map(str, GRID_Z))}), at y = {', '.join(map(str, GRID_Y))}: robots.yaml's "
-        "height for its added lights (above most tower roofs, below the city's ceiling), halfway up the street "
-        "canyons, and street level (about the robots' height); one scene per height, with the nine lights only. "
-        f"Tree of robots.yaml ({num(kd['leaves'])} leaves, {num(kd['nonempty_leaves'])} non-empty). "
-        "Each cell: culled leaves, % of all leaves (% of non-empty leaves).\n",
+        "Nine lights over the three streets that run along z "
+        f"(x = {', '.join(map(str, GRID_X))}), at three cross streets "
+        f"(z = {', '.join(map(str, GRID_Z))}), at y = {', '.join(map(str, GRID_Y))}: "
+        "robots.yaml's height for its added lights (above most tower roofs, below the city's "
+        "ceiling), halfway up the street canyons, and street level (about the robots' height); "
+        "one scene per height, with the nine lights only. "
+        f"Tree of robots.yaml ({num(kd['leaves'])} leaves, {num(kd['nonempty_leaves'])} "
+        "non-empty). Each cell: culled leaves, % of all leaves (% of non-empty leaves).\n",
         "| light x, z | "
         + " | ".join(f"y = {y}, {b}" for b in ("cell", "geometry") for y in GRID_Y)
         + " |",
@@ -205,9 +209,12 @@ def study_c(r):
         row = f"| {x}, {z} |"
         for b in ("cell", "geometry"):
             for y in GRID_Y:
-                l = runs[(y, b)]["per_light"][i]
-                row += f" {pct(l['culled_leaves'], l['leaves'])} ({pct(l['culled_leaves'], l['nonempty_leaves'])}) |"
-                best[b] = max(best.get(b, 0.0), l["culled_rate_all_leaves"])
+                pl = runs[(y, b)]["per_light"][i]
+                row += (
+                    f" {pct(pl['culled_leaves'], pl['leaves'])} "
+                    f"({pct(pl['culled_leaves'], pl['nonempty_leaves'])}) |"
+                )
+                best[b] = max(best.get(b, 0.0), pl["culled_rate_all_leaves"])
         out.append(row)
     out.append("")
     out.append(

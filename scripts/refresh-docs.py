@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Reruns the studies behind the generated tables in docs/ and rewrites those tables (issue 19).
 
-A generated table sits in its doc between `<!-- generated: ID -->` and `<!-- end generated: ID -->`;
-this script reruns study ID (a sweep or `rtsim reproduce --ablation`, resumable, in RUNS/ID), renders
-the table from the run's own files and replaces the block, stamped with the commit of the source
-tree the binary was built from and the date. The prose around a table is ours: read it again after
-a refresh.
+A generated table sits in its doc between `<!-- generated: ID -->` and
+`<!-- end generated: ID -->`; this script reruns study ID (a sweep or `rtsim reproduce --ablation`,
+resumable, in RUNS/ID), renders the table from the run's own files and replaces the block, stamped
+with the commit of the source tree the binary was built from and the date. The prose around a
+table is ours: read it again after a refresh.
 
   python3 scripts/refresh-docs.py --list                  the studies, their docs and costs
   python3 scripts/refresh-docs.py                         all of them (several hours on 2 cores)
@@ -232,7 +232,8 @@ def animation_hd_table(run_dir):
     480x270 (the `animation` study's runs, when they are there)."""
     small_dir = os.path.join(os.path.dirname(run_dir), "animation")
     out = [
-        "| frame | cycles off / on at 1920x1080 | saved | saved, x of 480x270's | LVB tests per saved cycle |",
+        "| frame | cycles off / on at 1920x1080 | saved | saved, x of 480x270's "
+        "| LVB tests per saved cycle |",
         "|---|---|---|---|---|",
     ]
     for s in ANIMATION_SCENES:
@@ -243,7 +244,8 @@ def animation_hd_table(run_dir):
             x = f"{r['saved'] / small[r['time']]:.1f}" if small.get(r["time"]) else "-"
             per = f"{r['tests'] / r['saved']:.1f}" if r["saved"] > 0 else "no saving"
             out.append(
-                f"| {s} t = {r['time']:g} | {fmt_int(r['cycles_off'])} / {fmt_int(r['cycles_on'])} | "
+                f"| {s} t = {r['time']:g} "
+                f"| {fmt_int(r['cycles_off'])} / {fmt_int(r['cycles_on'])} | "
                 f"{fmt_int(r['saved'])} ({100 * r['saved'] / r['cycles_off']:.1f}%) | {x} | {per} |"
             )
     return "\n".join(out)

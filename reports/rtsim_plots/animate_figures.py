@@ -4,7 +4,7 @@ import math
 import os
 import re
 
-from rtsim_plots.common import InputError, pct, plt, read_csv, save, write_atomically, write_text
+from rtsim_plots.common import InputError, plt, read_csv, save, write_atomically, write_text
 from rtsim_plots.files import FRAMES_CSV, HOST_CSV
 
 
@@ -161,16 +161,17 @@ def summary_table(rows, host):
 
 
 def animate_summary(rows, host):
-    """Markdown: a row per frame, then the medians. Builder cycles assume one test (region or pair) per cycle."""
+    """Markdown: a row per frame, then the medians. Builder cycles assume one test (region or pair)
+    per cycle."""
 
     def cell(v, fmt="{:,.0f}"):
         return "" if v is None or (isinstance(v, float) and math.isnan(v)) else fmt.format(v)
 
     table = summary_table(rows, host)
     head = (
-        "| time | cycles off | cycles on | saved cycles | shadow rays culled | LVB tests (builder cycles) "
-        "| saved / LVB tests | LVB s | kd-tree s | lazy: dirty pairs | lazy: tests | lazy / full "
-        "| saved / lazy tests |"
+        "| time | cycles off | cycles on | saved cycles | shadow rays culled "
+        "| LVB tests (builder cycles) | saved / LVB tests | LVB s | kd-tree s | lazy: dirty pairs "
+        "| lazy: tests | lazy / full | saved / lazy tests |"
     )
     lines = [
         "# Culling against its recomputation, per frame",
@@ -181,7 +182,7 @@ def animate_summary(rows, host):
         head,
         "|" + "---|" * 13,
     ]
-    pct = "{:.1%}"
+    pct_fmt = "{:.1%}"
     for x in table:
         lines.append(
             "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
@@ -189,14 +190,14 @@ def animate_summary(rows, host):
                 cell(x["off"]),
                 cell(x["on"]),
                 cell(x["saved"]),
-                cell(x["share"], pct),
+                cell(x["share"], pct_fmt),
                 cell(x["build"]),
                 cell(x["pays"], "{:.4f}"),
                 cell(x["lvb_s"], "{:.2f}"),
                 cell(x["kd_s"], "{:.2f}"),
-                cell(x["dirty"], pct),
+                cell(x["dirty"], pct_fmt),
                 cell(x["lazy"]),
-                cell(x["lazy_share"], pct),
+                cell(x["lazy_share"], pct_fmt),
                 cell(x["lazy_pays"], "{:.4f}"),
             )
         )
@@ -206,18 +207,15 @@ def animate_summary(rows, host):
             cell(m["off"]),
             cell(m["on"]),
             cell(m["saved"]),
-            cell(m["share"], pct),
+            cell(m["share"], pct_fmt),
             cell(m["build"]),
             cell(m["pays"], "{:.4f}"),
             cell(m["lvb_s"], "{:.2f}"),
             cell(m["kd_s"], "{:.2f}"),
-            cell(m["dirty"], pct),
+            cell(m["dirty"], pct_fmt),
             cell(m["lazy"]),
-            cell(m["lazy_share"], pct),
+            cell(m["lazy_share"], pct_fmt),
             cell(m["lazy_pays"], "{:.4f}"),
         )
     )
     return "\n".join(lines) + "\n"
-
-
-# ----------------------------------------------------------------------------------------- area

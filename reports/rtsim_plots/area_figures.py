@@ -1,4 +1,5 @@
-"""Culling against the samples per area light: area_lights.md and plots/area_reduction.png (plots.py area)."""
+"""Culling against the samples per area light: area_lights.md and plots/area_reduction.png
+(plots.py area)."""
 
 import os
 
@@ -34,7 +35,8 @@ def area_bounds(folder, pairs):
         shadow = 1 - on["cycles_shadow"] / off["cycles_shadow"]
         out.append(
             f"| {scene} | {n} | {shadow:.2%} | {removed['trv']:.2%} | {removed['ist']:.2%} | "
-            f"{trv['idle_cycles'] / sum(trv.values()):.2%} | {off['stats']['ist']['l1']['hit_rate']:.2%} |"
+            f"{trv['idle_cycles'] / sum(trv.values()):.2%} | "
+            f"{off['stats']['ist']['l1']['hit_rate']:.2%} |"
         )
     if not out:
         return []
@@ -42,12 +44,13 @@ def area_bounds(folder, pairs):
         "",
         "## What bounds the shadow phase",
         "",
-        "From the points' report.json. Culled rays save only their own work: the TRV and IST operations "
-        "culling removes (busy cycles, on against off). That work shortens the shadow phase unless something "
-        "else hides it, such as the IST units' memory: TRV idle share and IST L1 hit rate with culling off.",
+        "From the points' report.json. Culled rays save only their own work: the TRV and IST "
+        "operations culling removes (busy cycles, on against off). That work shortens the shadow "
+        "phase unless something else hides it, such as the IST units' memory: TRV idle share and "
+        "IST L1 hit rate with culling off.",
         "",
-        "| scene | samples | shadow phase shorter by | TRV operations removed | IST operations removed "
-        "| TRV idle (off) | IST L1 hit rate (off) |",
+        "| scene | samples | shadow phase shorter by | TRV operations removed "
+        "| IST operations removed | TRV idle (off) | IST L1 hit rate (off) |",
         "|---|---|---|---|---|---|---|",
     ] + out
 
@@ -67,7 +70,8 @@ def area(folder, written):
         "",
         f"Sweep {name}; reduction = (cycles off - cycles on) / cycles off; rays with culling on.",
         "",
-        "| scene | samples | cycles off | cycles on | reduction | shadow rays traced | culled | culled share |",
+        "| scene | samples | cycles off | cycles on | reduction | shadow rays traced | culled "
+        "| culled share |",
         "|---|---|---|---|---|---|---|---|",
     ]
     # The (scene, samples) cells that ran both ways, in order.

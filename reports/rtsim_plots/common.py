@@ -6,12 +6,10 @@ import json
 import math
 import os
 
-import numpy as np
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
-from matplotlib.ticker import NullLocator  # noqa: E402,F401  (for the modules)
 
 from rtsim_plots.files import REPORT_JSON  # noqa: E402
 
@@ -64,7 +62,8 @@ def load_json(path):
 
 
 def load_parsed(folder, name, parse):
-    """Reads folder/name and parses it; the parser's messages name the bare file, so name the real one."""
+    """Reads folder/name and parses it; the parser's messages name the bare file, so name the real
+    one."""
     path = os.path.join(folder, name)
     try:
         return parse(load_json(path))
@@ -73,7 +72,8 @@ def load_parsed(folder, name, parse):
 
 
 def write_atomically(path, write, written):
-    """write(tmp) writes the file under a temporary name in the same directory, which then replaces path."""
+    """write(tmp) writes the file under a temporary name in the same directory, which then replaces
+    path."""
     folder, name = os.path.split(path)
     tmp = os.path.join(folder, f".{name}.tmp")
     try:
@@ -117,9 +117,6 @@ def bar_labels(ax, xs, values, fmt="{:.1f}"):
 
 def pct(part, whole):
     return 100.0 * part / whole if whole > 0 else None
-
-
-# ----------------------------------------------------------------------------------------------- run
 
 
 def read_csv(folder, name):

@@ -1,10 +1,13 @@
-"""The paper's figures beside ours: reproduce_culling.png and reproduce_time.png (plots.py reproduce)."""
+"""The paper's figures beside ours: reproduce_culling.png and reproduce_time.png
+(plots.py reproduce)."""
 
 import math
 import os
 import textwrap
 
-from rtsim_plots.common import InputError, field, is_number, load_parsed, np, number, pct, plt, save
+import numpy as np
+
+from rtsim_plots.common import InputError, field, is_number, load_parsed, number, pct, plt, save
 from rtsim_plots.files import REPRODUCTION_JSON
 from rtsim_plots.sweep_figures import check_schema
 
@@ -43,7 +46,8 @@ def reduction_pct(on, off):
 
 
 def parse_reproduction(rep):
-    """Per scene, the percentages both figures need, checked up front so bad input writes no file."""
+    """Per scene, the percentages both figures need, checked up front so bad input writes no
+    file."""
     where = REPRODUCTION_JSON
     check_schema(rep, where, "rtsim-reproduction/1")
     scenes = field(rep, "scenes", where=where)
@@ -117,7 +121,8 @@ def parse_reproduction(rep):
 
 
 def fmt_pct(v):
-    # Two decimals below 1 %: the paper's bunny figures (0.01 % of rays, 0.07 % of time) must not read as 0.
+    # Two decimals below 1 %: the paper's bunny figures (0.01 % of rays, 0.07 % of time) must not
+    # read as 0.
     if v == 0:
         return "0"
     if abs(v) < 0.005:
@@ -126,7 +131,8 @@ def fmt_pct(v):
 
 
 def value_labels(ax, xs, values, fmt, rotation=0, fontsize=8):
-    """Value at the end of each bar, offset in points so it works on any scale; "n/a" where unknown (None)."""
+    """Value at the end of each bar, offset in points so it works on any scale; "n/a" where unknown
+    (None)."""
     for x, v in zip(xs, values):
         if v is None:
             ax.annotate(
@@ -206,13 +212,15 @@ def nothing_here(ax):
 
 
 def per_light_panel(ax, s, kind):
-    # The scene's own light count (the larger of the paper's and ours), not the widest scene's: no rows of n/a.
+    # The scene's own light count (the larger of the paper's and ours), not the widest scene's: no
+    # rows of n/a.
     nlights = max([1] + [len(v) for k in ("rays", "leaves") for v in s[k].values()])
     x = np.arange(nlights)
     top = 0.0
     for k, (key, _, colour) in enumerate(SOURCES):
         if key not in s[kind]:
-            continue  # the whole source is missing: said in the panel title, not with n/a on every light
+            # The whole source is missing: said in the panel title, not with n/a on every light.
+            continue
         vals = s[kind][key]
         vals = [vals[i] if i < len(vals) else None for i in range(nlights)]
         xs = x + bar_offset(k)
@@ -254,7 +262,8 @@ def plot_reproduce_culling(scenes, path, written):
     )
     fig.suptitle(
         "LVB culling per light: the paper vs ours\n"
-        "lights go by index: the paper did not publish its light positions, ours are the scene files' own"
+        "lights go by index: the paper did not publish its light positions, "
+        "ours are the scene files' own"
     )
     if not n:
         nothing_to_plot(fig)

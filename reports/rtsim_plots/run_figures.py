@@ -3,6 +3,8 @@
 import math
 import os
 
+import numpy as np
+
 from rtsim_plots.common import (
     BUSY,
     CULLED_MAX_WIDTH,
@@ -13,7 +15,6 @@ from rtsim_plots.common import (
     field,
     is_number,
     load_parsed,
-    np,
     number,
     pct,
     plt,
@@ -23,7 +24,8 @@ from rtsim_plots.files import CULLED_NPY, REPORT_JSON
 
 
 def parse_units(stats, hw):
-    """Per unit type, (label, busy, stalled, idle) cycles; (label, None, None, None) when it is absent."""
+    """Per unit type, (label, busy, stalled, idle) cycles; (label, None, None, None) when it is
+    absent."""
     units = []
     for label, path, count_path in [
         ("raygen", "raygen", None),
@@ -54,7 +56,8 @@ def parse_units(stats, hw):
 
 
 def parse_caches(stats):
-    """Per unit type, (label, [L1, L2] hit rate in %), and the DRAM row-hit rate; None where unknown."""
+    """Per unit type, (label, [L1, L2] hit rate in %), and the DRAM row-hit rate; None where
+    unknown."""
 
     def hit_rate(path):
         c = field(stats, path, None)
@@ -147,7 +150,8 @@ def load_culled(path, r):
             f"{path}: shape {a.shape} does not match the resolution {r['width']}x{r['height']}"
         )
     n = len(r["rays"])
-    # A bit above the last light means the file uses another layout (e.g. bit 0 = hit, bit 1+i = light i).
+    # A bit above the last light means the file uses another layout (e.g. bit 0 = hit, bit 1+i =
+    # light i).
     if n < 16 and (a >> n).any():
         raise InputError(
             f"{path}: bits set above light {n}; expected bit i = light i "
@@ -350,6 +354,3 @@ def run(folder, written):
     plot_culling(r, os.path.join(folder, "plot_culling.png"), written)
     plot_time_breakdown(r, os.path.join(folder, "plot_time_breakdown.png"), written)
     plot_cache_hit_rates(r, os.path.join(folder, "plot_cache_hit_rates.png"), written)
-
-
-# --------------------------------------------------------------------------------------------- sweep

@@ -5,10 +5,11 @@ import math
 import os
 import re
 
+from matplotlib.ticker import NullLocator
+
 from rtsim_plots.common import (
     InputError,
     MAX_SERIES,
-    NullLocator,
     field,
     is_number,
     load_parsed,
@@ -190,6 +191,3 @@ def sweep(folder, written):
     if not files:
         lines.append("No axis has two or more values yet: nothing to plot.")
     write_text(os.path.join(out, "index.md"), "\n".join(lines) + "\n", written)
-
-
-# ----------------------------------------------------------------------------------------- reproduce

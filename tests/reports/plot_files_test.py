@@ -20,7 +20,8 @@ for name in (n for n in dir(files) if n.isupper()):
     cpp_name = "k" + "".join(part.capitalize() for part in name.split("_"))
     if cpp.get(cpp_name) != getattr(files, name):
         print(
-            f"FAIL: files.{name} = {getattr(files, name)!r}, output::{cpp_name} = {cpp.get(cpp_name)!r}"
+            f"FAIL: files.{name} = {getattr(files, name)!r}, "
+            f"output::{cpp_name} = {cpp.get(cpp_name)!r}"
         )
         failed = True
 print("plot files: " + ("differ" if failed else f"{len(cpp)} names, the figures' agree"))
