@@ -1,6 +1,7 @@
 """What every figure module shares: matplotlib set up for files (Agg), the input checks (one
 InputError per bad input, naming the file and field), atomic writes, and small drawing helpers."""
 
+import contextlib
 import csv
 import json
 import math
@@ -18,6 +19,23 @@ DPI = 100
 CULLED_MAX_WIDTH = 480  # panels wider than this are block-averaged: keeps culled.png small and fast
 MAX_SERIES = 8  # lines per sweep plot; more are unreadable
 BUSY, STALLED, IDLE = "tab:green", "tab:orange", "lightgray"
+
+
+# path -> Figure of every figure saved inside figures_kept(); None outside.
+_kept = None
+
+
+@contextlib.contextmanager
+def figures_kept():
+    """Inside the block, every figure saved is also kept by its path, so a test can compare what
+    it shows (axes, labels, lines, bars) with the file it was drawn from. A closed figure keeps its
+    artists; the PNG files are written as ever."""
+    global _kept
+    outer, _kept = _kept, {}
+    try:
+        yield _kept
+    finally:
+        _kept = outer
 
 
 class InputError(Exception):
@@ -94,6 +112,8 @@ def save(fig, path, written):
             lambda tmp: fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None}),
             written,
         )
+        if _kept is not None:
+            _kept[path] = fig
     finally:
         plt.close(fig)
 

@@ -243,9 +243,8 @@ def per_light_panel(ax, s, kind):
             if key in s["pixels"]
         )
         head = "shadow pixels changed by culling:"
-        extra = (
-            f"\n{head}" + ("\n" if len(head) + len(items) > 60 else " ") + items
-        )  # break between, not inside
+        # A long list goes to a line of its own: break between, not inside.
+        extra = f"\n{head}" + ("\n" if len(head) + len(items) > 60 else " ") + items
     panel_title(ax, s, extra)
 
 

@@ -182,9 +182,8 @@ def plot_culled(a, r, path, written):
         panels.append((block_mean(bit, f), int(np.count_nonzero(bit))))
     ncols = min(4, n + 1)
     nrows = math.ceil((n + 1) / ncols)
-    ph = (
-        3.5 * h / w
-    )  # panel height in inches: 4-inch cells hold 3.5-inch-wide images next to the labels
+    # Panel height in inches: 4-inch cells hold 3.5-inch-wide images next to the labels.
+    ph = 3.5 * h / w
     fig = plt.figure(figsize=(4.0 * ncols + 0.6, nrows * (ph + 0.75) + 1.5), layout="constrained")
     # The colorbars get a row of their own: colorbars attached to panels upset the grid.
     gs = fig.add_gridspec(nrows + 1, ncols, height_ratios=[ph] * nrows + [0.12])
@@ -271,9 +270,8 @@ def plot_culling(r, path, written):
     ax.set_xticks(x, [f"L{i + 1}" for i in range(n)])
     ax.set_xlabel("light")
     ax.set_ylabel("culled (%)")
-    top = max(
-        [100.0] + [v for v in leaves + rays if v is not None]
-    )  # over 100 % is wrong, but show it
+    # Over 100 % is wrong, but show it.
+    top = max([100.0] + [v for v in leaves + rays if v is not None])
     ax.set_ylim(0, 1.25 * top)  # headroom for the value labels and the legend
     ax.set_yticks(range(0, int(top) + 1, 20))
     ax.legend(loc="upper center", ncol=2, fontsize=9, frameon=False)

@@ -81,9 +81,8 @@ def parse_results(res):
             if v is not None and not is_number(v):
                 raise InputError(f"{where}: rows[{i}]: metric '{m}' is not a number or null")
     if all(isinstance(r.get("point"), int) for r in rows):
-        rows = sorted(
-            rows, key=lambda r: r["point"]
-        )  # the order of points, whatever order they finished in
+        # The order of points, whatever order they finished in.
+        rows = sorted(rows, key=lambda r: r["point"])
     return str(res.get("name", "")), axes, metrics, rows
 
 
