@@ -20,8 +20,24 @@ import tempfile
 
 def run(binary, hw, args, extra):
     with tempfile.TemporaryDirectory() as out:
-        cmd = ["taskset", "-c", "0", binary, "run", args.scene, "--hw", hw, "--out", out, "--no-plots", "--quiet",
-               "--width", str(args.width), "--height", str(args.height)] + extra
+        cmd = [
+            "taskset",
+            "-c",
+            "0",
+            binary,
+            "run",
+            args.scene,
+            "--hw",
+            hw,
+            "--out",
+            out,
+            "--no-plots",
+            "--quiet",
+            "--width",
+            str(args.width),
+            "--height",
+            str(args.height),
+        ] + extra
         subprocess.run(cmd, check=True)
         with open(os.path.join(out, "report.json")) as f:
             r = json.load(f)
@@ -46,7 +62,10 @@ def main():
             binary, hw = sides[side]
             s, cycles = run(binary, hw, args, extra)
             seconds[side].append(s)
-            print(f"run {k + 1} {side}: {s:.1f} s simulate, {cycles:,} cycles ({binary}, {hw})", flush=True)
+            print(
+                f"run {k + 1} {side}: {s:.1f} s simulate, {cycles:,} cycles ({binary}, {hw})",
+                flush=True,
+            )
     ma, mb = statistics.median(seconds["a"]), statistics.median(seconds["b"])
     print(f"median a {ma:.1f} s, b {mb:.1f} s, b / a = {mb / ma:.3f}")
 

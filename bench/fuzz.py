@@ -69,9 +69,11 @@ end_header
 
 
 def ply_binary():
-    head = (b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
-            b"property float y\nproperty float z\nelement face 1\n"
-            b"property list uchar int vertex_indices\nend_header\n")
+    head = (
+        b"ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+        b"property float y\nproperty float z\nelement face 1\n"
+        b"property list uchar int vertex_indices\nend_header\n"
+    )
     body = struct.pack("<9f", -1, -1, -3, 1, -1, -3, 0, 1, -3) + struct.pack("<B3i", 3, 0, 1, 2)
     return head + body
 
@@ -80,30 +82,55 @@ def gltf():
     """One triangle: float positions and 16-bit indices in a data: URI buffer."""
     import base64
     import json
+
     data = struct.pack("<9f", -1, -1, -3, 1, -1, -3, 0, 1, -3) + struct.pack("<3H", 0, 1, 2)
-    doc = {"asset": {"version": "2.0"},
-           "buffers": [{"byteLength": len(data),
-                        "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
-           "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
-                           {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
-           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
-                          "min": [-1, -1, -3], "max": [1, 1, -3]},
-                         {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}],
-           "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-           "nodes": [{"mesh": 0, "translation": [0, 0, 0]}], "scenes": [{"nodes": [0]}], "scene": 0}
+    doc = {
+        "asset": {"version": "2.0"},
+        "buffers": [
+            {
+                "byteLength": len(data),
+                "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode(),
+            }
+        ],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 36},
+            {"buffer": 0, "byteOffset": 36, "byteLength": 6},
+        ],
+        "accessors": [
+            {
+                "bufferView": 0,
+                "componentType": 5126,
+                "count": 3,
+                "type": "VEC3",
+                "min": [-1, -1, -3],
+                "max": [1, 1, -3],
+            },
+            {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"},
+        ],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+        "nodes": [{"mesh": 0, "translation": [0, 0, 0]}],
+        "scenes": [{"nodes": [0]}],
+        "scene": 0,
+    }
     return json.dumps(doc, indent=1).encode()
 
 
 def glb():
     """The same triangle as a binary glTF: a JSON chunk and a BIN chunk."""
     import json
+
     data = struct.pack("<9f", -1, -1, -3, 1, -1, -3, 0, 1, -3) + struct.pack("<3H", 0, 1, 2)
     doc = json.loads(gltf())
     doc["buffers"] = [{"byteLength": len(data)}]
     text = json.dumps(doc).encode()
     text += b" " * (-len(text) % 4)
     data += b"\0" * (-len(data) % 4)
-    chunks = struct.pack("<I4s", len(text), b"JSON") + text + struct.pack("<I4s", len(data), b"BIN\0") + data
+    chunks = (
+        struct.pack("<I4s", len(text), b"JSON")
+        + text
+        + struct.pack("<I4s", len(data), b"BIN\0")
+        + data
+    )
     return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
 
 
@@ -145,8 +172,20 @@ axes:
 metrics: [cycles_total, trv_l1_hit_rate]
 """
 
-EXTREMES = [b"0", b"-1", b"4294967295", b"18446744073709551616", b"1e308", b"-1e308", b"nan",
-            b"inf", b"99999999999", b"2147483648", b"0.0000001", b"3"]
+EXTREMES = [
+    b"0",
+    b"-1",
+    b"4294967295",
+    b"18446744073709551616",
+    b"1e308",
+    b"-1e308",
+    b"nan",
+    b"inf",
+    b"99999999999",
+    b"2147483648",
+    b"0.0000001",
+    b"3",
+]
 
 
 def mutate(data, rng):
@@ -162,16 +201,16 @@ def mutate(data, rng):
             nums = [m for m in re.finditer(rb"-?\d+(\.\d+)?", bytes(data))]
             if nums:
                 m = rng.choice(nums)
-                data[m.start():m.end()] = rng.choice(EXTREMES)
+                data[m.start() : m.end()] = rng.choice(EXTREMES)
         elif kind == 1:
             data[at] = rng.randrange(256)
         elif kind == 2:
-            del data[at:at + rng.randint(1, 16)]
+            del data[at : at + rng.randint(1, 16)]
         elif kind == 3:
             end = min(len(data), at + rng.randint(1, 32))
             data[at:at] = data[at:end] * rng.randint(1, 3)
         elif kind == 4:  # not UTF-8
-            data[at:at] = bytes([rng.choice([0xc3, 0xdb, 0xff, 0x80, 0xe2])])
+            data[at:at] = bytes([rng.choice([0xC3, 0xDB, 0xFF, 0x80, 0xE2])])
         else:
             data = data[:at]
     return bytes(data)
@@ -199,25 +238,33 @@ def verdict(code, err):
         return "timeout"
     if code == 0:
         return None
-    lines = [l for l in err.decode("utf-8", "replace").splitlines() if l.strip()]
-    errors = [l for l in lines if l.startswith("rtsim: error:")]
+    lines = [line for line in err.decode("utf-8", "replace").splitlines() if line.strip()]
+    errors = [line for line in lines if line.startswith("rtsim: error:")]
     if code == 2 and len(errors) == 1:
         return None
     return f"exit {code}" if code != 2 else f"exit 2 with {len(errors)} error lines"
 
 
-def case(kind, rng, work, rtsim):
-    """Writes one mutated input of `kind` into `work` and returns the command that reads it."""
-    small_hw = os.path.join(ROOT, "configs/hw/small.yaml")
-    scene_for = lambda geom: (b"geometry:\n  - file: " + geom.encode() +
-                              b"\nresolution: [16, 9]\ncamera: {eye: [0, 0, 2], dir: [0, 0, -1], "
-                              b"up: [0, 1, 0], vfov_deg: 45}\nlights:\n  add:\n    - position: [1, 3, 1]\n")
+def scene_for(geom):
+    """A scene of the one geometry file `geom`, at 16x9."""
+    return (
+        b"geometry:\n  - file: "
+        + geom.encode()
+        + b"\nresolution: [16, 9]\ncamera: {eye: [0, 0, 2], dir: [0, 0, -1], "
+        b"up: [0, 1, 0], vfov_deg: 45}\nlights:\n  add:\n    - position: [1, 3, 1]\n"
+    )
+
+
+def geometry_case(kind, rng, work, rtsim):
+    """A mutated geometry file of `kind` under a scene that loads it; None for another kind."""
     if kind == "aff":
         open(os.path.join(work, "s.aff"), "wb").write(mutate(AFF, rng))
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.aff"))
         return [rtsim, "info", "scene.yaml", "--scene-root", work]
     if kind in ("ply", "plyb"):
-        open(os.path.join(work, "s.ply"), "wb").write(mutate(PLY_ASCII if kind == "ply" else ply_binary(), rng))
+        open(os.path.join(work, "s.ply"), "wb").write(
+            mutate(PLY_ASCII if kind == "ply" else ply_binary(), rng)
+        )
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.ply"))
         return [rtsim, "info", "scene.yaml", "--scene-root", work]
     if kind == "gltf":
@@ -228,40 +275,78 @@ def case(kind, rng, work, rtsim):
         open(os.path.join(work, "s.glb"), "wb").write(mutate(glb(), rng))
         open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.glb"))
         return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    if kind == "obj":
+        open(os.path.join(work, "s.obj"), "wb").write(mutate(OBJ, rng))
+        open(os.path.join(work, "m.mtl"), "wb").write(
+            mutate(MTL, rng) if rng.random() < 0.5 else MTL
+        )
+        open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.obj"))
+        return [rtsim, "info", "scene.yaml", "--scene-root", work]
+    return None
+
+
+def args_case(rng, work, rtsim, small_hw):
+    """A mutated value of one command-line option that takes a value."""
+    open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
+    options = [
+        ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--width"],
+        [
+            "run",
+            "scene.yaml",
+            "--hw",
+            small_hw,
+            "--no-plots",
+            "--quiet",
+            "--out",
+            "o",
+            "--reflections",
+        ],
+        ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--lvb"],
+        ["render", "scene.yaml", "--out", "o", "--threads"],
+        ["lvb", "scene.yaml", "--out", "o", "--lvb-threads"],
+        ["sweep", "sweep.yaml", "--out", "o", "--jobs"],
+        ["sweep", "sweep.yaml", "--out", "o", "--point-timeout"],
+        ["animate", "scene.yaml", "--hw", small_hw, "--out", "o", "--times"],
+    ]
+    # One point: the values under test are the command line's, not the sweep's work
+    text = SWEEP.replace(b"SCENE", b"scene.yaml").replace(b"HW", small_hw.encode())
+    text = text.replace(b"  hw.trv.l1.size_kb: [4, 8]\n", b"").replace(b"[on, off]", b"[on]")
+    open(os.path.join(work, "sweep.yaml"), "wb").write(text)
+    i = rng.randrange(len(options))
+    seed_value = [b"8", b"1", b"on", b"2", b"2", b"1", b"60", b"0:1:1"][i]
+    return [rtsim] + options[i] + [mutate(seed_value, rng).replace(b"\0", b"")]  # argv: no NUL
+
+
+def case(kind, rng, work, rtsim):
+    """Writes one mutated input of `kind` into `work` and returns the command that reads it."""
+    small_hw = os.path.join(ROOT, "configs/hw/small.yaml")
+    cmd = geometry_case(kind, rng, work, rtsim)
+    if cmd is not None:
+        return cmd
     if kind == "config":
         # A run's config.json (made once from SCENE by make_config), to repeat with --config
         open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)  # the scene it names
         open(os.path.join(work, "config.json"), "wb").write(mutate(CONFIG, rng))
         return [rtsim, "run", "--config", "config.json", "--out", "o", "--no-plots", "--quiet"]
     if kind == "args":
-        open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
-        options = [["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--width"],
-                   ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--reflections"],
-                   ["run", "scene.yaml", "--hw", small_hw, "--no-plots", "--quiet", "--out", "o", "--lvb"],
-                   ["render", "scene.yaml", "--out", "o", "--threads"],
-                   ["lvb", "scene.yaml", "--out", "o", "--lvb-threads"],
-                   ["sweep", "sweep.yaml", "--out", "o", "--jobs"],
-                   ["sweep", "sweep.yaml", "--out", "o", "--point-timeout"],
-                   ["animate", "scene.yaml", "--hw", small_hw, "--out", "o", "--times"]]
-        # One point: the values under test are the command line's, not the sweep's work
-        text = SWEEP.replace(b"SCENE", b"scene.yaml").replace(b"HW", small_hw.encode())
-        text = text.replace(b"  hw.trv.l1.size_kb: [4, 8]\n", b"").replace(b"[on, off]", b"[on]")
-        open(os.path.join(work, "sweep.yaml"), "wb").write(text)
-        i = rng.randrange(len(options))
-        seed_value = [b"8", b"1", b"on", b"2", b"2", b"1", b"60", b"0:1:1"][i]
-        return [rtsim] + options[i] + [mutate(seed_value, rng).replace(b"\0", b"")]  # argv: no NUL
-    if kind == "obj":
-        open(os.path.join(work, "s.obj"), "wb").write(mutate(OBJ, rng))
-        open(os.path.join(work, "m.mtl"), "wb").write(mutate(MTL, rng) if rng.random() < 0.5 else MTL)
-        open(os.path.join(work, "scene.yaml"), "wb").write(scene_for("s.obj"))
-        return [rtsim, "info", "scene.yaml", "--scene-root", work]
+        return args_case(rng, work, rtsim, small_hw)
     if kind == "scene":
         open(os.path.join(work, "scene.yaml"), "wb").write(mutate(SCENE, rng))
         return [rtsim, "run", "scene.yaml", "--hw", small_hw, "--out", "o", "--no-plots", "--quiet"]
     if kind == "hw":
         open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
         open(os.path.join(work, "hw.yaml"), "wb").write(mutate(open(small_hw, "rb").read(), rng))
-        return [rtsim, "run", "scene.yaml", "--hw", "hw.yaml", "--out", "o", "--no-plots", "--quiet"]
+        return [
+            rtsim,
+            "run",
+            "scene.yaml",
+            "--hw",
+            "hw.yaml",
+            "--out",
+            "o",
+            "--no-plots",
+            "--quiet",
+        ]
     if kind == "sweep":
         open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
         text = SWEEP.replace(b"SCENE", b"scene.yaml").replace(b"HW", small_hw.encode())
@@ -269,38 +354,96 @@ def case(kind, rng, work, rtsim):
         return [rtsim, "sweep", "sweep.yaml", "--emit", "slurm", "--out", "o"]
     if kind == "set":
         open(os.path.join(work, "scene.yaml"), "wb").write(SCENE)
-        value = mutate(rng.choice([b"run.width=8", b"hw.trv.count=2", b"scene.resolution=[8, 8]",
-                                   b"run.lvb=on", b"hw.dram.channels=4"]), rng)
-        return [rtsim, "run", "scene.yaml", "--hw", small_hw, "--set", value.replace(b"\0", b""),
-                "--out", "o", "--no-plots", "--quiet"]
+        value = mutate(
+            rng.choice(
+                [
+                    b"run.width=8",
+                    b"hw.trv.count=2",
+                    b"scene.resolution=[8, 8]",
+                    b"run.lvb=on",
+                    b"hw.dram.channels=4",
+                ]
+            ),
+            rng,
+        )
+        return [
+            rtsim,
+            "run",
+            "scene.yaml",
+            "--hw",
+            small_hw,
+            "--set",
+            value.replace(b"\0", b""),
+            "--out",
+            "o",
+            "--no-plots",
+            "--quiet",
+        ]
     raise ValueError(kind)
 
 
 MUTATIONS = 1  # 0: the seeds as they are (a check of the seeds)
-KINDS = ["aff", "ply", "plyb", "obj", "gltf", "glb", "scene", "hw", "sweep", "set", "config", "args"]
+KINDS = [
+    "aff",
+    "ply",
+    "plyb",
+    "obj",
+    "gltf",
+    "glb",
+    "scene",
+    "hw",
+    "sweep",
+    "set",
+    "config",
+    "args",
+]
 CONFIG = b""  # a run's config.json
 
 
 def make_config(rtsim, where):
     """config.json of a tiny run of SCENE in `where` (kept for the cases: it names the scene)."""
     open(os.path.join(where, "scene.yaml"), "wb").write(SCENE)
-    code, _, err = run([rtsim, "run", "scene.yaml", "--hw", os.path.join(ROOT, "configs/hw/small.yaml"),
-                        "--width", "8", "--height", "8", "--out", "o", "--no-plots", "--quiet"], where, 60)
+    code, _, err = run(
+        [
+            rtsim,
+            "run",
+            "scene.yaml",
+            "--hw",
+            os.path.join(ROOT, "configs/hw/small.yaml"),
+            "--width",
+            "8",
+            "--height",
+            "8",
+            "--out",
+            "o",
+            "--no-plots",
+            "--quiet",
+        ],
+        where,
+        60,
+    )
     if code != 0:
         sys.exit(f"fuzz: the run that makes config.json failed: {err.decode('utf-8', 'replace')}")
     return open(os.path.join(where, "o", "config.json"), "rb").read()
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--rtsim", default=os.path.join(ROOT, "build/rtsim"))
     ap.add_argument("--cases", type=int, default=200)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--kinds", default=",".join(KINDS))
     ap.add_argument("--timeout", type=float, default=30)
-    ap.add_argument("--out", default=None, help="where findings go (default: a temporary directory)")
-    ap.add_argument("--no-as-limit", action="store_true",
-                    help="no address-space limit (a sanitizer build reserves terabytes of it)")
+    ap.add_argument(
+        "--out", default=None, help="where findings go (default: a temporary directory)"
+    )
+    ap.add_argument(
+        "--no-as-limit",
+        action="store_true",
+        help="no address-space limit (a sanitizer build reserves terabytes of it)",
+    )
     args = ap.parse_args()
     global AS_LIMIT
     if args.no_as_limit:
@@ -341,8 +484,10 @@ def main():
         finally:
             shutil.rmtree(work, ignore_errors=True)
     shutil.rmtree(config_dir, ignore_errors=True)
-    print(f"fuzz: {args.cases} cases, seed {args.seed}, {findings} findings" +
-          (f" in {out}/findings" if findings else ""))
+    print(
+        f"fuzz: {args.cases} cases, seed {args.seed}, {findings} findings"
+        + (f" in {out}/findings" if findings else "")
+    )
     return 1 if findings else 0
 
 

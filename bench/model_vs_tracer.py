@@ -25,8 +25,19 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def tracer_seconds(args):
-    cmd = ["taskset", "-c", "0", os.path.join(args.build, "bench", "bench_tracer"), args.scene,
-           "--width", str(args.width), "--height", str(args.height), "--repeat", "1"]
+    cmd = [
+        "taskset",
+        "-c",
+        "0",
+        os.path.join(args.build, "bench", "bench_tracer"),
+        args.scene,
+        "--width",
+        str(args.width),
+        "--height",
+        str(args.height),
+        "--repeat",
+        "1",
+    ]
     out = subprocess.run(cmd, cwd=ROOT, check=True, capture_output=True, text=True).stdout
     m = re.search(r"median seconds for the frame's rays: ([0-9.]+)", out)
     if not m:
@@ -37,8 +48,24 @@ def tracer_seconds(args):
 
 def model_run(args):
     with tempfile.TemporaryDirectory() as out:
-        cmd = ["taskset", "-c", "0", args.rtsim or os.path.join(args.build, "rtsim"), "run", args.scene, "--hw", args.hw,
-               "--width", str(args.width), "--height", str(args.height), "--out", out, "--no-plots", "--quiet"]
+        cmd = [
+            "taskset",
+            "-c",
+            "0",
+            args.rtsim or os.path.join(args.build, "rtsim"),
+            "run",
+            args.scene,
+            "--hw",
+            args.hw,
+            "--width",
+            str(args.width),
+            "--height",
+            str(args.height),
+            "--out",
+            out,
+            "--no-plots",
+            "--quiet",
+        ]
         cmd += [x for s in args.set for x in ("--set", s)]
         subprocess.run(cmd, cwd=ROOT, check=True)
         with open(os.path.join(out, "report.json")) as f:
@@ -47,7 +74,9 @@ def model_run(args):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--build", default=os.path.join(ROOT, "build"))
     p.add_argument("--scene", default="configs/scenes/robots.yaml")
     p.add_argument("--hw", default="configs/hw/tni-paper.yaml")
@@ -64,11 +93,16 @@ def main():
         m, cycles = model_run(args)
         tracer.append(t)
         model.append(m)
-        print(f"run {k + 1}: tracer {t:.3f} s, model {m:.1f} s simulate ({cycles:,} cycles)", flush=True)
+        print(
+            f"run {k + 1}: tracer {t:.3f} s, model {m:.1f} s simulate ({cycles:,} cycles)",
+            flush=True,
+        )
     mt, mm = statistics.median(tracer), statistics.median(model)
-    print(f"{os.path.basename(args.scene)} {args.width}x{args.height}: tracer {mt:.3f} s for {rays:,} rays, "
-          f"model {mm:.1f} s; model / tracer = {mm / mt:.1f}x; {cycles / mm / 1e3:.0f} k simulated cycles "
-          f"per host second (medians of {args.runs})")
+    print(
+        f"{os.path.basename(args.scene)} {args.width}x{args.height}: "
+        f"tracer {mt:.3f} s for {rays:,} rays, model {mm:.1f} s; model / tracer = {mm / mt:.1f}x; "
+        f"{cycles / mm / 1e3:.0f} k simulated cycles per host second (medians of {args.runs})"
+    )
 
 
 if __name__ == "__main__":

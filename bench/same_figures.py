@@ -21,22 +21,108 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 # name: arguments after `rtsim run`
 RUNS = {
-    "city-tni": ["configs/scenes/city.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "160", "--height", "90"],
-    "city-small": ["configs/scenes/city.yaml", "--hw", "configs/hw/small.yaml", "--width", "160", "--height", "90"],
-    "city-ideal": ["configs/scenes/city.yaml", "--hw", "configs/hw/ideal.yaml", "--width", "160", "--height", "90"],
-    "robots-on": ["configs/scenes/robots.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "160", "--height", "90"],
-    "robots-off": ["configs/scenes/robots.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "160", "--height", "90",
-                   "--lvb", "off"],
-    "robots-one-phase": ["configs/scenes/robots.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "160",
-                         "--height", "90", "--set", "hw.schedule=one-phase"],
-    "kitchen-paper": ["configs/scenes/kitchen.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "120", "--height",
-                      "68", "--set", "run.lvb_self_occlusion=ignore"],
-    "kitchen-reflect": ["configs/scenes/kitchen.yaml", "--hw", "configs/hw/small.yaml", "--width", "64", "--height",
-                        "36", "--reflections", "1"],
-    "bunny-area": ["configs/scenes/bunny-area.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "96", "--height",
-                   "54", "--set", "scene.lights.area_from_points.samples=4"],
-    "city-checked": ["configs/scenes/city.yaml", "--hw", "configs/hw/tni-paper.yaml", "--width", "96", "--height",
-                     "54", "--set", "run.tlm_checks=true"],
+    "city-tni": [
+        "configs/scenes/city.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+    ],
+    "city-small": [
+        "configs/scenes/city.yaml",
+        "--hw",
+        "configs/hw/small.yaml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+    ],
+    "city-ideal": [
+        "configs/scenes/city.yaml",
+        "--hw",
+        "configs/hw/ideal.yaml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+    ],
+    "robots-on": [
+        "configs/scenes/robots.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+    ],
+    "robots-off": [
+        "configs/scenes/robots.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--lvb",
+        "off",
+    ],
+    "robots-one-phase": [
+        "configs/scenes/robots.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--set",
+        "hw.schedule=one-phase",
+    ],
+    "kitchen-paper": [
+        "configs/scenes/kitchen.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "120",
+        "--height",
+        "68",
+        "--set",
+        "run.lvb_self_occlusion=ignore",
+    ],
+    "kitchen-reflect": [
+        "configs/scenes/kitchen.yaml",
+        "--hw",
+        "configs/hw/small.yaml",
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--reflections",
+        "1",
+    ],
+    "bunny-area": [
+        "configs/scenes/bunny-area.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--set",
+        "scene.lights.area_from_points.samples=4",
+    ],
+    "city-checked": [
+        "configs/scenes/city.yaml",
+        "--hw",
+        "configs/hw/tni-paper.yaml",
+        "--width",
+        "96",
+        "--height",
+        "54",
+        "--set",
+        "run.tlm_checks=true",
+    ],
 }
 
 
@@ -52,10 +138,16 @@ def run(binary, args, out):
     cmd = [binary, "run", *args, "--out", out, "--quiet", "--no-plots"]
     done = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
     if done.returncode != 0:
-        raise SystemExit(f"same_figures: {' '.join(cmd)} failed ({done.returncode}):\n{done.stderr}")
+        raise SystemExit(
+            f"same_figures: {' '.join(cmd)} failed ({done.returncode}):\n{done.stderr}"
+        )
     with open(os.path.join(out, "report.json")) as f:
         report = without_host(json.load(f))
-    image = open(os.path.join(out, "render.png"), "rb").read() if os.path.exists(os.path.join(out, "render.png")) else b""
+    image = (
+        open(os.path.join(out, "render.png"), "rb").read()
+        if os.path.exists(os.path.join(out, "render.png"))
+        else b""
+    )
     return report, image
 
 
@@ -81,7 +173,9 @@ def compare(name, args, a, b):
 
 
 def main():
-    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     p.add_argument("--a", required=True, help="the baseline binary")
     p.add_argument("--b", required=True, help="the candidate binary")
     p.add_argument("--jobs", type=int, default=2)
@@ -90,13 +184,18 @@ def main():
     names = [n for n in args.only.split(",") if n] or list(RUNS)
     unknown = [n for n in names if n not in RUNS]
     if unknown:
-        print(f"same_figures: unknown run {', '.join(unknown)}; known: {', '.join(RUNS)}", file=sys.stderr)
+        print(
+            f"same_figures: unknown run {', '.join(unknown)}; known: {', '.join(RUNS)}",
+            file=sys.stderr,
+        )
         sys.exit(2)
     a, b = os.path.abspath(args.a), os.path.abspath(args.b)
     failed = 0
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         for name, diff, cycles in pool.map(lambda n: compare(n, RUNS[n], a, b), names):
-            print(f"{name:18} {'same' if not diff else 'DIFFERENT'}  ({cycles:,} cycles)", flush=True)
+            print(
+                f"{name:18} {'same' if not diff else 'DIFFERENT'}  ({cycles:,} cycles)", flush=True
+            )
             for d in diff[:10]:
                 print("   ", d)
             failed += bool(diff)

@@ -46,7 +46,7 @@ def blank_comments_and_literals(text):
             j = n if j < 0 else j + 2
             out.append(re.sub(r"[^\n]", " ", text[i:j]))
             i = j
-        elif c == 'R' and text.startswith('R"', i) and (i == 0 or not text[i - 1].isalnum()):
+        elif c == "R" and text.startswith('R"', i) and (i == 0 or not text[i - 1].isalnum()):
             m = re.match(r'R"([^(\s]*)\(', text[i:])
             end = text.find(")" + m.group(1) + '"', i) if m else -1
             j = n if end < 0 else end + len(m.group(1)) + 2
@@ -67,7 +67,8 @@ def blank_comments_and_literals(text):
 
 SCOPE_WORDS = re.compile(r"\b(namespace|class|struct|union|enum|extern)\b")
 FUNCTION_HEAD = re.compile(
-    r"\)\s*(const|override|final|noexcept|mutable|volatile|&|&&|->\s*[\w:<>,\s*&]+|\s)*$")
+    r"\)\s*(const|override|final|noexcept|mutable|volatile|&|&&|->\s*[\w:<>,\s*&]+|\s)*$"
+)
 
 
 def cpp_functions(text):
@@ -119,13 +120,18 @@ def python_functions(text, path):
         tree = ast.parse(text, path)
     except SyntaxError:
         return []
-    return [(node.name, node.lineno, node.end_lineno) for node in ast.walk(tree)
-            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))]
+    return [
+        (node.name, node.lineno, node.end_lineno)
+        for node in ast.walk(tree)
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef))
+    ]
 
 
 def main():
     p = argparse.ArgumentParser()
-    p.add_argument("root", nargs="?", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    p.add_argument(
+        "root", nargs="?", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    )
     p.add_argument("--max-file", type=int, default=500)
     p.add_argument("--max-function", type=int, default=80)
     args = p.parse_args()
@@ -147,8 +153,10 @@ def main():
             functions = []
         for name, first, last in functions:
             if last - first + 1 > args.max_function:
-                failures.append(f"{rel}:{first}: {name} is {last - first + 1} lines "
-                                f"(at most {args.max_function})")
+                failures.append(
+                    f"{rel}:{first}: {name} is {last - first + 1} lines "
+                    f"(at most {args.max_function})"
+                )
     for f in failures:
         print("FAIL:", f)
     print(f"sizes: {files} files, {len(failures)} over the limits")

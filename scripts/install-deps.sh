@@ -2,8 +2,9 @@
 # Installs every build and run dependency of rtsim from Debian 12 packages.
 # Run as root (or with sudo). Idempotent: apt-get skips what is already there.
 #   bash scripts/install-deps.sh          what building and running need
-#   bash scripts/install-deps.sh --test   and what the test suite needs besides (clang-format; Slurm
-#                                         and munge for the one-node cluster of the Slurm test)
+#   bash scripts/install-deps.sh --test   and what the test suite needs besides (clang-format, black
+#                                         and flake8 for the style tests; Slurm and munge for the
+#                                         one-node cluster of the Slurm test)
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
@@ -15,7 +16,7 @@ PKGS=(
   libtinyobjloader-dev libmeshoptimizer-dev libgtest-dev
   procps python3 python3-numpy python3-matplotlib python3-pil
 )
-if [ "${1:-}" = "--test" ]; then PKGS+=(clang-format slurm-wlm munge); fi
+if [ "${1:-}" = "--test" ]; then PKGS+=(clang-format black flake8 slurm-wlm munge); fi
 missing=()
 for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """Reruns the studies behind the generated tables in docs/ and rewrites those tables (issue 19).
 
-A generated table sits in its doc between `<!-- generated: ID -->` and `<!-- end generated: ID -->`;
-this script reruns study ID (a sweep or `rtsim reproduce --ablation`, resumable, in RUNS/ID), renders
-the table from the run's own files and replaces the block, stamped with the commit of the source
-tree the binary was built from and the date. The prose around a table is ours: read it again after
-a refresh.
+A generated table sits in its doc between `<!-- generated: ID -->` and
+`<!-- end generated: ID -->`; this script reruns study ID (a sweep or `rtsim reproduce --ablation`,
+resumable, in RUNS/ID), renders the table from the run's own files and replaces the block, stamped
+with the commit of the source tree the binary was built from and the date. The prose around a
+table is ours: read it again after a refresh.
 
   python3 scripts/refresh-docs.py --list                  the studies, their docs and costs
   python3 scripts/refresh-docs.py                         all of them (several hours on 2 cores)
@@ -50,12 +50,15 @@ def rows_of(run_dir):
 # The cache sweeps' columns (docs/cache-sweeps.md): every row against the Table-2 point of its
 # scene in the same sweep.
 CACHE_COLUMNS = [
-    ("TRV L1 hits", "trv_l1_hit_rate", fmt_pct), ("IST L1 hits", "ist_l1_hit_rate", fmt_pct),
-    ("IST L2 hits", "ist_l2_hit_rate", fmt_pct), ("TRV busy", "trv_busy", fmt_pct),
+    ("TRV L1 hits", "trv_l1_hit_rate", fmt_pct),
+    ("IST L1 hits", "ist_l1_hit_rate", fmt_pct),
+    ("IST L2 hits", "ist_l2_hit_rate", fmt_pct),
+    ("TRV busy", "trv_busy", fmt_pct),
     ("TRV reply queue", "stats.trv.icnt.reply.avg_queue_cycles", fmt_1),
     ("IST reply queue", "stats.ist.icnt.reply.avg_queue_cycles", fmt_1),
     ("IST L2 bank stalls", "stats.ist.l2.bank.stall_cycles", fmt_int),
-    ("DRAM GB/s", "dram_bandwidth_gbps", fmt_1)]
+    ("DRAM GB/s", "dram_bandwidth_gbps", fmt_1),
+]
 
 
 def cache_table(key, label, baseline):
@@ -69,10 +72,16 @@ def cache_table(key, label, baseline):
                 out.append(f"| {r['scene']} | {r[key]} | failed: {r['failure']} |")
                 continue
             cyc = float(r["cycles_total"])
-            cells = [r["scene"], r[key], fmt_int(cyc), f"{100 * (cyc / base[r['scene']] - 1):+.1f}%"]
+            cells = [
+                r["scene"],
+                r[key],
+                fmt_int(cyc),
+                f"{100 * (cyc / base[r['scene']] - 1):+.1f}%",
+            ]
             cells += [f(r[m]) if r[m] != "" else "-" for _, m, f in CACHE_COLUMNS]
             out.append("| " + " | ".join(cells) + " |")
         return "\n".join(out)
+
     return render
 
 
@@ -81,15 +90,22 @@ def knob_table(run_dir):
     rows = rows_of(run_dir)
     scenes = list(dict.fromkeys(r["scene"] for r in rows))
     variants = list(dict.fromkeys(r["variant"] for r in rows))
-    ms = {(r["scene"], r["variant"], r["run.lvb"]): float(r["frame_ms_all"])
-          for r in rows if not r.get("failure")}
-    head = ["variant"] + [f"{s} off / on (ms)" for s in scenes] + [f"{s} off vs today" for s in scenes]
+    ms = {
+        (r["scene"], r["variant"], r["run.lvb"]): float(r["frame_ms_all"])
+        for r in rows
+        if not r.get("failure")
+    }
+    head = (
+        ["variant"] + [f"{s} off / on (ms)" for s in scenes] + [f"{s} off vs today" for s in scenes]
+    )
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for v in variants:
         cells = [v]
         for s in scenes:
             off, on = ms.get((s, v, "false")), ms.get((s, v, "true"))
-            cells.append(f"{off:.3f} / {on:.3f}" if off is not None and on is not None else "failed")
+            cells.append(
+                f"{off:.3f} / {on:.3f}" if off is not None and on is not None else "failed"
+            )
         for s in scenes:
             off, today = ms.get((s, v, "false")), ms.get((s, "today", "false"))
             cells.append(f"{100 * (off / today - 1):+.1f}%" if off and today else "-")
@@ -100,6 +116,7 @@ def knob_table(run_dir):
 def copy_markdown(name, first_heading):
     """A report the run wrote (area_lights.md, ablation.md), from `first_heading` on, its headings
     one level down."""
+
     def render(run_dir):
         with open(os.path.join(run_dir, name)) as f:
             text = f.read()
@@ -108,15 +125,20 @@ def copy_markdown(name, first_heading):
             raise SystemExit(f"refresh-docs: {name} in {run_dir} has no '{first_heading}'")
         text = text[start:].strip()
         return re.sub(r"^(#+) ", r"#\1 ", text, flags=re.M)
+
     return render
 
 
 def animation_frames(run_dir):
     """An `rtsim animate` run's frames.csv rows, numbers as floats ('' as None), host.csv's seconds
     joined by time."""
+
     def floats(path):
         with open(path, newline="") as f:
-            return [{k: float(v) if v != "" else None for k, v in r.items()} for r in csv.DictReader(f)]
+            return [
+                {k: float(v) if v != "" else None for k, v in r.items()} for r in csv.DictReader(f)
+            ]
+
     host = {r["time"]: r for r in floats(os.path.join(run_dir, "host.csv"))}
     frames = floats(os.path.join(run_dir, "frames.csv"))
     for r in frames:
@@ -133,6 +155,7 @@ ANIMATION_SCENES = ["robots", "kitchen"]
 
 def animation_table(run_dir):
     """docs/animation.md at 480x270: per scene, medians over the frames with their range."""
+
     def m(v):
         return f"{v / 1e6:.2f} M"
 
@@ -142,6 +165,7 @@ def animation_table(run_dir):
     def cells(fr):
         def col(k):
             return [r[k] for r in fr if r.get(k) is not None]
+
         saved, off, tests = col("saved"), col("cycles_off"), col("tests")
         pct = [100 * r["saved"] / r["cycles_off"] for r in fr]
         per_saved = [ratio(r["tests"], r["saved"]) for r in fr]
@@ -151,31 +175,53 @@ def animation_table(run_dir):
         checked = col("check_mismatched_pixels")
         share = [100 * x for x in col("culled_share")]
         yield f"{fmt_int(median(off))} ({min(off) / 1e6:.2f}-{max(off) / 1e6:.2f} M)"
-        yield (f"{fmt_int(median(saved))} ({fmt_int(min(saved))}-{fmt_int(max(saved))}), "
-               f"{median(pct):.1f}% ({min(pct):.1f}-{max(pct):.1f}%)")
+        yield (
+            f"{fmt_int(median(saved))} ({fmt_int(min(saved))}-{fmt_int(max(saved))}), "
+            f"{median(pct):.1f}% ({min(pct):.1f}-{max(pct):.1f}%)"
+        )
         yield f"{median(share):.1f}% ({min(share):.1f}-{max(share):.1f}%)"
-        yield " / ".join(m(median(col(k))) for k in ["lvb_nodes_visited", "lvb_region_tests", "lvb_pair_tests"])
-        yield (f"{median(tests) / median(saved):.1f} ({min(per_saved):.1f}-{max(per_saved):.1f})"
-               if median(saved) else "no saving")
+        yield " / ".join(
+            m(median(col(k))) for k in ["lvb_nodes_visited", "lvb_region_tests", "lvb_pair_tests"]
+        )
+        yield (
+            f"{median(tests) / median(saved):.1f} ({min(per_saved):.1f}-{max(per_saved):.1f})"
+            if median(saved)
+            else "no saving"
+        )
         yield f"{median(col('kdtree_seconds')):.2f} / {median(col('lvb_seconds')):.2f}"
         if not lazy:
             yield from ["-"] * 3
         else:
             dirty = [100 * r["lazy_dirty_pairs"] / r["lazy_pairs"] for r in lazy if r["lazy_pairs"]]
             yield f"{median(dirty):.1f}% ({min(dirty):.1f}-{max(dirty):.1f}%)"
-            yield (f"{m(mlazy)} ({100 * mlazy / median(tests):.0f}% of full; "
-                   f"{m(median([r['lazy_dirty_tests'] for r in lazy]))} of it finding the dirty pairs)")
-            yield (f"{mlazy / median(saved):.1f} ({min(lazy_per_saved):.1f}-{max(lazy_per_saved):.1f})"
-                   if median(saved) else "no saving")
+            yield (
+                f"{m(mlazy)} ({100 * mlazy / median(tests):.0f}% of full; "
+                f"{m(median([r['lazy_dirty_tests'] for r in lazy]))} of it finding the dirty pairs)"
+            )
+            yield (
+                f"{mlazy / median(saved):.1f} ({min(lazy_per_saved):.1f}-{max(lazy_per_saved):.1f})"
+                if median(saved)
+                else "no saving"
+            )
         yield f"{fmt_int(sum(checked))} in {len(checked)} frames x 2 runs"
 
-    labels = ["cycles, culling off", "cycles culling saves", "shadow rays culled",
-              "LVB work: nodes visited / region tests / pair tests",
-              "LVB tests (region + pair) per saved cycle", "host seconds: kd-tree / LVB (1 thread)",
-              "lazy: dirty pairs", "lazy: tests (dirty + region + pair)", "lazy tests per saved cycle",
-              "`--check-every 5`: pixels differing from the reference"]
+    labels = [
+        "cycles, culling off",
+        "cycles culling saves",
+        "shadow rays culled",
+        "LVB work: nodes visited / region tests / pair tests",
+        "LVB tests (region + pair) per saved cycle",
+        "host seconds: kd-tree / LVB (1 thread)",
+        "lazy: dirty pairs",
+        "lazy: tests (dirty + region + pair)",
+        "lazy tests per saved cycle",
+        "`--check-every 5`: pixels differing from the reference",
+    ]
     columns = [list(cells(animation_frames(os.path.join(run_dir, s)))) for s in ANIMATION_SCENES]
-    out = ["| per frame, 480x270 | " + " | ".join(ANIMATION_SCENES) + " |", "|---|" + "---|" * len(columns)]
+    out = [
+        "| per frame, 480x270 | " + " | ".join(ANIMATION_SCENES) + " |",
+        "|---|" + "---|" * len(columns),
+    ]
     for i, label in enumerate(labels):
         out.append(f"| {label} | " + " | ".join(c[i] for c in columns) + " |")
     return "\n".join(out)
@@ -185,8 +231,11 @@ def animation_hd_table(run_dir):
     """docs/animation.md at 1920x1080: a row per frame, its saving against the same frame's at
     480x270 (the `animation` study's runs, when they are there)."""
     small_dir = os.path.join(os.path.dirname(run_dir), "animation")
-    out = ["| frame | cycles off / on at 1920x1080 | saved | saved, x of 480x270's | LVB tests per saved cycle |",
-           "|---|---|---|---|---|"]
+    out = [
+        "| frame | cycles off / on at 1920x1080 | saved | saved, x of 480x270's "
+        "| LVB tests per saved cycle |",
+        "|---|---|---|---|---|",
+    ]
     for s in ANIMATION_SCENES:
         small = {}
         if os.path.exists(os.path.join(small_dir, s, "frames.csv")):
@@ -194,8 +243,11 @@ def animation_hd_table(run_dir):
         for r in animation_frames(os.path.join(run_dir, s)):
             x = f"{r['saved'] / small[r['time']]:.1f}" if small.get(r["time"]) else "-"
             per = f"{r['tests'] / r['saved']:.1f}" if r["saved"] > 0 else "no saving"
-            out.append(f"| {s} t = {r['time']:g} | {fmt_int(r['cycles_off'])} / {fmt_int(r['cycles_on'])} | "
-                       f"{fmt_int(r['saved'])} ({100 * r['saved'] / r['cycles_off']:.1f}%) | {x} | {per} |")
+            out.append(
+                f"| {s} t = {r['time']:g} "
+                f"| {fmt_int(r['cycles_off'])} / {fmt_int(r['cycles_on'])} | "
+                f"{fmt_int(r['saved'])} ({100 * r['saved'] / r['cycles_off']:.1f}%) | {x} | {per} |"
+            )
     return "\n".join(out)
 
 
@@ -213,15 +265,32 @@ class Study:
 
 
 def animate(scene, times, *options):
-    return (scene, ["animate", f"configs/scenes/{scene}.yaml", "--hw", "configs/hw/tni-paper.yaml",
-                    "--times", times, *options, "--lvb", "both"])
+    return (
+        scene,
+        [
+            "animate",
+            f"configs/scenes/{scene}.yaml",
+            "--hw",
+            "configs/hw/tni-paper.yaml",
+            "--times",
+            times,
+            *options,
+            "--lvb",
+            "both",
+        ],
+    )
 
 
 def cache_study(name, minutes, key, label, baseline):
     """docs/cache-sweeps.md: configs/sweeps/cache-NAME.yaml, its table and its cycles plot."""
-    return Study(f"cache-{name}", "docs/cache-sweeps.md", minutes, ["sweep", f"configs/sweeps/cache-{name}.yaml"],
-                 cache_table(key, label, baseline),
-                 figure=(f"plots/cycles_total_vs_{key}.png", f"docs/figures/sweep-{name}.png"))
+    return Study(
+        f"cache-{name}",
+        "docs/cache-sweeps.md",
+        minutes,
+        ["sweep", f"configs/sweeps/cache-{name}.yaml"],
+        cache_table(key, label, baseline),
+        figure=(f"plots/cycles_total_vs_{key}.png", f"docs/figures/sweep-{name}.png"),
+    )
 
 
 SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
@@ -230,30 +299,69 @@ STUDIES = [
     cache_study("ist-l1", 3, "hw.ist.l1.size_kb", "IST L1 KB", "16"),
     cache_study("l2-size", 5, "variant", "L2", "table2-128k"),
     cache_study("l2-banks", 5, "variant", "L2 banks", "banks-8"),
-    Study("unpublished-knobs", "docs/ablation.md", 35,
-          ["sweep", "configs/sweeps/unpublished-knobs.yaml", "--no-plots"], knob_table),
-    Study("unpublished-knobs-hd", "docs/ablation.md", 45,
-          ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml", "--no-plots"], knob_table),
+    Study(
+        "unpublished-knobs",
+        "docs/ablation.md",
+        35,
+        ["sweep", "configs/sweeps/unpublished-knobs.yaml", "--no-plots"],
+        knob_table,
+    ),
+    Study(
+        "unpublished-knobs-hd",
+        "docs/ablation.md",
+        45,
+        ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml", "--no-plots"],
+        knob_table,
+    ),
     # The area-light reports are written with their figures (area_lights.md names them).
-    Study("area-lights", "docs/area-lights.md", 30, ["sweep", "configs/sweeps/area-lights.yaml"],
-          copy_markdown("area_lights.md", "| scene"),
-          figure=("plots/area_reduction.png", "docs/figures/area-reduction.png")),
-    Study("area-lights-hd", "docs/area-lights.md", 70, ["sweep", "configs/sweeps/area-lights-hd.yaml"],
-          copy_markdown("area_lights.md", "| scene")),
-    Study("ablation", "docs/ablation.md", 65, ["reproduce", "--ablation"],
-          copy_markdown("ablation.md", "Sweep `ablation.yaml`")),
-    Study("animation", "docs/animation.md", 12, render=animation_table,
-          runs=[animate("robots", "0:10:0.5", *SMALL), animate("kitchen", "0:20:1", *SMALL)]),
-    Study("animation-hd", "docs/animation.md", 26, render=animation_hd_table,
-          runs=[animate("robots", "0:10:5"), animate("kitchen", "0:20:10")]),
+    Study(
+        "area-lights",
+        "docs/area-lights.md",
+        30,
+        ["sweep", "configs/sweeps/area-lights.yaml"],
+        copy_markdown("area_lights.md", "| scene"),
+        figure=("plots/area_reduction.png", "docs/figures/area-reduction.png"),
+    ),
+    Study(
+        "area-lights-hd",
+        "docs/area-lights.md",
+        70,
+        ["sweep", "configs/sweeps/area-lights-hd.yaml"],
+        copy_markdown("area_lights.md", "| scene"),
+    ),
+    Study(
+        "ablation",
+        "docs/ablation.md",
+        65,
+        ["reproduce", "--ablation"],
+        copy_markdown("ablation.md", "Sweep `ablation.yaml`"),
+    ),
+    Study(
+        "animation",
+        "docs/animation.md",
+        12,
+        render=animation_table,
+        runs=[animate("robots", "0:10:0.5", *SMALL), animate("kitchen", "0:20:1", *SMALL)],
+    ),
+    Study(
+        "animation-hd",
+        "docs/animation.md",
+        26,
+        render=animation_hd_table,
+        runs=[animate("robots", "0:10:5"), animate("kitchen", "0:20:10")],
+    ),
 ]
 
 
 def source_commit():
     """The commit of the source tree, `-dirty` when files outside docs/ differ from it (a refresh
     rewrites docs/ itself)."""
+
     def git(*a):
-        return subprocess.run(["git", "-C", ROOT, *a], check=True, capture_output=True, text=True).stdout.strip()
+        return subprocess.run(
+            ["git", "-C", ROOT, *a], check=True, capture_output=True, text=True
+        ).stdout.strip()
+
     dirty = git("status", "--porcelain", "--untracked-files=no", "--", ".", ":(exclude)docs")
     return git("rev-parse", "--short=7", "HEAD") + ("-dirty" if dirty else "")
 
@@ -265,7 +373,7 @@ def replace_block(doc_path, ident, body):
     i, j = text.find(begin), text.find(end)
     if i < 0 or j < i:
         raise SystemExit(f"refresh-docs: {doc_path} has no block '{begin}' ... '{end}'")
-    text = text[:i + len(begin)] + "\n" + body.strip() + "\n" + text[j:]
+    text = text[: i + len(begin)] + "\n" + body.strip() + "\n" + text[j:]
     tmp = doc_path + ".tmp"
     with open(tmp, "w") as f:
         f.write(text)
@@ -293,22 +401,29 @@ def run_study(s, args, commit):
         print("refresh-docs:", " ".join(cmd), file=sys.stderr, flush=True)
         code = subprocess.run(cmd, cwd=ROOT).returncode
         if code != 0:
-            raise SystemExit(f"refresh-docs: {s.id} failed (exit {code}); its points' log.txt say why")
+            raise SystemExit(
+                f"refresh-docs: {s.id} failed (exit {code}); its points' log.txt say why"
+            )
     minutes = (datetime.datetime.now() - start).total_seconds() / 60
     return out, minutes, commit
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap = argparse.ArgumentParser(
+        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
+    )
     ap.add_argument("--rtsim", default=os.path.join(ROOT, "build", "rtsim"))
     ap.add_argument("--runs", default=os.path.join(ROOT, "out", "refresh-docs"))
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--only", default="", help="comma-separated study ids (default: all)")
     ap.add_argument("--list", action="store_true")
     ap.add_argument("--no-build", action="store_true")
-    ap.add_argument("--reuse", action="store_true",
-                    help="keep a study's runs made from another commit (stamped with that commit); "
-                         "only where the model's cycles have not changed since")
+    ap.add_argument(
+        "--reuse",
+        action="store_true",
+        help="keep a study's runs made from another commit (stamped with that commit); "
+        "only where the model's cycles have not changed since",
+    )
     args = ap.parse_args()
     if args.list:
         for s in STUDIES:
@@ -317,19 +432,26 @@ def main():
     wanted = [x for x in args.only.split(",") if x] or [s.id for s in STUDIES]
     unknown = set(wanted) - {s.id for s in STUDIES}
     if unknown:
-        print(f"refresh-docs: unknown study {', '.join(sorted(unknown))} (see --list)", file=sys.stderr)
+        print(
+            f"refresh-docs: unknown study {', '.join(sorted(unknown))} (see --list)",
+            file=sys.stderr,
+        )
         sys.exit(2)
     if not args.no_build:
-        subprocess.run(["cmake", "--build", os.path.join(ROOT, "build"), "--target", "rtsim"], check=True)
+        subprocess.run(
+            ["cmake", "--build", os.path.join(ROOT, "build"), "--target", "rtsim"], check=True
+        )
     commit = source_commit()
     for s in STUDIES:
         if s.id not in wanted:
             continue
         out, minutes, ran_at = run_study(s, args, commit)
         table = s.render(out)
-        note = (f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`{s.describe()}`) "
-                f"from commit {ran_at} on {datetime.date.today()}; this sitting "
-                f"took {minutes:.0f} min with --jobs {args.jobs}._")
+        note = (
+            f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`{s.describe()}`) "
+            f"from commit {ran_at} on {datetime.date.today()}; this sitting "
+            f"took {minutes:.0f} min with --jobs {args.jobs}._"
+        )
         replace_block(os.path.join(ROOT, s.doc), s.id, note + "\n\n" + table)
         if s.figure:
             shutil.copyfile(os.path.join(out, s.figure[0]), os.path.join(ROOT, s.figure[1]))

@@ -1,17 +1,16 @@
 """What every figure module shares: matplotlib set up for files (Agg), the input checks (one
 InputError per bad input, naming the file and field), atomic writes, and small drawing helpers."""
 
+import contextlib
 import csv
 import json
 import math
 import os
 
-import numpy as np
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402  (the backend must be chosen first)
-from matplotlib.ticker import NullLocator  # noqa: E402,F401  (for the modules)
 
 from rtsim_plots.files import REPORT_JSON  # noqa: E402
 
@@ -20,6 +19,23 @@ DPI = 100
 CULLED_MAX_WIDTH = 480  # panels wider than this are block-averaged: keeps culled.png small and fast
 MAX_SERIES = 8  # lines per sweep plot; more are unreadable
 BUSY, STALLED, IDLE = "tab:green", "tab:orange", "lightgray"
+
+
+# path -> Figure of every figure saved inside figures_kept(); None outside.
+_kept = None
+
+
+@contextlib.contextmanager
+def figures_kept():
+    """Inside the block, every figure saved is also kept by its path, so a test can compare what
+    it shows (axes, labels, lines, bars) with the file it was drawn from. A closed figure keeps its
+    artists; the PNG files are written as ever."""
+    global _kept
+    outer, _kept = _kept, {}
+    try:
+        yield _kept
+    finally:
+        _kept = outer
 
 
 class InputError(Exception):
@@ -64,7 +80,8 @@ def load_json(path):
 
 
 def load_parsed(folder, name, parse):
-    """Reads folder/name and parses it; the parser's messages name the bare file, so name the real one."""
+    """Reads folder/name and parses it; the parser's messages name the bare file, so name the real
+    one."""
     path = os.path.join(folder, name)
     try:
         return parse(load_json(path))
@@ -73,7 +90,8 @@ def load_parsed(folder, name, parse):
 
 
 def write_atomically(path, write, written):
-    """write(tmp) writes the file under a temporary name in the same directory, which then replaces path."""
+    """write(tmp) writes the file under a temporary name in the same directory, which then replaces
+    path."""
     folder, name = os.path.split(path)
     tmp = os.path.join(folder, f".{name}.tmp")
     try:
@@ -89,8 +107,13 @@ def write_atomically(path, write, written):
 def save(fig, path, written):
     try:
         # No Software tag: the bytes should not depend on the matplotlib version.
-        write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None}),
-                         written)
+        write_atomically(
+            path,
+            lambda tmp: fig.savefig(tmp, format="png", dpi=DPI, metadata={"Software": None}),
+            written,
+        )
+        if _kept is not None:
+            _kept[path] = fig
     finally:
         plt.close(fig)
 
@@ -99,6 +122,7 @@ def write_text(path, text, written):
     def write(tmp):
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)
+
     write_atomically(path, write, written)
 
 
@@ -113,10 +137,6 @@ def bar_labels(ax, xs, values, fmt="{:.1f}"):
 
 def pct(part, whole):
     return 100.0 * part / whole if whole > 0 else None
-
-
-# ----------------------------------------------------------------------------------------------- run
-
 
 
 def read_csv(folder, name):

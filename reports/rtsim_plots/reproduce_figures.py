@@ -1,24 +1,31 @@
-"""The paper's figures beside ours: reproduce_culling.png and reproduce_time.png (plots.py reproduce)."""
+"""The paper's figures beside ours: reproduce_culling.png and reproduce_time.png
+(plots.py reproduce)."""
 
 import math
 import os
 import textwrap
 
-from rtsim_plots.common import InputError, field, is_number, load_parsed, np, number, pct, plt, save
+import numpy as np
+
+from rtsim_plots.common import InputError, field, is_number, load_parsed, number, pct, plt, save
 from rtsim_plots.files import REPRODUCTION_JSON
 from rtsim_plots.sweep_figures import check_schema
 
 
 # One colour per source, the same in both figures; the paper's figures are the reference, in gray.
-SOURCES = [("paper", "paper (published)", "tab:gray"),
-           ("ours_paper", "ours, paper's method", "tab:orange"),
-           ("ours_paper_contained", "ours, paper's method, contained", "tab:green"),
-           ("ours_exact", "ours, exact mode", "tab:blue")]
+SOURCES = [
+    ("paper", "paper (published)", "tab:gray"),
+    ("ours_paper", "ours, paper's method", "tab:orange"),
+    ("ours_paper_contained", "ours, paper's method, contained", "tab:green"),
+    ("ours_exact", "ours, exact mode", "tab:blue"),
+]
 BAR = 0.8 / len(SOURCES)  # bar width: the sources side by side in 0.8 of a slot
 
 
 def bar_offset(k):
     return (k - (len(SOURCES) - 1) / 2) * BAR
+
+
 REPRO_COLS = 3  # scenes per row; more scenes wrap
 REPRO_MIN_WIDTH = 9.5  # inches: the figure titles must fit above a single scene
 
@@ -39,7 +46,8 @@ def reduction_pct(on, off):
 
 
 def parse_reproduction(rep):
-    """Per scene, the percentages both figures need, checked up front so bad input writes no file."""
+    """Per scene, the percentages both figures need, checked up front so bad input writes no
+    file."""
     where = REPRODUCTION_JSON
     check_schema(rep, where, "rtsim-reproduction/1")
     scenes = field(rep, "scenes", where=where)
@@ -62,9 +70,14 @@ def parse_reproduction(rep):
             s["rays"]["paper"] = [pct(c, per_light) for c in numbers(paper, "culled_rays", wp)]
             leaves = number(paper, "leaves", wp)
             s["leaves"]["paper"] = [pct(c, leaves) for c in numbers(paper, "culled_leaves", wp)]
-            ms = {k: number(paper, f"ms.{k}", wp) for k in ("all_on", "all_off", "shadow_on", "shadow_off")}
+            ms = {
+                k: number(paper, f"ms.{k}", wp)
+                for k in ("all_on", "all_off", "shadow_on", "shadow_off")
+            }
             s["ms"]["paper"] = ms
-            s["time"]["paper"] = [reduction_pct(ms[f"{k}_on"], ms[f"{k}_off"]) for k in ("all", "shadow")]
+            s["time"]["paper"] = [
+                reduction_pct(ms[f"{k}_on"], ms[f"{k}_off"]) for k in ("all", "shadow")
+            ]
         ours = field(sc, "ours", {}, where=w)
         if not isinstance(ours, dict):
             raise InputError(f"{w}: field 'ours' is not an object")
@@ -73,10 +86,15 @@ def parse_reproduction(rep):
             off = [number(off, f"frame_ms_{k}", f"{w}.ours.off") for k in ("all", "shadow")]
         else:
             s["missing"].append("our culling-off run")
-        for var, key, label in (("paper", "ours_paper", "our paper's-method run"),
-                                ("paper-contained", "ours_paper_contained",
-                                 "our paper's-method run with the contained reading"),
-                                ("exact", "ours_exact", "our exact-mode run")):
+        for var, key, label in (
+            ("paper", "ours_paper", "our paper's-method run"),
+            (
+                "paper-contained",
+                "ours_paper_contained",
+                "our paper's-method run with the contained reading",
+            ),
+            ("exact", "ours_exact", "our exact-mode run"),
+        ):
             o = ours.get(var)
             if o is None:
                 s["missing"].append(label)
@@ -93,7 +111,9 @@ def parse_reproduction(rep):
             px = o.get("pixels_shadow_differs_from_off")
             if px is not None:
                 if not is_number(px):
-                    raise InputError(f"{wo}: field 'pixels_shadow_differs_from_off' is not a number")
+                    raise InputError(
+                        f"{wo}: field 'pixels_shadow_differs_from_off' is not a number"
+                    )
                 s["pixels"][key] = px
         s["ms"]["off"] = off
         out.append(s)
@@ -101,7 +121,8 @@ def parse_reproduction(rep):
 
 
 def fmt_pct(v):
-    # Two decimals below 1 %: the paper's bunny figures (0.01 % of rays, 0.07 % of time) must not read as 0.
+    # Two decimals below 1 %: the paper's bunny figures (0.01 % of rays, 0.07 % of time) must not
+    # read as 0.
     if v == 0:
         return "0"
     if abs(v) < 0.005:
@@ -110,21 +131,41 @@ def fmt_pct(v):
 
 
 def value_labels(ax, xs, values, fmt, rotation=0, fontsize=8):
-    """Value at the end of each bar, offset in points so it works on any scale; "n/a" where unknown (None)."""
+    """Value at the end of each bar, offset in points so it works on any scale; "n/a" where unknown
+    (None)."""
     for x, v in zip(xs, values):
         if v is None:
-            ax.annotate("n/a", (x, 0), xytext=(0, 2), textcoords="offset points", ha="center", va="bottom",
-                        fontsize=fontsize - 1, color="dimgray", rotation=90)
+            ax.annotate(
+                "n/a",
+                (x, 0),
+                xytext=(0, 2),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize=fontsize - 1,
+                color="dimgray",
+                rotation=90,
+            )
         else:
             down = v < 0
-            ax.annotate(fmt(v), (x, v), xytext=(0, -2 if down else 2), textcoords="offset points", ha="center",
-                        va="top" if down else "bottom", fontsize=fontsize, rotation=rotation)
+            ax.annotate(
+                fmt(v),
+                (x, v),
+                xytext=(0, -2 if down else 2),
+                textcoords="offset points",
+                ha="center",
+                va="top" if down else "bottom",
+                fontsize=fontsize,
+                rotation=rotation,
+            )
 
 
 def legend_strip(fig):
     # A subfigure of its own: matplotlib 3.6's constrained layout leaves room for no figure legend.
     handles = [plt.Rectangle((0, 0), 1, 1, color=c) for _, _, c in SOURCES]
-    fig.legend(handles, [label for _, label, _ in SOURCES], loc="center", ncol=len(SOURCES), frameon=False)
+    fig.legend(
+        handles, [label for _, label, _ in SOURCES], loc="center", ncol=len(SOURCES), frameon=False
+    )
 
 
 def scene_grid(fig, n):
@@ -139,7 +180,14 @@ def scene_grid(fig, n):
 def nothing_to_plot(fig):
     ax = fig.add_subplot()
     ax.set_axis_off()
-    ax.text(0.5, 0.5, f"{REPRODUCTION_JSON} lists no scene: no run finished.", ha="center", va="center", fontsize=13)
+    ax.text(
+        0.5,
+        0.5,
+        f"{REPRODUCTION_JSON} lists no scene: no run finished.",
+        ha="center",
+        va="center",
+        fontsize=13,
+    )
 
 
 def panel_title(ax, s, extra=""):
@@ -151,18 +199,28 @@ def panel_title(ax, s, extra=""):
 
 
 def nothing_here(ax):
-    ax.text(0.5, 0.5, "nothing to compare", transform=ax.transAxes, ha="center", va="center", color="dimgray")
+    ax.text(
+        0.5,
+        0.5,
+        "nothing to compare",
+        transform=ax.transAxes,
+        ha="center",
+        va="center",
+        color="dimgray",
+    )
     ax.set_yticks([])
 
 
 def per_light_panel(ax, s, kind):
-    # The scene's own light count (the larger of the paper's and ours), not the widest scene's: no rows of n/a.
+    # The scene's own light count (the larger of the paper's and ours), not the widest scene's: no
+    # rows of n/a.
     nlights = max([1] + [len(v) for k in ("rays", "leaves") for v in s[k].values()])
     x = np.arange(nlights)
     top = 0.0
     for k, (key, _, colour) in enumerate(SOURCES):
         if key not in s[kind]:
-            continue  # the whole source is missing: said in the panel title, not with n/a on every light
+            # The whole source is missing: said in the panel title, not with n/a on every light.
+            continue
         vals = s[kind][key]
         vals = [vals[i] if i < len(vals) else None for i in range(nlights)]
         xs = x + bar_offset(k)
@@ -179,33 +237,52 @@ def per_light_panel(ax, s, kind):
         ax.set_xticks([])  # no light to name
     extra = ""
     if kind == "rays" and s["pixels"]:
-        items = ", ".join(f"{label.split(', ', 1)[1]} {s['pixels'][key]:,.0f}"
-                          for key, label, _ in SOURCES if key in s["pixels"])
+        items = ", ".join(
+            f"{label.split(', ', 1)[1]} {s['pixels'][key]:,.0f}"
+            for key, label, _ in SOURCES
+            if key in s["pixels"]
+        )
         head = "shadow pixels changed by culling:"
-        extra = f"\n{head}" + ("\n" if len(head) + len(items) > 60 else " ") + items  # break between, not inside
+        # A long list goes to a line of its own: break between, not inside.
+        extra = f"\n{head}" + ("\n" if len(head) + len(items) > 60 else " ") + items
     panel_title(ax, s, extra)
 
 
 def plot_reproduce_culling(scenes, path, written):
     n = len(scenes)
-    nlights = max([1] + [len(v) for s in scenes for kind in ("rays", "leaves") for v in s[kind].values()])
+    nlights = max(
+        [1] + [len(v) for s in scenes for kind in ("rays", "leaves") for v in s[kind].values()]
+    )
     ncols, nrows = min(REPRO_COLS, max(n, 1)), math.ceil(max(n, 1) / REPRO_COLS)
     width = max(4.8, 0.7 * nlights + 1.4)
-    fig = plt.figure(figsize=(max(REPRO_MIN_WIDTH, width * ncols + 0.4), 2 * nrows * 3.9 + 1.3),
-                     layout="constrained")
-    fig.suptitle("LVB culling per light: the paper vs ours\n"
-                 "lights go by index: the paper did not publish its light positions, ours are the scene files' own")
+    fig = plt.figure(
+        figsize=(max(REPRO_MIN_WIDTH, width * ncols + 0.4), 2 * nrows * 3.9 + 1.3),
+        layout="constrained",
+    )
+    fig.suptitle(
+        "LVB culling per light: the paper vs ours\n"
+        "lights go by index: the paper did not publish its light positions, "
+        "ours are the scene files' own"
+    )
     if not n:
         nothing_to_plot(fig)
         save(fig, path, written)
         return
     top, rays_fig, leaves_fig = fig.subfigures(3, 1, height_ratios=[0.35, 3.9 * nrows, 3.9 * nrows])
     legend_strip(top)
-    rays_fig.suptitle("shadow rays culled (% of the shadow rays to that light)", fontsize=11, fontweight="bold")
-    leaves_fig.suptitle("leaves culled — the denominators differ: paper: % of all leaves; "
-                        "ours: % of non-empty leaves", fontsize=11, fontweight="bold")
-    for sub, kind, ylabel in ((rays_fig, "rays", "shadow rays culled (%)"),
-                              (leaves_fig, "leaves", "leaves culled (%)")):
+    rays_fig.suptitle(
+        "shadow rays culled (% of the shadow rays to that light)", fontsize=11, fontweight="bold"
+    )
+    leaves_fig.suptitle(
+        "leaves culled — the denominators differ: paper: % of all leaves; "
+        "ours: % of non-empty leaves",
+        fontsize=11,
+        fontweight="bold",
+    )
+    for sub, kind, ylabel in (
+        (rays_fig, "rays", "shadow rays culled (%)"),
+        (leaves_fig, "leaves", "leaves culled (%)"),
+    ):
         for k, (ax, s) in enumerate(zip(scene_grid(sub, n), scenes)):
             per_light_panel(ax, s, kind)
             if k % ncols == 0:
@@ -219,8 +296,10 @@ def ms_caption(s):
     p = s["ms"].get("paper")
     if p:
         # Two decimals as published; ours with three, as in reproduction.md.
-        lines.append(f"paper: all {p['all_off']:.2f} → {p['all_on']:.2f}, shadow {p['shadow_off']:.2f} → "
-                     f"{p['shadow_on']:.2f} ms")
+        lines.append(
+            f"paper: all {p['all_off']:.2f} → {p['all_on']:.2f}, shadow {p['shadow_off']:.2f} → "
+            f"{p['shadow_on']:.2f} ms"
+        )
     off = s["ms"]["off"]
     for key, label, _ in SOURCES[1:]:
         on = s["ms"].get(key)
@@ -233,10 +312,14 @@ def ms_caption(s):
 def plot_reproduce_time(scenes, path, written):
     n = len(scenes)
     ncols, nrows = min(REPRO_COLS, max(n, 1)), math.ceil(max(n, 1) / REPRO_COLS)
-    fig = plt.figure(figsize=(max(REPRO_MIN_WIDTH, 5.2 * ncols + 0.4), nrows * 5.4 + 1.5), layout="constrained")
-    fig.suptitle("Frame-time reduction with LVB culling, (off − on) / off\n"
-                 "absolute times differ (the paper's simulator and ours model the hardware differently),\n"
-                 "so the reductions are compared")
+    fig = plt.figure(
+        figsize=(max(REPRO_MIN_WIDTH, 5.2 * ncols + 0.4), nrows * 5.4 + 1.5), layout="constrained"
+    )
+    fig.suptitle(
+        "Frame-time reduction with LVB culling, (off − on) / off\n"
+        "absolute times differ (the paper's simulator and ours model the hardware differently),\n"
+        "so the reductions are compared"
+    )
     if not n:
         nothing_to_plot(fig)
         save(fig, path, written)

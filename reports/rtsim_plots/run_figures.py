@@ -3,54 +3,61 @@
 import math
 import os
 
+import numpy as np
+
 from rtsim_plots.common import (
-    BUSY, CULLED_MAX_WIDTH, IDLE, InputError, STALLED, bar_labels, field, is_number, load_parsed,
-    np, number, pct, plt, save)
+    BUSY,
+    CULLED_MAX_WIDTH,
+    IDLE,
+    InputError,
+    STALLED,
+    bar_labels,
+    field,
+    is_number,
+    load_parsed,
+    number,
+    pct,
+    plt,
+    save,
+)
 from rtsim_plots.files import CULLED_NPY, REPORT_JSON
 
 
-def parse_report(rep):
-    """Everything the run figures need, checked up front so bad input writes no file."""
-    if not isinstance(rep, dict):
-        raise InputError(f"{REPORT_JSON}: not a JSON object")
-    name = field(rep, "scene.name")
-    res = field(rep, "scene.resolution")
-    if not (isinstance(res, list) and len(res) == 2 and all(isinstance(v, int) and v > 0 for v in res)):
-        raise InputError(f"{REPORT_JSON}: field 'scene.resolution' is not [width, height]")
-    lvb_on = field(rep, "config.run.lvb")
-    if not isinstance(lvb_on, bool):
-        raise InputError(f"{REPORT_JSON}: field 'config.run.lvb' is not a bool")
-    cycles, ghz = number(rep, "cycles_total"), number(rep, "clock_ghz")
-
-    per_light = field(rep, "per_light")
-    if not isinstance(per_light, list) or not per_light:
-        raise InputError(f"{REPORT_JSON}: field 'per_light' is not a non-empty list")
-    rays = [(number(l, "shadow_rays", where=f"{REPORT_JSON}: per_light[{i}]"),
-             number(l, "culled", where=f"{REPORT_JSON}: per_light[{i}]")) for i, l in enumerate(per_light)]
-    lvb = field(rep, "lvb", None)
-    leaves = None
-    if lvb is not None:
-        pl = field(lvb, "per_light", where=f"{REPORT_JSON}: lvb")
-        if not isinstance(pl, list):
-            raise InputError(f"{REPORT_JSON}: field 'lvb.per_light' is not a list")
-        leaves = [(number(l, "culled_leaves", where=f"{REPORT_JSON}: lvb.per_light[{i}]"),
-                   number(l, "nonempty_leaves", where=f"{REPORT_JSON}: lvb.per_light[{i}]")) for i, l in enumerate(pl)]
-
-    stats = field(rep, "stats")
-    hw = field(rep, "config.hw", {})
-    units = []  # (label, busy, stalled, idle) or (label, None...) when the unit type is absent
-    for label, path, count_path in [("raygen", "raygen", None), ("TRV", "trv.total", "trv.count"),
-                                    ("LIST", "list.total", "list.count"), ("IST", "ist.total", "ist.count"),
-                                    ("shading", "shading.total", "shading.count"), ("culling", "culling", None)]:
+def parse_units(stats, hw):
+    """Per unit type, (label, busy, stalled, idle) cycles; (label, None, None, None) when it is
+    absent."""
+    units = []
+    for label, path, count_path in [
+        ("raygen", "raygen", None),
+        ("TRV", "trv.total", "trv.count"),
+        ("LIST", "list.total", "list.count"),
+        ("IST", "ist.total", "ist.count"),
+        ("shading", "shading.total", "shading.count"),
+        ("culling", "culling", None),
+    ]:
         s = field(stats, path, None)
         count = field(hw, count_path, None) if count_path else None
         if is_number(count):
             label += f" (×{count:g})"
         if isinstance(s, dict):
             where = f"{REPORT_JSON}: stats.{path}"
-            units.append((label, *(number(s, k, where) for k in ("busy_cycles", "stalled_cycles", "idle_cycles"))))
+            units.append(
+                (
+                    label,
+                    *(
+                        number(s, k, where)
+                        for k in ("busy_cycles", "stalled_cycles", "idle_cycles")
+                    ),
+                )
+            )
         else:
             units.append((label, None, None, None))
+    return units
+
+
+def parse_caches(stats):
+    """Per unit type, (label, [L1, L2] hit rate in %), and the DRAM row-hit rate; None where
+    unknown."""
 
     def hit_rate(path):
         c = field(stats, path, None)
@@ -60,15 +67,72 @@ def parse_report(rep):
             return None  # a cache nobody used reports 0, which is not a hit rate
         return 100.0 * c["hit_rate"]
 
-    caches = [(t, [hit_rate(f"{key}.{lvl}") for lvl in ("l1", "l2")])
-              for t, key in [("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]]
+    caches = [
+        (t, [hit_rate(f"{key}.{lvl}") for lvl in ("l1", "l2")])
+        for t, key in [("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]
+    ]
     dram = field(stats, "dram.row_hit_rate", None)
     dram = 100.0 * dram if is_number(dram) else None
+    return caches, dram
 
-    title = (f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
-             + (f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""))
-    return dict(title=title, width=res[0], height=res[1], lvb_on=lvb_on, rays=rays, leaves=leaves,
-                units=units, caches=caches, dram=dram)
+
+def parse_report(rep):
+    """Everything the run figures need, checked up front so bad input writes no file."""
+    if not isinstance(rep, dict):
+        raise InputError(f"{REPORT_JSON}: not a JSON object")
+    name = field(rep, "scene.name")
+    res = field(rep, "scene.resolution")
+    if not (
+        isinstance(res, list) and len(res) == 2 and all(isinstance(v, int) and v > 0 for v in res)
+    ):
+        raise InputError(f"{REPORT_JSON}: field 'scene.resolution' is not [width, height]")
+    lvb_on = field(rep, "config.run.lvb")
+    if not isinstance(lvb_on, bool):
+        raise InputError(f"{REPORT_JSON}: field 'config.run.lvb' is not a bool")
+    cycles, ghz = number(rep, "cycles_total"), number(rep, "clock_ghz")
+
+    per_light = field(rep, "per_light")
+    if not isinstance(per_light, list) or not per_light:
+        raise InputError(f"{REPORT_JSON}: field 'per_light' is not a non-empty list")
+    rays = [
+        (
+            number(l, "shadow_rays", where=f"{REPORT_JSON}: per_light[{i}]"),
+            number(l, "culled", where=f"{REPORT_JSON}: per_light[{i}]"),
+        )
+        for i, l in enumerate(per_light)
+    ]
+    lvb = field(rep, "lvb", None)
+    leaves = None
+    if lvb is not None:
+        pl = field(lvb, "per_light", where=f"{REPORT_JSON}: lvb")
+        if not isinstance(pl, list):
+            raise InputError(f"{REPORT_JSON}: field 'lvb.per_light' is not a list")
+        leaves = [
+            (
+                number(l, "culled_leaves", where=f"{REPORT_JSON}: lvb.per_light[{i}]"),
+                number(l, "nonempty_leaves", where=f"{REPORT_JSON}: lvb.per_light[{i}]"),
+            )
+            for i, l in enumerate(pl)
+        ]
+
+    stats = field(rep, "stats")
+    units = parse_units(stats, field(rep, "config.hw", {}))
+    caches, dram = parse_caches(stats)
+
+    title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles" + (
+        f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""
+    )
+    return dict(
+        title=title,
+        width=res[0],
+        height=res[1],
+        lvb_on=lvb_on,
+        rays=rays,
+        leaves=leaves,
+        units=units,
+        caches=caches,
+        dram=dram,
+    )
 
 
 def load_culled(path, r):
@@ -82,12 +146,17 @@ def load_culled(path, r):
     if not isinstance(a, np.ndarray) or a.dtype != np.uint16 or a.ndim != 2:
         raise InputError(f"{path}: expected a uint16 array of shape (H, W)")
     if a.shape != (r["height"], r["width"]):
-        raise InputError(f"{path}: shape {a.shape} does not match the resolution {r['width']}x{r['height']}")
+        raise InputError(
+            f"{path}: shape {a.shape} does not match the resolution {r['width']}x{r['height']}"
+        )
     n = len(r["rays"])
-    # A bit above the last light means the file uses another layout (e.g. bit 0 = hit, bit 1+i = light i).
+    # A bit above the last light means the file uses another layout (e.g. bit 0 = hit, bit 1+i =
+    # light i).
     if n < 16 and (a >> n).any():
-        raise InputError(f"{path}: bits set above light {n}; expected bit i = light i "
-                         f"for the {n} lights in report.json")
+        raise InputError(
+            f"{path}: bits set above light {n}; expected bit i = light i "
+            f"for the {n} lights in report.json"
+        )
     return a
 
 
@@ -113,7 +182,8 @@ def plot_culled(a, r, path, written):
         panels.append((block_mean(bit, f), int(np.count_nonzero(bit))))
     ncols = min(4, n + 1)
     nrows = math.ceil((n + 1) / ncols)
-    ph = 3.5 * h / w  # panel height in inches: 4-inch cells hold 3.5-inch-wide images next to the labels
+    # Panel height in inches: 4-inch cells hold 3.5-inch-wide images next to the labels.
+    ph = 3.5 * h / w
     fig = plt.figure(figsize=(4.0 * ncols + 0.6, nrows * (ph + 0.75) + 1.5), layout="constrained")
     # The colorbars get a row of their own: colorbars attached to panels upset the grid.
     gs = fig.add_gridspec(nrows + 1, ncols, height_ratios=[ph] * nrows + [0.12])
@@ -122,20 +192,40 @@ def plot_culled(a, r, path, written):
     cax_lights, cax_total = fig.add_subplot(gs[nrows, :half]), fig.add_subplot(gs[nrows, half:])
     extent = (0, w, h, 0)  # axes in full-resolution pixels, row 0 at the top
     for i, (img, count) in enumerate(panels):
-        im = axes[i].imshow(img, cmap="inferno", vmin=0, vmax=1, extent=extent, interpolation="antialiased")
-        axes[i].set_title(f"light {i + 1}: {count:,} culled ({100.0 * count / a.size:.1f} %)", fontsize=10)
-    s = axes[n].imshow(block_mean(total, f), cmap="viridis", vmin=0, vmax=n, extent=extent,
-                       interpolation="antialiased")
+        im = axes[i].imshow(
+            img, cmap="inferno", vmin=0, vmax=1, extent=extent, interpolation="antialiased"
+        )
+        axes[i].set_title(
+            f"light {i + 1}: {count:,} culled ({100.0 * count / a.size:.1f} %)", fontsize=10
+        )
+    s = axes[n].imshow(
+        block_mean(total, f),
+        cmap="viridis",
+        vmin=0,
+        vmax=n,
+        extent=extent,
+        interpolation="antialiased",
+    )
     axes[n].set_title(f"all lights: {int(total.sum(dtype=np.int64)):,} culled", fontsize=10)
     block = "pixel" if f == 1 else f"{f}×{f}-pixel block"
-    fig.colorbar(im, cax=cax_lights, orientation="horizontal",
-                 label=f"light panels: fraction of shadow rays culled per {block}")
-    fig.colorbar(s, cax=cax_total, orientation="horizontal",
-                 label="all lights: culled lights per pixel" + ("" if f == 1 else " (block mean)"))
+    fig.colorbar(
+        im,
+        cax=cax_lights,
+        orientation="horizontal",
+        label=f"light panels: fraction of shadow rays culled per {block}",
+    )
+    fig.colorbar(
+        s,
+        cax=cax_total,
+        orientation="horizontal",
+        label="all lights: culled lights per pixel" + ("" if f == 1 else " (block mean)"),
+    )
     for ax in axes:
         ax.set_xlabel("x (px)")
         ax.set_ylabel("y (px)")
-    fig.suptitle(f"{r['title']}\nshadow rays from primary hits culled by the LVB (% of all {w}×{h} pixels)")
+    fig.suptitle(
+        f"{r['title']}\nshadow rays from primary hits culled by the LVB (% of all {w}×{h} pixels)"
+    )
     save(fig, path, written)
 
 
@@ -143,34 +233,60 @@ def plot_culling(r, path, written):
     if not r["lvb_on"]:
         fig, ax = plt.subplots(figsize=(8, 3), layout="constrained")
         ax.set_axis_off()
-        ax.text(0.5, 0.5, "LVB culling was off in this run:\nno leaves or shadow rays were culled.",
-                ha="center", va="center", fontsize=13)
+        ax.text(
+            0.5,
+            0.5,
+            "LVB culling was off in this run:\nno leaves or shadow rays were culled.",
+            ha="center",
+            va="center",
+            fontsize=13,
+        )
         fig.suptitle(r["title"])
         save(fig, path, written)
         return
     n = max(len(r["rays"]), len(r["leaves"] or []))
-    leaves = [pct(*r["leaves"][i]) if r["leaves"] and i < len(r["leaves"]) else None for i in range(n)]
+    leaves = [
+        pct(*r["leaves"][i]) if r["leaves"] and i < len(r["leaves"]) else None for i in range(n)
+    ]
     rays = [pct(r["rays"][i][1], r["rays"][i][0]) if i < len(r["rays"]) else None for i in range(n)]
     x, bw = np.arange(n), 0.38
     fig, ax = plt.subplots(figsize=(max(7.5, 0.9 * n + 3.0), 4.8), layout="constrained")
-    ax.bar(x - bw / 2, [v or 0 for v in leaves], bw, label="leaves culled (% of non-empty leaves)", color="tab:blue")
-    ax.bar(x + bw / 2, [v or 0 for v in rays], bw, label="shadow rays culled (% of shadow rays)", color="tab:red")
+    ax.bar(
+        x - bw / 2,
+        [v or 0 for v in leaves],
+        bw,
+        label="leaves culled (% of non-empty leaves)",
+        color="tab:blue",
+    )
+    ax.bar(
+        x + bw / 2,
+        [v or 0 for v in rays],
+        bw,
+        label="shadow rays culled (% of shadow rays)",
+        color="tab:red",
+    )
     bar_labels(ax, x - bw / 2, leaves)
     bar_labels(ax, x + bw / 2, rays)
     ax.set_xticks(x, [f"L{i + 1}" for i in range(n)])
     ax.set_xlabel("light")
     ax.set_ylabel("culled (%)")
-    top = max([100.0] + [v for v in leaves + rays if v is not None])  # over 100 % is wrong, but show it
+    # Over 100 % is wrong, but show it.
+    top = max([100.0] + [v for v in leaves + rays if v is not None])
     ax.set_ylim(0, 1.25 * top)  # headroom for the value labels and the legend
     ax.set_yticks(range(0, int(top) + 1, 20))
     ax.legend(loc="upper center", ncol=2, fontsize=9, frameon=False)
     ax.grid(axis="y", alpha=0.3)
     shadow, culled = sum(s for s, _ in r["rays"]), sum(c for _, c in r["rays"])
     overall = pct(culled, shadow)
-    ax.set_title(f"{r['title']}\nLVB culling per light"
-                 + (f" (all lights: {overall:.1f} % of {shadow:,.0f} shadow rays culled)"
-                    if overall is not None else ""),
-                 fontsize=10)
+    ax.set_title(
+        f"{r['title']}\nLVB culling per light"
+        + (
+            f" (all lights: {overall:.1f} % of {shadow:,.0f} shadow rays culled)"
+            if overall is not None
+            else ""
+        ),
+        fontsize=10,
+    )
     save(fig, path, written)
 
 
@@ -190,7 +306,9 @@ def plot_time_breakdown(r, path, written):
             ax.barh(yi, share, left=left, color=colour, label=None if name in legend_done else name)
             legend_done.add(name)
             if share >= 4:  # narrower segments have no room for a label
-                ax.text(left + share / 2, yi, f"{share:.0f} %", ha="center", va="center", fontsize=8)
+                ax.text(
+                    left + share / 2, yi, f"{share:.0f} %", ha="center", va="center", fontsize=8
+                )
             left += share
     ax.set_yticks(y, [u[0] for u in units])
     ax.invert_yaxis()  # pipeline order from the top
@@ -234,6 +352,3 @@ def run(folder, written):
     plot_culling(r, os.path.join(folder, "plot_culling.png"), written)
     plot_time_breakdown(r, os.path.join(folder, "plot_time_breakdown.png"), written)
     plot_cache_hit_rates(r, os.path.join(folder, "plot_cache_hit_rates.png"), written)
-
-
-# --------------------------------------------------------------------------------------------- sweep

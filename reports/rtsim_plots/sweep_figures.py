@@ -5,8 +5,18 @@ import math
 import os
 import re
 
+from matplotlib.ticker import NullLocator
+
 from rtsim_plots.common import (
-    InputError, MAX_SERIES, NullLocator, field, is_number, load_parsed, plt, save, write_text)
+    InputError,
+    MAX_SERIES,
+    field,
+    is_number,
+    load_parsed,
+    plt,
+    save,
+    write_text,
+)
 from rtsim_plots.files import RESULTS_JSON
 
 
@@ -25,7 +35,13 @@ def unit_of(name):
         return "0–1"
     if "cycles" in n:
         return "cycles"
-    for suffix, unit in (("_kb", "KB"), ("_mb", "MB"), ("_bytes", "bytes"), ("_ghz", "GHz"), ("_seconds", "s")):
+    for suffix, unit in (
+        ("_kb", "KB"),
+        ("_mb", "MB"),
+        ("_bytes", "bytes"),
+        ("_ghz", "GHz"),
+        ("_seconds", "s"),
+    ):
         if n.endswith(suffix):
             return unit
     return None
@@ -65,7 +81,8 @@ def parse_results(res):
             if v is not None and not is_number(v):
                 raise InputError(f"{where}: rows[{i}]: metric '{m}' is not a number or null")
     if all(isinstance(r.get("point"), int) for r in rows):
-        rows = sorted(rows, key=lambda r: r["point"])  # the order of points, whatever order they finished in
+        # The order of points, whatever order they finished in.
+        rows = sorted(rows, key=lambda r: r["point"])
     return str(res.get("name", "")), axes, metrics, rows
 
 
@@ -100,10 +117,20 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
         xs = sorted(points)
         if xs:
             # Repeated points (same x and combination) are averaged.
-            ax.plot(xs, [sum(points[x]) / len(points[x]) for x in xs], marker="o", label=label or metric)
+            ax.plot(
+                xs, [sum(points[x]) / len(points[x]) for x in xs], marker="o", label=label or metric
+            )
             plotted += 1
     if not plotted:
-        ax.text(0.5, 0.5, "no values yet", transform=ax.transAxes, ha="center", va="center", color="dimgray")
+        ax.text(
+            0.5,
+            0.5,
+            "no values yet",
+            transform=ax.transAxes,
+            ha="center",
+            va="center",
+            color="dimgray",
+        )
     if pow2:
         ax.set_xscale("log", base=2)
         ax.xaxis.set_minor_locator(NullLocator())
@@ -132,7 +159,9 @@ def sweep(folder, written):
     if len(scenes) > 1 and "scene" not in axes:
         axes = axes + ["scene"]  # several scenes: the scene is one more axis
     varying = [a for a in axes if len(distinct(rows, a)) >= 2]
-    title_extra = f"sweep {name}" + (f", scene {scenes[0]}" if len(scenes) == 1 and scenes[0] is not None else "")
+    title_extra = f"sweep {name}" + (
+        f", scene {scenes[0]}" if len(scenes) == 1 and scenes[0] is not None else ""
+    )
     title_extra += f", {len(rows)} points"
 
     out = os.path.join(folder, "plots")
@@ -142,15 +171,22 @@ def sweep(folder, written):
         for axis in varying:
             fname = f"{sanitize(metric)}_vs_{sanitize(axis)}.png"
             if fname in files:
-                raise InputError(f"{RESULTS_JSON}: two metric/axis pairs give the file name {fname}")
+                raise InputError(
+                    f"{RESULTS_JSON}: two metric/axis pairs give the file name {fname}"
+                )
             files.append(fname)
             others = [b for b in varying if b != axis]
-            plot_metric(rows, metric, axis, distinct(rows, axis), others, title_extra,
-                        os.path.join(out, fname), written)
+            plot_metric(
+                rows,
+                metric,
+                axis,
+                distinct(rows, axis),
+                others,
+                title_extra,
+                os.path.join(out, fname),
+                written,
+            )
     lines = [f"# Sweep {name}: plots", ""] + [f"- [{f}]({f})" for f in files]
     if not files:
         lines.append("No axis has two or more values yet: nothing to plot.")
     write_text(os.path.join(out, "index.md"), "\n".join(lines) + "\n", written)
-
-
-# ----------------------------------------------------------------------------------------- reproduce

@@ -11,7 +11,9 @@ import sys
 import tempfile
 
 src = sys.argv[1]
-spec = importlib.util.spec_from_file_location("refresh", os.path.join(src, "scripts", "refresh-docs.py"))
+spec = importlib.util.spec_from_file_location(
+    "refresh", os.path.join(src, "scripts", "refresh-docs.py")
+)
 refresh = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(refresh)
 failures = []
@@ -23,26 +25,44 @@ def check(cond, what):
 
 
 with tempfile.TemporaryDirectory() as tmp:
-    cols = ["point", "id", "scene", "hw.trv.l1.size_kb", "cycles_total"] + [m for _, m, _ in refresh.CACHE_COLUMNS] + ["failure"]
+    cols = (
+        ["point", "id", "scene", "hw.trv.l1.size_kb", "cycles_total"]
+        + [m for _, m, _ in refresh.CACHE_COLUMNS]
+        + ["failure"]
+    )
     with open(os.path.join(tmp, "results.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, cols)
         w.writeheader()
         for i, (kb, cyc) in enumerate([("4", 1500), ("8", 1000), ("16", 950)]):
             row = {c: "0.5" for c in cols}
-            row.update({"point": i, "id": f"p{i:04}", "scene": "kitchen", "hw.trv.l1.size_kb": kb,
-                        "cycles_total": cyc, "failure": ""})
+            row.update(
+                {
+                    "point": i,
+                    "id": f"p{i:04}",
+                    "scene": "kitchen",
+                    "hw.trv.l1.size_kb": kb,
+                    "cycles_total": cyc,
+                    "failure": "",
+                }
+            )
             w.writerow(row)
     table = refresh.cache_table("hw.trv.l1.size_kb", "TRV L1 KB", "8")(tmp)
     lines = table.splitlines()
     check(lines[0].startswith("| scene | TRV L1 KB | cycles | vs Table 2 |"), "cache table header")
-    check("| kitchen | 4 | 1,500 | +50.0% | 50.0% |" in table, "the 4 KB row against the 8 KB one:\n" + table)
+    check(
+        "| kitchen | 4 | 1,500 | +50.0% | 50.0% |" in table,
+        "the 4 KB row against the 8 KB one:\n" + table,
+    )
     check("| kitchen | 16 | 950 | -5.0% |" in table, "the 16 KB row")
     doc = os.path.join(tmp, "doc.md")
     with open(doc, "w") as f:
         f.write("before\n<!-- generated: x -->\nold\n<!-- end generated: x -->\nafter\n")
     refresh.replace_block(doc, "x", "new table")
-    check(open(doc).read() == "before\n<!-- generated: x -->\nnew table\n<!-- end generated: x -->\nafter\n",
-          "block replaced, the rest untouched")
+    check(
+        open(doc).read()
+        == "before\n<!-- generated: x -->\nnew table\n<!-- end generated: x -->\nafter\n",
+        "block replaced, the rest untouched",
+    )
     try:
         refresh.replace_block(doc, "y", "z")
         failures.append("a missing block must be an error")
@@ -51,46 +71,79 @@ with tempfile.TemporaryDirectory() as tmp:
 
 # An animation's frames: the 480x270 table's medians and ranges, the HD table against it.
 with tempfile.TemporaryDirectory() as tmp:
+
     def frames(run_dir, rows):
         os.makedirs(run_dir)
-        keys = ["time", "cycles_off", "cycles_on", "culled_share", "lvb_nodes_visited", "lvb_region_tests",
-                "lvb_pair_tests", "lazy_dirty_pairs", "lazy_pairs", "lazy_dirty_tests", "lazy_region_tests",
-                "lazy_pair_tests", "check_mismatched_pixels"]
+        keys = [
+            "time",
+            "cycles_off",
+            "cycles_on",
+            "culled_share",
+            "lvb_nodes_visited",
+            "lvb_region_tests",
+            "lvb_pair_tests",
+            "lazy_dirty_pairs",
+            "lazy_pairs",
+            "lazy_dirty_tests",
+            "lazy_region_tests",
+            "lazy_pair_tests",
+            "check_mismatched_pixels",
+        ]
         with open(os.path.join(run_dir, "frames.csv"), "w") as f:
             f.write(",".join(keys) + "\n" + "".join(",".join(map(str, r)) + "\n" for r in rows))
         with open(os.path.join(run_dir, "host.csv"), "w") as f:
             f.write("time,kdtree_seconds,lvb_seconds,simulate_seconds_off,simulate_seconds_on\n")
             f.write("".join(f"{r[0]},0.25,0.5,1,1\n" for r in rows))
+
     small = os.path.join(tmp, "animation")
     for scene in ["robots", "kitchen"]:
-        frames(os.path.join(small, scene), [
-            (0, 1000, 900, 0.1, 10, 200, 0, "", "", "", "", "", 0),
-            (1, 2000, 1900, 0.3, 20, 400, 100, 5, 20, 30, 20, 10, ""),
-            (2, 4000, 3600, 0.2, 30, 300, 200, 10, 20, 50, 10, 20, 3)])
-        frames(os.path.join(tmp, "animation-hd", scene), [(1, 20000, 18000, 0.3, 20, 400, 400, "", "", "", "", "", "")])
+        frames(
+            os.path.join(small, scene),
+            [
+                (0, 1000, 900, 0.1, 10, 200, 0, "", "", "", "", "", 0),
+                (1, 2000, 1900, 0.3, 20, 400, 100, 5, 20, 30, 20, 10, ""),
+                (2, 4000, 3600, 0.2, 30, 300, 200, 10, 20, 50, 10, 20, 3),
+            ],
+        )
+        frames(
+            os.path.join(tmp, "animation-hd", scene),
+            [(1, 20000, 18000, 0.3, 20, 400, 400, "", "", "", "", "", "")],
+        )
     table = refresh.animation_table(small)
-    for row in ["| cycles, culling off | 2,000 (0.00-0.00 M) |",
-                "| cycles culling saves | 100 (100-400), 10.0% (5.0-10.0%) |",  # 10%, 5%, 10%
-                "| shadow rays culled | 20.0% (10.0-30.0%) |",
-                "| LVB tests (region + pair) per saved cycle | 5.0 (1.2-5.0) |",  # 500 / 100; 2, 5, 1.25
-                "| lazy: dirty pairs | 37.5% (25.0-50.0%) |",
-                "| lazy tests per saved cycle | 0.7 (0.2-0.6) |",  # median(60, 80) / 100; 0.6, 0.2
-                "| lazy: tests (dirty + region + pair) | 0.00 M (14% of full;",  # 70 / 500
-                "| `--check-every 5`: pixels differing from the reference | 3 in 2 frames x 2 runs |"]:
-        check(row.split(" | ")[0] in table and any(line.startswith(row) for line in table.splitlines()),
-              f"animation row {row}:\n{table}")
+    for row in [
+        "| cycles, culling off | 2,000 (0.00-0.00 M) |",
+        "| cycles culling saves | 100 (100-400), 10.0% (5.0-10.0%) |",  # 10%, 5%, 10%
+        "| shadow rays culled | 20.0% (10.0-30.0%) |",
+        "| LVB tests (region + pair) per saved cycle | 5.0 (1.2-5.0) |",  # 500 / 100; 2, 5, 1.25
+        "| lazy: dirty pairs | 37.5% (25.0-50.0%) |",
+        "| lazy tests per saved cycle | 0.7 (0.2-0.6) |",  # median(60, 80) / 100; 0.6, 0.2
+        "| lazy: tests (dirty + region + pair) | 0.00 M (14% of full;",  # 70 / 500
+        "| `--check-every 5`: pixels differing from the reference | 3 in 2 frames x 2 runs |",
+    ]:
+        check(
+            row.split(" | ")[0] in table
+            and any(line.startswith(row) for line in table.splitlines()),
+            f"animation row {row}:\n{table}",
+        )
     hd = refresh.animation_hd_table(os.path.join(tmp, "animation-hd"))
-    check("| robots t = 1 | 20,000 / 18,000 | 2,000 (10.0%) | 20.0 | 0.4 |" in hd, "the HD row:\n" + hd)
+    check(
+        "| robots t = 1 | 20,000 / 18,000 | 2,000 (10.0%) | 20.0 | 0.4 |" in hd,
+        "the HD row:\n" + hd,
+    )
 
 ids = {s.id for s in refresh.STUDIES}
 for s in refresh.STUDIES:
     text = open(os.path.join(src, s.doc)).read()
-    check(f"<!-- generated: {s.id} -->" in text and f"<!-- end generated: {s.id} -->" in text,
-          f"{s.doc} has no block for {s.id}")
+    check(
+        f"<!-- generated: {s.id} -->" in text and f"<!-- end generated: {s.id} -->" in text,
+        f"{s.doc} has no block for {s.id}",
+    )
     check(not s.figure or os.path.exists(os.path.join(src, s.figure[1])), f"{s.id}: no {s.figure}")
 for name in os.listdir(os.path.join(src, "docs")):
     if name.endswith(".md"):
-        for ident in re.findall(r"<!-- generated: ([\w-]+) -->", open(os.path.join(src, "docs", name)).read()):
+        for ident in re.findall(
+            r"<!-- generated: ([\w-]+) -->", open(os.path.join(src, "docs", name)).read()
+        ):
             check(ident in ids, f"docs/{name}: block {ident} has no study in refresh-docs.py")
 
 for f in failures:

@@ -1,0 +1,183 @@
+#!/usr/bin/env python3
+"""The figures of a run directory (plots.py run, reports/rtsim_plots/run_figures.py) show the
+numbers of its report.json and culled.npy: each bar, segment and panel is compared with the value
+the test computes from the files it wrote.
+Usage: run_figures_test.py SOURCE_DIR"""
+
+import math
+import os
+import random
+
+import numpy as np
+
+import figure_check as fc
+
+run_figures = fc.module("run_figures")
+UNITS = [("raygen", None), ("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]
+STATES = ("busy_cycles", "stalled_cycles", "idle_cycles")
+
+
+def cache(rng, accesses=None):
+    n = rng.randrange(1, 10**6) if accesses is None else accesses
+    hits = rng.randrange(0, n + 1)
+    return {"accesses": n, "hits": hits, "hit_rate": hits / n if n else 0.0}
+
+
+def report(rng, width, height, culled_per_light, lvb_on=True):
+    """A report.json as `rtsim run` writes it, with the fields the figures read; the shadow rays of
+    light i culled culled_per_light[i] times. Light 3 has no shadow rays and LIST's L2 no accesses:
+    bars the figures must show as n/a."""
+    n = len(culled_per_light)
+    shadow = [rng.randrange(c + 1, 10 * c + 100) for c in culled_per_light[:2]] + [0] * (n - 2)
+    stats = {"raygen": {k: rng.randrange(1, 10**6) for k in STATES}}
+    for _, key in UNITS[1:]:
+        stats[key] = {"total": {k: rng.randrange(1, 10**6) for k in STATES}}
+        stats[key]["l1"] = cache(rng)
+        if key != "shading":  # no L2 of its own: n/a
+            stats[key]["l2"] = cache(rng, 0 if key == "list" else None)
+    stats["dram"] = {"row_hit_rate": rng.random()}
+    lvb = {
+        "per_light": [
+            {"culled_leaves": c, "nonempty_leaves": c + rng.randrange(1, 1000)}
+            for c in (rng.randrange(0, 5000) for _ in range(n))
+        ]
+    }
+    return {
+        "scene": {"name": "testcity", "resolution": [width, height]},
+        "config": {"run": {"lvb": lvb_on}, "hw": {"trv": {"count": 4}, "ist": {"count": 2}}},
+        "cycles_total": rng.randrange(10**6, 10**8),
+        "clock_ghz": 1.0,
+        "per_light": [
+            {"shadow_rays": s, "culled": c if s else 0} for s, c in zip(shadow, culled_per_light)
+        ],
+        "lvb": lvb if lvb_on else None,
+        "stats": stats,
+    }
+
+
+def pct(part, whole):
+    return 100.0 * part / whole if whole else None
+
+
+class RunFigures(fc.FigureTest):
+    def setUp(self):
+        super().setUp()
+        self.rng = random.Random(40)
+
+    def write_run(self, width=64, height=36, lights=3, lvb_on=True):
+        bits = np.random.default_rng(40).integers(0, 2, (lights, height, width), dtype=np.uint16)
+        bits[2:] = 0  # lights 3 on have no shadow rays (report), so none culled
+        culled = sum(bits[i] << i for i in range(lights)).astype(np.uint16)
+        np.save(os.path.join(self.dir, "culled.npy"), culled)
+        rep = report(self.rng, width, height, [int(b.sum()) for b in bits], lvb_on)
+        self.write_json("report.json", rep)
+        return rep, bits
+
+    def test_culling_bars_are_the_culled_shares_per_light(self):
+        rep, _ = self.write_run()
+        ax = self.draw(run_figures.run)["plot_culling.png"].axes[0]
+        leaves, rays = fc.bars(ax)
+        self.assertEqual(leaves.get_label(), "leaves culled (% of non-empty leaves)")
+        self.assertEqual(rays.get_label(), "shadow rays culled (% of shadow rays)")
+        want_leaves = [
+            pct(x["culled_leaves"], x["nonempty_leaves"]) for x in rep["lvb"]["per_light"]
+        ]
+        want_rays = [pct(x["culled"], x["shadow_rays"]) for x in rep["per_light"]]
+        self.assertIsNone(want_rays[2], "light 3 has no shadow rays")
+        self.assertNumbers(fc.heights(leaves), want_leaves, "leaf bars")
+        self.assertNumbers(fc.heights(rays), [v or 0 for v in want_rays], "ray bars")
+        # The value above each bar, and n/a where there is none.
+        labels = fc.texts(ax)
+        for v in want_leaves + want_rays[:2]:
+            self.assertIn(f"{v:.1f}", labels)
+        self.assertEqual(labels.count("n/a"), 1)
+        self.assertEqual(fc.xticks(ax), ["L1", "L2", "L3"])
+        self.assertEqual((ax.get_xlabel(), ax.get_ylabel()), ("light", "culled (%)"))
+        title = ax.get_title()
+        self.assertIn(f"testcity 64×36, LVB on: {rep['cycles_total']:,} cycles", title)
+        shadow = sum(x["shadow_rays"] for x in rep["per_light"])
+        culled = sum(x["culled"] for x in rep["per_light"])
+        self.assertIn(f"{100 * culled / shadow:.1f} % of {shadow:,} shadow rays culled", title)
+
+    def test_culling_off_draws_no_bars(self):
+        self.write_run(lvb_on=False)
+        fig = self.draw(run_figures.run)["plot_culling.png"]
+        self.assertEqual(fc.bars(fig.axes[0]), [])
+        self.assertIn("LVB culling was off", " ".join(fc.texts(fig.axes[0])))
+        self.assertIn("LVB off", " ".join(fc.texts(fig)))
+
+    def test_time_breakdown_segments_are_the_shares_of_unit_cycles(self):
+        rep, _ = self.write_run()
+        ax = self.draw(run_figures.run)["plot_time_breakdown.png"].axes[0]
+        hw = rep["config"]["hw"]
+        want = [n + (f" (×{hw[k]['count']})" if k in hw else "") for n, k in UNITS] + ["culling"]
+        self.assertEqual(fc.yticks(ax), want)
+        colour = fc.legend(ax)
+        self.assertEqual(list(colour), ["busy", "stalled", "idle"])
+        rows = {}  # unit row -> its segments, left to right
+        for container in fc.bars(ax):
+            for p in container.patches:
+                rows.setdefault(round(p.get_y() + p.get_height() / 2), []).append(p)
+        for y, (_, key) in enumerate(UNITS):
+            cycles = rep["stats"][key]["total"] if key else rep["stats"]["raygen"]
+            total = sum(cycles.values())
+            shares = [100.0 * cycles[k] / total for k in STATES]
+            segments = sorted(rows[y], key=lambda p: p.get_x())
+            self.assertNumbers([p.get_width() for p in segments], shares, want[y])
+            self.assertNumbers([p.get_x() for p in segments], [0, shares[0], sum(shares[:2])])
+            self.assertEqual([tuple(p.get_facecolor()) for p in segments], list(colour.values()))
+        # No culling unit in the stats: its row has no bar and says n/a.
+        self.assertNotIn(len(UNITS), rows)
+        self.assertIn("n/a", fc.texts(ax))
+        self.assertEqual(ax.get_xlim(), (0, 100))
+
+    def test_cache_bars_are_the_hit_rates(self):
+        rep, _ = self.write_run()
+        ax = self.draw(run_figures.run)["plot_cache_hit_rates.png"].axes[0]
+        l1, l2, dram = fc.bars(ax)
+        self.assertEqual([c.get_label() for c in (l1, l2, dram)], ["L1", "L2", "DRAM row hits"])
+
+        def rate(key, level):
+            c = rep["stats"][key].get(level)
+            return 100.0 * c["hit_rate"] if c and c["accesses"] else None
+
+        want = {lvl: [rate(k, lvl) for _, k in UNITS[1:]] for lvl in ("l1", "l2")}
+        self.assertEqual(want["l2"][1], None, "LIST's L2 was never accessed")
+        self.assertEqual(want["l2"][3], None, "shading has no L2")
+        self.assertNumbers(fc.heights(l1), want["l1"], "L1")
+        self.assertNumbers(fc.heights(l2), [v or 0 for v in want["l2"]], "L2")
+        self.assertNumbers(fc.heights(dram), [100.0 * rep["stats"]["dram"]["row_hit_rate"]])
+        self.assertEqual(fc.texts(ax).count("n/a"), 2)
+        self.assertEqual(fc.xticks(ax), ["TRV", "LIST", "IST", "shading", "DRAM"])
+        self.assertEqual(ax.get_ylabel(), "hit rate (%)")
+
+    def test_culled_panels_are_the_bits_of_culled_npy(self):
+        _, bits = self.write_run()
+        fig = self.draw(run_figures.run)["culled.png"]
+        panels = [ax for ax in fig.axes if ax.images]  # the others are the colour bars
+        self.assertEqual(len(panels), len(bits) + 1)
+        for i, b in enumerate(bits):
+            np.testing.assert_array_equal(panels[i].images[0].get_array(), b)
+            count = int(b.sum())
+            self.assertEqual(
+                panels[i].get_title(),
+                f"light {i + 1}: {count:,} culled ({100 * count / b.size:.1f} %)",
+            )
+        np.testing.assert_array_equal(panels[-1].images[0].get_array(), bits.sum(axis=0))
+        self.assertEqual(panels[-1].get_title(), f"all lights: {int(bits.sum()):,} culled")
+
+    def test_wide_culled_panels_are_block_means(self):
+        width = 1000  # over 480 pixels wide: each panel pixel is the mean of a 3x3 block
+        _, bits = self.write_run(width=width, height=7, lights=2)
+        panels = [ax for ax in self.draw(run_figures.run)["culled.png"].axes if ax.images]
+        f = math.ceil(width / 480)
+        for panel, img in zip(panels, list(bits) + [bits.sum(axis=0)]):
+            want = [
+                [img[y : y + f, x : x + f].mean() for x in range(0, img.shape[1], f)]
+                for y in range(0, img.shape[0], f)
+            ]
+            np.testing.assert_allclose(panel.images[0].get_array(), want, rtol=1e-6)
+
+
+if __name__ == "__main__":
+    fc.main()

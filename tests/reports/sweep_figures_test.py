@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""The figures of a sweep (plots.py sweep, reports/rtsim_plots/sweep_figures.py) show the rows of
+its results.json: one figure per metric and varying axis, one line per combination of the other
+axes, each point the mean of the rows at that x, compared with what the test computes from the
+rows it wrote.
+Usage: sweep_figures_test.py SOURCE_DIR"""
+
+import itertools
+import random
+
+import figure_check as fc
+
+sweep_figures = fc.module("sweep_figures")
+SIZE, LVB = "hw.trv.l1.size_kb", "run.lvb"
+METRICS = ["cycles_total", "trv_l1_hit_rate"]
+
+
+def results(rows, axes, name="cachetest"):
+    """results.json as `rtsim sweep` writes it: rows in the order their points finished."""
+    for i, row in enumerate(rows):
+        row.setdefault("point", i)
+        row.setdefault("id", f"p{i:04d}")
+    done = rows[:]
+    random.Random(len(rows)).shuffle(done)
+    return {
+        "schema": "rtsim-sweep/1",
+        "name": name,
+        "axes": axes,
+        "metrics": METRICS,
+        "points": len(rows),
+        "rows": done,
+        "failed": 0,
+    }
+
+
+def expected_lines(rows, metric, axis, other):
+    """label -> (x, mean of the metric at x) of each value of the other axis, in point order; x is
+    the axis value when it is a number, else its index in first-seen order."""
+    values = list(dict.fromkeys(str(r[axis]) for r in rows))
+    lines = {}
+    for row in rows:
+        points = lines.setdefault(f"{other}={row[other]}", {})
+        if row[metric] is not None:
+            numeric = isinstance(row[axis], int) and not isinstance(row[axis], bool)
+            x = row[axis] if numeric else values.index(str(row[axis]))
+            points.setdefault(float(x), []).append(row[metric])
+    return {
+        label: (sorted(p), [sum(p[x]) / len(p[x]) for x in sorted(p)]) for label, p in lines.items()
+    }
+
+
+class SweepFigures(fc.FigureTest):
+    def write_rows(self):
+        rng = random.Random(41)
+        rows = []
+        for size, lvb in itertools.product([4, 8, 16], [False, True]):
+            rows.append({"scene": "city", SIZE: size, LVB: lvb})
+        rows.append({"scene": "city", SIZE: 8, LVB: True})  # a repeated point: averaged
+        for row in rows:
+            row["cycles_total"] = rng.randrange(10**5, 10**7)
+            row["trv_l1_hit_rate"] = rng.random()
+        rows[0]["trv_l1_hit_rate"] = None  # a metric a point could not report: no marker
+        self.write_json("results.json", results(rows, [SIZE, LVB]))
+        return rows
+
+    def test_each_line_is_the_mean_of_the_rows_at_each_x(self):
+        rows = self.write_rows()
+        figures = self.draw(sweep_figures.sweep)
+        names = [f"plots/{m}_vs_{a}.png" for m in METRICS for a in (SIZE, LVB)]
+        self.assertEqual(sorted(figures), sorted(names))
+        for metric, (axis, other) in itertools.product(METRICS, [(SIZE, LVB), (LVB, SIZE)]):
+            ax = figures[f"plots/{metric}_vs_{axis}.png"].axes[0]
+            want = expected_lines(rows, metric, axis, other)
+            got = fc.series(ax)
+            self.assertEqual(list(got), list(want), f"{metric} vs {axis}: the series")
+            for label, (x, y) in want.items():
+                self.assertNumbers(got[label][0], x, f"{metric} vs {axis}, {label}: x")
+                self.assertNumbers(got[label][1], y, f"{metric} vs {axis}, {label}: y")
+            self.assertTrue(ax.get_xlabel().startswith(axis), ax.get_xlabel())
+            self.assertTrue(ax.get_ylabel().startswith(metric), ax.get_ylabel())
+            self.assertEqual(
+                ax.get_title(), f"{metric} vs {axis}\nsweep cachetest, scene city, 7 points"
+            )
+        size_ax = figures[f"plots/cycles_total_vs_{SIZE}.png"].axes[0]
+        self.assertEqual(size_ax.get_xscale(), "log", "sizes in powers of 2")
+        self.assertEqual(size_ax.get_xlabel(), f"{SIZE} (KB) (log₂ scale)")
+        self.assertEqual(fc.xticks(size_ax), ["4", "8", "16"])
+        self.assertEqual(
+            fc.xticks(figures[f"plots/cycles_total_vs_{LVB}.png"].axes[0]), ["False", "True"]
+        )
+        with open(f"{self.dir}/plots/index.md", encoding="utf-8") as f:
+            index = f.read()
+        for name in names:
+            self.assertIn(name.split("/")[1], index)
+
+    def test_several_scenes_make_the_scene_an_axis(self):
+        rng = random.Random(42)
+        rows = [
+            {
+                "scene": scene,
+                SIZE: size,
+                LVB: True,
+                "cycles_total": rng.randrange(10**6),
+                "trv_l1_hit_rate": None,
+            }
+            for scene, size in itertools.product(["city", "robots", "bunny"], [4, 8])
+        ]
+        self.write_json("results.json", results(rows, [SIZE, LVB]))
+        figures = self.draw(sweep_figures.sweep)
+        names = [f"plots/{m}_vs_{a}.png" for m in METRICS for a in (SIZE, "scene")]
+        self.assertEqual(sorted(figures), sorted(names), "run.lvb does not vary: no figure")
+        ax = figures["plots/cycles_total_vs_scene.png"].axes[0]
+        self.assertEqual(fc.xticks(ax), ["city", "robots", "bunny"])
+        want = expected_lines(rows, "cycles_total", "scene", SIZE)
+        got = fc.series(ax)
+        self.assertEqual(list(got), list(want))
+        for label, (x, y) in want.items():
+            self.assertNumbers(got[label][0], x, label)
+            self.assertNumbers(got[label][1], y, label)
+        # A metric with no value anywhere: no line, and the figure says so.
+        empty = figures["plots/trv_l1_hit_rate_vs_scene.png"].axes[0]
+        self.assertEqual(fc.series(empty), {})
+        self.assertIn("no values yet", fc.texts(empty))
+
+
+if __name__ == "__main__":
+    fc.main()
