@@ -5,7 +5,7 @@ paths (both schedules, culling on and off, the paper's method, reflections, area
 ideal and the small memory system, the TLM checker). A speed change must
 pass this before its A/B (bench/ab_model.py) means anything.
 
-    python3 bench/same_figures.py --a BIN_A --b BIN_B [--jobs 2] [--only NAME,...]
+    python3 bench/same_figures.py --a BIN_A --b BIN_B [--jobs 2] [--only NAME,...] [--ignore KEYS]
 
 Exit 0 when every run matches, 1 when one differs (the first differing keys are printed).
 """
@@ -162,10 +162,13 @@ def differences(a, b, path=""):
         yield f"{path}: {a!r} != {b!r}"
 
 
-def compare(name, args, a, b):
+def compare(name, args, a, b, ignore=()):
     with tempfile.TemporaryDirectory() as tmp:
         ra, ia = run(a, args, os.path.join(tmp, "a"))
         rb, ib = run(b, args, os.path.join(tmp, "b"))
+    for key in ignore:
+        ra.pop(key, None)
+        rb.pop(key, None)
     diff = list(differences(ra, rb))
     if ia != ib:
         diff.append("render.png differs")
@@ -180,6 +183,12 @@ def main():
     p.add_argument("--b", required=True, help="the candidate binary")
     p.add_argument("--jobs", type=int, default=2)
     p.add_argument("--only", default="", help="comma-separated run names (default: all)")
+    p.add_argument(
+        "--ignore",
+        default="",
+        help="comma-separated top-level report.json keys to leave out, for binaries on either side "
+        "of a report format change (schema,units,caches: rtsim-report/2 against /3)",
+    )
     args = p.parse_args()
     names = [n for n in args.only.split(",") if n] or list(RUNS)
     unknown = [n for n in names if n not in RUNS]
@@ -192,7 +201,8 @@ def main():
     a, b = os.path.abspath(args.a), os.path.abspath(args.b)
     failed = 0
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
-        for name, diff, cycles in pool.map(lambda n: compare(n, RUNS[n], a, b), names):
+        ignore = [k for k in args.ignore.split(",") if k]
+        for name, diff, cycles in pool.map(lambda n: compare(n, RUNS[n], a, b, ignore), names):
             print(
                 f"{name:18} {'same' if not diff else 'DIFFERENT'}  ({cycles:,} cycles)", flush=True
             )

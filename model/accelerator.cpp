@@ -6,33 +6,9 @@ namespace rtsim::model {
 
 namespace {
 
-template <typename T>
-std::vector<const Unit*> raw(const std::vector<std::unique_ptr<T>>& units) {
-  std::vector<const Unit*> v;
-  for (const auto& u : units) v.push_back(u.get());
-  return v;
-}
-
 std::string indexed(const char* type, uint32_t i) { return type + std::to_string(i); }
 
 }  // namespace
-
-// The calendar's same-time order (docs/model-design.md, "Same-time order"): among the blocks due
-// at one time the memory acts first, then the units from the end of a ray's walk (IST) back to
-// its start (TRV), so that a slot a unit frees is seen by its producer in the same cycle; then
-// shading, the generator and the culling unit, which start rays, and the watchdog, which looks
-// at what all the others did. Units of one type act in the order of their index.
-enum Rank : uint32_t {
-  kDramRank,
-  kMemoryPortRank,
-  kIstRank,
-  kListRank,
-  kTrvRank,
-  kShadingRank,
-  kRayGeneratorRank,
-  kCullingRank,
-  kWatchdogRank,
-};
 
 Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config,
                               const SimulationHooks& observers, MemoryTarget memory_target,
@@ -96,19 +72,16 @@ void Accelerator::Netlist::build_memory(const MemoryImage* image, uint64_t image
 void Accelerator::Netlist::build_units() {
   generator =
       std::make_unique<RayGenerator>("raygen", ctx, cfg.order, cfg.tile, cfg.raygen_rays_per_cycle);
-  for (uint32_t i = 0; i < cfg.trv.count; ++i)
-    trv.push_back(std::make_unique<TrvUnit>(indexed("trv", i).c_str(), ctx, cfg.trv, i));
-  for (uint32_t j = 0; j < cfg.list.count; ++j)
-    list.push_back(std::make_unique<ListUnit>(indexed("list", j).c_str(), ctx, cfg.list));
-  for (uint32_t k = 0; k < cfg.ist.count; ++k)
-    ist.push_back(std::make_unique<IstUnit>(indexed("ist", k).c_str(), ctx, cfg.ist));
-  for (uint32_t s = 0; s < cfg.shading.count; ++s)
-    shading.push_back(std::make_unique<ShadingUnit>(indexed("shading", s).c_str(), ctx, cfg.shading,
-                                                    &frame, records));
+  const UnitBuild b{ctx, cfg, &frame, records};
+  for (const RayUnitType& type : kRayUnitTypes)
+    for (uint32_t i = 0; i < (cfg.*type.config).count; ++i)
+      units[type.stage].push_back(type.make(indexed(type.key, i).c_str(), b, i));
   // Its own L1 is a shading L1.
   const bool own_l1 = cfg.culling.l1 == CullingL1::kOwn;
   culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.culling,
                                                 own_l1 ? &cfg.shading : nullptr, &frame, records);
+  for (auto& type : units)
+    for (auto& u : type) ray_units.push_back(u.get());
 }
 
 // Forward: generator -> TRV -> LIST -> IST -> shading (TRV unit i -> LIST unit i x list / trv
@@ -116,24 +89,25 @@ void Accelerator::Netlist::build_units() {
 // unit, and IST -> router -> its TRV unit's shading unit; retirement through the router.
 void Accelerator::Netlist::bind_ray_path() {
   for (uint32_t i = 0; i < cfg.trv.count; ++i) {
-    TrvUnit& t = *trv[i];
+    TrvUnit& t = trv(i);
     generator->to_trv.bind(t.in);
     culling->to_trv.bind(t.in);
-    t.to_list.bind(list[i * cfg.list.count / cfg.trv.count]->in);
-    t.to_shading.bind(shading[i * cfg.shading.count / cfg.trv.count]->in);
+    t.to_list.bind(list(i * cfg.list.count / cfg.trv.count).in);
+    t.to_shading.bind(shading(i * cfg.shading.count / cfg.trv.count).in);
     router.owners.bind(t.owner);
   }
   for (uint32_t j = 0; j < cfg.list.count; ++j)
-    list[j]->to_ist.bind(ist[j * cfg.ist.count / cfg.list.count]->in);
-  for (auto& u : ist) {
-    u->back.bind(router.returns);
-    u->to_shading.bind(router.finished);
-    u->lvb.bind(lvb);
+    list(j).to_ist.bind(ist(j * cfg.ist.count / cfg.list.count).in);
+  for (uint32_t k = 0; k < cfg.ist.count; ++k) {
+    ist(k).back.bind(router.returns);
+    ist(k).to_shading.bind(router.finished);
+    ist(k).lvb.bind(lvb);
   }
-  for (auto& u : shading) {
-    u->back.bind(router.returns);
-    router.shading.bind(u->in);
-    if (cfg.schedule == Schedule::kOnePhase) u->hits.bind(culling->hits);
+  for (uint32_t s = 0; s < cfg.shading.count; ++s) {
+    ShadingUnit& u = shading(s);
+    u.back.bind(router.returns);
+    router.shading.bind(u.in);
+    if (cfg.schedule == Schedule::kOnePhase) u.hits.bind(culling->hits);
   }
   router.phases.bind(phases.retirements);
 }
@@ -143,37 +117,30 @@ void Accelerator::Netlist::bind_ray_path() {
 // and the L1 the culling unit reads the lights through (shading unit 0's single port unless it
 // has its own).
 void Accelerator::Netlist::bind_control_and_memory() {
-  for (uint32_t i = 0; i < cfg.trv.count; ++i)
-    trv[i]->mem_side.bind(reach(*memory, topology.trv[i]));
-  for (uint32_t j = 0; j < cfg.list.count; ++j)
-    list[j]->mem_side.bind(reach(*memory, topology.list[j]));
-  for (uint32_t k = 0; k < cfg.ist.count; ++k)
-    ist[k]->mem_side.bind(reach(*memory, topology.ist[k]));
-  for (uint32_t s = 0; s < cfg.shading.count; ++s)
-    shading[s]->mem_side.bind(reach(*memory, topology.shading[s]));
+  for (size_t t = 0; t < units.size(); ++t)
+    for (size_t i = 0; i < units[t].size(); ++i)
+      units[t][i]->mem_side.bind(reach(*memory, topology.units[t][i]));
   if (culling->own_l1()) culling->mem_side.bind(reach(*memory, topology.culling));
   phases.primaries.bind(generator->control);
   phases.shadows.bind(culling->control);
   if (cfg.write_records)
     for (uint32_t s = 0; s < cfg.shading.count; ++s)
-      shading[s]->records.bind(memory->interconnect().writer(s));
+      shading(s).records.bind(memory->interconnect().writer(s));
   if (cfg.schedule == Schedule::kTwoPhase && cfg.culling.records_per_cycle > 0)
     culling->records.bind(memory->interconnect().record_reader());
   if (Cache* own = culling->own_l1()) {
     culling->lights.bind(*own);
   } else {
-    shading[0]->l1().name_requester(culling.get(), "culling");
-    culling->lights.bind(shading[0]->l1());
+    shading(0).l1().name_requester(culling.get(), "culling");
+    culling->lights.bind(shading(0).l1());
   }
 }
 
 void Accelerator::Netlist::declare_order() {
   if (dram) calendar.set_rank(*dram, kDramRank);
   calendar.set_rank(memory->interconnect().port(), kMemoryPortRank);
-  for (auto& u : ist) calendar.set_rank(*u, kIstRank);
-  for (auto& u : list) calendar.set_rank(*u, kListRank);
-  for (auto& u : trv) calendar.set_rank(*u, kTrvRank);
-  for (auto& u : shading) calendar.set_rank(*u, kShadingRank);
+  for (const RayUnitType& type : kRayUnitTypes)
+    for (auto& u : units[type.stage]) calendar.set_rank(*u, type.rank);
   calendar.set_rank(*generator, kRayGeneratorRank);
   calendar.set_rank(*culling, kCullingRank);
   calendar.set_rank(*watchdog, kWatchdogRank);
@@ -182,14 +149,7 @@ void Accelerator::Netlist::declare_order() {
 // The watchdog (a run that stops moving names what is stuck), and what only observes: progress
 // reports and the VCD trace.
 void Accelerator::Netlist::build_observers() {
-  for (auto& u : shading) fifos.push_back(&u->in);
-  for (auto& u : trv) fifos.push_back(&u->in);
-  for (auto& u : list) fifos.push_back(&u->in);
-  for (auto& u : ist) fifos.push_back(&u->in);
-  for (auto& u : trv) ray_units.push_back(u.get());
-  for (auto& u : list) ray_units.push_back(u.get());
-  for (auto& u : ist) ray_units.push_back(u.get());
-  for (auto& u : shading) ray_units.push_back(u.get());
+  for (RayUnit* u : ray_units) fifos.push_back(&u->in);
   watchdog = std::make_unique<Watchdog>(
       "watchdog", calendar, ctx.clock, cfg.watchdog_cycles, [this] { return progress_count(); },
       [this] { return pending(); }, [this] { return describe_stall(); });
@@ -249,43 +209,20 @@ void Accelerator::Netlist::report_progress(Tick now) const {
 }
 
 void Accelerator::Netlist::register_stats() {
-  for (auto& u : trv) u->register_stats(stats, stat_prefix(*u, top));
-  for (auto& u : list) u->register_stats(stats, stat_prefix(*u, top));
-  for (auto& u : ist) u->register_stats(stats, stat_prefix(*u, top));
-  for (auto& u : shading) u->register_stats(stats, stat_prefix(*u, top));
-  // Unit totals per type, beside the per-instance figures.
-  auto add_totals = [this](const std::string& type, std::vector<const Unit*> units) {
-    for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
-                               std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
-                               std::pair{"idle_cycles", &UnitStats::idle_cycles}})
-      stats.formula(
-          type + ".total." + name,
-          [units, field = field] {
-            uint64_t n = 0;
-            for (const Unit* u : units) n += u->unit_stats().*field;
-            return double(n);
-          },
-          "cycles", std::string("all ") + type + " units: " + name);
-  };
-  add_totals("trv", raw(trv));
-  add_totals("list", raw(list));
-  add_totals("ist", raw(ist));
-  add_totals("shading", raw(shading));
-  // Each unit's caches, and totals per type: its L1s, and its L2s when they are private.
-  auto cache_totals = [this](const std::string& type, const auto& units) {
+  // Per unit type: each unit's figures and caches, and totals beside them (its units' cycles, its
+  // L1s, its private L2s).
+  for (const RayUnitType& type : kRayUnitTypes) {
     std::vector<const Cache*> l1s, l2s;
-    for (const auto& u : units) {
+    for (const auto& u : units[type.stage]) {
+      u->register_stats(stats, stat_prefix(*u, top));
       u->caches().register_stats(stats, top, &end);
       l1s.push_back(&u->l1());
       if (u->caches().l2()) l2s.push_back(u->caches().l2());
     }
-    register_cache_totals(stats, type + ".l1", l1s);
-    if (!l2s.empty()) register_cache_totals(stats, type + ".l2", l2s);
-  };
-  cache_totals("trv", trv);
-  cache_totals("list", list);
-  cache_totals("ist", ist);
-  cache_totals("shading", shading);
+    register_unit_totals(type.key, units[type.stage]);
+    register_cache_totals(stats, std::string(type.key) + ".l1", l1s);
+    if (!l2s.empty()) register_cache_totals(stats, std::string(type.key) + ".l2", l2s);
+  }
   if (const Cache* own = culling->own_l1()) own->register_stats(stats, stat_prefix(*own, top));
   memory->register_stats(stats, top, &end);
   generator->register_unit_stats(stats, stat_prefix(*generator, top));
@@ -294,6 +231,24 @@ void Accelerator::Netlist::register_stats() {
   if (dram) dram->register_stats(stats, stat_prefix(*dram, top));
   if (checker) checker->register_stats(stats, stat_prefix(*checker, top));
   for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &end);
+}
+
+// <key>.total.{busy,stalled,idle}_cycles over a type's units.
+void Accelerator::Netlist::register_unit_totals(const std::string& key,
+                                                const std::vector<std::unique_ptr<RayUnit>>& us) {
+  std::vector<const Unit*> v;
+  for (const auto& u : us) v.push_back(u.get());
+  for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
+                             std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
+                             std::pair{"idle_cycles", &UnitStats::idle_cycles}})
+    stats.formula(
+        key + ".total." + name,
+        [v, field = field] {
+          uint64_t n = 0;
+          for (const Unit* u : v) n += u->unit_stats().*field;
+          return double(n);
+        },
+        "cycles", "all " + key + " units: " + name);
 }
 
 }  // namespace rtsim::model

@@ -48,7 +48,9 @@ struct AcceleratorResult {
   double clock_ghz = 1.0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
-  nlohmann::json stats;                                     // every named statistic
+  nlohmann::json stats;  // every named statistic
+  // The unit types and the caches a report lists (model/accelerator_units.h).
+  nlohmann::json units, caches;
   std::map<std::string, StatsRegistry::Glossary> glossary;  // ... with its unit and meaning
 };
 

@@ -160,17 +160,20 @@ AcceleratorResult Accelerator::result() {
   out.cycles_primary =
       n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end())) - first;
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
-  for (const auto& u : n.shading) {
-    out.primary_rays += u->stats().primary_rays;
-    out.primary_hits += u->stats().primary_hits;
-    out.reflection_rays += u->stats().reflection_rays;
-    out.shadow_rays += u->stats().shadow_rays;
+  for (uint32_t s = 0; s < n.cfg.shading.count; ++s) {
+    const ShadingStats& u = n.shading(s).stats();
+    out.primary_rays += u.primary_rays;
+    out.primary_hits += u.primary_hits;
+    out.reflection_rays += u.reflection_rays;
+    out.shadow_rays += u.shadow_rays;
   }
   for (const LightStats& l : n.culling->per_light()) {
     out.shadow_generated.push_back(l.generated);
     out.shadow_culled.push_back(l.culled);
   }
   out.stats = n.stats.values();
+  out.units = report_units(n.cfg);
+  out.caches = report_caches();
   out.glossary = n.stats.glossary();
   out.frame = n.frame;
   return out;

@@ -6,6 +6,7 @@
 
 #include "model/accelerator.h"
 #include "model/accelerator_topology.h"
+#include "model/accelerator_units.h"
 #include "model/device/device_driver.h"
 #include "model/memory/dram.h"
 #include "model/memory/memory_system.h"
@@ -53,6 +54,16 @@ struct Accelerator::Netlist : FrameEngine {
   void declare_order();
   void build_observers();
 
+  // A ray unit as its own type (the table's factory built it so).
+  template <class U>
+  U& unit(Stage stage, uint32_t i) const {
+    return static_cast<U&>(*units[stage][i]);
+  }
+  TrvUnit& trv(uint32_t i) const { return unit<TrvUnit>(kTrvStage, i); }
+  ListUnit& list(uint32_t i) const { return unit<ListUnit>(kListStage, i); }
+  IstUnit& ist(uint32_t i) const { return unit<IstUnit>(kIstStage, i); }
+  ShadingUnit& shading(uint32_t i) const { return unit<ShadingUnit>(kShadingStage, i); }
+
   bool pending() const {
     return pool.in_flight() > 0 || !generator->finished() || !culling->finished();
   }
@@ -60,6 +71,8 @@ struct Accelerator::Netlist : FrameEngine {
   std::string describe_stall() const;
   void report_progress(Tick now) const;
   void register_stats();
+  void register_unit_totals(const std::string& key,
+                            const std::vector<std::unique_ptr<RayUnit>>& units);
   // The socket towards memory: the protocol checker's, when there is one.
   tlm::tlm_initiator_socket<>& memory_socket() {
     if (checker) return checker->initiator_socket;
@@ -81,19 +94,17 @@ struct Accelerator::Netlist : FrameEngine {
   std::unique_ptr<MemorySystem> memory;
   std::unique_ptr<TlmChecker> checker;  // between the memory port and the memory, if asked
   std::unique_ptr<RayGenerator> generator;
-  std::vector<std::unique_ptr<TrvUnit>> trv;
-  std::vector<std::unique_ptr<ListUnit>> list;
-  std::vector<std::unique_ptr<IstUnit>> ist;
+  // By type (stage, kRayUnitTypes), then index; as their own types through the accessors below.
+  std::array<std::vector<std::unique_ptr<RayUnit>>, kStages> units;
   LvbUpdater lvb;
-  std::vector<std::unique_ptr<ShadingUnit>> shading;
   std::unique_ptr<ShadowCullingUnit> culling;
   RayRouter router;
   PhaseController phases;
   std::unique_ptr<Watchdog> watchdog;
   std::unique_ptr<PeriodicProbe> progress;
   std::unique_ptr<VcdTrace> trace;
-  std::vector<RayUnit*> ray_units;  // TRV, LIST, IST, shading
-  std::vector<RayFifo*> fifos;      // shading, TRV, LIST, IST inputs
+  std::vector<RayUnit*> ray_units;  // every ray unit, in the table's order
+  std::vector<RayFifo*> fifos;      // their inputs
   StatsRegistry stats;
   Tick end = 0;
   Tick frame_begin = 0;  // the first edge of the frame running or last run

@@ -1,16 +1,21 @@
-// Today's memory topology, stated as data for the memory layer (which names no unit): per unit
-// type one L2 shared by its units, or a private L2 per unit (`l2.sharing`); the shading units'
-// L1s, and the culling unit's own L1, on the IST's shared L2 (or, when the IST's L2s are
-// private, on an L2 of their own with the IST's configuration); the memory crossbar's sources
-// in that order; one frame-buffer writer per shading unit and the culling unit's record reader.
+// The memory topology, stated as data for the memory layer (which names no unit), from the unit
+// table (model/accelerator_units.h): per unit type one L2 shared by its units, or a private L2
+// per unit (`l2.sharing`), or the L2 of the type its row names (the shading L1s on the IST's; when
+// the IST's L2s are private, on an L2 of their own with the IST's configuration); the culling
+// unit's own L1 beside the shading L1s; the memory crossbar's sources in the table's order; one
+// frame-buffer writer per shading unit and the culling unit's record reader.
 #include "model/accelerator_topology.h"
+
+#include "model/accelerator_units.h"
 
 namespace rtsim::model {
 
 namespace {
 
+constexpr size_t kPrivate = ~size_t(0);
+
 // Adds a unit type's L2s (one shared, or one per unit) and says where each unit's caches reach.
-// Returns the shared L2's index, or the L2 count when they are private.
+// Returns the shared L2's index, or kPrivate.
 size_t add_type(MemorySystemConfig& m, const std::string& key, const UnitTypeConfig& u,
                 std::vector<MemoryAttachment>& at) {
   if (u.l2_sharing == L2Sharing::kUnit) {
@@ -18,7 +23,7 @@ size_t add_type(MemorySystemConfig& m, const std::string& key, const UnitTypeCon
       at.push_back({m.l2s.size(), 0, true});
       m.l2s.push_back({key + std::to_string(i), u.l2, u.link, {}});
     }
-    return m.l2s.size();
+    return kPrivate;
   }
   for (uint32_t i = 0; i < u.count; ++i) at.push_back({m.l2s.size(), i, false});
   m.l2s.push_back({key, u.l2, u.link, std::vector<std::string>(u.count, key)});
@@ -37,18 +42,29 @@ MemoryTopology memory_topology(const AcceleratorConfig& cfg, MemoryTarget target
   for (uint32_t s = 0; s < cfg.shading.count; ++s)
     m.writers.push_back("shading" + std::to_string(s));
   m.reader = "culling";
-  add_type(m, "trv", cfg.trv, t.trv);
-  add_type(m, "list", cfg.list, t.list);
-  size_t l2 = add_type(m, "ist", cfg.ist, t.ist);
-  if (l2 == m.l2s.size()) m.l2s.push_back({"shading", cfg.ist.l2, cfg.ist.link, {}});
-  std::vector<std::string>& clients = m.l2s[l2].clients;
-  for (uint32_t s = 0; s < cfg.shading.count; ++s) {
-    t.shading.push_back({l2, uint32_t(clients.size()), false});
-    clients.push_back("shading");
-  }
-  if (cfg.culling.l1 == CullingL1::kOwn) {
-    t.culling = {l2, uint32_t(clients.size()), false};
-    clients.push_back("culling");
+  // A type's own L2s first; then the types on another's L2, which is shared or, when that type's
+  // L2s are private, one of their own with its configuration.
+  std::array<size_t, kStages> shared{};
+  for (const RayUnitType& type : kRayUnitTypes)
+    if (type.l2_of == type.stage)
+      shared[type.stage] = add_type(m, type.key, cfg.*type.config, t.units[type.stage]);
+  for (const RayUnitType& type : kRayUnitTypes) {
+    if (type.l2_of == type.stage) continue;
+    size_t& l2 = shared[type.l2_of];
+    const UnitTypeConfig& host = cfg.*kRayUnitTypes[type.l2_of].config;
+    if (l2 == kPrivate) {
+      l2 = m.l2s.size();
+      m.l2s.push_back({type.key, host.l2, host.link, {}});
+    }
+    std::vector<std::string>& clients = m.l2s[l2].clients;
+    for (uint32_t i = 0; i < (cfg.*type.config).count; ++i) {
+      t.units[type.stage].push_back({l2, uint32_t(clients.size()), false});
+      clients.push_back(type.key);
+    }
+    if (type.stage == kShadingStage && cfg.culling.l1 == CullingL1::kOwn) {
+      t.culling = {l2, uint32_t(clients.size()), false};
+      clients.push_back("culling");
+    }
   }
   return t;
 }

@@ -6,6 +6,9 @@
 #include "model/accelerator.h"
 #include "model/accelerator_config.h"
 #include "model/memory/memory_system.h"
+#include "model/units/ray_state.h"
+
+#include <array>
 
 #include <vector>
 
@@ -23,8 +26,8 @@ struct MemoryAttachment {
 // which one each unit's caches reach.
 struct MemoryTopology {
   MemorySystemConfig memory;
-  std::vector<MemoryAttachment> trv, list, ist, shading;  // by unit index
-  MemoryAttachment culling;                               // its own L1's, when it has one
+  std::array<std::vector<MemoryAttachment>, kStages> units;  // by type (stage), then unit index
+  MemoryAttachment culling;                                  // its own L1's, when it has one
 };
 MemoryTopology memory_topology(const AcceleratorConfig& cfg, MemoryTarget target);
 

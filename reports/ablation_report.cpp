@@ -1,6 +1,7 @@
 #include "reports/ablation_report.h"
 
 #include "reports/report_format.h"
+#include "reports/run_report.h"
 
 #include <fmt/format.h>
 
@@ -15,39 +16,36 @@ namespace {
 using nlohmann::json;
 namespace fs = std::filesystem;
 
-// Short column titles for the usual metrics; any other metric is titled by its name.
-std::string metric_label(const std::string& m) {
+// Short column titles for the usual metrics; any other metric is titled by its name. A unit
+// type's and a cache's are titled by the label the report lists for them
+// (model/accelerator_units.h).
+std::string metric_label(const std::string& m, const AblationInput& in) {
   static const std::map<std::string, std::string> labels = {
       {"cycles_total", "cycles"},
       {"cycles_shadow", "shadow-phase cycles"},
       {"frame_ms_shadow", "shadow-phase ms"},
       {"shadow_culled_rate", "shadow rays culled"},
-      {"trv_busy", "TRV busy"},
-      {"list_busy", "LIST busy"},
-      {"ist_busy", "IST busy"},
-      {"shading_busy", "shading busy"},
-      {"trv_l1_hit_rate", "TRV L1 hits"},
-      {"trv_l2_hit_rate", "TRV L2 hits"},
-      {"list_l1_hit_rate", "LIST L1 hits"},
-      {"list_l2_hit_rate", "LIST L2 hits"},
-      {"ist_l1_hit_rate", "IST L1 hits"},
-      {"ist_l2_hit_rate", "IST L2 hits"},
-      {"shading_l1_hit_rate", "shading L1 hits"},
-      {"stats.trv.l2.bank.stall_cycles", "TRV L2 bank stall cycles"},
-      {"stats.list.l2.bank.stall_cycles", "LIST L2 bank stall cycles"},
-      {"stats.ist.l2.bank.stall_cycles", "IST L2 bank stall cycles"},
-      {"stats.trv.icnt.reply.avg_queue_cycles", "TRV crossbar reply wait (cycles)"},
-      {"stats.list.icnt.reply.avg_queue_cycles", "LIST crossbar reply wait (cycles)"},
-      {"stats.ist.icnt.reply.avg_queue_cycles", "IST crossbar reply wait (cycles)"},
       {"stats.memory.icnt.reply.avg_queue_cycles", "memory crossbar reply wait (cycles)"},
       {"dram_bandwidth_gbps", "DRAM GB/s"},
       {"stats.dram.avg_latency_ns", "DRAM latency (ns)"},
       {"dram_row_hit_rate", "DRAM row hits"},
       {"dram_reads", "DRAM reads"},
-      {"stats.dram.bytes_written", "DRAM bytes written"},
-      {"stats.culling.busy_cycles", "culling busy cycles"}};
+      {"stats.dram.bytes_written", "DRAM bytes written"}};
   const auto it = labels.find(m);
-  return it == labels.end() ? "`" + m + "`" : it->second;
+  if (it != labels.end()) return it->second;
+  for (const json& u : in.units.is_array() ? in.units : json::array()) {
+    const std::string key = u["key"], label = u["label"];
+    if (m == key + "_busy") return label + " busy";
+    if (m == "stats." + key + ".busy_cycles") return key + " busy cycles";
+    if (m == "stats." + key + ".l2.bank.stall_cycles") return label + " L2 bank stall cycles";
+    if (m == "stats." + key + ".icnt.reply.avg_queue_cycles")
+      return label + " crossbar reply wait (cycles)";
+  }
+  for (const json& c : in.caches.is_array() ? in.caches : json::array()) {
+    if (m == cache_hit_rate_metric(c))
+      return c["label"].get<std::string>() + " " + c["level"].get<std::string>() + " hits";
+  }
+  return "`" + m + "`";
 }
 
 bool is_share(const std::string& m) {
@@ -159,7 +157,7 @@ void stats_table(std::ostringstream& md, const AblationInput& in, const SceneRow
   md << "\nWhat explains it: each cell is culling off / on.\n\n| variant |";
   std::string rule = "|---|";
   for (const std::string& m : metrics) {
-    md << " " << metric_label(m) << " |";
+    md << " " << metric_label(m, in) << " |";
     rule += "---|";
   }
   md << "\n" << rule << "\n";

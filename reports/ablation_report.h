@@ -33,6 +33,7 @@ struct AblationInput {
   // Scene -> variant -> the point's row with culling off (0) and on (1); null when unfinished.
   std::map<std::string, std::map<std::string, std::array<nlohmann::json, 2>>> rows;
   std::map<std::string, nlohmann::json> resolution;  // scene -> [width, height]
+  nlohmann::json units, caches;  // as a point's report.json lists them: the metrics' titles
 };
 
 ReportText ablation_report(const AblationInput& in, const std::map<std::string, PaperScene>& paper);

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <cctype>
 #include <cmath>
 #include <sstream>
 
@@ -80,6 +81,8 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
             {"reflection", r.reflection_rays},
             {"shadow", r.shadow_rays}}},
           {"per_light", per_light},
+          {"units", r.units},
+          {"caches", r.caches},
           {"reference_check", check},
           {"stats", r.stats},
           {"host_seconds", host.total},
@@ -94,6 +97,12 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
             {"rays_per_second", sim > 0 ? double(rays) / sim : 0.0},
             {"cycles_per_second", sim > 0 ? double(r.cycles_total) / sim : 0.0},
             {"peak_memory_mb", host.peak_memory_mb}}}};
+}
+
+std::string cache_hit_rate_metric(const nlohmann::json& cache) {
+  std::string level = cache["level"];
+  for (char& ch : level) ch = char(std::tolower(static_cast<unsigned char>(ch)));
+  return cache["unit"].get<std::string>() + "_" + level + "_hit_rate";
 }
 
 std::string stats_csv(const nlohmann::json& r) {
@@ -199,16 +208,11 @@ void frame_time_table(std::ostringstream& md, const json& r) {
 }
 
 void units_table(std::ostringstream& md, const json& r) {
-  const json& hw = r["config"]["hw"];
   md << "## Units\n\n| unit | count | busy | stalled | idle | busy cycles "
         "|\n|---|---|---|---|---|---|\n";
-  for (const auto& [label, path, count] : std::vector<std::tuple<std::string, std::string, double>>{
-           {"ray generator", "stats.raygen", 1},
-           {"TRV", "stats.trv.total", hw["trv"]["count"].get<double>()},
-           {"LIST", "stats.list.total", hw["list"]["count"].get<double>()},
-           {"IST", "stats.ist.total", hw["ist"]["count"].get<double>()},
-           {"shading", "stats.shading.total", hw["shading"]["count"].get<double>()},
-           {"shadow culling", "stats.culling", 1}}) {
+  for (const json& unit : r["units"]) {
+    const std::string label = unit["label"], path = "stats." + unit["stats"].get<std::string>();
+    const double count = unit["count"];
     const double b = json_number(r, path + ".busy_cycles"),
                  s = json_number(r, path + ".stalled_cycles"),
                  i = json_number(r, path + ".idle_cycles");
@@ -221,19 +225,12 @@ void units_table(std::ostringstream& md, const json& r) {
 void memory_tables(std::ostringstream& md, const json& r) {
   md << "## Caches\n\n| unit | level | accesses | hits | misses | hit rate | MSHR merges "
         "|\n|---|---|---|---|---|---|---|\n";
-  for (const auto& [label, path] :
-       std::vector<std::pair<std::string, std::string>>{{"TRV", "trv.l1"},
-                                                        {"TRV", "trv.l2"},
-                                                        {"LIST", "list.l1"},
-                                                        {"LIST", "list.l2"},
-                                                        {"IST", "ist.l1"},
-                                                        {"IST", "ist.l2"},
-                                                        {"shading", "shading.l1"}}) {
-    const std::string p = "stats." + path;
-    md << fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", label,
-                      path.substr(path.size() - 2) == "l1" ? "L1" : "L2",
-                      num(json_number(r, p + ".accesses")), num(json_number(r, p + ".hits")),
-                      num(json_number(r, p + ".misses")), rate(json_number(r, p + ".hit_rate")),
+  for (const json& cache : r["caches"]) {
+    const std::string p = "stats." + cache["key"].get<std::string>();
+    md << fmt::format("| {} | {} | {} | {} | {} | {} | {} |\n", cache["label"].get<std::string>(),
+                      cache["level"].get<std::string>(), num(json_number(r, p + ".accesses")),
+                      num(json_number(r, p + ".hits")), num(json_number(r, p + ".misses")),
+                      rate(json_number(r, p + ".hit_rate")),
                       num(json_number(r, p + ".mshr_merges")));
   }
   md << "\n## DRAM\n\n| reads | bytes | row-hit rate | bandwidth | bus utilisation | mean read "

@@ -10,7 +10,8 @@
 
 namespace rtsim {
 
-inline constexpr const char* kRunReportSchema = "rtsim-report/2";
+// 3: `units` and `caches`, the unit types and caches the model has (model/accelerator_units.h).
+inline constexpr const char* kRunReportSchema = "rtsim-report/3";
 
 // What one run measured, in plain figures (the model's result, without its frame).
 struct RunFigures {
@@ -19,6 +20,9 @@ struct RunFigures {
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
   nlohmann::json stats;                                   // every named statistic
+  // The unit types ({key, label, count, stats}) and caches ({key, unit, label, level}) the
+  // reports list, in their order: reports iterate these, they name no unit.
+  nlohmann::json units, caches;
 };
 
 // Host seconds per step of a run, and its peak memory.
@@ -41,6 +45,10 @@ std::string stats_csv(const nlohmann::json& report);
 
 // Tables 3-6 of the paper for this run, then unit utilisation, caches, DRAM and host figures.
 std::string run_report_markdown(const nlohmann::json& report);
+
+// A cache's hit-rate metric (sweeps, ablation): <unit>_<level>_hit_rate, trv_l1_hit_rate for the
+// report's cache of unit trv at level L1.
+std::string cache_hit_rate_metric(const nlohmann::json& cache);
 
 // A numeric leaf by dotted path ("stats.trv.l1.hit_rate"); NaN if absent.
 double json_number(const nlohmann::json& j, const std::string& dotted_path);

@@ -174,6 +174,10 @@ void gather_rows(const SweepSpec& spec, const std::string& dir, report::Ablation
       const nlohmann::json r =
           nlohmann::json::parse(std::ifstream(point / output::kReportJson), nullptr, false);
       if (!r.is_discarded() && r.contains("scene")) in.resolution[scene] = r["scene"]["resolution"];
+      if (!r.is_discarded() && r.contains("units")) {
+        in.units = r["units"];
+        in.caches = r["caches"];
+      }
     }
     in.rows[scene][p.values["variant"].get<std::string>()][size_t(lvb_value(p.values["run.lvb"]))] =
         std::move(row);

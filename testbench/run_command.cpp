@@ -166,6 +166,8 @@ RunFigures figures_of(const SimulatedFrame& r) {
   f.shadow_generated = r.shadow_generated;
   f.shadow_culled = r.shadow_culled;
   f.stats = r.stats;
+  f.units = r.units;
+  f.caches = r.caches;
   return f;
 }
 

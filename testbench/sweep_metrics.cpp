@@ -1,5 +1,6 @@
 #include "testbench/sweep_metrics.h"
 
+#include "model/accelerator_units.h"
 #include "reports/run_report.h"
 
 #include <fmt/format.h>
@@ -48,12 +49,15 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
   if (name == "dram_row_hit_rate") return json_number(r, "stats.dram.row_hit_rate");
   if (name == "dram_bandwidth_gbps") return json_number(r, "stats.dram.bandwidth_gbps");
   if (name == "dram_reads") return json_number(r, "stats.dram.reads");
-  for (const char* type : {"trv", "list", "ist", "shading"}) {
-    for (const char* level : {"l1", "l2"})
-      if (name == fmt::format("{}_{}_hit_rate", type, level))
-        return json_number(r, fmt::format("stats.{}.{}.hit_rate", type, level));
-    if (name == fmt::format("{}_busy", type)) return share(std::string("stats.") + type + ".total");
-  }
+  // Per unit type and cache, as the report lists them (model/accelerator_units.h).
+  if (r.contains("units"))
+    for (const auto& u : r["units"])
+      if (name == u["key"].get<std::string>() + "_busy")
+        return share("stats." + u["stats"].get<std::string>());
+  if (r.contains("caches"))
+    for (const auto& c : r["caches"])
+      if (name == cache_hit_rate_metric(c))
+        return json_number(r, "stats." + c["key"].get<std::string>() + ".hit_rate");
   return json_number(r, name);  // any numeric field of report.json by its dotted path
 }
 
@@ -63,11 +67,10 @@ bool is_sweep_metric(const std::string& name) {
                                "rays_shadow",        "shadow_culled",     "shadow_culled_rate",
                                "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
                                "dram_reads"};
-    for (const char* type : {"trv", "list", "ist", "shading"}) {
-      v.push_back(fmt::format("{}_busy", type));
-      for (const char* level : {"l1", "l2"})
-        v.push_back(fmt::format("{}_{}_hit_rate", type, level));
-    }
+    // The model's unit types and caches, whatever the configuration.
+    for (const auto& u : model::report_units(model::AcceleratorConfig()))
+      v.push_back(u["key"].get<std::string>() + "_busy");
+    for (const auto& c : model::report_caches()) v.push_back(cache_hit_rate_metric(c));
     return v;
   }();
   if (std::find(named.begin(), named.end(), name) != named.end()) return true;

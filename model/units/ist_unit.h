@@ -26,7 +26,7 @@ class IstUnit : public RayUnit {
 
   IstUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg);
   const IstStats& stats() const { return stats_; }
-  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  void register_stats(StatsRegistry& r, const std::string& prefix) const override;
 
  protected:
   void process(uint32_t ray, Tick now) override;

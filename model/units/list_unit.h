@@ -20,7 +20,7 @@ class ListUnit : public RayUnit {
 
   ListUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg);
   const ListStats& stats() const { return stats_; }
-  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  void register_stats(StatsRegistry& r, const std::string& prefix) const override;
 
  protected:
   void process(uint32_t ray, Tick now) override;

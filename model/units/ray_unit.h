@@ -58,6 +58,8 @@ class RayUnit : public Unit, public FillListener {
     const uint8_t* line_data(uint64_t line) const { return unit->line_data(ray, line); }
   };
   uint32_t held() const { return held_; }
+  // The unit's statistics under `prefix` (its caches register theirs: caches()).
+  virtual void register_stats(StatsRegistry& r, const std::string& prefix) const = 0;
 
  protected:
   // Builds the unit's input FIFO and its caches; `stage` is its entry in a ray's state, `type`

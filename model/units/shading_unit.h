@@ -38,7 +38,7 @@ class ShadingUnit : public RayUnit {
   ShadingUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
               FrameBuffer* frame, const HitRecordRegion& region);
   const ShadingStats& stats() const { return stats_; }
-  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  void register_stats(StatsRegistry& r, const std::string& prefix) const override;
 
  protected:
   void process(uint32_t ray, Tick now) override;

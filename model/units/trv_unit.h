@@ -37,7 +37,7 @@ class TrvUnit : public RayUnit, public RayOwner {
   void release_slot(uint32_t ray) override;
 
   const TrvStats& stats() const { return stats_; }
-  void register_stats(StatsRegistry& r, const std::string& prefix) const;
+  void register_stats(StatsRegistry& r, const std::string& prefix) const override;
 
  protected:
   void process(uint32_t ray, Tick now) override;

@@ -23,41 +23,38 @@ from rtsim_plots.common import (
 from rtsim_plots.files import CULLED_NPY, REPORT_JSON
 
 
-def parse_units(stats, hw):
-    """Per unit type, (label, busy, stalled, idle) cycles; (label, None, None, None) when it is
-    absent."""
+def report_list(rep, name, keys):
+    """The report's list `name` (its unit types or its caches), each entry with `keys`."""
+    entries = field(rep, name)
+    ok = isinstance(entries, list) and all(
+        isinstance(e, dict) and all(k in e for k in keys) for e in entries
+    )
+    if not ok:
+        raise InputError(f"{REPORT_JSON}: field '{name}' is not a list of {{{', '.join(keys)}}}")
+    return entries
+
+
+def parse_units(rep, stats):
+    """Per unit type the report lists, (label, busy, stalled, idle) cycles; (label, None, None,
+    None) when its statistics are absent. A type summed over its units says how many."""
     units = []
-    for label, path, count_path in [
-        ("raygen", "raygen", None),
-        ("TRV", "trv.total", "trv.count"),
-        ("LIST", "list.total", "list.count"),
-        ("IST", "ist.total", "ist.count"),
-        ("shading", "shading.total", "shading.count"),
-        ("culling", "culling", None),
-    ]:
+    for u in report_list(rep, "units", ("key", "label", "count", "stats")):
+        label, path = u["label"], u["stats"]
+        if path != u["key"] and is_number(u["count"]):
+            label += f" (×{u['count']:g})"
         s = field(stats, path, None)
-        count = field(hw, count_path, None) if count_path else None
-        if is_number(count):
-            label += f" (×{count:g})"
         if isinstance(s, dict):
             where = f"{REPORT_JSON}: stats.{path}"
-            units.append(
-                (
-                    label,
-                    *(
-                        number(s, k, where)
-                        for k in ("busy_cycles", "stalled_cycles", "idle_cycles")
-                    ),
-                )
-            )
+            states = ("busy_cycles", "stalled_cycles", "idle_cycles")
+            units.append((label, *(number(s, k, where) for k in states)))
         else:
             units.append((label, None, None, None))
     return units
 
 
-def parse_caches(stats):
-    """Per unit type, (label, [L1, L2] hit rate in %), and the DRAM row-hit rate; None where
-    unknown."""
+def parse_caches(rep, stats):
+    """Per unit type with a cache the report lists, (label, [L1, L2] hit rate in %), and the DRAM
+    row-hit rate; None where unknown."""
 
     def hit_rate(path):
         c = field(stats, path, None)
@@ -67,9 +64,11 @@ def parse_caches(stats):
             return None  # a cache nobody used reports 0, which is not a hit rate
         return 100.0 * c["hit_rate"]
 
+    by_unit = {}  # unit key -> (label, {level: rate}), in the report's order
+    for c in report_list(rep, "caches", ("key", "unit", "label", "level")):
+        by_unit.setdefault(c["unit"], (c["label"], {}))[1][c["level"]] = hit_rate(c["key"])
     caches = [
-        (t, [hit_rate(f"{key}.{lvl}") for lvl in ("l1", "l2")])
-        for t, key in [("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]
+        (label, [rates.get(lvl) for lvl in ("L1", "L2")]) for label, rates in by_unit.values()
     ]
     dram = field(stats, "dram.row_hit_rate", None)
     dram = 100.0 * dram if is_number(dram) else None
@@ -116,8 +115,8 @@ def parse_report(rep):
         ]
 
     stats = field(rep, "stats")
-    units = parse_units(stats, field(rep, "config.hw", {}))
-    caches, dram = parse_caches(stats)
+    units = parse_units(rep, stats)
+    caches, dram = parse_caches(rep, stats)
 
     title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles" + (
         f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""

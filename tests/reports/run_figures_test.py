@@ -13,7 +13,9 @@ import numpy as np
 import figure_check as fc
 
 run_figures = fc.module("run_figures")
-UNITS = [("raygen", None), ("TRV", "trv"), ("LIST", "list"), ("IST", "ist"), ("shading", "shading")]
+# The unit types a report lists: (label, key, count; None: a unit of its own, not summed).
+UNITS = [("ray generator", "raygen", None), ("TRV", "trv", 4), ("LIST", "list", 1)]
+UNITS += [("IST", "ist", 2), ("shading", "shading", 1), ("shadow culling", "culling", None)]
 STATES = ("busy_cycles", "stalled_cycles", "idle_cycles")
 
 
@@ -30,11 +32,18 @@ def report(rng, width, height, culled_per_light, lvb_on=True):
     n = len(culled_per_light)
     shadow = [rng.randrange(c + 1, 10 * c + 100) for c in culled_per_light[:2]] + [0] * (n - 2)
     stats = {"raygen": {k: rng.randrange(1, 10**6) for k in STATES}}
-    for _, key in UNITS[1:]:
+    caches = []
+    for label, key, _ in UNITS[1:-1]:
         stats[key] = {"total": {k: rng.randrange(1, 10**6) for k in STATES}}
         stats[key]["l1"] = cache(rng)
+        caches.append({"key": f"{key}.l1", "unit": key, "label": label, "level": "L1"})
         if key != "shading":  # no L2 of its own: n/a
             stats[key]["l2"] = cache(rng, 0 if key == "list" else None)
+            caches.append({"key": f"{key}.l2", "unit": key, "label": label, "level": "L2"})
+    units = [
+        {"key": k, "label": n, "count": c or 1, "stats": f"{k}.total" if c else k}
+        for n, k, c in UNITS
+    ]
     stats["dram"] = {"row_hit_rate": rng.random()}
     lvb = {
         "per_light": [
@@ -44,7 +53,9 @@ def report(rng, width, height, culled_per_light, lvb_on=True):
     }
     return {
         "scene": {"name": "testcity", "resolution": [width, height]},
-        "config": {"run": {"lvb": lvb_on}, "hw": {"trv": {"count": 4}, "ist": {"count": 2}}},
+        "config": {"run": {"lvb": lvb_on}},
+        "units": units,
+        "caches": caches,
         "cycles_total": rng.randrange(10**6, 10**8),
         "clock_ghz": 1.0,
         "per_light": [
@@ -109,8 +120,7 @@ class RunFigures(fc.FigureTest):
     def test_time_breakdown_segments_are_the_shares_of_unit_cycles(self):
         rep, _ = self.write_run()
         ax = self.draw(run_figures.run)["plot_time_breakdown.png"].axes[0]
-        hw = rep["config"]["hw"]
-        want = [n + (f" (×{hw[k]['count']})" if k in hw else "") for n, k in UNITS] + ["culling"]
+        want = [n + (f" (×{c})" if c else "") for n, k, c in UNITS]
         self.assertEqual(fc.yticks(ax), want)
         colour = fc.legend(ax)
         self.assertEqual(list(colour), ["busy", "stalled", "idle"])
@@ -118,8 +128,8 @@ class RunFigures(fc.FigureTest):
         for container in fc.bars(ax):
             for p in container.patches:
                 rows.setdefault(round(p.get_y() + p.get_height() / 2), []).append(p)
-        for y, (_, key) in enumerate(UNITS):
-            cycles = rep["stats"][key]["total"] if key else rep["stats"]["raygen"]
+        for y, (_, key, summed) in enumerate(UNITS[:-1]):
+            cycles = rep["stats"][key]["total"] if summed else rep["stats"][key]
             total = sum(cycles.values())
             shares = [100.0 * cycles[k] / total for k in STATES]
             segments = sorted(rows[y], key=lambda p: p.get_x())
@@ -127,7 +137,7 @@ class RunFigures(fc.FigureTest):
             self.assertNumbers([p.get_x() for p in segments], [0, shares[0], sum(shares[:2])])
             self.assertEqual([tuple(p.get_facecolor()) for p in segments], list(colour.values()))
         # No culling unit in the stats: its row has no bar and says n/a.
-        self.assertNotIn(len(UNITS), rows)
+        self.assertNotIn(len(UNITS) - 1, rows)
         self.assertIn("n/a", fc.texts(ax))
         self.assertEqual(ax.get_xlim(), (0, 100))
 
@@ -141,7 +151,7 @@ class RunFigures(fc.FigureTest):
             c = rep["stats"][key].get(level)
             return 100.0 * c["hit_rate"] if c and c["accesses"] else None
 
-        want = {lvl: [rate(k, lvl) for _, k in UNITS[1:]] for lvl in ("l1", "l2")}
+        want = {lvl: [rate(k, lvl) for _, k, _ in UNITS[1:-1]] for lvl in ("l1", "l2")}
         self.assertEqual(want["l2"][1], None, "LIST's L2 was never accessed")
         self.assertEqual(want["l2"][3], None, "shading has no L2")
         self.assertNumbers(fc.heights(l1), want["l1"], "L1")

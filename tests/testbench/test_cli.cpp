@@ -223,7 +223,20 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   const nlohmann::json rep = nlohmann::json::parse(slurp(out / "report.json"));
-  EXPECT_EQ(rep["schema"], "rtsim-report/2");
+  EXPECT_EQ(rep["schema"], "rtsim-report/3");
+  // The unit types and caches the model has, as the reports iterate them
+  // (model/accelerator_units.h).
+  ASSERT_TRUE(rep["units"].is_array());
+  ASSERT_TRUE(rep["caches"].is_array());
+  for (const auto& u : rep["units"])
+    EXPECT_TRUE(rep["stats"].contains(
+        u["stats"].get<std::string>().substr(0, u["stats"].get<std::string>().find('.'))))
+        << u;
+  for (const auto& c : rep["caches"]) {
+    const std::string key = c["key"];
+    EXPECT_TRUE(rep["stats"][key.substr(0, key.find('.'))].contains(key.substr(key.find('.') + 1)))
+        << key;
+  }
   const std::string md = slurp(out / "report.md");
   for (const char* table :
        {"Table 3", "Table 4", "Table 5", "Table 6", "## Units", "## Caches", "## DRAM"})

@@ -370,6 +370,9 @@ void expect_two_rows_per_variant(const std::string& md, const Variants& variants
   }
   EXPECT_NE(md.find("the single limit that moves the frame time most is `"), std::string::npos)
       << md;
+  // A unit type's metrics are titled by the label its points' reports give it.
+  for (const char* title : {" TRV busy |", " TRV L2 bank stall cycles |"})
+    EXPECT_NE(md.find(title), std::string::npos) << title << " in:\n" << md;
 }
 
 // JSON: one entry per variant with both culling settings' metrics; by name.

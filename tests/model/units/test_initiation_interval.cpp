@@ -30,7 +30,7 @@ constexpr int kRays = 4;
 struct OneTrv : Bench {
   OneTrv(sc_core::sc_module_name name, const MemoryImage& image, const AcceleratorConfig& c)
       : Bench(name, image, c), list("list0", 64, nullptr), trv("trv0", ctx, cfg.trv, 0) {
-    attach(trv.mem_side, topology.trv[0]);
+    attach(trv.mem_side, kTrvStage, 0);
     trv.to_list.bind(list);
     trv.to_shading.bind(done);
   }

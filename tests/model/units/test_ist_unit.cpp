@@ -39,7 +39,7 @@ constexpr uint64_t kA = 10, kB = 300, kC = 600, kD = 900, kE = 1200;
 struct IstBench : Bench {
   IstBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()), lvb("lvb_updater"), ist("ist0", ctx, cfg.ist) {
-    attach(ist.mem_side, topology.ist[0]);
+    attach(ist.mem_side, kIstStage, 0);
     ist.back.bind(*this);
     ist.to_shading.bind(done);
     ist.lvb.bind(lvb);

@@ -39,7 +39,7 @@ constexpr uint64_t kWarm = 300;   // two rays at once, every line in L1
 struct ListBench : Bench {
   ListBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, config()), to_ist("to_ist", 64, nullptr), list("list0", ctx, cfg.list) {
-    attach(list.mem_side, topology.list[0]);
+    attach(list.mem_side, kListStage, 0);
     list.to_ist.bind(to_ist);
   }
   RayFifo to_ist;

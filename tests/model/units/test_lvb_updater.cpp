@@ -35,9 +35,9 @@ struct ChainBench : Bench {
         ist("ist0", ctx, cfg.ist),
         list("list0", ctx, cfg.list),
         trv("trv0", ctx, cfg.trv, 0) {
-    attach(ist.mem_side, topology.ist[0]);
-    attach(list.mem_side, topology.list[0]);
-    attach(trv.mem_side, topology.trv[0]);
+    attach(ist.mem_side, kIstStage, 0);
+    attach(list.mem_side, kListStage, 0);
+    attach(trv.mem_side, kTrvStage, 0);
     trv.to_list.bind(list.in);
     trv.to_shading.bind(done);
     list.to_ist.bind(ist.in);

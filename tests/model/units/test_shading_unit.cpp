@@ -66,7 +66,7 @@ struct ShadingBench : Bench {
     frame.allocate(ctx.light_samples);
     shading.back.bind(*this);
     shading.records.bind(writer);
-    attach(shading.mem_side, topology.shading[0]);
+    attach(shading.mem_side, kShadingStage, 0);
   }
   ShadingUnit shading;
   RecordingWriter writer;

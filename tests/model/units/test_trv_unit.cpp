@@ -38,8 +38,8 @@ struct TrvBench : Bench {
         list1("list1", 64, nullptr),
         trv0("trv0", ctx, cfg.trv, 0),
         trv1("trv1", ctx, cfg.trv, 1) {
-    attach(trv0.mem_side, topology.trv[0]);
-    attach(trv1.mem_side, topology.trv[1]);
+    attach(trv0.mem_side, kTrvStage, 0);
+    attach(trv1.mem_side, kTrvStage, 1);
     trv0.to_list.bind(list0);
     trv1.to_list.bind(list1);
     trv0.to_shading.bind(done);

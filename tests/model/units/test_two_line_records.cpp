@@ -37,7 +37,7 @@ AcceleratorConfig one_line_l1() {
 struct IstBench : Bench {
   IstBench(sc_core::sc_module_name name, const MemoryImage& image)
       : Bench(name, image, one_line_l1()), lvb("lvb_updater"), ist("ist0", ctx, cfg.ist) {
-    attach(ist.mem_side, topology.ist[0]);
+    attach(ist.mem_side, kIstStage, 0);
     ist.back.bind(*this);
     ist.to_shading.bind(done);
     ist.lvb.bind(lvb);

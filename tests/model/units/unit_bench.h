@@ -119,10 +119,11 @@ class Bench : public sc_core::sc_module, public RayReturn {
     pool.release(ray);
   }
 
-  // Binds a unit's mem_side to where the topology says its caches reach.
+  // Binds a unit's mem_side to where the topology says the caches of unit `index` of the type
+  // at `stage` reach.
   template <class Port>
-  void attach(Port& mem_side, const MemoryAttachment& a) {
-    mem_side.bind(reach(memory, a));
+  void attach(Port& mem_side, Stage stage, uint32_t index) {
+    mem_side.bind(reach(memory, topology.units[stage][index]));
   }
 
   // A new ray in the pool.
