@@ -167,6 +167,12 @@ void Accelerator::Netlist::build_observers() {
     trace->add_unit(culling.get());
     trace->add_counter(std::string(top.name()) + ".rays_in_flight",
                        [this] { return uint64_t(pool.in_flight()); });
+    // The shared L2s' and the memory port's counters: where a frame's memory traffic goes.
+    for (const Cache* l2 : memory->shared_l2s())
+      trace->add_counters(l2->name(), l2->stats(), l2->config().max_merge > 0,
+                          l2->config().ports > 0);
+    const MemoryPort& port = memory->interconnect().port();
+    trace->add_counters(port.name(), port.stats());
   }
 }
 
@@ -236,19 +242,11 @@ void Accelerator::Netlist::register_stats() {
 // <key>.total.{busy,stalled,idle}_cycles over a type's units.
 void Accelerator::Netlist::register_unit_totals(const std::string& key,
                                                 const std::vector<std::unique_ptr<RayUnit>>& us) {
-  std::vector<const Unit*> v;
-  for (const auto& u : us) v.push_back(u.get());
-  for (auto [name, field] : {std::pair{"busy_cycles", &UnitStats::busy_cycles},
-                             std::pair{"stalled_cycles", &UnitStats::stalled_cycles},
-                             std::pair{"idle_cycles", &UnitStats::idle_cycles}})
-    stats.formula(
-        key + ".total." + name,
-        [v, field = field] {
-          uint64_t n = 0;
-          for (const Unit* u : v) n += u->unit_stats().*field;
-          return double(n);
-        },
-        "cycles", "all " + key + " units: " + name);
+  std::vector<const UnitStats*> parts;
+  for (const auto& u : us) parts.push_back(&u->unit_stats());
+  register_totals(stats, key + ".total", "all " + key + " units: ", parts,
+                  {"busy_cycles", "stalled_cycles", "idle_cycles"},
+                  [](auto& v, const UnitStats& s) { describe_stats(v, s); });
 }
 
 }  // namespace rtsim::model

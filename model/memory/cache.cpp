@@ -267,35 +267,10 @@ const uint8_t* Cache::line_data_elsewhere(uint64_t addr) const {
 }
 
 void Cache::register_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".accesses", &stats_.accesses, "count", "line requests received");
-  r.counter(prefix + ".hits", &stats_.hits, "count",
-            "requests finding their line present and delivered");
-  r.counter(prefix + ".misses", &stats_.misses, "count",
-            "requests that allocated a line and asked the level below");
-  r.counter(prefix + ".mshr_merges", &stats_.mshr_merges, "count",
-            "requests merged into a line already in flight");
-  r.counter(prefix + ".mshr_stall_events", &stats_.mshr_stall_events, "count",
-            "misses that waited for a free MSHR or a way not in flight, or requests for a "
-            "line whose MSHR was full");
-  r.counter(prefix + ".mshr_stall_cycles", &stats_.mshr_stall_cycles, "cycles",
-            "cycles misses waited for an MSHR or a way");
-  r.counter(prefix + ".fills", &stats_.fills, "count", "lines written into the data array");
-  r.counter(prefix + ".evictions", &stats_.evictions, "count", "valid lines replaced");
-  if (cfg_.max_merge > 0)
-    r.counter(prefix + ".merge_full_events", &stats_.merge_full_events, "count",
-              "requests that found their line's MSHR full (max_merge): served by the fill");
-  const CacheStats* s = &stats_;
-  r.formula(
-      prefix + ".hit_rate",
-      [s] { return s->accesses ? double(s->hits) / double(s->accesses) : 0.0; }, "ratio",
-      "hits / accesses");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_, cfg_.max_merge > 0, !banks_.empty());
   if (banks_.empty()) return;
-  r.counter(prefix + ".bank.stall_events", &stats_.bank_stall_events, "count",
-            "lookups that waited for a slot of their bank");
-  r.counter(prefix + ".bank.stall_cycles", &stats_.bank_stall_cycles, "cycles",
-            "cycles lookups waited for a bank slot");
-  r.counter(prefix + ".bank.fill_stall_cycles", &stats_.fill_stall_cycles, "cycles",
-            "cycles fills waited for a bank slot");
+  // By requester type: the types are the netlist's names, known only once it is built.
   for (size_t t = 0; t < type_names_.size(); ++t)
     r.counter(prefix + ".bank.stall_cycles_by." + type_names_[t], &stall_cycles_by_type_[t],
               "cycles", "cycles lookups from " + type_names_[t] + " waited for a bank slot");

@@ -53,6 +53,7 @@
 #include "model/memory/line_source.h"
 #include "model/memory/port_schedule.h"
 #include "model/sim/config_description.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/time.h"
 
@@ -113,11 +114,42 @@ struct CacheStats {
   uint64_t mshr_stall_cycles = 0;
   uint64_t fills = 0;
   uint64_t evictions = 0;
-  uint64_t bank_stall_events = 0;  // lookups that found their bank's slots taken
+  uint64_t bank_stall_events = 0;
   uint64_t bank_stall_cycles = 0;
-  uint64_t fill_stall_cycles = 0;  // fills that waited for a slot of their bank
-  uint64_t merge_full_events = 0;  // requests that found their line's MSHR full (max_merge)
+  uint64_t fill_stall_cycles = 0;
+  uint64_t merge_full_events = 0;
 };
+
+// Every CacheStats field, once (model/sim/stats_description.h); `merge_limited` (max_merge > 0)
+// and `banked` (ports > 0) say which limits the cache models, whose counters it then has.
+template <class V>
+void describe_stats(V& v, const CacheStats& s, bool merge_limited, bool banked) {
+  v.counter("accesses", s.accesses, "count", "line requests received");
+  v.counter("hits", s.hits, "count", "requests finding their line present and delivered");
+  v.counter("misses", s.misses, "count",
+            "requests that allocated a line and asked the level below");
+  v.counter("mshr_merges", s.mshr_merges, "count", "requests merged into a line already in flight");
+  v.counter("mshr_stall_events", s.mshr_stall_events, "count",
+            "misses that waited for a free MSHR or a way not in flight, or requests for a line "
+            "whose MSHR was full");
+  v.counter("mshr_stall_cycles", s.mshr_stall_cycles, "cycles",
+            "cycles misses waited for an MSHR or a way");
+  v.counter("fills", s.fills, "count", "lines written into the data array");
+  v.counter("evictions", s.evictions, "count", "valid lines replaced");
+  if (merge_limited)
+    v.counter("merge_full_events", s.merge_full_events, "count",
+              "requests that found their line's MSHR full (max_merge): served by the fill");
+  v.formula(
+      "hit_rate", [&s] { return s.accesses ? double(s.hits) / double(s.accesses) : 0.0; }, "ratio",
+      "hits / accesses");
+  if (!banked) return;
+  v.counter("bank.stall_events", s.bank_stall_events, "count",
+            "lookups that waited for a slot of their bank");
+  v.counter("bank.stall_cycles", s.bank_stall_cycles, "cycles",
+            "cycles lookups waited for a bank slot");
+  v.counter("bank.fill_stall_cycles", s.fill_stall_cycles, "cycles",
+            "cycles fills waited for a bank slot");
+}
 
 class Cache : public sc_core::sc_object, public LineSource, public FillListener {
  public:
@@ -173,10 +205,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // Bank waits are also counted per requester type; unnamed requesters count as "other".
   void name_requester(const FillListener* requester, const std::string& type);
 
-  // Registers <prefix>.accesses, .hits, .misses, .mshr_merges, .mshr_stall_events,
-  // .mshr_stall_cycles, .fills, .evictions and the formula .hit_rate (hits / accesses); with
-  // banks modelled also .bank.stall_events, .bank.stall_cycles, .bank.stall_cycles_by.<type>,
-  // .bank.fill_stall_cycles.
+  // Registers its statistics (describe_stats) under <prefix>, and with banks modelled the bank
+  // waits by requester type, .bank.stall_cycles_by.<type>.
   void register_stats(StatsRegistry& r, const std::string& prefix) const;
 
   const CacheStats& stats() const { return stats_; }

@@ -35,22 +35,17 @@ void ClientCaches::register_stats(StatsRegistry& r, const sc_core::sc_object& to
 
 void register_cache_totals(StatsRegistry& r, const std::string& prefix,
                            std::vector<const Cache*> caches) {
-  auto sum = [caches](uint64_t CacheStats::*field) {
-    return [caches, field] {
-      uint64_t n = 0;
-      for (const Cache* c : caches) n += c->stats().*field;
-      return double(n);
-    };
-  };
-  for (auto [name, field] :
-       {std::pair{"accesses", &CacheStats::accesses}, std::pair{"hits", &CacheStats::hits},
-        std::pair{"misses", &CacheStats::misses},
-        std::pair{"mshr_merges", &CacheStats::mshr_merges}})
-    r.formula(prefix + "." + name, sum(field), "count", "all of " + prefix + ": " + name);
+  std::vector<const CacheStats*> parts;
+  for (const Cache* c : caches) parts.push_back(&c->stats());
+  register_totals(r, prefix, "all of " + prefix + ": ", parts,
+                  {"accesses", "hits", "misses", "mshr_merges"},
+                  [](auto& v, const CacheStats& s) { describe_stats(v, s, false, false); });
   r.formula(
       prefix + ".hit_rate",
-      [h = sum(&CacheStats::hits), a = sum(&CacheStats::accesses)] {
-        return a() > 0 ? h() / a() : 0.0;
+      [parts] {
+        uint64_t h = 0, a = 0;
+        for (const CacheStats* s : parts) h += s->hits, a += s->accesses;
+        return a > 0 ? double(h) / double(a) : 0.0;
       },
       "ratio", "all of " + prefix + ": hits / accesses");
 }

@@ -78,17 +78,9 @@ void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const
   auto network = [&](const std::string& dir, const CrossbarStats& s,
                      const std::vector<PortSchedule>* a, const std::vector<PortSchedule>* b) {
     const std::string p = prefix + "." + dir;
-    r.counter(p + ".packets", &s.packets, "count", dir + " packets");
-    r.counter(p + ".flits", &s.flits, "count", dir + " flits");
-    r.counter(p + ".queue_cycles", &s.queue_cycles, "cycles",
-              dir + " cycles packets waited for a port, summed");
-    if (cfg_.buffer_flits > 0)
-      r.counter(p + ".held_flits", &s.held_flits, "count",
-                dir + " flits held at their source: the destination's buffer was full");
-    r.formula(
-        p + ".avg_queue_cycles",
-        [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; }, "cycles",
-        "queue_cycles / packets");
+    StatsRegistrar v(r, p);
+    describe_stats(v, s, dir, cfg_.buffer_flits > 0);
+    // The busiest port's share: the ports' schedules', not a counter of the network's.
     r.formula(
         p + ".max_port_utilization",
         [a, b, end, period] {

@@ -27,6 +27,7 @@
 #include "model/memory/line_source.h"
 #include "model/memory/port_schedule.h"
 #include "model/sim/config_description.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/time.h"
 
@@ -65,8 +66,25 @@ struct CrossbarStats {
   uint64_t packets = 0;
   uint64_t flits = 0;
   uint64_t queue_cycles = 0;  // sum over packets of (arrival - arrival on an idle crossbar)
-  uint64_t held_flits = 0;    // flits held at their source by a full destination buffer
+  uint64_t held_flits = 0;
 };
+
+// Every CrossbarStats field of one network (`dir`: request or reply), once
+// (model/sim/stats_description.h); `buffered`: the destination buffers are bounded.
+template <class V>
+void describe_stats(V& v, const CrossbarStats& s, const std::string& dir, bool buffered) {
+  v.counter("packets", s.packets, "count", dir + " packets");
+  v.counter("flits", s.flits, "count", dir + " flits");
+  v.counter("queue_cycles", s.queue_cycles, "cycles",
+            dir + " cycles packets waited for a port, summed");
+  if (buffered)
+    v.counter("held_flits", s.held_flits, "count",
+              dir + " flits held at their source: the destination's buffer was full");
+  v.formula(
+      "avg_queue_cycles",
+      [&s] { return s.packets ? double(s.queue_cycles) / double(s.packets) : 0.0; }, "cycles",
+      "queue_cycles / packets");
+}
 
 class Crossbar : public sc_core::sc_object {
  public:

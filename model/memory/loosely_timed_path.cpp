@@ -31,8 +31,8 @@ void LooselyTimedPath::send(tlm::tlm_generic_payload& p, Tick now, Tick at, cons
     opts.dont_initialize();
     // Named under the process that spawns it (the calendar's)
     sc_core::sc_spawn([this, w] { run(w); },
-                      (name_ + "_lt_call" + std::to_string(threads_)).c_str(), &opts);
-    ++threads_;
+                      (name_ + "_lt_call" + std::to_string(stats_.lt_threads)).c_str(), &opts);
+    ++stats_.lt_threads;
     idle_.push_back(w);
   }
   Worker* w = idle_.back();
@@ -46,7 +46,7 @@ void LooselyTimedPath::run(Worker* w) {
   for (;;) {
     tlm::tlm_generic_payload& p = *w->payload;
     sc_core::sc_time delay = w->delay;
-    ++calls_;
+    ++stats_.lt_calls;
     target_()->b_transport(p, delay);
     if (p.is_response_ok() && p.is_dmi_allowed() && !region_for(p)) ask_dmi(p);
     const Tick done = time_.to_tick(sc_core::sc_time_stamp() + delay);
@@ -75,7 +75,7 @@ bool LooselyTimedPath::through_dmi(tlm::tlm_generic_payload& p, Tick at) {
   else
     std::memcpy(p.get_data_ptr(), mem, n);
   p.set_response_status(tlm::TLM_OK_RESPONSE);
-  ++dmi_accesses_;
+  ++stats_.dmi_accesses;
   const sc_core::sc_time latency = p.is_write() ? d->get_write_latency() : d->get_read_latency();
   answered_(p, at + time_.to_tick(latency));
   return true;
@@ -99,11 +99,8 @@ void LooselyTimedPath::invalidate(uint64_t start, uint64_t end) {
 }
 
 void LooselyTimedPath::register_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".lt_calls", &calls_, "count", "b_transport calls (a loosely-timed memory)");
-  r.counter(prefix + ".dmi_accesses", &dmi_accesses_, "count",
-            "reads and writes through a DMI pointer, timed by the region's latency");
-  r.counter(prefix + ".lt_threads", &threads_, "count",
-            "threads calling b_transport: the most calls in flight at once");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

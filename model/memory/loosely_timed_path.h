@@ -15,7 +15,7 @@
 // pool's size: the most calls ever in flight at once).
 #pragma once
 
-#include "model/sim/stats_registry.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/systemc_time.h"
 #include "model/sim/time.h"
 
@@ -29,6 +29,20 @@
 #include <vector>
 
 namespace rtsim::model {
+
+struct LooselyTimedStats {
+  uint64_t lt_calls = 0, dmi_accesses = 0, lt_threads = 0;
+};
+
+// Every LooselyTimedStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const LooselyTimedStats& s) {
+  v.counter("lt_calls", s.lt_calls, "count", "b_transport calls (a loosely-timed memory)");
+  v.counter("dmi_accesses", s.dmi_accesses, "count",
+            "reads and writes through a DMI pointer, timed by the region's latency");
+  v.counter("lt_threads", s.lt_threads, "count",
+            "threads calling b_transport: the most calls in flight at once");
+}
 
 class LooselyTimedPath {
  public:
@@ -62,7 +76,7 @@ class LooselyTimedPath {
   std::vector<Worker*> idle_;
   std::vector<tlm::tlm_dmi> regions_;
   TimeBase time_;  // the kernel's resolution (the port's, given with every request)
-  uint64_t calls_ = 0, dmi_accesses_ = 0, threads_ = 0;
+  LooselyTimedStats stats_;
 };
 
 }  // namespace rtsim::model

@@ -6,6 +6,19 @@
 
 namespace rtsim::model {
 
+struct WriterStats {
+  uint64_t max_in_flight = 0, full_events = 0;
+};
+
+// Every WriterStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const WriterStats& s) {
+  v.counter("max_in_flight", s.max_in_flight, "lines",
+            "most writes in flight at once (bounded: write_buffer)");
+  v.counter("full_events", s.full_events, "count",
+            "times a full buffer freed an entry (the writer had to wait)");
+}
+
 // A writer's way to the frame buffer: its own source port on the crossbar, and a
 // posted-write buffer of `entries` writes in flight (0: unbounded), each freed by its
 // acknowledgement from memory.
@@ -41,23 +54,18 @@ class MemoryInterconnect::Writer : public sc_core::sc_object,
   }
   void register_stats(StatsRegistry& r, const std::string& prefix) const {
     if (entries_ == 0) return;
-    r.counter(prefix + ".max_in_flight", &stats_.max_in_flight, "lines",
-              "most writes in flight at once (bounded: write_buffer)");
-    r.counter(prefix + ".full_events", &stats_.full_events, "count",
-              "times a full buffer freed an entry (the writer had to wait)");
+    StatsRegistrar v(r, prefix);
+    describe_stats(v, stats_);
   }
 
  private:
-  struct Stats {
-    uint64_t max_in_flight = 0, full_events = 0;
-  };
   MemoryInterconnect& m_;
   uint32_t source_;
   std::string initiator_;
   uint32_t entries_;
   uint32_t in_flight_ = 0;
   std::function<void(Tick)> room_;
-  Stats stats_;
+  WriterStats stats_;
 };
 
 MemoryInterconnect::MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link,

@@ -279,17 +279,9 @@ void MemoryPort::trace(const Transaction& t, Tick done) {
 }
 
 void MemoryPort::register_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".reads", &stats_.reads, "count", "line reads sent to memory");
-  r.counter(prefix + ".writes", &stats_.writes, "count", "line writes sent to memory");
-  r.counter(prefix + ".refused", &stats_.refused, "count",
-            "requests held back until the memory took the previous one");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
   if (lt_) lt_->register_stats(r, prefix);
-  r.counter(prefix + ".latency_cycles", &stats_.latency_cycles, "cycles",
-            "sum over reads of request-to-response cycles");
-  r.formula(
-      prefix + ".avg_latency_cycles",
-      [this] { return stats_.reads ? double(stats_.latency_cycles) / double(stats_.reads) : 0.0; },
-      "cycles", "mean read latency at the memory boundary");
 }
 
 }  // namespace rtsim::model

@@ -38,6 +38,7 @@
 #include "model/memory/line_source.h"
 #include "model/memory/loosely_timed_path.h"
 #include "model/sim/calendar.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/time.h"
 #include "model/sim/trace_request.h"
@@ -59,9 +60,24 @@ namespace rtsim::model {
 
 struct MemoryPortStats {
   uint64_t reads = 0, writes = 0, refused = 0;
-  uint64_t responses = 0;  // reads delivered and writes completed
+  uint64_t responses = 0;  // reads delivered and writes completed (progress; not reported)
   uint64_t latency_cycles = 0;
 };
+
+// Every reported MemoryPortStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const MemoryPortStats& s) {
+  v.counter("reads", s.reads, "count", "line reads sent to memory");
+  v.counter("writes", s.writes, "count", "line writes sent to memory");
+  v.counter("refused", s.refused, "count",
+            "requests held back until the memory took the previous one");
+  v.counter("latency_cycles", s.latency_cycles, "cycles",
+            "sum over reads of request-to-response cycles");
+  v.formula(
+      "avg_latency_cycles",
+      [&s] { return s.reads ? double(s.latency_cycles) / double(s.reads) : 0.0; }, "cycles",
+      "mean read latency at the memory boundary");
+}
 
 class MemoryPort : public sc_core::sc_module,
                    public LineSource,

@@ -70,6 +70,13 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
   interconnect_->register_stats(r, "memory", end);
 }
 
+std::vector<const Cache*> MemorySystem::shared_l2s() const {
+  std::vector<const Cache*> l2s;
+  for (const auto& g : shared_)
+    if (g) l2s.push_back(&g->l2);
+  return l2s;
+}
+
 void MemorySystem::invalidate() {
   for (auto& g : shared_)
     if (g) g->l2.invalidate();

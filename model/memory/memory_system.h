@@ -62,6 +62,8 @@ class MemorySystem {
   const MemorySystemConfig& config() const { return cfg_; }
 
   MemoryInterconnect& interconnect() { return *interconnect_; }
+  // The shared L2s, in the configuration's order.
+  std::vector<const Cache*> shared_l2s() const;
   // Empties the shared L2s (Cache::invalidate); the clients empty their own caches.
   void invalidate();
   // Registers every shared L2 and crossbar and the interconnect under its name relative to `top`;

@@ -197,9 +197,8 @@ void TlmChecker::invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 en
 }
 
 void TlmChecker::register_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".transactions", &stats_.transactions, "count",
-            "transactions checked (BEGIN_REQs and b_transport calls)");
-  r.counter(prefix + ".phases", &stats_.phases, "count", "phase transitions checked");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

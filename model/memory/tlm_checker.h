@@ -20,6 +20,7 @@
 // address and the phases.
 #pragma once
 
+#include "model/sim/stats_description.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/systemc_time.h"
 #include "model/sim/time.h"
@@ -36,9 +37,17 @@
 namespace rtsim::model {
 
 struct TlmCheckerStats {
-  uint64_t transactions = 0;  // BEGIN_REQs and b_transport calls seen
-  uint64_t phases = 0;        // phase transitions checked
+  uint64_t transactions = 0;
+  uint64_t phases = 0;
 };
+
+// Every TlmCheckerStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const TlmCheckerStats& s) {
+  v.counter("transactions", s.transactions, "count",
+            "transactions checked (BEGIN_REQs and b_transport calls)");
+  v.counter("phases", s.phases, "count", "phase transitions checked");
+}
 
 class TlmChecker : public sc_core::sc_module {
  public:

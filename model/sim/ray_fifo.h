@@ -13,6 +13,7 @@
 #pragma once
 
 #include "model/sim/ring.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/unit.h"
 
 #include <systemc>
@@ -64,9 +65,20 @@ using RayDeal = ProducerPort<RayQueueIn, 0>;
 struct FifoStats {
   uint64_t pushes = 0;
   uint64_t max_occupancy = 0;
-  uint64_t full_events = 0;   // pushes refused because the FIFO was full
+  uint64_t full_events = 0;
   uint64_t occupancy_ps = 0;  // integral of occupancy over time (entries x ps)
 };
+
+// Every FifoStats field, once (model/sim/stats_description.h); `end` closes the mean's window.
+template <class V>
+void describe_stats(V& v, const FifoStats& s, const Tick* end) {
+  v.counter("pushes", s.pushes, "count", "rays pushed");
+  v.counter("max_occupancy", s.max_occupancy, "rays", "largest occupancy");
+  v.counter("full_events", s.full_events, "count", "pushes refused while full");
+  v.formula(
+      "mean_occupancy", [&s, end] { return *end ? double(s.occupancy_ps) / double(*end) : 0.0; },
+      "rays", "time-weighted mean occupancy");
+}
 
 class RayFifo : public sc_core::sc_object, public RayQueueIn {
  public:

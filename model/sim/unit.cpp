@@ -18,11 +18,8 @@ void Unit::finish_accounting(Tick end) {
 }
 
 void Unit::register_unit_stats(StatsRegistry& r, const std::string& prefix) const {
-  r.counter(prefix + ".busy_cycles", &stats_.busy_cycles, "cycles",
-            "cycles in which an operation issued");
-  r.counter(prefix + ".stalled_cycles", &stats_.stalled_cycles, "cycles",
-            "cycles holding work that could not issue");
-  r.counter(prefix + ".idle_cycles", &stats_.idle_cycles, "cycles", "cycles without work");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

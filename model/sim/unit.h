@@ -7,6 +7,7 @@
 #pragma once
 
 #include "model/sim/calendar.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/time.h"
 
@@ -22,6 +23,15 @@ struct UnitStats {
   uint64_t stalled_cycles = 0;
   uint64_t idle_cycles = 0;
 };
+
+// Every UnitStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const UnitStats& s) {
+  v.counter("busy_cycles", s.busy_cycles, "cycles", "cycles in which an operation issued");
+  v.counter("stalled_cycles", s.stalled_cycles, "cycles",
+            "cycles holding work that could not issue");
+  v.counter("idle_cycles", s.idle_cycles, "cycles", "cycles without work");
+}
 
 // The calendar's side first: it calls activate() without adjusting `this` (no thunk, and profiles
 // see the activation's lines).

@@ -54,8 +54,8 @@ void IstUnit::process(uint32_t id, Tick now) {
 
 void IstUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".tests", &stats_.tests, "count", "ray-triangle tests");
-  r.counter(prefix + ".hits", &stats_.hits, "count", "tests that hit inside the leaf's window");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

@@ -7,6 +7,8 @@
 // Ports: `back` (RayReturn: to the ray's TRV unit), `to_shading`, `lvb` (the LVB updater).
 #pragma once
 
+#include "model/sim/stats_description.h"
+
 #include "model/memory/cache.h"
 #include "model/units/ray_ports.h"
 #include "model/units/ray_unit.h"
@@ -17,6 +19,13 @@ struct IstStats {
   uint64_t tests = 0;
   uint64_t hits = 0;
 };
+
+// Every IstStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const IstStats& s) {
+  v.counter("tests", s.tests, "count", "ray-triangle tests");
+  v.counter("hits", s.hits, "count", "tests that hit inside the leaf's window");
+}
 
 class IstUnit : public RayUnit {
  public:

@@ -54,9 +54,8 @@ void ListUnit::process(uint32_t id, Tick now) {
 
 void ListUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".leaves", &stats_.leaves, "count", "leaf records fetched");
-  r.counter(prefix + ".list_lines", &stats_.list_lines, "count", "primitive-list lines fetched");
-  r.counter(prefix + ".prims", &stats_.prims, "count", "primitive ids read");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

@@ -3,6 +3,8 @@
 // triangle ids to IST through `to_ist`.
 #pragma once
 
+#include "model/sim/stats_description.h"
+
 #include "model/memory/cache.h"
 #include "model/units/ray_unit.h"
 
@@ -13,6 +15,14 @@ struct ListStats {
   uint64_t list_lines = 0;
   uint64_t prims = 0;
 };
+
+// Every ListStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const ListStats& s) {
+  v.counter("leaves", s.leaves, "count", "leaf records fetched");
+  v.counter("list_lines", s.list_lines, "count", "primitive-list lines fetched");
+  v.counter("prims", s.prims, "count", "primitive ids read");
+}
 
 class ListUnit : public RayUnit {
  public:

@@ -103,15 +103,8 @@ void ShadingUnit::retire(uint32_t id, RayType type, Tick when) {
 
 void ShadingUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".primary_rays", &stats_.primary_rays, "count", "primary rays shaded");
-  r.counter(prefix + ".primary_hits", &stats_.primary_hits, "count", "primary rays that hit");
-  r.counter(prefix + ".reflection_rays", &stats_.reflection_rays, "count",
-            "reflection rays shaded");
-  r.counter(prefix + ".reflection_hits", &stats_.reflection_hits, "count",
-            "reflection rays that hit");
-  r.counter(prefix + ".shadow_rays", &stats_.shadow_rays, "count", "shadow rays finished");
-  r.counter(prefix + ".shadow_occluded", &stats_.shadow_occluded, "count",
-            "shadow rays that were blocked");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

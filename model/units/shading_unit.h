@@ -11,6 +11,8 @@
 // (an in-order pipeline: the rays behind the hit wait too) until memory acknowledges a write.
 #pragma once
 
+#include "model/sim/stats_description.h"
+
 #include "model/memory/cache.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
@@ -26,6 +28,17 @@ struct ShadingStats {
   uint64_t reflection_rays = 0, reflection_hits = 0;
   uint64_t shadow_rays = 0, shadow_occluded = 0;
 };
+
+// Every ShadingStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const ShadingStats& s) {
+  v.counter("primary_rays", s.primary_rays, "count", "primary rays shaded");
+  v.counter("primary_hits", s.primary_hits, "count", "primary rays that hit");
+  v.counter("reflection_rays", s.reflection_rays, "count", "reflection rays shaded");
+  v.counter("reflection_hits", s.reflection_hits, "count", "reflection rays that hit");
+  v.counter("shadow_rays", s.shadow_rays, "count", "shadow rays finished");
+  v.counter("shadow_occluded", s.shadow_occluded, "count", "shadow rays that were blocked");
+}
 
 class ShadingUnit : public RayUnit {
  public:

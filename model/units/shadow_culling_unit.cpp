@@ -227,7 +227,7 @@ bool ShadowCullingUnit::request_records(Tick now) {
   bool any = false;
   for (uint32_t k = 0; k < rate_ && can_request(); ++k) {
     const uint32_t entry = uint32_t(requested_++);  // a record slot
-    ++record_reads_;
+    ++stats_.record_reads;
     const Tick t = reader_->fetch_line(region_.slot_address(entry), now, this, uint64_t(entry) + 1);
     arrival_[entry % prefetch_] = t;
     if (t != kUnknown)
@@ -245,7 +245,7 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
     if (!record_open_) {  // a new record: it takes one of this cycle's slots
       if (taken == rate_) break;
       ++taken;
-      ++records_taken_;
+      ++stats_.records_taken;
       record_open_ = true;
       if (from_memory()) {
         record_ = prefetched_[entry_ % prefetch_];
@@ -294,10 +294,8 @@ uint64_t ShadowCullingUnit::generated() const { return generated_; }
 
 void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& prefix) {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".records_taken", &records_taken_, "count",
-            "hit records taken (limited rate only)");
-  r.counter(prefix + ".record_reads", &record_reads_, "count",
-            "hit-record lines read from the frame buffer");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
   registry_ = &r;
   prefix_ = prefix;
   register_lights();
@@ -307,13 +305,8 @@ void ShadowCullingUnit::register_lights() {
   if (!registry_) return;
   for (; registered_lights_ < light_stats_.size(); ++registered_lights_) {
     const size_t i = registered_lights_;
-    const std::string p = prefix_ + ".light" + std::to_string(i);
-    registry_->counter(p + ".decisions", &light_stats_[i].decisions, "count",
-                       "shadow rays decided (a hit's samples of the light)");
-    registry_->counter(p + ".generated", &light_stats_[i].generated, "count",
-                       "shadow rays emitted");
-    registry_->counter(p + ".culled", &light_stats_[i].culled, "count",
-                       "shadow rays culled by the LVB");
+    StatsRegistrar v(*registry_, prefix_ + ".light" + std::to_string(i));
+    describe_stats(v, light_stats_[i]);
   }
 }
 

@@ -21,6 +21,7 @@
 #include "model/memory/cache.h"
 #include "model/memory/client_caches.h"
 #include "model/sim/ray_fifo.h"
+#include "model/sim/stats_description.h"
 #include "model/sim/unit.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
@@ -33,11 +34,31 @@
 namespace rtsim::model {
 
 struct LightStats {
-  // Shadow rays decided: per hit, the light's samples (1 for a point light)
   uint64_t decisions = 0;
-  uint64_t generated = 0;  // shadow rays emitted
-  uint64_t culled = 0;     // shadow rays culled by the LVB
+  uint64_t generated = 0;
+  uint64_t culled = 0;
 };
+
+// Every LightStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const LightStats& s) {
+  v.counter("decisions", s.decisions, "count",
+            "shadow rays decided (a hit's samples of the light)");
+  v.counter("generated", s.generated, "count", "shadow rays emitted");
+  v.counter("culled", s.culled, "count", "shadow rays culled by the LVB");
+}
+
+// The unit's own figures besides its cycles and its lights'.
+struct CullingStats {
+  uint64_t records_taken = 0, record_reads = 0;
+};
+
+// Every CullingStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const CullingStats& s) {
+  v.counter("records_taken", s.records_taken, "count", "hit records taken (limited rate only)");
+  v.counter("record_reads", s.record_reads, "count", "hit-record lines read from the frame buffer");
+}
 
 // The L1 the unit reads the light records through.
 enum class CullingL1 {
@@ -176,7 +197,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   size_t requested_ = 0;       // the next entry whose record is to be read
   std::vector<Tick> arrival_;  // per entry in the window (entry % prefetch): when its record is in
   std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came
-  uint64_t record_reads_ = 0, records_taken_ = 0;
+  CullingStats stats_;
 };
 
 }  // namespace rtsim::model

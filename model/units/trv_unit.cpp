@@ -70,10 +70,8 @@ void TrvUnit::process(uint32_t id, Tick now) {
 
 void TrvUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {
   register_unit_stats(r, prefix);
-  r.counter(prefix + ".node_fetches", &stats_.node_fetches, "count", "kd-tree nodes fetched");
-  r.counter(prefix + ".rays_started", &stats_.rays_started, "count",
-            "rays that began traversal here");
-  r.counter(prefix + ".rays_done", &stats_.rays_done, "count", "rays whose traversal ended here");
+  StatsRegistrar v(r, prefix);
+  describe_stats(v, stats_);
 }
 
 }  // namespace rtsim::model

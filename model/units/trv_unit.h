@@ -9,6 +9,8 @@
 // export `owner` (RayOwner: rays coming back, slots freeing).
 #pragma once
 
+#include "model/sim/stats_description.h"
+
 #include "model/memory/cache.h"
 #include "model/units/ray_ports.h"
 #include "model/units/ray_unit.h"
@@ -20,6 +22,14 @@ struct TrvStats {
   uint64_t rays_started = 0;
   uint64_t rays_done = 0;
 };
+
+// Every TrvStats field, once (model/sim/stats_description.h).
+template <class V>
+void describe_stats(V& v, const TrvStats& s) {
+  v.counter("node_fetches", s.node_fetches, "count", "kd-tree nodes fetched");
+  v.counter("rays_started", s.rays_started, "count", "rays that began traversal here");
+  v.counter("rays_done", s.rays_done, "count", "rays whose traversal ended here");
+}
 
 class TrvUnit : public RayUnit, public RayOwner {
  public:

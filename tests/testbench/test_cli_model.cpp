@@ -175,6 +175,10 @@ TEST(Cli, ObserversDoNotChangeSimulatedFigures) {
   EXPECT_NE(vcd.find("$scope module in $end"), std::string::npos);
   EXPECT_NE(vcd.find(" occupancy ["), std::string::npos);
   EXPECT_NE(vcd.find(" busy "), std::string::npos);
+  // Counters by their statistics' description: the shared L2s' and the memory port's.
+  EXPECT_NE(vcd.find("$scope module l2 $end"), std::string::npos);
+  EXPECT_NE(vcd.find(" misses ["), std::string::npos);
+  EXPECT_NE(vcd.find(" latency_cycles ["), std::string::npos);
   // Samples half a cycle after each edge of the window, none outside it (the final time stamp
   // aside).
   EXPECT_NE(vcd.find("\n#500500\n"), std::string::npos);
