@@ -34,7 +34,8 @@ DramController::DramController(const DramConfig& config)
       mapping_(config_.address_mapping, config_.channels),
       scheduler_(make_dram_scheduler(config_)),
       row_policy_(make_dram_row_policy(config_)),
-      refresh_(make_dram_refresh(config_)) {
+      refresh_(make_dram_refresh(config_)),
+      refreshing_(config_.refresh != Refresh::kNone) {
   add_rules();
   channels_.resize(config_.channels);
   for (Channel& ch : channels_) {
@@ -106,7 +107,7 @@ void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   ++(write ? stats_.write_requests : stats_.requests);
   Channel& ch = channels_[a.channel];
   if (!has_room(ch)) throw std::logic_error("DramController: a request to a full channel");
-  if (ch.queue.empty()) catch_up_refresh(a.channel, r.arrival_cycle);
+  if (refreshing_ && ch.queue.empty()) catch_up_refresh(a.channel, r.arrival_cycle);
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
     ch.next_cycle = choose(ch).cycle;

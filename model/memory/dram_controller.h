@@ -175,8 +175,12 @@ class DramController {
            ch.overflow.size() < config_.input_queue;
   }
   void add_rules();
-  // The policies' pick at the earliest cycle with a legal command.
-  Choice choose(const Channel& ch) { return refresh_->arbitrate(ch, scheduler_->choose(ch)); }
+  // The policies' pick at the earliest cycle with a legal command. Without refresh the refresh
+  // policy would return the pick unchanged: the call is skipped (host time).
+  Choice choose(const Channel& ch) {
+    const Choice pick = scheduler_->choose(ch);
+    return refreshing_ ? refresh_->arbitrate(ch, pick) : pick;
+  }
   void catch_up_refresh(uint32_t channel_index, uint64_t until);
   void issue(uint32_t channel_index, const Choice& c);
   void issue_refresh(uint32_t channel_index, const Choice& c);
@@ -196,6 +200,7 @@ class DramController {
   std::unique_ptr<DramScheduler> scheduler_;
   std::unique_ptr<DramRowPolicy> row_policy_;
   std::unique_ptr<DramRefreshPolicy> refresh_;
+  bool refreshing_;
   std::vector<Channel> channels_;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;
   Tick now_ = 0;  // latest advance()

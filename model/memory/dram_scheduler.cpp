@@ -23,16 +23,19 @@ class QueueScheduler final : public DramScheduler {
       if (r.bursts_issued > 0) owner = i;
     }
 
+    const bool owned = owner != ch.queue.size();
     DramChoice best;
     for (size_t i = 0; i < ch.queue.size(); ++i) {
       const DramRequest& r = ch.queue[i];
       const DramBank& b = ch.banks[r.bank];
       DramCommand cmd;
       if (b.open && b.row == r.row) {
-        if (owner != ch.queue.size() && owner != i) continue;  // the column commands are taken
+        if (owned && owner != i) continue;  // the column commands are taken
         cmd = r.write ? DramCommand::kWrite : DramCommand::kRead;
       } else if (b.open) {
-        if (kFirstReady && hit_pending_[r.bank]) continue;  // keep the row open for its hits
+        // FR-FCFS keeps the row open for its queued hits; both keep it for a started request.
+        if (kFirstReady ? hit_pending_[r.bank] != 0 : owned && r.bank == ch.queue[owner].bank)
+          continue;
         cmd = DramCommand::kPrecharge;
       } else {
         cmd = DramCommand::kActivate;

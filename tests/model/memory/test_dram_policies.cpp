@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <string>
 #include <vector>
 
 namespace rtsim::model {
@@ -234,6 +236,88 @@ TEST(DramPolicies, OneBankGroupKeepsTheOldTimings) {
   e.enqueue(4 * kBank1, 0, 2);
   drain(e);
   EXPECT_EQ(times_of(trace, Cmd::kActivate), (std::vector<Tick>{0, 8 * kTck}));
+}
+
+// Checks a command trace against the rules it must keep: column commands only to the open row,
+// ACT only to a closed bank, REF only with every bank closed and no ACT within tRFC after it, ACTs
+// of a bank tRC apart, column commands of a bank group tCCD_L apart.
+void expect_legal(Trace trace, const DramConfig& c) {
+  std::stable_sort(trace.begin(), trace.end(),
+                   [](const auto& a, const auto& b) { return a.time < b.time; });
+  const Tick tck = c.tCK_ps;
+  const Tick ccd = (c.bank_groups > 1 ? c.ccd_same_group() : c.tCCD) * tck;
+  for (uint32_t ch = 0; ch < c.channels; ++ch) {
+    std::vector<bool> open(c.banks, false);
+    std::vector<uint64_t> row(c.banks, 0);
+    std::vector<Tick> act(c.banks, kUnknown), col(c.bank_groups, kUnknown);
+    Tick ref = kUnknown;
+    for (const auto& r : trace) {
+      if (r.channel != ch) continue;
+      const uint32_t g = c.bank_group(r.bank);
+      switch (r.command) {
+        case Cmd::kActivate:
+          EXPECT_FALSE(open[r.bank]) << r.time;
+          EXPECT_TRUE(act[r.bank] == kUnknown || r.time >= act[r.bank] + c.tRC * tck) << r.time;
+          EXPECT_TRUE(ref == kUnknown || r.time >= ref + c.tRFC * tck) << r.time;
+          open[r.bank] = true;
+          row[r.bank] = r.row;
+          act[r.bank] = r.time;
+          break;
+        case Cmd::kPrecharge:
+          EXPECT_TRUE(open[r.bank]) << r.time;
+          open[r.bank] = false;
+          break;
+        case Cmd::kRefresh:
+          for (uint32_t b = 0; b < c.banks; ++b) EXPECT_FALSE(open[b]) << r.time;
+          ref = r.time;
+          break;
+        default:
+          EXPECT_TRUE(open[r.bank] && row[r.bank] == r.row) << r.time;
+          EXPECT_TRUE(col[g] == kUnknown || r.time >= col[g] + ccd) << r.time;
+          col[g] = r.time;
+      }
+    }
+  }
+}
+
+// Every combination of the policies, with and without bank groups, on a mix of reads and writes
+// to few rows of two channels: every request completes and every command is legal.
+TEST(DramPolicies, EveryCombinationServesEveryRequestLegally) {
+  for (Scheduler s : {Scheduler::kFrFcfs, Scheduler::kFcfs})
+    for (RowPolicy p : {RowPolicy::kOpenPage, RowPolicy::kClosedPage})
+      for (Refresh f : {Refresh::kNone, Refresh::kAllBank})
+        for (uint32_t groups : {1u, 4u}) {
+          SCOPED_TRACE("scheduler " + std::to_string(int(s)) + ", row policy " +
+                       std::to_string(int(p)) + ", refresh " + std::to_string(int(f)) +
+                       ", groups " + std::to_string(groups));
+          DramConfig c = refreshing(150, 25);
+          c.scheduler = s;
+          c.row_policy = p;
+          c.refresh = f;
+          c.bank_groups = groups;
+          c.tCCD_L = 4;
+          c.tRRD_L = 10;
+          c.request_bytes = 64;
+          DramController e(c);
+          Trace trace;
+          e.set_command_trace(&trace);
+          std::vector<DramController::Completion> done;
+          uint64_t x = 12345;
+          for (uint64_t id = 0; id < 400; ++id) {
+            x = x * 6364136223846793005u + 1442695040888963407u;  // an LCG: the same mix each time
+            const uint64_t addr = ((x >> 20) % 4) * kRow1 + ((x >> 30) % 8) * kBank1 +
+                                  ((x >> 40) % 2) * kChan1 + ((x >> 50) % 4) * 2 * kCol1;
+            const Tick now = id * 7 * kTck;
+            if (e.accepts(addr)) e.enqueue(addr, now, id, (x >> 60) % 4 == 0);
+            e.advance(now, done);
+          }
+          const auto rest = drain(e);
+          const DramStats& st = e.stats();
+          EXPECT_EQ(done.size() + rest.size(), st.requests + st.write_requests);
+          EXPECT_EQ(st.reads + st.writes, st.requests + st.write_requests);
+          EXPECT_EQ(f == Refresh::kNone, st.refreshes == 0u);
+          expect_legal(trace, c);
+        }
 }
 
 }  // namespace
