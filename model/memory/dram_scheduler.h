@@ -9,7 +9,8 @@
 //    request (arrival time, then order of enqueue). A PRE is not proposed while a queued request
 //    still hits the open row, so first-ready hits are not closed under their feet.
 //  - FCFS: the oldest request first, hit or not, and a conflict's PRE is proposed even while
-//    younger requests hit the open row (an older conflict is served before a younger hit).
+//    younger requests hit the open row (an older conflict is served before a younger hit), but
+//    not for the bank of a request between its bursts.
 #pragma once
 
 #include "model/memory/dram_channel.h"

@@ -229,27 +229,33 @@ uint64_t lowest(const DramConfig& c, AddressMapping::Field f) {
   return uint64_t(1) << bit;
 }
 
-// Closed bank tRCD + CL + BL/2, hit CL + BL/2, conflict tRP more (as for GT200): GDDR5 12 + 12 + 2
-// = 26, 14, 38 cycles of 1 ns; GDDR6 26 + 24 + 2 = 52, 26, 78 cycles of 570 ps.
-TEST(DramController, Gddr5AndGddr6IdleLatencies) {
-  const std::vector<std::pair<const char*, std::vector<Tick>>> cases{
-      {"gddr5-4gbps", {26 * kNs, 14 * kNs, 38 * kNs}}, {"gddr6-14gbps", {29640, 14820, 44460}}};
-  for (const auto& [name, expect] : cases) {
-    const DramConfig c = dram_preset(name);
-    DramController e(c);
-    std::vector<DramController::Completion> done;
-    const std::vector<uint64_t> addrs{0, lowest(c, AddressMapping::kColumn),
-                                      lowest(c, AddressMapping::kRow)};
-    std::vector<Tick> latency;
-    const Tick gap = 200 * Tick(c.tCK_ps);  // on a clock edge
-    for (uint64_t i = 0; i < 3; ++i) {
-      e.enqueue(addrs[i], i * gap, i);
-      e.advance((i + 1) * gap, done);
-      latency.push_back(ready_of(done, i) - i * gap);
-    }
-    EXPECT_EQ(latency, expect) << name;
-    EXPECT_EQ(e.stats().row_conflicts, 1u) << name;
+// A closed bank, a row hit and a conflict, 200 cycles apart on an idle engine (reads, or writes).
+std::vector<Tick> idle_latencies_of(const DramConfig& c, bool write) {
+  DramController e(c);
+  std::vector<DramController::Completion> done;
+  const std::vector<uint64_t> addrs{0, lowest(c, AddressMapping::kColumn),
+                                    lowest(c, AddressMapping::kRow)};
+  std::vector<Tick> latency;
+  const Tick gap = 200 * Tick(c.tCK_ps);  // on a clock edge
+  for (uint64_t i = 0; i < 3; ++i) {
+    e.enqueue(addrs[i], i * gap, i, write);
+    e.advance((i + 1) * gap, done);
+    latency.push_back(ready_of(done, i) - i * gap);
   }
+  EXPECT_EQ(e.stats().row_conflicts, 1u);
+  return latency;
+}
+
+// As for GT200: a read to a closed bank takes tRCD + CL + BL/2, a hit CL + BL/2, a conflict tRP
+// more than a closed bank; a write WL + BL/2, plus tRCD - (WL + 1), plus tRP. GDDR5 (1 ns): reads
+// 12 + 12 + 2 = 26, 14, 38; writes 4 + 2 = 6, 6 + 7 = 13, 25. GDDR6 (570 ps cycles): reads
+// 26 + 24 + 2 = 52, 26, 78; writes 6 + 2 = 8, 8 + 19 = 27, 53.
+TEST(DramController, Gddr5AndGddr6IdleLatencies) {
+  const DramConfig g5 = dram_preset("gddr5-4gbps"), g6 = dram_preset("gddr6-14gbps");
+  EXPECT_EQ(idle_latencies_of(g5, false), (std::vector<Tick>{26 * kNs, 14 * kNs, 38 * kNs}));
+  EXPECT_EQ(idle_latencies_of(g5, true), (std::vector<Tick>{13 * kNs, 6 * kNs, 25 * kNs}));
+  EXPECT_EQ(idle_latencies_of(g6, false), (std::vector<Tick>{52 * 570, 26 * 570, 78 * 570}));
+  EXPECT_EQ(idle_latencies_of(g6, true), (std::vector<Tick>{27 * 570, 8 * 570, 53 * 570}));
 }
 
 TEST(DramConfig, PolicyFieldsValidateNamingTheKey) {
