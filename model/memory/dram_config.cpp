@@ -112,6 +112,93 @@ DramConfig gddr3_gt200_1ghz_cycles() {
   return c;
 }
 
+// GDDR5 at 4 Gb/s per pin: SK hynix H5GQ1H24AFR (1 Gb, x32) at its 4 Gbps grade, a 1 GHz command
+// clock. Its cycle counts as GPGPU-Sim's GTX480 file quotes them ("GDDR5 timing from hynix
+// H5GQ1H24AFR", configs/tested-cfgs/SM2_GTX480/gpgpusim.config; run there at 924 MHz) and as
+// Ramulator's GDDR5_4000 speed bin lists them at tCK 1 ns (src/GDDR5.h); both agree wherever both
+// give a value (docs/dram.md, "Presets", has the table). One x32 chip per channel, as in
+// GPGPU-Sim's TITAN files: BL 8 on 4 bytes = 32-byte bursts; 8 channels = a 256-bit bus, 128 GB/s
+// (the default preset's peak). The controller (queues, request size) is GT200's, so that the
+// presets differ only in the device. Neither source refreshes GDDR5 (GPGPU-Sim models no refresh,
+// Ramulator's nREFI is 0).
+DramConfig gddr5_4gbps() {
+  DramConfig c = gddr3_gt200();
+  c.preset = "gddr5-4gbps";
+  c.banks = 16;           // nbk=16
+  c.bank_groups = 4;      // nbkgrp=4
+  c.tCK_ps = 1000;        // Ramulator tCK 1.0 ns (4 Gbps / 4 beats per clock)
+  c.tCCD = 2;             // CCD=2, nCCDS 2
+  c.tCCD_L = 3;           // CCDL=3, nCCDL 3
+  c.tRRD = 6;             // RRD=6, nRRD 6 (no separate same-group value in either source)
+  c.tRCD = 12;            // RCD=12, nRCDR 12
+  c.tRAS = 28;            // RAS=28, nRAS 28
+  c.tRP = 12;             // RP=12, nRP 12
+  c.tRC = 40;             // RC=40, nRC 40
+  c.CL = 12;              // CL=12, nCL 12
+  c.WL = 4;               // WL=4 (Ramulator: nCWL 3)
+  c.tCDLR = 5;            // CDLR=5, nWTR 5
+  c.tWR = 12;             // WR=12, nWR 12
+  c.tRTP = 2;             // RTPL=2, nRTP 2
+  c.burst_length = 8;     // -gpgpu_dram_burst_length 8
+  c.beats_per_clock = 4;  // -dram_data_command_freq_ratio 4 ("GDDR5 is QDR")
+  c.bus_bytes = 4;        // -gpgpu_dram_buswidth 4, one chip per channel (SM6_TITANX)
+  c.address_mapping = kGddr16BankAddressMapping;
+  return c;
+}
+
+// GDDR6 at 14 Gb/s per pin (8 Gb, two x16 channels per chip). Timings: Ramulator 2.0's GDDR6
+// table (src/dram/impl/GDDR6.cpp, row GDDR6_2000_1350mV_double) in its cycles of tCK 570 ps
+// (CK 1.75 GHz: Micron's MT61K256M32 brief, "Clocking": data rate = 8 x CK). Organisation:
+// Micron's brief, "Addressing": 16 banks (BA[3:0]) in 4 groups, 2 KB page = 64 bursts of 32
+// bytes (x16, BL 16), refresh 16k per 32 ms. 16 channels = 8 chips = a 256-bit bus, 449 GB/s.
+DramConfig gddr6_14gbps() {
+  DramConfig c = gddr5_4gbps();
+  c.preset = "gddr6-14gbps";
+  c.channels = 16;
+  c.tCK_ps = 570;         // tCK_ps 570
+  c.tCCD = 4;             // nCCDS 4
+  c.tCCD_L = 6;           // nCCDL 6
+  c.tRRD = 7;             // nRRDS 7
+  c.tRRD_L = 7;           // nRRDL 7
+  c.tRCD = 26;            // nRCDRD 26
+  c.tRAS = 53;            // nRAS 53
+  c.tRP = 26;             // nRP 26
+  c.tRC = 79;             // nRC 79
+  c.CL = 24;              // nCL 24
+  c.WL = 6;               // nCWL 6
+  c.tCDLR = 9;            // nWTRS 9: WR -> RD = nCWL + nBL + nWTRS, GPGPU-Sim's form
+  c.tWR = 26;             // nWR 26
+  c.tRTP = 4;             // nRTP 4
+  c.burst_length = 16;    // BL 16 (256-bit prefetch per x16 channel)
+  c.beats_per_clock = 8;  // data rate = 8 x CK
+  c.bus_bytes = 2;        // x16 channel
+  c.refresh = Refresh::kAllBank;
+  c.tREFI = 3333;  // nREFI 3333 = 1.9 us (16k refreshes per 32 ms: 1.95 us)
+  c.tRFC = 210;    // nRFC 210 = 120 ns
+  return c;
+}
+
+// Bank groups and refresh: what their fields must satisfy together.
+void validate_policies(const DramConfig& c) {
+  require_pow2("bank_groups", c.bank_groups);
+  if (c.bank_groups > c.banks)
+    fail("bank_groups", "must be at most banks (" + std::to_string(c.banks) + "), got " +
+                            std::to_string(c.bank_groups));
+  // The same bank group is never faster than another one.
+  if (c.bank_groups > 1 && c.tCCD_L != 0 && c.tCCD_L < c.tCCD)
+    fail("tCCD_L",
+         "must be 0 or >= tCCD (" + std::to_string(c.tCCD) + "), got " + std::to_string(c.tCCD_L));
+  if (c.bank_groups > 1 && c.tRRD_L != 0 && c.tRRD_L < c.tRRD)
+    fail("tRRD_L",
+         "must be 0 or >= tRRD (" + std::to_string(c.tRRD) + "), got " + std::to_string(c.tRRD_L));
+  if (c.refresh == Refresh::kNone) return;
+  if (c.tRFC == 0) fail("tRFC", "must be >= 1 with refresh: all-bank");
+  // Otherwise the channel would do nothing but refresh.
+  if (c.tREFI <= c.tRFC)
+    fail("tREFI", "must be > tRFC (" + std::to_string(c.tRFC) + ") with refresh: all-bank, got " +
+                      std::to_string(c.tREFI));
+}
+
 }  // namespace
 
 void DramConfig::validate() const {
@@ -124,6 +211,11 @@ void DramConfig::validate() const {
   if (tRC < tRAS)
     fail("tRC", "must be >= tRAS (" + std::to_string(tRAS) + "), got " + std::to_string(tRC));
   require_pow2("burst_length", burst_length);
+  require_pow2("beats_per_clock", beats_per_clock);
+  if (burst_length < beats_per_clock)
+    fail("burst_length", "must be at least beats_per_clock (" + std::to_string(beats_per_clock) +
+                             "), got " + std::to_string(burst_length));
+  validate_policies(*this);
   // GPGPU-Sim's derived write turnarounds subtract WL (gpu-sim.h memory_config::init()); both
   // must stay >= 1 cycle.
   if (WL + 1 >= tRCD)
@@ -139,8 +231,6 @@ void DramConfig::validate() const {
   if (request_bytes < burst_bytes())
     fail("request_bytes", "must be at least one burst (" + std::to_string(burst_bytes()) +
                               " bytes), got " + std::to_string(request_bytes));
-  if (row_policy != RowPolicy::kOpenPage)
-    fail("row_policy", "only the open-page policy is modelled");
 
   const AddressMapping map(address_mapping, channels);
   auto require_bits = [&](AddressMapping::Field f, char letter, uint64_t count,
@@ -166,13 +256,16 @@ void DramConfig::validate() const {
 }
 
 std::vector<std::string> dram_preset_names() {
-  return {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"};
+  return {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles", "gddr5-4gbps",
+          "gddr6-14gbps"};
 }
 
 DramConfig dram_preset(const std::string& name) {
   if (name == "gddr3-gt200") return gddr3_gt200();
   if (name == "gddr3-gt200-1ghz") return gddr3_gt200_1ghz();
   if (name == "gddr3-gt200-1ghz-cycles") return gddr3_gt200_1ghz_cycles();
+  if (name == "gddr5-4gbps") return gddr5_4gbps();
+  if (name == "gddr6-14gbps") return gddr6_14gbps();
   std::string known;
   for (const std::string& n : dram_preset_names()) known += (known.empty() ? "" : ", ") + n;
   throw std::invalid_argument("unknown DRAM preset '" + name + "' (known: " + known + ")");

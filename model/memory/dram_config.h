@@ -33,12 +33,25 @@ namespace rtsim::model {
 // GPGPU-Sim's QuadroFX5800 (GT200) mapping string, verbatim.
 inline constexpr const char* kGt200AddressMapping =
     "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS";
+// GPGPU-Sim's mapping for one x32 GDDR5(X) or x16 GDDR6 channel per partition with 32-byte atoms
+// and 16 banks (SM3_KEPLER_TITAN, SM6_TITANX and SM75_RTX2060 files), verbatim: bit 7 is the
+// lowest bank bit, so that neighbouring 128-byte blocks fall in different bank groups.
+inline constexpr const char* kGddr16BankAddressMapping =
+    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RBBBCCCC.BCCSSSSS";
 // A simple alternative, row:bank:channel:column:offset: each channel gets whole 2 KB rows in turn
 // (coarse interleaving, for studying channel imbalance).
 inline constexpr const char* kRowBankChannelColumnMapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.SSSSS";
 
-// Only open page: rows stay open until a request for another row of the bank forces a precharge.
-enum class RowPolicy { kOpenPage };
+// The controller's policies (docs/dram.md, "Policies"; one class each in dram_scheduler.h,
+// dram_row_policy.h, dram_refresh.h). The defaults are GT200's: FR-FCFS, open page, no refresh.
+enum class Scheduler { kFrFcfs, kFcfs };
+// Open page: a row stays open until a request for another row of its bank forces a precharge.
+// Closed page: a request's last burst precharges its bank (auto-precharge) unless another queued
+// request hits the same row.
+enum class RowPolicy { kOpenPage, kClosedPage };
+// All-bank: every tREFI cycles each channel precharges its banks and issues REF, which blocks
+// every bank of the channel for tRFC.
+enum class Refresh { kNone, kAllBank };
 
 // A default-constructed DramConfig is empty (and fails validate()): start from dram_preset(),
 // which is the one place the numbers and their sources are written down.
@@ -55,8 +68,14 @@ struct DramConfig {
   uint32_t tRP = 0;   // PRE -> ACT, same bank
   uint32_t tRAS = 0;  // ACT -> PRE, same bank
   uint32_t tRC = 0;   // ACT -> ACT, same bank
-  uint32_t tCCD = 0;  // column command -> column command (RD or WR), same channel
-  uint32_t tRRD = 0;  // ACT -> ACT, different banks of the channel
+  uint32_t tCCD = 0;  // column -> column (RD or WR), same channel (tCCD_S with bank groups)
+  uint32_t tRRD = 0;  // ACT -> ACT, different banks of the channel (tRRD_S with bank groups)
+  // Bank groups: bank b belongs to group b mod bank_groups (the low bank bits select the group).
+  // 1 = none: tCCD and tRRD apply between any two banks and the _L values are unused.
+  uint32_t bank_groups = 1;
+  uint32_t tCCD_L = 0;  // column -> column, same bank group (0: tCCD)
+  uint32_t tRRD_L = 0;  // ACT -> ACT, other banks of the same bank group (0: tRRD)
+  uint32_t tRTP = 0;    // RD -> PRE, same bank, beyond the burst (0: BL/2 only, GDDR3's)
   // Write timings, GPGPU-Sim's three base values (the 9th to 11th fields of
   // -gpgpu_dram_timing_opt; names and meanings from gpu-sim.h, memory_config):
   uint32_t WL = 0;     // write latency: WR -> first data beat in
@@ -78,8 +97,11 @@ struct DramConfig {
   uint32_t activate_to_write() const { return tRCD - (WL + 1); }  // tRCDWR: ACT -> WR, bank
   static constexpr uint32_t kReadToWriteTurnaround = 2;
 
-  uint32_t burst_length = 0;  // beats per burst; DDR, so a burst holds the data bus BL/2 cycles
-  uint32_t bus_bytes = 0;     // data-bus width of one channel
+  uint32_t burst_length = 0;  // beats per burst
+  // Data beats per command clock: 2 for GDDR3 (DDR), 4 for GDDR5 (QDR: WCK = 2 x CK), 8 for
+  // GDDR6 (data rate = 8 x CK). A burst holds the data bus burst_length / beats_per_clock cycles.
+  uint32_t beats_per_clock = 2;
+  uint32_t bus_bytes = 0;  // data-bus width of one channel
 
   uint32_t queue_size = 0;  // scheduler queue per channel; excess requests wait in a FIFO
   // That FIFO's size (GPGPU-Sim's L2-to-DRAM queue); full, a request is held back (the memory's
@@ -90,15 +112,24 @@ struct DramConfig {
   // The built-in memory's size, where a platform puts the image and the frame buffer: GT200's
   // (GeForce GTX 280) 1 GiB of GDDR3. Untouched pages cost no host memory.
   uint32_t capacity_mib = 1024;
+  Scheduler scheduler = Scheduler::kFrFcfs;
   RowPolicy row_policy = RowPolicy::kOpenPage;
+  Refresh refresh = Refresh::kNone;
+  uint32_t tREFI = 0;  // REF -> REF, channel (refresh interval)
+  uint32_t tRFC = 0;   // REF -> ACT, channel (refresh cycle time)
   std::string address_mapping;
 
   uint32_t burst_bytes() const { return bus_bytes * burst_length; }
-  uint32_t burst_cycles() const { return burst_length / 2; }
+  uint32_t burst_cycles() const { return burst_length / beats_per_clock; }
   uint32_t bursts_per_request() const { return request_bytes / burst_bytes(); }
-  // channels * bus_bytes * 2 (DDR) / tCK, in GB/s (bytes per ns).
+  uint32_t bank_group(uint32_t bank) const { return bank % bank_groups; }
+  // The same-group delays as the rules use them: never below the other-group ones.
+  uint32_t ccd_same_group() const { return tCCD_L > tCCD ? tCCD_L : tCCD; }
+  uint32_t rrd_same_group() const { return tRRD_L > tRRD ? tRRD_L : tRRD; }
+  uint32_t read_to_precharge() const { return tRTP > burst_cycles() ? tRTP : burst_cycles(); }
+  // channels * bus_bytes * beats_per_clock / tCK, in GB/s (bytes per ns).
   double peak_bandwidth_gbps() const {
-    return double(channels) * bus_bytes * 2 * 1000.0 / double(tCK_ps);
+    return double(channels) * bus_bytes * beats_per_clock * 1000.0 / double(tCK_ps);
   }
 
   // Throws std::invalid_argument naming the offending field.
@@ -118,21 +149,40 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
   v.number("tRP", c.tRP, 1, 1000, "tCK", "PRE -> ACT, same bank");
   v.number("tRAS", c.tRAS, 1, 1000, "tCK", "ACT -> PRE, same bank");
   v.number("tRC", c.tRC, 1, 1000, "tCK", "ACT -> ACT, same bank");
-  v.number("tCCD", c.tCCD, 1, 1000, "tCK", "column command -> column command, same channel");
-  v.number("tRRD", c.tRRD, 1, 1000, "tCK", "ACT -> ACT, other banks of the channel");
+  v.number("tCCD", c.tCCD, 1, 1000, "tCK",
+           "column command -> column command, same channel (tCCD_S with bank groups)");
+  v.number("tRRD", c.tRRD, 1, 1000, "tCK",
+           "ACT -> ACT, other banks of the channel (tRRD_S with bank groups)");
+  v.number("bank_groups", c.bank_groups, 1, 64, "groups",
+           "bank groups per channel (bank b in group b mod bank_groups); 1: none");
+  v.number("tCCD_L", c.tCCD_L, 0, 1000, "tCK",
+           "column command -> column command, same bank group (0: tCCD)");
+  v.number("tRRD_L", c.tRRD_L, 0, 1000, "tCK", "ACT -> ACT, same bank group (0: tRRD)");
+  v.number("tRTP", c.tRTP, 0, 1000, "tCK", "RD -> PRE, same bank (0: BL/2 only)");
   v.number("WL", c.WL, 1, 1000, "tCK", "WR -> first data beat in");
   v.number("tCDLR", c.tCDLR, 1, 1000, "tCK", "last data in -> RD");
   v.number("tWR", c.tWR, 1, 1000, "tCK", "last data in -> PRE, same bank (write recovery)");
-  v.number("burst_length", c.burst_length, 2, 64, "beats",
-           "beats per burst (DDR: BL/2 cycles of data bus)");
+  v.number("burst_length", c.burst_length, 2, 64, "beats", "beats per burst");
+  v.number("beats_per_clock", c.beats_per_clock, 1, 16, "beats",
+           "data beats per command clock (2: DDR, GDDR3; 4: GDDR5; 8: GDDR6)");
   v.number("bus_bytes", c.bus_bytes, 1, 256, "bytes", "data-bus width of one channel");
-  v.number("queue_size", c.queue_size, 1, 4096, "requests", "FR-FCFS scheduler queue per channel");
+  v.number("queue_size", c.queue_size, 1, 4096, "requests", "scheduler queue per channel");
   v.number("input_queue", c.input_queue, 0, 1 << 20, "requests",
            "per channel, waiting for the scheduler queue; full, a request is held back "
            "(END_REQ waits); 0: unbounded (ideal)");
   v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");
   v.number("capacity_mib", c.capacity_mib, 1, 1 << 20, "MiB",
            "the built-in memory's size (the device's address space for image and frame buffer)");
+  v.choice("scheduler", c.scheduler, {{"fr-fcfs", Scheduler::kFrFcfs}, {"fcfs", Scheduler::kFcfs}},
+           "row hits first, then the oldest; or the oldest ready command");
+  v.choice("row_policy", c.row_policy,
+           {{"open", RowPolicy::kOpenPage}, {"closed", RowPolicy::kClosedPage}},
+           "rows stay open until a conflict; or a request's last burst precharges its bank "
+           "unless a queued request hits the row");
+  v.choice("refresh", c.refresh, {{"none", Refresh::kNone}, {"all-bank", Refresh::kAllBank}},
+           "no refresh; or REF every tREFI, all banks blocked for tRFC");
+  v.number("tREFI", c.tREFI, 0, 1000000, "tCK", "refresh interval (refresh: all-bank)");
+  v.number("tRFC", c.tRFC, 0, 100000, "tCK", "REF -> ACT, channel (refresh: all-bank)");
 }
 
 // The preset called `name`; unknown names throw std::invalid_argument listing the known ones.

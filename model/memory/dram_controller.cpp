@@ -30,10 +30,26 @@ double DramStats::avg_latency_ns() const {
 }
 
 DramController::DramController(const DramConfig& config)
-    : config_(validated(config)), mapping_(config_.address_mapping, config_.channels) {
+    : config_(validated(config)),
+      mapping_(config_.address_mapping, config_.channels),
+      scheduler_(make_dram_scheduler(config_)),
+      row_policy_(make_dram_row_policy(config_)),
+      refresh_(make_dram_refresh(config_)),
+      refreshing_(config_.refresh != Refresh::kNone) {
+  add_rules();
+  channels_.resize(config_.channels);
+  for (Channel& ch : channels_) {
+    ch.banks.resize(config_.banks);
+    ch.queue.reserve(config_.queue_size);
+    ch.refresh_due = refresh_->first_due();
+  }
+  stats_.channel_reads.assign(config_.channels, 0);
+}
+
+void DramController::add_rules() {
   using C = Command;
   const uint32_t burst = config_.burst_cycles();
-  const TimingRule rules[] = {
+  std::vector<TimingRule> rules = {
       {C::kActivate, C::kRead, Scope::kBank, config_.tRCD},
       {C::kActivate, C::kWrite, Scope::kBank, config_.activate_to_write()},
       {C::kActivate, C::kPrecharge, Scope::kBank, config_.tRAS},
@@ -41,8 +57,8 @@ DramController::DramController(const DramConfig& config)
       {C::kActivate, C::kActivate, Scope::kChannel, config_.tRRD},
       {C::kPrecharge, C::kActivate, Scope::kBank, config_.tRP},
       {C::kRead, C::kRead, Scope::kChannel, config_.tCCD},
-      {C::kRead, C::kRead, Scope::kChannel, burst},    // the data bus holds one burst at a time
-      {C::kRead, C::kPrecharge, Scope::kBank, burst},  // READ to PRECHARGE
+      {C::kRead, C::kRead, Scope::kChannel, burst},  // the data bus holds one burst at a time
+      {C::kRead, C::kPrecharge, Scope::kBank, config_.read_to_precharge()},  // READ to PRECHARGE
       {C::kRead, C::kWrite, Scope::kChannel, config_.tCCD},
       {C::kRead, C::kWrite, Scope::kChannel, config_.read_to_write()},
       {C::kWrite, C::kWrite, Scope::kChannel, config_.tCCD},
@@ -51,10 +67,24 @@ DramController::DramController(const DramConfig& config)
       {C::kWrite, C::kRead, Scope::kChannel, config_.write_to_read()},
       {C::kWrite, C::kPrecharge, Scope::kBank, config_.write_to_precharge()},
   };
-  // Rules with the same (prev, next, scope) fold into one with the largest delay: issue() then
+  if (config_.bank_groups > 1) {
+    rules.push_back({C::kActivate, C::kActivate, Scope::kBankGroup, config_.rrd_same_group()});
+    for (C prev : {C::kRead, C::kWrite})
+      for (C next : {C::kRead, C::kWrite})
+        rules.push_back({prev, next, Scope::kBankGroup, config_.ccd_same_group()});
+  }
+  // REF is all-bank: its constraints are the channel's. Without refresh no REF issues, and these
+  // rules would only cost host time.
+  if (config_.refresh != Refresh::kNone) {
+    rules.push_back({C::kActivate, C::kRefresh, Scope::kChannel, config_.tRC});
+    rules.push_back({C::kPrecharge, C::kRefresh, Scope::kChannel, config_.tRP});
+    rules.push_back({C::kRefresh, C::kActivate, Scope::kChannel, config_.tRFC});
+  }
+  // Rules with the same (prev, next, scope) fold into one with the largest delay: stamp() then
   // stamps each target once (the stamps are maxima, so this changes no timing).
   for (const TimingRule& r : rules) {
-    std::vector<TimingRule>& list = rules_by_prev_[size_t(r.prev)];
+    auto& by_prev = r.scope == Scope::kBankGroup ? group_rules_by_prev_ : rules_by_prev_;
+    std::vector<TimingRule>& list = by_prev[size_t(r.prev)];
     const auto same = std::find_if(list.begin(), list.end(), [&r](const TimingRule& o) {
       return o.next == r.next && o.scope == r.scope;
     });
@@ -63,27 +93,21 @@ DramController::DramController(const DramConfig& config)
     else
       same->cycles = std::max(same->cycles, r.cycles);
   }
-
-  channels_.resize(config_.channels);
-  for (Channel& ch : channels_) {
-    ch.banks.resize(config_.banks);
-    ch.queue.reserve(config_.queue_size);
-  }
-  hit_pending_.resize(config_.banks);
-  stats_.channel_reads.assign(config_.channels, 0);
 }
 
 void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   const Tick arrival = std::max(now, now_);
   const DramAddress a = mapping_.decode(addr & ~uint64_t(config_.request_bytes - 1));
-  const Request r{id,     next_seq_++, arrival,  (arrival + config_.tCK_ps - 1) / config_.tCK_ps,
-                  a.bank, a.row,       a.column, 0,
-                  false,  write};
+  const DramRequest r{
+      id,     next_seq_++, arrival,  (arrival + config_.tCK_ps - 1) / config_.tCK_ps,
+      a.bank, a.row,       a.column, 0,
+      false,  write};
   const bool first = stats_.requests + stats_.write_requests == 0;
   stats_.first_arrival_ps = first ? arrival : std::min(stats_.first_arrival_ps, arrival);
   ++(write ? stats_.write_requests : stats_.requests);
   Channel& ch = channels_[a.channel];
   if (!has_room(ch)) throw std::logic_error("DramController: a request to a full channel");
+  if (refreshing_ && ch.queue.empty()) catch_up_refresh(a.channel, r.arrival_cycle);
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
     ch.next_cycle = choose(ch).cycle;
@@ -93,49 +117,48 @@ void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   }
 }
 
-DramController::Choice DramController::choose(Channel& ch) {
-  std::fill(hit_pending_.begin(), hit_pending_.end(), uint8_t(0));
-  size_t owner = ch.queue.size();  // the request between its first and last burst, if any
-  for (size_t i = 0; i < ch.queue.size(); ++i) {
-    const Request& r = ch.queue[i];
-    const Bank& b = ch.banks[r.bank];
-    if (b.open && b.row == r.row) hit_pending_[r.bank] = 1;
-    if (r.bursts_issued > 0) owner = i;
-  }
+void DramController::catch_up_refresh(uint32_t channel_index, uint64_t until) {
+  Channel& ch = channels_[channel_index];
+  for (Choice c = refresh_->catch_up(ch, until); c.cycle != kDramNever;
+       c = refresh_->catch_up(ch, until))
+    issue_refresh(channel_index, c);
+}
 
-  Choice best;
-  for (size_t i = 0; i < ch.queue.size(); ++i) {
-    const Request& r = ch.queue[i];
-    const Bank& b = ch.banks[r.bank];
-    Command cmd;
-    if (b.open && b.row == r.row) {
-      if (owner != ch.queue.size() && owner != i) continue;  // the column commands are taken
-      cmd = r.write ? Command::kWrite : Command::kRead;
-    } else if (b.open) {
-      if (hit_pending_[r.bank]) continue;  // keep the row open while it still has hits
-      cmd = Command::kPrecharge;
-    } else {
-      cmd = Command::kActivate;
-    }
-    const size_t k = size_t(cmd);
-    const uint64_t cycle = std::max({b.earliest[k], ch.earliest[k], r.arrival_cycle, ch.free_from});
-    bool better = cycle < best.cycle;
-    if (cycle == best.cycle) {
-      const bool col = is_column(cmd), best_col = is_column(best.command);
-      const Request& o = ch.queue[best.index];
-      better =
-          col != best_col ? col : (r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq);
-    }
-    if (better) best = Choice{i, cmd, cycle};
+void DramController::stamp(Channel& ch, uint32_t bank, Command cmd, uint64_t cycle) {
+  DramBank& b = ch.banks[bank];
+  for (const TimingRule& rule : rules_by_prev_[size_t(cmd)]) {
+    DramStamps& s = rule.scope == Scope::kBank ? b.earliest : ch.earliest;
+    uint64_t& e = s[size_t(rule.next)];
+    e = std::max(e, cycle + rule.cycles);
   }
-  return best;
+  for (const TimingRule& rule : group_rules_by_prev_[size_t(cmd)])
+    for (uint32_t k = config_.bank_group(bank); k < ch.banks.size(); k += config_.bank_groups) {
+      uint64_t& e = ch.banks[k].earliest[size_t(rule.next)];
+      e = std::max(e, cycle + rule.cycles);
+    }
+}
+
+void DramController::issue_refresh(uint32_t channel_index, const Choice& c) {
+  Channel& ch = channels_[channel_index];
+  stamp(ch, c.bank, c.command, c.cycle);
+  ch.free_from = c.cycle + 1;
+  DramBank& b = ch.banks[c.bank];
+  record(c.cycle, channel_index, c.bank, c.command, c.command == Command::kPrecharge ? b.row : 0, 0,
+         kNoRequest);
+  if (c.command == Command::kPrecharge) {
+    b.open = false;
+    ++stats_.precharges;
+  } else {
+    ++stats_.refreshes;
+    ch.refresh_due += config_.tREFI;
+  }
 }
 
 void DramController::issue(uint32_t channel_index, const Choice& c) {
+  if (c.index == kDramNoRequest) return issue_refresh(channel_index, c);
   Channel& ch = channels_[channel_index];
-  Request& r = ch.queue[c.index];
-  Bank& b = ch.banks[r.bank];
-  const Tick tck = config_.tCK_ps;
+  DramRequest& r = ch.queue[c.index];
+  DramBank& b = ch.banks[r.bank];
 
   if (!r.classified) {
     r.classified = true;
@@ -146,15 +169,10 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
     else
       ++stats_.row_conflicts;
   }
-  for (const TimingRule& rule : rules_by_prev_[size_t(c.command)]) {
-    Stamps& s = rule.scope == Scope::kBank ? b.earliest : ch.earliest;
-    uint64_t& e = s[size_t(rule.next)];
-    e = std::max(e, c.cycle + rule.cycles);
-  }
+  stamp(ch, r.bank, c.command, c.cycle);
   ch.free_from = c.cycle + 1;
-  if (trace_)
-    trace_->push_back(CommandRecord{c.cycle * tck, channel_index, r.bank, c.command, r.row,
-                                    is_column(c.command) ? r.column + r.bursts_issued : 0, r.id});
+  record(c.cycle, channel_index, r.bank, c.command, r.row,
+         is_column(c.command) ? r.column + r.bursts_issued : 0, r.id);
 
   switch (c.command) {
     case Command::kActivate:
@@ -166,24 +184,40 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
       b.open = false;
       ++stats_.precharges;
       break;
+    case Command::kRefresh: break;  // only issue_refresh issues REF
     case Command::kRead:
     case Command::kWrite:
       ++r.bursts_issued;
       ++(r.write ? stats_.write_bursts : stats_.bursts);
-      stats_.data_bus_busy_ps += config_.burst_cycles() * tck;
-      if (r.bursts_issued == config_.bursts_per_request()) {
-        // A read's data are ready after CL plus its burst; a write's last beat is in after WL
-        // plus its burst (tWR then only holds the bank's PRE back).
-        const uint32_t latency = r.write ? config_.WL : config_.CL;
-        const Tick ready = (c.cycle + latency + config_.burst_cycles()) * tck;
-        completions_.push(Pending{ready, r.seq, r.id, channel_index, r.arrival, r.write});
-        ch.queue.erase(ch.queue.begin() + std::ptrdiff_t(c.index));
-        if (!ch.overflow.empty()) {
-          ch.queue.push_back(ch.overflow.front());
-          ch.overflow.pop_front();
-        }
-      }
+      stats_.data_bus_busy_ps += config_.burst_cycles() * config_.tCK_ps;
+      if (r.bursts_issued == config_.bursts_per_request()) complete(channel_index, c);
       break;
+  }
+}
+
+// After the last burst of ch.queue[c.index].
+void DramController::complete(uint32_t channel_index, const Choice& c) {
+  Channel& ch = channels_[channel_index];
+  const DramRequest& r = ch.queue[c.index];
+  // A read's data are ready after CL plus its burst; a write's last beat is in after WL plus its
+  // burst (tWR then only holds the bank's PRE back).
+  const uint32_t latency = r.write ? config_.WL : config_.CL;
+  const Tick ready = (c.cycle + latency + config_.burst_cycles()) * config_.tCK_ps;
+  completions_.push(Pending{ready, r.seq, r.id, channel_index, r.arrival, r.write});
+  if (row_policy_->close_after(ch, c.index)) {
+    // Auto-precharge: at the earliest cycle the bank's PRE rules allow, without a command cycle.
+    DramBank& b = ch.banks[r.bank];
+    const size_t pre = size_t(Command::kPrecharge);
+    const uint64_t cycle = std::max(b.earliest[pre], ch.earliest[pre]);
+    stamp(ch, r.bank, Command::kPrecharge, cycle);
+    record(cycle, channel_index, r.bank, Command::kPrecharge, r.row, 0, r.id);
+    b.open = false;
+    ++stats_.precharges;
+  }
+  ch.queue.erase(ch.queue.begin() + std::ptrdiff_t(c.index));
+  if (!ch.overflow.empty()) {
+    ch.queue.push_back(ch.overflow.front());
+    ch.overflow.pop_front();
   }
 }
 
@@ -197,7 +231,7 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
     if (ch.next_cycle > last) continue;
     for (;;) {
       const Choice c = choose(ch);
-      if (c.cycle == kNever || c.cycle > last) {
+      if (c.cycle == kDramNever || c.cycle > last) {
         ch.next_cycle = c.cycle;
         break;
       }
@@ -230,7 +264,7 @@ std::string DramController::state() const {
     if (ch.queue.empty() && ch.overflow.empty()) continue;
     s += "; ch" + std::to_string(i) + " " + std::to_string(ch.queue.size()) + " queued + " +
          std::to_string(ch.overflow.size()) + " waiting, next command at cycle " +
-         (ch.next_cycle == kNever ? std::string("never") : std::to_string(ch.next_cycle));
+         (ch.next_cycle == kDramNever ? std::string("never") : std::to_string(ch.next_cycle));
   }
   return s;
 }
@@ -238,7 +272,7 @@ std::string DramController::state() const {
 Tick DramController::next_event_time() const {
   Tick t = completions_.empty() ? kUnknown : completions_.top().time;
   for (const Channel& ch : channels_)
-    if (ch.next_cycle != kNever) t = std::min(t, ch.next_cycle * config_.tCK_ps);
+    if (ch.next_cycle != kDramNever) t = std::min(t, ch.next_cycle * config_.tCK_ps);
   return t;
 }
 
@@ -267,6 +301,8 @@ void DramController::register_stats(StatsRegistry& reg, const std::string& prefi
   reg.counter(p + "writes", &s.writes, "count", "write requests completed");
   reg.counter(p + "write_bursts", &s.write_bursts, "count", "WR commands (one burst each)");
   reg.counter(p + "bytes_written", &s.bytes_written, "bytes", "bytes written (completed requests)");
+  reg.counter(p + "refreshes", &s.refreshes, "count",
+              "REF commands (refresh: all-bank; up to each channel's last request)");
   for (size_t i = 0; i < s.channel_reads.size(); ++i)
     reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "count",
                 "read requests completed by channel");

@@ -1,11 +1,14 @@
-// The DRAM timing engine: per-channel FR-FCFS controllers over open-page banks, serving reads and
-// writes. Pure C++ (no SystemC); the sc_module in dram.h drives it.
+// The DRAM timing engine: per-channel controllers serving reads and writes, their policies
+// chosen by the configuration (scheduler, row policy, refresh: dram_scheduler.h,
+// dram_row_policy.h, dram_refresh.h; the defaults are GT200's FR-FCFS, open page, no refresh). Pure
+// C++ (no SystemC); the sc_module in dram.h drives it.
 //
 // Timing (Ramulator-2.0 style): the constraints are a table of rules "after command P, command N
-// may not issue for K cycles in the same bank / the same channel". Issuing P stamps, for each
-// rule, the earliest cycle of N in that bank or channel; a command is legal at cycle c when c is
-// at or past its bank's and its channel's stamps. The rules (DRAM command-clock cycles; GPGPU-Sim
-// names and derivations in dram_config.h; docs/dram.md has the table with sources):
+// may not issue for K cycles in the same bank / bank group / channel". Issuing P stamps, for each
+// rule, the earliest cycle of N in that bank (a bank-group rule stamps every bank of the group) or
+// channel; a command is legal at cycle c when c is at or past its bank's and its channel's stamps.
+// The rules (DRAM command-clock cycles; GPGPU-Sim names and derivations in dram_config.h;
+// docs/dram.md has the table with sources):
 //   ACT->RD  tRCD  bank      ACT->WR  tRCD - (WL + 1) bank (activate_to_write, GPGPU-Sim tRCDWR)
 //   ACT->PRE tRAS  bank      ACT->ACT tRC bank           ACT->ACT tRRD channel
 //   PRE->ACT tRP   bank
@@ -13,34 +16,30 @@
 //   WR->WR   tCCD  channel   WR->WR   BL/2 channel (data-bus occupancy)
 //   RD->WR   tCCD  channel   RD->WR   CL + BL/2 + 2 - WL channel (read_to_write, tRTW)
 //   WR->RD   tCCD  channel   WR->RD   WL + BL/2 + tCDLR channel (write_to_read, tWTR)
-//   RD->PRE  BL/2  bank      (GDDR3 READ to PRECHARGE; GPGPU-Sim's RTP = BL / data-command ratio)
+//   RD->PRE  max(BL/2, tRTP) bank (GDDR3 READ to PRECHARGE: GPGPU-Sim's RTP = BL / ratio)
 //   WR->PRE  WL + BL/2 + tWR bank (write_to_precharge, GPGPU-Sim tWTP)
+// With bank groups (bank_groups > 1) also: column -> column tCCD_L and ACT->ACT tRRD_L in the
+// same bank group. With refresh: ACT->REF tRC, PRE->REF tRP and REF->ACT tRFC, all channel (REF
+// is all-bank). BL/2 stands for burst_cycles() = burst_length / beats_per_clock.
 // tCCD applies between any two column commands (GPGPU-Sim's one CCDc counter for RD and WR,
 // dram.cc dram_t::issue_col_command). A read's data occupy the bus from RD + CL for BL/2 cycles,
 // a write's from WR + WL for BL/2 cycles; the turnarounds keep the two apart (at their minimum,
 // tRTW leaves 2 idle bus cycles between a read's data and a write's, tWTR leaves tCDLR + CL
 // between a write's data and a read's). A read is complete when its last burst is: data ready =
 // last RD + CL + BL/2; a write when its last burst's data are in: last WR + WL + BL/2 (tWR after
-// that only delays the bank's PRE). Not modelled: refresh, power-down, bank groups, tFAW (GDDR3
-// has no four-activate window in GPGPU-Sim's GT200 model), a separate write queue drained in
-// batches (GPGPU-Sim's -dram_seperate_write_queue_enable: off by default, not set for GT200),
-// data masks (every write is a full request).
+// that only delays the bank's PRE). Not modelled: power-down, tFAW, per-bank refresh, a separate
+// write queue drained in batches (GPGPU-Sim's -dram_seperate_write_queue_enable: off by default,
+// not set for GT200), data masks (every write is a full request).
 //
 // Scheduling, per channel, one command per command-clock cycle:
-//  - A request of request_bytes needs request_bytes/32 bursts: consecutive column commands to one
-//    row (as GPGPU-Sim serves a request's bursts back to back). While a request is between its
-//    first and its last burst it owns the channel's column commands; ACT/PRE for other banks may
-//    still use the free command cycles in between.
-//  - Reads and writes share one queue (as GPGPU-Sim's FR-FCFS queue). Every other queued request
-//    proposes the next command it needs: RD or WR if its bank has its row open (a row hit), ACT if
-//    the bank is closed, PRE if another row is open. A PRE is not proposed while any queued
-//    request still hits the open row (open page: rows stay open until a conflict forces a
-//    precharge, and first-ready hits are not closed under their feet).
-//  - At the earliest cycle at which any proposed command is legal, FR-FCFS picks among the legal
-//    ones: column commands (row hits, read or write) first, then the oldest request (arrival
-//    time, then order of enqueue). Hits can starve an older conflict for as long as hits keep
-//    arriving (as in GPGPU-Sim's FR-FCFS; the L2 in front merges repeated misses, which bounds it
-//    in practice).
+//  - A request of request_bytes needs request_bytes / burst_bytes bursts: consecutive column
+//    commands to one row (as GPGPU-Sim serves a request's bursts back to back). While a request
+//    is between its first and its last burst it owns the channel's column commands; ACT/PRE for
+//    other banks may still use the free command cycles in between.
+//  - Reads and writes share one queue (as GPGPU-Sim's FR-FCFS queue). The scheduler policy picks
+//    the next command (dram_scheduler.h), the refresh policy may put a refresh's PRE or REF first
+//    (dram_refresh.h), and after a request's last burst the row policy may precharge its bank
+//    (dram_row_policy.h; auto-precharge: it takes no command cycle).
 //  - The scheduler sees queue_size requests per channel (GPGPU-Sim's dram_sched_queue_size).
 //    Requests beyond that wait in a per-channel FIFO of input_queue requests (GPGPU-Sim's L2-to-
 //    DRAM queue; 0: unbounded), counted in queue_full_events; one enters the queue each time a
@@ -55,14 +54,18 @@
 // never uses a cycle at or before a command this channel already issued.
 #pragma once
 
+#include "model/memory/dram_channel.h"
 #include "model/memory/dram_config.h"
+#include "model/memory/dram_refresh.h"
+#include "model/memory/dram_row_policy.h"
+#include "model/memory/dram_scheduler.h"
 #include "model/memory/line_source.h"
 #include "model/sim/stats_registry.h"
 
 #include <array>
 #include <cstdint>
-#include <deque>
 #include <functional>
+#include <memory>
 #include <queue>
 #include <string>
 #include <vector>
@@ -90,6 +93,7 @@ struct DramStats {
   uint64_t write_bursts = 0;              // WR commands
   uint64_t bytes_written = 0;             // completed writes * request_bytes
   uint64_t last_write_completion_ps = 0;  // data in of the latest completed write
+  uint64_t refreshes = 0;                 // REF commands (refresh: all-bank)
 
   double row_hit_rate() const;
   double bandwidth_gbps() const;  // read bandwidth: bytes / (last completion - first arrival)
@@ -98,10 +102,9 @@ struct DramStats {
 
 class DramController {
  public:
-  // Column commands (RD, WR) come last: is_column() relies on it.
-  enum class Command : uint8_t { kActivate, kPrecharge, kRead, kWrite };
-  static constexpr size_t kCommands = 4;
-  static constexpr bool is_column(Command c) { return c >= Command::kRead; }
+  using Command = DramCommand;
+  static constexpr size_t kCommands = kDramCommands;
+  static constexpr bool is_column(Command c) { return dram_is_column(c); }
 
   struct Completion {
     uint64_t id;
@@ -117,8 +120,9 @@ class DramController {
     Command command;
     uint64_t row;
     uint64_t column;  // RD and WR only
-    uint64_t id;      // the request it was issued for
+    uint64_t id;      // the request it was issued for (kNoRequest: a refresh's PRE or REF)
   };
+  static constexpr uint64_t kNoRequest = ~uint64_t(0);
 
   // Validates `config` (std::invalid_argument).
   explicit DramController(const DramConfig& config);
@@ -148,43 +152,14 @@ class DramController {
   void set_command_trace(std::vector<CommandRecord>* trace) { trace_ = trace; }
 
  private:
-  static constexpr uint64_t kNever = ~uint64_t(0);
-  enum class Scope : uint8_t { kBank, kChannel };
+  enum class Scope : uint8_t { kBank, kBankGroup, kChannel };
   struct TimingRule {
     Command prev, next;
     Scope scope;
     uint32_t cycles;
   };
-  using Stamps = std::array<uint64_t, kCommands>;  // earliest legal cycle per command
-
-  struct Request {
-    uint64_t id, seq;
-    Tick arrival;
-    uint64_t arrival_cycle;  // first command-clock edge at or after arrival
-    uint32_t bank;
-    uint64_t row, column;
-    uint32_t bursts_issued;
-    bool classified;
-    bool write;
-  };
-  struct Bank {
-    bool open = false;
-    uint64_t row = 0;
-    Stamps earliest{};
-  };
-  struct Channel {
-    std::vector<Bank> banks;
-    Stamps earliest{};
-    std::vector<Request> queue;  // at most queue_size, in enqueue order
-    std::deque<Request> overflow;
-    uint64_t free_from = 0;        // first cycle after the last issued command
-    uint64_t next_cycle = kNever;  // cycle of the next legal command (cached for next_event_time)
-  };
-  struct Choice {
-    size_t index = 0;
-    Command command = Command::kRead;
-    uint64_t cycle = kNever;
-  };
+  using Channel = DramChannel;
+  using Choice = DramChoice;
   struct Pending {
     Tick time;
     uint64_t seq;
@@ -199,16 +174,36 @@ class DramController {
     return config_.input_queue == 0 || ch.queue.size() < config_.queue_size ||
            ch.overflow.size() < config_.input_queue;
   }
-  Choice choose(Channel& ch);  // the FR-FCFS pick at the earliest cycle with a legal command
+  void add_rules();
+  // The policies' pick at the earliest cycle with a legal command. Without refresh the refresh
+  // policy would return the pick unchanged: the call is skipped (host time).
+  Choice choose(const Channel& ch) {
+    const Choice pick = scheduler_->choose(ch);
+    return refreshing_ ? refresh_->arbitrate(ch, pick) : pick;
+  }
+  void catch_up_refresh(uint32_t channel_index, uint64_t until);
   void issue(uint32_t channel_index, const Choice& c);
+  void issue_refresh(uint32_t channel_index, const Choice& c);
+  void complete(uint32_t channel_index, const Choice& c);
+  // Applies the rules of `cmd` issued at `cycle` in `bank`.
+  void stamp(Channel& ch, uint32_t bank, Command cmd, uint64_t cycle);
+  void record(uint64_t cycle, uint32_t channel, uint32_t bank, Command cmd, uint64_t row,
+              uint64_t column, uint64_t id) {
+    if (trace_)
+      trace_->push_back(CommandRecord{cycle * config_.tCK_ps, channel, bank, cmd, row, column, id});
+  }
 
   DramConfig config_;
   AddressMapping mapping_;
-  std::array<std::vector<TimingRule>, kCommands> rules_by_prev_;
+  std::array<std::vector<TimingRule>, kCommands> rules_by_prev_;        // bank and channel scope
+  std::array<std::vector<TimingRule>, kCommands> group_rules_by_prev_;  // bank-group scope
+  std::unique_ptr<DramScheduler> scheduler_;
+  std::unique_ptr<DramRowPolicy> row_policy_;
+  std::unique_ptr<DramRefreshPolicy> refresh_;
+  bool refreshing_;
   std::vector<Channel> channels_;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;
-  std::vector<uint8_t> hit_pending_;  // scratch for choose(): bank has a queued row hit
-  Tick now_ = 0;                      // latest advance()
+  Tick now_ = 0;  // latest advance()
   uint64_t next_seq_ = 0;
   DramStats stats_;
   std::vector<CommandRecord>* trace_ = nullptr;

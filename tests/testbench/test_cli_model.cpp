@@ -289,5 +289,33 @@ TEST(Cli, TheCullingUnitReadsTheLightsThroughTheL1ItIsGiven) {
   EXPECT_EQ(report["own"]["per_light"], report["shading0"]["per_light"]);
 }
 
+// The GDDR6 preset (16 channels, bank groups, refresh) through the whole accelerator, chosen with
+// --set on a file that names another preset: the image is the reference's, config.json echoes the
+// preset's values and the refreshes are counted. A policy name it does not know is an error
+// naming the key and the names it knows.
+TEST(Cli, Gddr6PresetRunsTheCityAndMatchesTheReference) {
+  const fs::path out = test::temp_dir("cli_gddr6");
+  const std::string base = "run " + (test::source_dir() / "configs/scenes/city.yaml").string() +
+                           " --hw " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() +
+                           " --width 32 --height 18 --no-plots --out " + out.string();
+  const RunResult r = run(base + " --check --set hw.dram.preset=gddr6-14gbps");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json report = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(report["reference_check"]["mismatched_pixels"], 0);
+  const nlohmann::json& dram = report["config"]["hw"]["dram"];
+  EXPECT_EQ(dram["preset"], "gddr6-14gbps");
+  EXPECT_EQ(dram["channels"], 16);
+  EXPECT_EQ(dram["refresh"], "all-bank");
+  EXPECT_EQ(dram["input_queue"], 8) << "the file's own key still overrides the preset";
+  const nlohmann::json& s = report["stats"]["dram"];
+  EXPECT_GT(s["refreshes"].get<uint64_t>(), 0u);
+  EXPECT_GT(s["ch15"]["reads"].get<uint64_t>(), 0u);
+  const RunResult bad = run(base + " --set hw.dram.refresh=sometimes");
+  EXPECT_NE(bad.code, 0);
+  EXPECT_NE(bad.err.find("dram.refresh"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("'none' or 'all-bank'"), std::string::npos) << bad.err;
+  fs::remove_all(out);
+}
+
 }  // namespace
 }  // namespace rtsim::cli_test

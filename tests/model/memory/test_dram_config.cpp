@@ -88,8 +88,9 @@ TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
 }
 
 TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
-  EXPECT_EQ(dram_preset_names(), (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz",
-                                                           "gddr3-gt200-1ghz-cycles"}));
+  EXPECT_EQ(dram_preset_names(),
+            (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles",
+                                      "gddr5-4gbps", "gddr6-14gbps"}));
   try {
     dram_preset("ddr9");
     FAIL() << "unknown preset accepted";
@@ -171,6 +172,118 @@ TEST(DramConfig, ValidationNamesTheField) {
   EXPECT_NO_THROW(c.validate());
   c.request_bytes = 64;
   expect_invalid(c, "request_bytes");
+}
+
+// The GT200 presets keep today's controller: FR-FCFS, open page, no refresh, no bank groups, DDR.
+TEST(DramConfig, Gt200PresetsKeepTheDefaultPolicies) {
+  for (const char* name : {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"}) {
+    const DramConfig c = dram_preset(name);
+    EXPECT_EQ(c.scheduler, Scheduler::kFrFcfs) << name;
+    EXPECT_EQ(c.row_policy, RowPolicy::kOpenPage) << name;
+    EXPECT_EQ(c.refresh, Refresh::kNone) << name;
+    EXPECT_EQ(c.bank_groups, 1u) << name;
+    EXPECT_EQ(c.beats_per_clock, 2u) << name;
+    EXPECT_EQ(c.read_to_precharge(), 2u) << name;  // BL/2, tRTP 0
+  }
+}
+
+// docs/dram.md, "Presets", gives the source of each figure.
+TEST(DramConfig, Gddr5AndGddr6PresetsValidate) {
+  const DramConfig g5 = dram_preset("gddr5-4gbps");
+  EXPECT_NO_THROW(g5.validate());
+  EXPECT_EQ(g5.tCK_ps, 1000u);
+  EXPECT_EQ(g5.banks, 16u);
+  EXPECT_EQ(g5.bank_groups, 4u);
+  EXPECT_EQ(g5.tCCD_L, 3u);
+  EXPECT_EQ(g5.burst_bytes(), 32u);
+  EXPECT_EQ(g5.burst_cycles(), 2u);  // BL 8 at 4 beats per clock
+  EXPECT_EQ(g5.read_to_precharge(), 2u);
+  EXPECT_EQ(g5.refresh, Refresh::kNone);
+  EXPECT_DOUBLE_EQ(g5.peak_bandwidth_gbps(), 128.0);  // 8 x 4 bytes x 4 Gb/s
+
+  const DramConfig g6 = dram_preset("gddr6-14gbps");
+  EXPECT_NO_THROW(g6.validate());
+  EXPECT_EQ(g6.channels, 16u);
+  EXPECT_EQ(g6.tCK_ps, 570u);
+  EXPECT_EQ(g6.burst_bytes(), 32u);
+  EXPECT_EQ(g6.burst_cycles(), 2u);  // BL 16 at 8 beats per clock
+  EXPECT_EQ(g6.tCCD, 4u);
+  EXPECT_EQ(g6.tCCD_L, 6u);
+  EXPECT_EQ(g6.read_to_precharge(), 4u);  // tRTP
+  EXPECT_EQ(g6.refresh, Refresh::kAllBank);
+  EXPECT_EQ(g6.tREFI, 3333u);
+  EXPECT_EQ(g6.tRFC, 210u);
+  EXPECT_NEAR(g6.peak_bandwidth_gbps(), 16 * 2 * 8 / 0.57, 1e-9);
+  // The accelerator's 64-byte lines fit the 16-bank mapping (bits 5 and 6 are column bits).
+  for (DramConfig c : {g5, g6}) {
+    c.request_bytes = 64;
+    EXPECT_NO_THROW(c.validate()) << c.preset;
+  }
+}
+
+// The lowest address bit of `f` under `c`'s mapping.
+uint64_t lowest(const DramConfig& c, AddressMapping::Field f) {
+  const AddressMapping m(c.address_mapping, c.channels);
+  uint32_t bit = 0;
+  while (m.field_of(bit) != f) ++bit;
+  return uint64_t(1) << bit;
+}
+
+// A closed bank, a row hit and a conflict, 200 cycles apart on an idle engine (reads, or writes).
+std::vector<Tick> idle_latencies_of(const DramConfig& c, bool write) {
+  DramController e(c);
+  std::vector<DramController::Completion> done;
+  const std::vector<uint64_t> addrs{0, lowest(c, AddressMapping::kColumn),
+                                    lowest(c, AddressMapping::kRow)};
+  std::vector<Tick> latency;
+  const Tick gap = 200 * Tick(c.tCK_ps);  // on a clock edge
+  for (uint64_t i = 0; i < 3; ++i) {
+    e.enqueue(addrs[i], i * gap, i, write);
+    e.advance((i + 1) * gap, done);
+    latency.push_back(ready_of(done, i) - i * gap);
+  }
+  EXPECT_EQ(e.stats().row_conflicts, 1u);
+  return latency;
+}
+
+// As for GT200: a read to a closed bank takes tRCD + CL + BL/2, a hit CL + BL/2, a conflict tRP
+// more than a closed bank; a write WL + BL/2, plus tRCD - (WL + 1), plus tRP. GDDR5 (1 ns): reads
+// 12 + 12 + 2 = 26, 14, 38; writes 4 + 2 = 6, 6 + 7 = 13, 25. GDDR6 (570 ps cycles): reads
+// 26 + 24 + 2 = 52, 26, 78; writes 6 + 2 = 8, 8 + 19 = 27, 53.
+TEST(DramController, Gddr5AndGddr6IdleLatencies) {
+  const DramConfig g5 = dram_preset("gddr5-4gbps"), g6 = dram_preset("gddr6-14gbps");
+  EXPECT_EQ(idle_latencies_of(g5, false), (std::vector<Tick>{26 * kNs, 14 * kNs, 38 * kNs}));
+  EXPECT_EQ(idle_latencies_of(g5, true), (std::vector<Tick>{13 * kNs, 6 * kNs, 25 * kNs}));
+  EXPECT_EQ(idle_latencies_of(g6, false), (std::vector<Tick>{52 * 570, 26 * 570, 78 * 570}));
+  EXPECT_EQ(idle_latencies_of(g6, true), (std::vector<Tick>{27 * 570, 8 * 570, 53 * 570}));
+}
+
+TEST(DramConfig, PolicyFieldsValidateNamingTheKey) {
+  DramConfig c = gt200();
+  c.bank_groups = 3;
+  expect_invalid(c, "bank_groups");
+  c.bank_groups = 16;  // more than the 8 banks
+  expect_invalid(c, "bank_groups");
+  c = gt200();
+  c.bank_groups = 2;
+  c.tCCD_L = 1;  // below tCCD
+  expect_invalid(c, "tCCD_L");
+  c.tCCD_L = 0;
+  c.tRRD_L = 4;  // below tRRD
+  expect_invalid(c, "tRRD_L");
+  c = gt200();
+  c.refresh = Refresh::kAllBank;
+  expect_invalid(c, "tRFC");
+  c.tRFC = 50;
+  c.tREFI = 50;
+  expect_invalid(c, "tREFI");
+  c.tREFI = 400;
+  EXPECT_NO_THROW(c.validate());
+  c = gt200();
+  c.beats_per_clock = 3;
+  expect_invalid(c, "beats_per_clock");
+  c.beats_per_clock = 8;  // BL 4 would be half a clock
+  expect_invalid(c, "burst_length");
 }
 
 TEST(DramAddressMapping, Gt200ChannelBitsAreInsertedAtBit8) {
