@@ -6,6 +6,7 @@ ideal and the small memory system, the TLM checker). A speed change must
 pass this before its A/B (bench/ab_model.py) means anything.
 
     python3 bench/same_figures.py --a BIN_A --b BIN_B [--jobs 2] [--only NAME,...] [--ignore KEYS]
+        [--added-ok]
 
 Exit 0 when every run matches, 1 when one differs (the first differing keys are printed).
 """
@@ -151,25 +152,27 @@ def run(binary, args, out):
     return report, image
 
 
-def differences(a, b, path=""):
+def differences(a, b, path="", added_ok=False):
     if isinstance(a, dict) and isinstance(b, dict):
         for k in sorted(set(a) | set(b)):
-            yield from differences(a.get(k), b.get(k), f"{path}.{k}" if path else k)
+            if added_ok and k not in a:
+                continue  # a field B has and A's format lacks: not a figure that moved
+            yield from differences(a.get(k), b.get(k), f"{path}.{k}" if path else k, added_ok)
     elif isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
         for i, (x, y) in enumerate(zip(a, b)):
-            yield from differences(x, y, f"{path}[{i}]")
+            yield from differences(x, y, f"{path}[{i}]", added_ok)
     elif a != b:
         yield f"{path}: {a!r} != {b!r}"
 
 
-def compare(name, args, a, b, ignore=()):
+def compare(name, args, a, b, ignore=(), added_ok=False):
     with tempfile.TemporaryDirectory() as tmp:
         ra, ia = run(a, args, os.path.join(tmp, "a"))
         rb, ib = run(b, args, os.path.join(tmp, "b"))
     for key in ignore:
         ra.pop(key, None)
         rb.pop(key, None)
-    diff = list(differences(ra, rb))
+    diff = list(differences(ra, rb, added_ok=added_ok))
     if ia != ib:
         diff.append("render.png differs")
     return name, diff, ra.get("cycles_total")
@@ -187,7 +190,12 @@ def main():
         "--ignore",
         default="",
         help="comma-separated top-level report.json keys to leave out, for binaries on either side "
-        "of a report format change (schema,units,caches: rtsim-report/2 against /3)",
+        "of a report format change (schema: rtsim-report/2 against /3)",
+    )
+    p.add_argument(
+        "--added-ok",
+        action="store_true",
+        help="fields only B's report has (a new configuration key, a new list) are not differences",
     )
     args = p.parse_args()
     names = [n for n in args.only.split(",") if n] or list(RUNS)
@@ -202,7 +210,9 @@ def main():
     failed = 0
     with concurrent.futures.ThreadPoolExecutor(args.jobs) as pool:
         ignore = [k for k in args.ignore.split(",") if k]
-        for name, diff, cycles in pool.map(lambda n: compare(n, RUNS[n], a, b, ignore), names):
+        for name, diff, cycles in pool.map(
+            lambda n: compare(n, RUNS[n], a, b, ignore, args.added_ok), names
+        ):
             print(
                 f"{name:18} {'same' if not diff else 'DIFFERENT'}  ({cycles:,} cycles)", flush=True
             )

@@ -75,7 +75,7 @@ tlm::tlm_sync_enum Dram::nb_transport_fw(tlm::tlm_generic_payload& p, tlm::tlm_p
       report_error(kReportTlm, std::string(name()) + ": BEGIN_REQ before the END_REQ of the last");
     held_back_ = &p;
     held_back_arrival_ = arrival;
-    ++held_back_count_;
+    ++target_stats_.held_back;
     return tlm::TLM_ACCEPTED;
   }
   accept(p, arrival);
@@ -96,9 +96,8 @@ void Dram::accept(tlm::tlm_generic_payload& p, Tick arrival) {
 
 void Dram::register_stats(StatsRegistry& registry, const std::string& prefix) const {
   engine_.register_stats(registry, prefix);
-  if (engine_.config().input_queue > 0)
-    registry.counter(prefix + ".held_back", &held_back_count_, "count",
-                     "requests whose channel's input queue was full (END_REQ waited)");
+  StatsRegistrar v(registry, prefix);
+  if (engine_.config().input_queue > 0) describe_stats(v, target_stats_);
 }
 
 void Dram::respond(tlm::tlm_generic_payload& p) {

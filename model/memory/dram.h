@@ -58,6 +58,18 @@
 namespace rtsim::model {
 
 // The calendar's side first, as for Unit (model/sim/unit.h).
+// What the TLM-2.0 target adds to the timing engine's figures.
+struct DramTargetStats {
+  uint64_t held_back = 0;
+};
+
+// Every DramTargetStats field, once (model/sim/stats_description.h); only with an input queue.
+template <class V>
+void describe_stats(V& v, const DramTargetStats& s) {
+  v.counter("held_back", s.held_back, "count",
+            "requests whose channel's input queue was full (END_REQ waited)");
+}
+
 class Dram : public Calendar::Client, public sc_core::sc_module {
  public:
   tlm_utils::simple_target_socket<Dram> socket;
@@ -128,7 +140,7 @@ class Dram : public Calendar::Client, public sc_core::sc_module {
   const tlm::tlm_generic_payload* awaiting_end_resp_ = nullptr;  // answered TLM_ACCEPTED
   tlm::tlm_generic_payload* held_back_ = nullptr;  // its channel full: END_REQ not sent yet
   Tick held_back_arrival_ = 0;
-  uint64_t held_back_count_ = 0;
+  DramTargetStats target_stats_;
 };
 
 }  // namespace rtsim::model

@@ -277,52 +277,8 @@ Tick DramController::next_event_time() const {
 }
 
 void DramController::register_stats(StatsRegistry& reg, const std::string& prefix) const {
-  const std::string p = prefix.empty() ? "" : prefix + ".";
-  const DramStats& s = stats_;
-  reg.counter(p + "requests", &s.requests, "count", "read requests accepted");
-  reg.counter(p + "reads", &s.reads, "count", "read requests completed");
-  reg.counter(p + "bursts", &s.bursts, "count", "RD commands (one burst each)");
-  reg.counter(p + "activates", &s.activates, "count", "ACT commands");
-  reg.counter(p + "precharges", &s.precharges, "count", "PRE commands");
-  reg.counter(p + "row_hits", &s.row_hits, "count",
-              "requests (reads and writes) whose row was open");
-  reg.counter(p + "row_misses", &s.row_misses, "count",
-              "requests (reads and writes) that found their bank closed");
-  reg.counter(p + "row_conflicts", &s.row_conflicts, "count",
-              "requests (reads and writes) that found another row open");
-  reg.counter(p + "bytes", &s.bytes, "bytes", "bytes read (completed requests)");
-  reg.counter(p + "data_bus_busy_ps", &s.data_bus_busy_ps, "ps",
-              "data-bus busy time (reads and writes) summed over channels (ps)");
-  reg.counter(p + "queue_full_events", &s.queue_full_events, "count",
-              "requests that waited in the overflow FIFO");
-  reg.counter(p + "latency_sum_ps", &s.latency_sum_ps, "ps",
-              "sum of read arrival-to-data latencies (ps)");
-  reg.counter(p + "write_requests", &s.write_requests, "count", "write requests accepted");
-  reg.counter(p + "writes", &s.writes, "count", "write requests completed");
-  reg.counter(p + "write_bursts", &s.write_bursts, "count", "WR commands (one burst each)");
-  reg.counter(p + "bytes_written", &s.bytes_written, "bytes", "bytes written (completed requests)");
-  reg.counter(p + "refreshes", &s.refreshes, "count",
-              "REF commands (refresh: all-bank; up to each channel's last request)");
-  for (size_t i = 0; i < s.channel_reads.size(); ++i)
-    reg.counter(p + "ch" + std::to_string(i) + ".reads", &s.channel_reads[i], "count",
-                "read requests completed by channel");
-  reg.formula(
-      p + "row_hit_rate", [&s] { return s.row_hit_rate(); }, "ratio",
-      "row_hits / (hits + misses + conflicts)");
-  reg.formula(
-      p + "bandwidth_gbps", [&s] { return s.bandwidth_gbps(); }, "GB/s",
-      "bytes / (last completion - first arrival), GB/s");
-  reg.formula(
-      p + "avg_latency_ns", [&s] { return s.avg_latency_ns(); }, "ns", "latency_sum / reads (ns)");
-  const double channels = double(config_.channels);
-  reg.formula(
-      p + "bus_utilization",
-      [&s, channels] {
-        const uint64_t last = std::max(s.last_completion_ps, s.last_write_completion_ps);
-        const uint64_t span = last > s.first_arrival_ps ? last - s.first_arrival_ps : 0;
-        return span ? double(s.data_bus_busy_ps) / (channels * double(span)) : 0.0;
-      },
-      "ratio", "data_bus_busy / (channels * (last read or write completion - first arrival))");
+  StatsRegistrar v(reg, prefix);
+  describe_stats(v, stats_, config_.channels, config_.refresh != Refresh::kNone);
 }
 
 }  // namespace rtsim::model

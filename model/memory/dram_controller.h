@@ -60,8 +60,9 @@
 #include "model/memory/dram_row_policy.h"
 #include "model/memory/dram_scheduler.h"
 #include "model/memory/line_source.h"
-#include "model/sim/stats_registry.h"
+#include "model/sim/stats_description.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -99,6 +100,54 @@ struct DramStats {
   double bandwidth_gbps() const;  // read bandwidth: bytes / (last completion - first arrival)
   double avg_latency_ns() const;
 };
+
+// Every DramStats figure, once (model/sim/stats_description.h); `channels` for the bus's share,
+// `refresh`: the memory refreshes (its REF count is a figure only then).
+template <class V>
+void describe_stats(V& v, const DramStats& s, uint32_t channels, bool refresh) {
+  v.counter("requests", s.requests, "count", "read requests accepted");
+  v.counter("reads", s.reads, "count", "read requests completed");
+  v.counter("bursts", s.bursts, "count", "RD commands (one burst each)");
+  v.counter("activates", s.activates, "count", "ACT commands");
+  v.counter("precharges", s.precharges, "count", "PRE commands");
+  v.counter("row_hits", s.row_hits, "count", "requests (reads and writes) whose row was open");
+  v.counter("row_misses", s.row_misses, "count",
+            "requests (reads and writes) that found their bank closed");
+  v.counter("row_conflicts", s.row_conflicts, "count",
+            "requests (reads and writes) that found another row open");
+  v.counter("bytes", s.bytes, "bytes", "bytes read (completed requests)");
+  v.counter("data_bus_busy_ps", s.data_bus_busy_ps, "ps",
+            "data-bus busy time (reads and writes) summed over channels (ps)");
+  v.counter("queue_full_events", s.queue_full_events, "count",
+            "requests that waited in the overflow FIFO");
+  v.counter("latency_sum_ps", s.latency_sum_ps, "ps", "sum of read arrival-to-data latencies (ps)");
+  v.counter("write_requests", s.write_requests, "count", "write requests accepted");
+  v.counter("writes", s.writes, "count", "write requests completed");
+  v.counter("write_bursts", s.write_bursts, "count", "WR commands (one burst each)");
+  v.counter("bytes_written", s.bytes_written, "bytes", "bytes written (completed requests)");
+  if (refresh)
+    v.counter("refreshes", s.refreshes, "count",
+              "REF commands (refresh: all-bank; up to each channel's last request)");
+  for (size_t i = 0; i < s.channel_reads.size(); ++i)
+    v.counter("ch" + std::to_string(i) + ".reads", s.channel_reads[i], "count",
+              "read requests completed by channel");
+  v.formula(
+      "row_hit_rate", [&s] { return s.row_hit_rate(); }, "ratio",
+      "row_hits / (hits + misses + conflicts)");
+  v.formula(
+      "bandwidth_gbps", [&s] { return s.bandwidth_gbps(); }, "GB/s",
+      "bytes / (last completion - first arrival), GB/s");
+  v.formula(
+      "avg_latency_ns", [&s] { return s.avg_latency_ns(); }, "ns", "latency_sum / reads (ns)");
+  v.formula(
+      "bus_utilization",
+      [&s, channels] {
+        const uint64_t last = std::max(s.last_completion_ps, s.last_write_completion_ps);
+        const uint64_t span = last > s.first_arrival_ps ? last - s.first_arrival_ps : 0;
+        return span ? double(s.data_bus_busy_ps) / (double(channels) * double(span)) : 0.0;
+      },
+      "ratio", "data_bus_busy / (channels * (last read or write completion - first arrival))");
+}
 
 class DramController {
  public:
