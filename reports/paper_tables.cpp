@@ -13,6 +13,11 @@ std::map<std::string, PaperScene> load_paper_tables(const std::string& path) {
     p.name = name;
     p.title = m.require<std::string>("title");
     p.triangles = m.require<double>("triangles");
+    const auto res = m.require<std::vector<int>>("resolution");
+    if (res.size() != 2 || res[0] <= 0 || res[1] <= 0)
+      m.fail("resolution", "expected [width, height], both positive");
+    p.width = res[0];
+    p.height = res[1];
     p.lights = m.require<double>("lights");
     p.nodes = m.require<double>("nodes");
     p.leaves = m.require<double>("leaves");

@@ -15,7 +15,7 @@ using nlohmann::json;
 
 constexpr const char* kIntro =
     "# rtsim reproduce: the paper's Tables 3-6 beside ours\n\n"
-    "Each setup (configs/scenes/*.yaml, ../shared/scenes/README.md) ran on the Table-2 hardware "
+    "Each setup (configs/scenes/*.yaml, docs/scene-files.md) ran on the Table-2 hardware "
     "(configs/hw/tni-paper.yaml) with culling **off**; on with the **paper**'s method (LVB "
     "bits from kd-tree cell boxes, a leaf's own triangles ignored), its frustum test read as "
     "overlap (a box reaching into a frustum counts); the same with the test read literally, "
@@ -29,7 +29,7 @@ constexpr const char* kWhyTheyDiffer =
     "and Stanford releases: 110,561 / 71,708 / 69,453 triangles against the paper's 102,142 / "
     "71,581 / 10,125 (its bunny is decimated). The kitchen has six lights in its file; the paper "
     "used five. The paper did not publish its light positions; ours are the files' own lights "
-    "(robots: plus five we placed; ../shared/scenes/README.md). Per-light rows are therefore not "
+    "(robots: plus five we placed; configs/scenes/robots.yaml). Per-light rows are therefore not "
     "the same lights.\n- **kd-trees.** Both are SAH trees, built with different parameters: ours "
     "use a depth limit of 20 for the paper's setups so that leaf counts come close "
     "(docs/kdtree.md). Culled-leaf rates depend strongly on leaf sizes.\n- **Culled leaves.** The "
@@ -59,6 +59,8 @@ constexpr const char* kFigures =
     "culling, paper vs ours\n- plots/: each metric against the scene and variant (from "
     "results.json)\n";
 
+std::string ms3(double v) { return fmt::format("{:.3f}", v); }
+
 // The separator cells of `columns` more table columns.
 std::string rule(size_t columns) {
   std::string s;
@@ -72,12 +74,25 @@ struct Setup {
   const PaperScene* paper;
   const json& any;
   size_t lights;
+  int width, height;  // the runs' frame
 
   const json* run(const std::string& variant) const {
     const auto it = s.runs.find(variant);
     return it == s.runs.end() ? nullptr : &it->second;
   }
+  // Frame time is not proportional to pixels (caches warm up, some costs are per frame), so our
+  // counts and milliseconds are divided by the paper's only when the frames are the same.
+  bool paper_frame() const { return paper && paper->width == width && paper->height == height; }
+  std::string frame() const { return fmt::format("{}x{}", width, height); }
+  std::string paper_frame_text() const {
+    return paper ? fmt::format("{}x{}", paper->width, paper->height) : "";
+  }
 };
+
+constexpr const char* kNoRatioReason =
+    "frame time is not proportional to the pixel count (the caches warm up, some costs are per "
+    "frame), so neither the ratio nor a per-pixel scaling of it would measure how far our model is "
+    "from the paper's";
 
 // The JSON node at a dotted path below `j`, or null.
 const json* at_path(const json* j, const std::string& dotted) {
@@ -193,7 +208,8 @@ void table6(std::ostringstream& md, const Setup& c) {
 }
 
 json paper_json(const PaperScene& ps) {
-  return {{"culled_leaves", ps.culled_leaves},
+  return {{"resolution", {ps.width, ps.height}},
+          {"culled_leaves", ps.culled_leaves},
           {"leaves", ps.leaves},
           {"culled_rays", ps.culled_rays},
           {"shadow_rays_per_light", ps.rays_per_light},
@@ -238,11 +254,14 @@ json culled_variant(std::ostringstream& md, const Setup& c, const CulledVariant&
 }
 
 json setup_section(std::ostringstream& md, const Setup& c) {
-  const json& res = c.any["scene"]["resolution"];
   // A setup of our own beside the paper's (bunny-10k) says which it is.
   const std::string setup = c.paper && c.paper->name != c.s.name ? ", " + c.s.name : "";
-  md << fmt::format("## {}{} ({}x{})\n\n", c.paper ? c.paper->title : c.s.name, setup,
-                    res[0].get<int>(), res[1].get<int>());
+  md << fmt::format("## {}{} ({})\n\n", c.paper ? c.paper->title : c.s.name, setup, c.frame());
+  if (c.paper && !c.paper_frame())
+    md << fmt::format(
+        "The paper's counts and milliseconds are of {} frames, ours of {}: compare the rates and "
+        "the reductions, not the counts or the milliseconds.\n\n",
+        c.paper_frame_text(), c.frame());
   json js = {
       {"name", c.s.name}, {"title", c.paper ? c.paper->title : c.s.name}, {"ours", json::object()}};
   if (c.paper) js["paper"] = paper_json(*c.paper);
@@ -278,14 +297,16 @@ std::pair<double, double> mean_culled(const Setup& c, const std::string& var) {
 // One row per setup: the paper's figure beside each variant's, so the gaps that remain are read
 // at a glance (docs/lvb.md and docs/ablation.md measure what they come from).
 json what_is_left(std::ostringstream& md, const std::vector<Setup>& setups) {
-  md << "## What is left\n\nPer setup: the culling-off frame time (the paper's, ours, ours over "
-        "the paper's), and culling's reduction of it, the culled leaves (of all leaves) and the "
-        "culled shadow rays (means over the lights), each as paper / ours: ";
+  md << "## What is left\n\nPer setup (ours at the resolution given): the culling-off frame time "
+        "(the paper's, ours, and ours over the paper's where ours ran at the paper's resolution), "
+        "and culling's reduction of it, the culled leaves (of all leaves) and the culled shadow "
+        "rays (means over the lights), each as paper / ours: ";
   for (const CulledVariant& cv : kCulledVariants)
     md << (&cv == &kCulledVariants[0] ? "" : " / ") << cv.label;
   md << ".\n\n| setup | frame off (ms) | reduction | leaves culled | rays culled |\n"
         "|---|---|---|---|---|\n";
   json out = json::array();
+  bool other_frame = false;
   for (const Setup& c : setups) {
     if (!c.paper) continue;
     const PaperScene& p = *c.paper;
@@ -295,7 +316,12 @@ json what_is_left(std::ostringstream& md, const std::vector<Setup>& setups) {
     for (double v : p.culled_leaves) pl += v / p.leaves / double(p.culled_leaves.size());
     for (double v : p.culled_rays) pr += v / p.rays_per_light / double(p.culled_rays.size());
     std::string red = reduction(p.all_on, p.all_off), leaves = rate(pl), rays = rate(pr);
-    json j = {{"name", c.s.name}, {"paper_off_ms", p.all_off}, {"ours_off_ms", off_ms}};
+    json j = {{"name", c.s.name},
+              {"resolution", {c.width, c.height}},
+              {"paper_resolution", {p.width, p.height}},
+              {"paper_off_ms", p.all_off},
+              {"ours_off_ms", off_ms},
+              {"off_ms_over_paper", nullptr}};
     for (const CulledVariant& cv : kCulledVariants) {
       const json* r = c.run(cv.name);
       red += " / " + (r && off ? reduction((*r)["frame_ms"]["all"].get<double>(), off_ms) : "n/a");
@@ -304,11 +330,24 @@ json what_is_left(std::ostringstream& md, const std::vector<Setup>& setups) {
       rays += " / " + rate(y);
       j[cv.name] = {{"mean_leaves_culled", l}, {"mean_rays_culled", y}};
     }
-    md << fmt::format("| {} | {} / {} ({}x) | {} | {} | {} |\n", c.s.name, p.all_off,
-                      off ? fmt::format("{:.3f}", off_ms) : "n/a",
-                      off ? fmt::format("{:.2f}", off_ms / p.all_off) : "n/a", red, leaves, rays);
+    std::string frame_off = fmt::format("{} / {}", p.all_off, off ? ms3(off_ms) : "n/a");
+    if (!c.paper_frame())
+      frame_off = fmt::format("{} ({}) / {} ({}), no ratio", p.all_off, c.paper_frame_text(),
+                              off ? ms3(off_ms) : "n/a", c.frame());
+    else if (off) {
+      frame_off += fmt::format(" ({:.2f}x)", off_ms / p.all_off);
+      j["off_ms_over_paper"] = off_ms / p.all_off;
+    }
+    other_frame = other_frame || !c.paper_frame();
+    md << fmt::format("| {} ({}) | {} | {} | {} | {} |\n", c.s.name, c.frame(), frame_off, red,
+                      leaves, rays);
     out.push_back(j);
   }
+  if (other_frame)
+    md << "\nNo ratio of our milliseconds to the paper's where ours ran at another resolution than "
+          "the paper's: "
+       << kNoRatioReason << ". The reductions and the culled shares are rates, compared here at "
+       << "the resolution given.\n";
   md << "\nWhere a row's figures disagree the gap is not closed: docs/lvb.md measures the readings "
         "of the paper's test and what its leaf rates need, docs/ablation.md the contention limits "
         "and the parameters the paper does not publish.\n\n";
@@ -327,8 +366,9 @@ ReportText reproduction_report(const std::vector<ReproductionScene>& scenes,
   for (const ReproductionScene& s : scenes) {
     const auto pit = paper.find(s.name);
     const json& any = s.runs.begin()->second;
-    setups.push_back(
-        {s, pit == paper.end() ? nullptr : &pit->second, any, any["scene"]["lights"].size()});
+    const json& res = any["scene"]["resolution"];
+    setups.push_back({s, pit == paper.end() ? nullptr : &pit->second, any,
+                      any["scene"]["lights"].size(), res[0].get<int>(), res[1].get<int>()});
     summary["scenes"].push_back(setup_section(md, setups.back()));
   }
   if (std::any_of(setups.begin(), setups.end(), [](const Setup& c) { return c.paper; }))

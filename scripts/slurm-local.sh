@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # A real one-node Slurm cluster on this machine, for tests and trials: munged, slurmctld and slurmd
-# with every file under one private folder (../shared/docs/slurm-local.md has what it takes).
+# with every file under one private folder (the comments in start() say why its settings are so).
 #   bash scripts/slurm-local.sh start DIR   starts it; prints `export SLURM_CONF=...` for clients
 #   bash scripts/slurm-local.sh stop DIR    cancels its jobs, stops it, leaves no process behind
 # DIR must be new or empty at start (a short path: munge's socket path has a 108-byte limit).
@@ -54,7 +54,10 @@ start() {
     --pid-file="$m/munged.pid" --log-file="$m/munged.log" --seed-file="$m/munged.seed"
   wait_for "$m/munged.pid" munged bash -c "munge -n -S '$m/munge.socket' | unmunge -S '$m/munge.socket'"
 
-  # The node as slurmd sees it (CPUs, sockets, memory), under our name and on the loopback
+  # The node as slurmd sees it (CPUs, sockets, memory), under our name and on the loopback.
+  # A sandbox's settings: munged's socket in DIR (no /run/munge without systemd); no cgroup,
+  # accounting or MPI plugins; MinJobAge keeps finished tasks in `scontrol show job` (there is no
+  # sacct without slurmdbd); batch_sched_delay=0 starts an array's tasks at once.
   local hw
   hw=$(slurmd -C | head -n 1 | sed "s/^NodeName=[^ ]*/NodeName=$node NodeAddr=127.0.0.1/")
   cat > "$dir/slurm.conf" << CONF

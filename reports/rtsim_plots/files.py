@@ -1,5 +1,5 @@
 """The names of the files the figures read, as the commands write them (reports/output_files.h
-defines them for the C++ side; tests/reports/test_plot_files.py checks that the two agree)."""
+defines them for the C++ side; tests/reports/plot_files_test.py checks that the two agree)."""
 
 REPORT_JSON = "report.json"
 CULLED_NPY = "culled.npy"
