@@ -45,8 +45,8 @@ bool RayGenerator::cycle(Tick now) {
     RayQueueIn* f = inputs_.next_free();
     if (!f) break;
     RayInfo info;
-    info.pixel = pixel_of(next_++);
-    info.ray = camera_.ray(int(info.pixel % width_), int(info.pixel / width_));
+    info.entry = pixel_of(next_++);  // bounce 0: the entry is the pixel
+    info.ray = camera_.ray(int(info.entry % width_), int(info.entry / width_));
     f->push(ctx_.pool->create(info), now + clock().period(), now);
   }
   return issued > 0;

@@ -20,7 +20,9 @@ enum class RayType : uint8_t { kPrimary, kReflection, kShadow };
 struct RayInfo {
   Ray ray;
   RayType type = RayType::kPrimary;
-  uint32_t pixel = 0;   // primary and reflection rays: the pixel; shadow rays: the frame entry
+  // Its frame entry (model/units/frame_buffer.h): a primary or reflection ray's, its pixel at its
+  // bounce; a shadow ray's, the hit it tests. (A primary ray's entry is its pixel.)
+  uint32_t entry = 0;
   uint8_t depth = 0;    // reflection bounces so far
   uint8_t light = 0;    // shadow rays: which light
   uint16_t sample = 0;  // shadow rays: which of the light's samples
@@ -69,7 +71,8 @@ struct IstState {
 
 // Shading: the hit's surface, read from its triangle, then its material.
 struct ShadingState {
-  uint8_t stage = 0;  // 0: the triangle next, 1: the material
+  enum class Next : uint8_t { kTriangle, kMaterial };  // the record its next operation reads
+  Next next = Next::kTriangle;
   uint32_t material = 0;
   SurfacePoint surface;
 };

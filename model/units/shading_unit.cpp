@@ -29,7 +29,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   // The triangle, then its material; a parked ray resumes at the stage it waited in.
   ShadingState& s = r.shading;
   const image::Header& h = ctx_.header;
-  if (s.stage == 0) {
+  if (s.next == ShadingState::Next::kTriangle) {
     const uint64_t addr = h.triangles.base + uint64_t(result.hit.tri) * image::kTriangleBytes;
     uint8_t bytes[image::kTriangleBytes];
     const Tick ready = load(l1(), id, addr, image::kTriangleBytes, bytes, now);
@@ -37,7 +37,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
     const image::TriangleRecord tri = image::decode_triangle(bytes);
     s.surface = surface_point(r.info.ray, result.hit.t, tri.v0, tri.v1, tri.v2);
     s.material = tri.material;
-    s.stage = 1;
+    s.next = ShadingState::Next::kMaterial;
     return keep(id, std::max(ready, now + ctx_.clock.period()));
   }
   if (records.size() > 0 && records->full()) {
@@ -55,9 +55,9 @@ void ShadingUnit::shadow_done(uint32_t id, Tick now) {
   ++stats_.shadow_rays;
   if (ray_state(id).ist.result.found) {
     if (ctx_.light_samples[info.light] > 1)
-      frame_->set_sample_occluded(info.pixel, info.light, info.sample);
+      frame_->set_sample_occluded(info.entry, info.light, info.sample);
     else
-      frame_->pixels[info.pixel].occluded |= uint16_t(1u << info.light);
+      frame_->pixels[info.entry].occluded |= uint16_t(1u << info.light);
     ++stats_.shadow_occluded;
   }
   retire(id, RayType::kShadow, now);
@@ -69,13 +69,13 @@ void ShadingUnit::shade(uint32_t id, const image::MaterialRecord& mat, Tick done
   const RayInfo info = r.info;
   ++(info.type == RayType::kPrimary ? stats_.primary_rays : stats_.reflection_rays);
   ++(info.type == RayType::kPrimary ? stats_.primary_hits : stats_.reflection_hits);
-  PixelState& px = frame_->at(info.pixel, info.depth);
+  PixelState& px = frame_->pixels[info.entry];
   px.hit = r.ist.result.hit;
   px.lvb = r.ist.lvb;
   px.surface = r.shading.surface;
   px.diffuse = mat.diffuse;
   px.reflectance = mat.reflectance;
-  const uint32_t entry = frame_->entry(info.pixel, info.depth);
+  const uint32_t entry = info.entry;
   if (records.size() > 0) {
     line_.assign(region_.stride, 0);
     encode_hit_record(px, line_.data());
@@ -87,6 +87,7 @@ void ShadingUnit::shade(uint32_t id, const image::MaterialRecord& mat, Tick done
     RayInfo reflection = info;
     reflection.type = RayType::kReflection;
     reflection.depth = uint8_t(info.depth + 1);
+    reflection.entry = info.entry + uint32_t(frame_->pixel_count());  // its pixel, a bounce on
     reflection.ray = reflection_ray(r.shading.surface, info.ray.d, ctx_.shadow_offset);
     ctx_.pool->renew(id, reflection);
     release();

@@ -55,7 +55,9 @@ class ShadingUnit : public RayUnit {
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  void admitted(uint32_t ray) override { ray_state(ray).shading.stage = 0; }
+  void admitted(uint32_t ray) override {
+    ray_state(ray).shading.next = ShadingState::Next::kTriangle;
+  }
   bool gate_open() const override { return !records->full(); }
   void end_of_elaboration() override;
 

@@ -190,7 +190,7 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   const uint32_t pixels = uint32_t(frame_->pixel_count());
   RayInfo info;
   info.type = RayType::kShadow;
-  info.pixel = entry;
+  info.entry = entry;
   info.light = uint8_t(light_);
   info.sample = uint16_t(sample_);
   info.ray = shadow_ray(surface,

@@ -35,7 +35,7 @@ TEST(RayGenerator, IssuesAtMostItsRatePerCycle) {
   for (size_t k = 0; k < kWidth * kHeight; ++k) {
     RayFifo& f = k % 2 ? b : a;
     ready.push_back(f.head_ready());
-    pixels.push_back(pool[f.pop(0)].info.pixel);
+    pixels.push_back(pool[f.pop(0)].info.entry);  // a primary ray's entry is its pixel
   }
   for (size_t k = 0; k < ready.size(); ++k) {
     EXPECT_EQ(ready[k], ctx.clock.cycles(k / kRate + 1)) << k;

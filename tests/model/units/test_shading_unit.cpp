@@ -162,7 +162,7 @@ TEST(ShadingUnit, AMirrorHandsTheRayBackAsItsReflection) {
   const RayState& m = r.b->pool[r.m];
   EXPECT_EQ(m.info.type, RayType::kReflection);
   EXPECT_EQ(m.info.depth, 1u);
-  EXPECT_EQ(m.info.pixel, 7u);
+  EXPECT_EQ(m.info.entry, r.b->frame.entry(7, 1)) << "pixel 7, one bounce on";
   EXPECT_FALSE(m.ist.result.found) << "a new ray: no hit yet";
   EXPECT_GT(m.info.ray.d.z, 0.f);  // back up, away from the mirror
   EXPECT_EQ(r.b->frame.at(7, 0).hit.tri, 1u);

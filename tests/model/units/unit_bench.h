@@ -127,11 +127,11 @@ class Bench : public sc_core::sc_module, public RayReturn {
   }
 
   // A new ray in the pool.
-  uint32_t add_ray(const Ray& ray, RayType type = RayType::kPrimary, uint32_t pixel = 0) {
+  uint32_t add_ray(const Ray& ray, RayType type = RayType::kPrimary, uint32_t entry = 0) {
     RayInfo info;
     info.ray = ray;
     info.type = type;
-    info.pixel = pixel;
+    info.entry = entry;
     return pool.create(info);
   }
 
