@@ -16,36 +16,84 @@
 
 namespace rtsim::model {
 
+// The paper's machine, by name: the defaults of AcceleratorConfig, which configs/hw/tni-paper.yaml
+// states again (a test checks the two agree). The paper's Table 2 and Section 4.1 give the units
+// (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36) and the cache sizes and ways; the rest is ours,
+// each figure's source in configs/README.md: single-ported L1s; L2s of 8 single-ported banks
+// (GPGPU-Sim's GT200); MSHRs serving 4 requests each (GT200's L2 and texture L1); 64-byte lines;
+// 32-byte flits, 8-byte headers, 2 cycles a hop, 8-flit input buffers.
+namespace paper_machine {
+
+inline CacheConfig l1(uint32_t kb, uint32_t ways) {
+  CacheConfig c;
+  c.size_bytes = kb * 1024;
+  c.ways = ways;
+  c.line_bytes = 64;
+  c.hit_latency = 1;
+  c.mshrs = 16;
+  c.banks = 1;
+  c.ports = 1;
+  c.fill_port = FillPort::kShared;
+  c.max_merge = 4;
+  return c;
+}
+
+inline CacheConfig l2(uint32_t kb) {
+  CacheConfig c = l1(kb, 2);
+  c.hit_latency = 4;
+  c.mshrs = 64;
+  c.banks = 8;
+  return c;
+}
+
+inline LinkConfig link() {
+  LinkConfig l;
+  l.latency = 2;
+  l.bytes_per_cycle = 32;
+  l.header_bytes = 8;
+  l.buffer_flits = 8;
+  return l;
+}
+
+// `count` units of `latency` cycles holding 16 rays, behind 16-entry FIFOs, fully pipelined.
+inline UnitTypeConfig units(uint32_t count, uint32_t latency, CacheConfig l1, CacheConfig l2) {
+  UnitTypeConfig u;
+  u.count = count;
+  u.latency = latency;
+  u.capacity = 16;
+  u.fifo_depth = 16;
+  u.initiation_interval = 1;
+  u.l1 = l1;
+  u.l2 = l2;
+  u.link = link();
+  return u;
+}
+
+// One shading unit of 4 cycles holding 64 rays; its L1 sits on the IST L2 (no l2, link of its own).
+inline UnitTypeConfig shading() {
+  UnitTypeConfig u = units(1, 4, l1(16, 4), CacheConfig{});
+  u.capacity = 64;
+  u.fifo_depth = 64;
+  u.link = LinkConfig{};
+  return u;
+}
+
+}  // namespace paper_machine
+
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
-  // The paper's Table 2 and Section 4.1 (24 TRV, 12 LIST, 12 IST; latencies 8, 2, 36). Banks,
-  // ports, links and queues as configs/README.md gives them with their sources: single-ported
-  // L1s; L2s of 8 single-ported banks (GPGPU-Sim's GT200); MSHRs serving 4 requests each (GT200's
-  // L2 and texture L1); 32-byte flits, 8-byte headers, 2 cycles a hop, 8-flit input buffers.
-  UnitTypeConfig trv{{8, 16, 16},
-                     {24,
-                      {8192, 2, 64, 1, 16, 1, 1, FillPort::kShared, 4},
-                      {131072, 2, 64, 4, 64, 8, 1, FillPort::kShared, 4},
-                      {2, 32, 8, 8}}};
-  UnitTypeConfig list{{2, 16, 16},
-                      {12,
-                       {4096, 2, 64, 1, 16, 1, 1, FillPort::kShared, 4},
-                       {32768, 2, 64, 4, 64, 8, 1, FillPort::kShared, 4},
-                       {2, 32, 8, 8}}};
-  UnitTypeConfig ist{{36, 16, 16},
-                     {12,
-                      {16384, 4, 64, 1, 16, 1, 1, FillPort::kShared, 4},
-                      {131072, 2, 64, 4, 64, 8, 1, FillPort::kShared, 4},
-                      {2, 32, 8, 8}}};
-  // Its L1 sits on the IST L2.
-  UnitTypeConfig shading{{4, 64, 64},
-                         {1, {16384, 4, 64, 1, 16, 1, 1, FillPort::kShared, 4}, {}, {}}};
+  UnitTypeConfig trv = paper_machine::units(24, 8, paper_machine::l1(8, 2), paper_machine::l2(128));
+  UnitTypeConfig list = paper_machine::units(12, 2, paper_machine::l1(4, 2), paper_machine::l2(32));
+  UnitTypeConfig ist =
+      paper_machine::units(12, 36, paper_machine::l1(16, 4), paper_machine::l2(128));
+  UnitTypeConfig shading = paper_machine::shading();
   DramConfig dram = dram_preset("gddr3-gt200-1ghz");
-  LinkConfig memory_link{2, 32, 8, 8};  // the crossbar between the L2 banks and the DRAM channels
-  uint32_t ray_pool = 2048;             // rays in flight, all units together
-  uint32_t raygen_rays_per_cycle = 1;   // the T&I engine's ray dispatcher: one ray per cycle
-  CullingConfig culling;                // one hit record per cycle, read from memory in two phases
-  bool write_records = true;            // shading units write each hit's record to the frame buffer
+  // The crossbar between the L2 banks and the DRAM channels
+  LinkConfig memory_link = paper_machine::link();
+  uint32_t ray_pool = 2048;            // rays in flight, all units together
+  uint32_t raygen_rays_per_cycle = 1;  // the T&I engine's ray dispatcher: one ray per cycle
+  CullingConfig culling;               // one hit record per cycle, read from memory in two phases
+  bool write_records = true;           // shading units write each hit's record to the frame buffer
   // A shading unit's posted writes in flight: one per ray it holds (our choice; no source gives
   // one). 0: unbounded, the ideal.
   uint32_t write_buffer = 64;
@@ -124,7 +172,7 @@ DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {
   v.section("culling", "the shadow culling unit", [&] { describe(v, c.culling); });
   v.section("memory_link", "the crossbar between the L2 banks and the memory channels",
             [&] { describe(v, c.memory_link); });
-  v.section("dram", "the GDDR3 memory", [&] {
+  v.section("dram", "the memory: GDDR3 (the paper's), GDDR5 or GDDR6 by preset", [&] {
     v.preset("preset", c.dram, "the preset the section starts from (docs/dram.md)");
     describe(v, c.dram);
   });
