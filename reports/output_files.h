@@ -39,6 +39,9 @@ inline constexpr const char* kAblationMd = "ablation.md";
 inline constexpr const char* kAblationJson = "ablation.json";
 inline constexpr const char* kFramesCsv = "frames.csv";
 inline constexpr const char* kHostCsv = "host.csv";
+inline constexpr const char* kSummaryMd = "summary.md";  // animate
+// What a sweep's `reports:` write beside its results.
+inline constexpr const char* kAreaLightsMd = "area_lights.md";  // reports: [area]
 }  // namespace output
 
 void write_file_atomic(const std::string& path, const std::string& contents);
