@@ -25,7 +25,7 @@ run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
 
 sweep DIR reads DIR/results.json (schema rtsim-sweep/1) and writes DIR/plots/<metric>_vs_<axis>.png
 for every metric and every axis with at least 2 distinct values (the scene counts as an axis when
-there are several), plus DIR/plots/index.md listing them.
+there are several); the sweep lists them in DIR/plots/index.md (reports/sweep_index.h).
 
 reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written by
 `rtsim reproduce`) and writes:
@@ -57,8 +57,7 @@ scene's time:
 rtsim animate writes the tables, frames.csv, host.csv and summary.md, itself
 (reports/animation_tables.h).
 
-Every Markdown report comes from the rtsim command (C++); this script only draws figures (and
-plots/index.md, the list of a sweep's figures).
+Every Markdown file comes from the rtsim command (C++); this script only draws figures.
 
 Exit status 0 on success (silent unless --verbose, which lists the files written); on bad input one
 line "plots.py: error: ..." on stderr and exit status 2. Needs only numpy and matplotlib.

@@ -5,6 +5,7 @@
 #include "reports/area_report.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
+#include "reports/sweep_index.h"
 #include "testbench/sweep_metrics.h"
 
 #include <fmt/format.h>
@@ -33,10 +34,24 @@ std::string file_digest(const std::string& path) {
   return fmt::format("{:016x}", h);
 }
 
+// plots/index.md, the list of the figures plots.py drew (reports/sweep_index.h); empty on
+// success, else why not.
+std::string write_plots_index(const std::string& dir) {
+  try {
+    const nlohmann::json results = read_json((fs::path(dir) / output::kResultsJson).string());
+    write_file_atomic((fs::path(dir) / output::kPlotsDir / output::kPlotsIndexMd).string(),
+                      report::sweep_plots_index(results));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string draw_sweep_figures(const SweepSpec& s, const std::string& dir) {
   std::string note = make_plots("sweep", dir);
+  if (note.empty()) note = write_plots_index(dir);
   for (const std::string& r : s.reports)
     if (note.empty()) note = make_plots(r, dir);
   return note;

@@ -1,10 +1,12 @@
-// The Markdown reports of a sweep and an animation, on small hand-made inputs: area_lights.md
-// (reports/area_report.h) and summary.md (reports/animation_tables.h), compared whole with the text
-// they must be. The area inputs name unit types the model does not have: the table's columns come
-// from the reports' `units` and `caches` lists, not from keys the writer knows.
+// The Markdown files of a sweep and an animation, on small hand-made inputs: area_lights.md
+// (reports/area_report.h), plots/index.md (reports/sweep_index.h) and summary.md
+// (reports/animation_tables.h), compared whole with the text they must be. The area inputs name
+// unit types the model does not have: the table's columns come from the reports' `units` and
+// `caches` lists, not from keys the writer knows.
 #include "common/error.h"
 #include "reports/animation_tables.h"
 #include "reports/area_report.h"
+#include "reports/sweep_index.h"
 
 #include <gtest/gtest.h>
 
@@ -139,6 +141,28 @@ TEST(Reports, AnimationSummaryHasARowPerFrameAndTheMedians) {
       "300,000 | 20.0% | 0.0067 |\n"
       "| **median** | 86,000 | 81,000 | 500 | 15.0% | 1,500,000 | 0.0003 | 0.12 | 0.30 | 25.0% | "
       "300,000 | 20.0% | 0.0067 |\n");
+}
+
+// The figures plots.py sweep draws: every metric against every axis with two or more values, the
+// scene as one more axis when the rows hold several; names with only [A-Za-z0-9_.-].
+TEST(Reports, SweepPlotsIndexListsEveryMetricAgainstEveryVaryingAxis) {
+  json results = {{"name", "tiny"},
+                  {"axes", {"hw.l1.size_kb", "run.lvb", "run.width"}},
+                  {"metrics", {"cycles_total", "stats.memory.x/y"}},
+                  {"rows",
+                   {{{"scene", "a"}, {"hw.l1.size_kb", 4}, {"run.lvb", true}, {"run.width", 8}},
+                    {{"scene", "b"}, {"hw.l1.size_kb", 8}, {"run.lvb", 1}, {"run.width", 8}}}}};
+  EXPECT_EQ(sweep_plots_index(results),
+            "# Sweep tiny: plots\n\n"
+            "- [cycles_total_vs_hw.l1.size_kb.png](cycles_total_vs_hw.l1.size_kb.png)\n"
+            "- [cycles_total_vs_run.lvb.png](cycles_total_vs_run.lvb.png)\n"
+            "- [cycles_total_vs_scene.png](cycles_total_vs_scene.png)\n"
+            "- [stats.memory.x_y_vs_hw.l1.size_kb.png](stats.memory.x_y_vs_hw.l1.size_kb.png)\n"
+            "- [stats.memory.x_y_vs_run.lvb.png](stats.memory.x_y_vs_run.lvb.png)\n"
+            "- [stats.memory.x_y_vs_scene.png](stats.memory.x_y_vs_scene.png)\n");
+  results["rows"] = json::array();
+  EXPECT_EQ(sweep_plots_index(results),
+            "# Sweep tiny: plots\n\nNo axis has two or more values yet: nothing to plot.\n");
 }
 
 }  // namespace
