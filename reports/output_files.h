@@ -39,6 +39,12 @@ inline constexpr const char* kAblationMd = "ablation.md";
 inline constexpr const char* kAblationJson = "ablation.json";
 inline constexpr const char* kFramesCsv = "frames.csv";
 inline constexpr const char* kHostCsv = "host.csv";
+inline constexpr const char* kSummaryMd = "summary.md";  // animate
+// A sweep's figures (plots.py sweep) and their index (reports/sweep_index.h).
+inline constexpr const char* kPlotsDir = "plots";
+inline constexpr const char* kPlotsIndexMd = "index.md";
+// What a sweep's `reports:` write beside its results.
+inline constexpr const char* kAreaLightsMd = "area_lights.md";  // reports: [area]
 }  // namespace output
 
 void write_file_atomic(const std::string& path, const std::string& contents);

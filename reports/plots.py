@@ -25,7 +25,7 @@ run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
 
 sweep DIR reads DIR/results.json (schema rtsim-sweep/1) and writes DIR/plots/<metric>_vs_<axis>.png
 for every metric and every axis with at least 2 distinct values (the scene counts as an axis when
-there are several), plus DIR/plots/index.md listing them.
+there are several); the sweep lists them in DIR/plots/index.md (reports/sweep_index.h).
 
 reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written by
 `rtsim reproduce`) and writes:
@@ -40,14 +40,10 @@ reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written 
 A scene without the paper's figures, or without one of our runs, shows n/a in those places.
 
 area DIR reads the results.json of a sweep with the axes scene.lights.area_from_points.samples and
-run.lvb (configs/sweeps/area-lights.yaml) and writes, per scene and sample count, culling off
-against on:
-  area_lights.md                   cycles off and on, the reduction (off - on) / off, shadow rays
-                                   traced and culled; then, from the points' report.json, what
-                                   bounds the shadow phase (TRV and IST operations culling removes,
-                                   TRV idle share and IST L1 hit rate with culling off).
-  plots/area_reduction.png         the frame-time reduction against the samples per light, one line
-                                   per scene.
+run.lvb (configs/sweeps/area-lights.yaml) and writes:
+  plots/area_reduction.png         per scene and sample count, the frame-time reduction of culling
+                                   on against off ((off - on) / off), one line per scene.
+The sweep writes the tables, area_lights.md, itself (reports/area_report.cpp).
 
 animate DIR reads DIR/frames.csv and DIR/host.csv (written by `rtsim animate`) and writes, over the
 scene's time:
@@ -58,10 +54,10 @@ scene's time:
                                    work counts (kd-tree nodes visited, region tests, pair tests).
   frames.gif                       DIR/frames/frame_NNNN.png as an animated GIF (Pillow), at the
                                    scene's pace.
-  summary.md                       per frame and as medians: cycles culling saves, what rebuilding
-                                   the LVB costs (host seconds; tests, as a hardware builder's
-                                   cycles at one test per cycle) and what a lazy rebuild would redo
-                                   (docs/animation.md).
+rtsim animate writes the tables, frames.csv, host.csv and summary.md, itself
+(reports/animation_tables.h).
+
+Every Markdown file comes from the rtsim command (C++); this script only draws figures.
 
 Exit status 0 on success (silent unless --verbose, which lists the files written); on bad input one
 line "plots.py: error: ..." on stderr and exit status 2. Needs only numpy and matplotlib.

@@ -313,7 +313,8 @@ STUDIES = [
         ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml", "--no-plots"],
         knob_table,
     ),
-    # The area-light reports are written with their figures (area_lights.md names them).
+    # The area-light sweeps write area_lights.md (reports/area_report.cpp) and, with plots.py, the
+    # figure.
     Study(
         "area-lights",
         "docs/area-lights.md",

@@ -4,7 +4,8 @@
 // off, or both. The per-frame table (frames.csv) then pairs the on and off runs of each time and
 // adds what the rebuild cost: host seconds of the kd-tree and the LVB (host.csv keeps host figures
 // apart, so frames.csv is deterministic), the LVB's work counts and what a lazy rebuild after the
-// previous frame would redo; plots.py adds the figures, frames.gif and summary.md.
+// previous frame would redo; summary.md sets the cycles culling saves against what the rebuild
+// costs; plots.py adds the figures and frames.gif.
 // docs/animation.md.
 #include "common/error.h"
 #include "reports/animation_tables.h"
@@ -78,8 +79,8 @@ bool culling_on(const SweepPoint& p) {
   return lvb.is_boolean() ? lvb.get<bool>() : lvb == "on";
 }
 
-// frames.csv and host.csv (reports/animation_tables.h), one row per time, from the points'
-// reports; frames/frame_NNNN.png, the culling-on runs' images in time order.
+// frames.csv, host.csv and summary.md (reports/animation_tables.h), one row per time, from the
+// points' reports; frames/frame_NNNN.png, the culling-on runs' images in time order.
 void write_frame_tables(const std::string& out, const SweepSpec& spec) {
   std::map<double, report::AnimationFrame> frames;
   std::map<double, std::string> images;  // the culling-on point's render.png when there is one
@@ -97,6 +98,8 @@ void write_frame_tables(const std::string& out, const SweepSpec& spec) {
                   fs::copy_options::overwrite_existing);
   write_file_atomic((fs::path(out) / output::kFramesCsv).string(), report::frames_csv(frames));
   write_file_atomic((fs::path(out) / output::kHostCsv).string(), report::host_csv(frames));
+  write_file_atomic((fs::path(out) / output::kSummaryMd).string(),
+                    report::animation_summary(frames));
 }
 
 }  // namespace
@@ -133,7 +136,7 @@ int run_animate(const AnimateArgs& a) {
   write_frame_tables(a.out, spec);
   fmt::print(
       "{} frames: {}/frames.csv (cycles, culled rays, LVB work per frame), host.csv (host "
-      "seconds)\n",
+      "seconds), summary.md\n",
       times.size(), a.out);
   const std::string note = make_plots("animate", a.out);
   if (note.empty())

@@ -158,6 +158,8 @@ int run_sweep_points(const SweepSpec& s, const std::string& dir, int jobs, bool 
       },
       point_timeout);
   const size_t rows = write_sweep_results(s, dir);
+  if (const std::string why = write_sweep_reports(s, dir); !why.empty())
+    fmt::print(stderr, "rtsim: warning: report not written: {}\n", why);
   std::string note;
   if (plots) note = draw_sweep_figures(s, dir);
   fmt::print("sweep {}: {} of {} points in {}/results.csv{}\n", s.name, rows, s.points.size(), dir,

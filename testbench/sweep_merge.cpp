@@ -10,6 +10,8 @@ int merge_sweep(const std::string& dir, bool plots) {
   const std::string file = sweep_manifest_file(dir);
   const SweepSpec s = spec_from_manifest(read_json(file), file);
   const size_t rows = write_sweep_results(s, dir);
+  if (const std::string why = write_sweep_reports(s, dir); !why.empty())
+    fmt::print(stderr, "rtsim: warning: report not written: {}\n", why);
   std::string missing;
   for (const SweepPoint& p : s.points) {
     const std::string problem = sweep_row_problem(dir, p);

@@ -2,8 +2,10 @@
 
 #include "common/error.h"
 #include "common/utf8.h"
+#include "reports/area_report.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
+#include "reports/sweep_index.h"
 #include "testbench/sweep_metrics.h"
 
 #include <fmt/format.h>
@@ -32,13 +34,49 @@ std::string file_digest(const std::string& path) {
   return fmt::format("{:016x}", h);
 }
 
+// plots/index.md, the list of the figures plots.py drew (reports/sweep_index.h); empty on
+// success, else why not.
+std::string write_plots_index(const std::string& dir) {
+  try {
+    const nlohmann::json results = read_json((fs::path(dir) / output::kResultsJson).string());
+    write_file_atomic((fs::path(dir) / output::kPlotsDir / output::kPlotsIndexMd).string(),
+                      report::sweep_plots_index(results));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 }  // namespace
 
 std::string draw_sweep_figures(const SweepSpec& s, const std::string& dir) {
   std::string note = make_plots("sweep", dir);
+  if (note.empty()) note = write_plots_index(dir);
   for (const std::string& r : s.reports)
     if (note.empty()) note = make_plots(r, dir);
   return note;
+}
+
+std::string write_sweep_reports(const SweepSpec& s, const std::string& dir) {
+  for (const std::string& r : s.reports) {
+    if (r != "area") continue;
+    try {
+      const nlohmann::json res = read_json((fs::path(dir) / output::kResultsJson).string());
+      std::vector<report::AreaPoint> points;
+      for (const nlohmann::json& row : res.at("rows")) {
+        const fs::path report =
+            fs::path(dir) / output::kPointsDir / row.value("id", "") / output::kReportJson;
+        points.push_back({row, fs::exists(report) ? read_json(report.string()) : nlohmann::json()});
+      }
+      write_file_atomic((fs::path(dir) / output::kAreaLightsMd).string(),
+                        report::area_lights_markdown(s.name, points));
+    } catch (const InputError& e) {
+      return fmt::format("{}: {}", output::kAreaLightsMd, e.what());
+    } catch (const nlohmann::json::exception& e) {
+      return fmt::format("{}: malformed input: {}", output::kAreaLightsMd, e.what());
+    }
+  }
+  return "";
 }
 
 nlohmann::json read_json(const std::string& path) {

@@ -40,8 +40,12 @@ nlohmann::json sweep_row(const SweepSpec& spec, const SweepPoint& point,
 // the number of rows present.
 size_t write_sweep_results(const SweepSpec& spec, const std::string& dir);
 
-// The sweep's figures (plots/) and then its reports (`reports:`), by reports/plots.py; empty on
-// success, else why they were not all written.
+// The Markdown reports the sweep's `reports:` name, beside results.json (area: area_lights.md,
+// reports/area_report.h), written whatever --no-plots says; empty on success, else why one was not.
+std::string write_sweep_reports(const SweepSpec& spec, const std::string& dir);
+
+// The sweep's figures (plots/) and then its reports' figures (`reports:`), by reports/plots.py;
+// empty on success, else why they were not all written.
 std::string draw_sweep_figures(const SweepSpec& spec, const std::string& dir);
 
 // A JSON file; an InputError naming it when it is missing or malformed.

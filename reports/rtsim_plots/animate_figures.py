@@ -1,10 +1,11 @@
-"""Figures over an animation's time, frames.gif and summary.md (plots.py animate)."""
+"""Figures over an animation's time and frames.gif (plots.py animate). rtsim animate writes the
+tables, frames.csv, host.csv and summary.md, itself (reports/animation_tables.h)."""
 
 import math
 import os
 import re
 
-from rtsim_plots.common import InputError, plt, read_csv, save, write_atomically, write_text
+from rtsim_plots.common import InputError, plt, read_csv, save, write_atomically
 from rtsim_plots.files import FRAMES_CSV, HOST_CSV
 
 
@@ -105,117 +106,3 @@ def animate(folder, written):
     save(fig, os.path.join(out, "animate_preprocessing.png"), written)
 
     write_gif(folder, t, written)
-    write_text(os.path.join(folder, "summary.md"), animate_summary(rows, host), written)
-
-
-def median(values):
-    v = sorted(x for x in values if x is not None and not math.isnan(x))
-    if not v:
-        return math.nan
-    n = len(v)
-    return v[n // 2] if n % 2 else 0.5 * (v[n // 2 - 1] + v[n // 2])
-
-
-def summary_table(rows, host):
-    """Per frame, the figures of a summary row (None where a column is empty)."""
-
-    def ratio(a, b):
-        return a / b if a is not None and b else None
-
-    table = []
-    for r in rows:
-        h = host.get(r["time"], {})
-        saved = (
-            (r["cycles_off"] - r["cycles_on"])
-            if r.get("cycles_off") is not None and r.get("cycles_on") is not None
-            else None
-        )
-        build = (
-            (r["lvb_region_tests"] + r["lvb_pair_tests"])
-            if r.get("lvb_region_tests") is not None
-            else None
-        )
-        lazy = (
-            (r["lazy_region_tests"] + r["lazy_pair_tests"] + r["lazy_dirty_tests"])
-            if r.get("lazy_region_tests") is not None
-            else None
-        )
-        table.append(
-            {
-                "time": r["time"],
-                "saved": saved,
-                "share": r.get("culled_share"),
-                "build": build,
-                "pays": ratio(saved, build),
-                "lvb_s": h.get("lvb_seconds"),
-                "kd_s": h.get("kdtree_seconds"),
-                "dirty": ratio(r.get("lazy_dirty_pairs"), r.get("lazy_pairs")),
-                "lazy": lazy,
-                "lazy_share": ratio(lazy, build),
-                "lazy_pays": ratio(saved, lazy),
-                "off": r.get("cycles_off"),
-                "on": r.get("cycles_on"),
-            }
-        )
-    return table
-
-
-def animate_summary(rows, host):
-    """Markdown: a row per frame, then the medians. Builder cycles assume one test (region or pair)
-    per cycle."""
-
-    def cell(v, fmt="{:,.0f}"):
-        return "" if v is None or (isinstance(v, float) and math.isnan(v)) else fmt.format(v)
-
-    table = summary_table(rows, host)
-    head = (
-        "| time | cycles off | cycles on | saved cycles | shadow rays culled "
-        "| LVB tests (builder cycles) | saved / LVB tests | LVB s | kd-tree s | lazy: dirty pairs "
-        "| lazy: tests | lazy / full | saved / lazy tests |"
-    )
-    lines = [
-        "# Culling against its recomputation, per frame",
-        "",
-        "Builder cycles: the LVB's region and pair tests at one test per cycle; lazy tests add the "
-        "dirty tests that find the pairs to redo. Host seconds vary from run to run (host.csv).",
-        "",
-        head,
-        "|" + "---|" * 13,
-    ]
-    pct_fmt = "{:.1%}"
-    for x in table:
-        lines.append(
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
-                f"{x['time']:g}",
-                cell(x["off"]),
-                cell(x["on"]),
-                cell(x["saved"]),
-                cell(x["share"], pct_fmt),
-                cell(x["build"]),
-                cell(x["pays"], "{:.4f}"),
-                cell(x["lvb_s"], "{:.2f}"),
-                cell(x["kd_s"], "{:.2f}"),
-                cell(x["dirty"], pct_fmt),
-                cell(x["lazy"]),
-                cell(x["lazy_share"], pct_fmt),
-                cell(x["lazy_pays"], "{:.4f}"),
-            )
-        )
-    m = {k: median([x[k] for x in table]) for k in table[0] if k != "time"}
-    lines.append(
-        "| **median** | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |".format(
-            cell(m["off"]),
-            cell(m["on"]),
-            cell(m["saved"]),
-            cell(m["share"], pct_fmt),
-            cell(m["build"]),
-            cell(m["pays"], "{:.4f}"),
-            cell(m["lvb_s"], "{:.2f}"),
-            cell(m["kd_s"], "{:.2f}"),
-            cell(m["dirty"], pct_fmt),
-            cell(m["lazy"]),
-            cell(m["lazy_share"], pct_fmt),
-            cell(m["lazy_pays"], "{:.4f}"),
-        )
-    )
-    return "\n".join(lines) + "\n"

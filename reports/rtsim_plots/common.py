@@ -118,14 +118,6 @@ def save(fig, path, written):
         plt.close(fig)
 
 
-def write_text(path, text, written):
-    def write(tmp):
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
-
-    write_atomically(path, write, written)
-
-
 def bar_labels(ax, xs, values, fmt="{:.1f}"):
     """Value above each bar; "n/a" where the value is unknown (None)."""
     for x, v in zip(xs, values):

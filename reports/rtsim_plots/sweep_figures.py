@@ -1,4 +1,5 @@
-"""Figures of a sweep: plots/<metric>_vs_<axis>.png and plots/index.md (plots.py sweep)."""
+"""Figures of a sweep: plots/<metric>_vs_<axis>.png (plots.py sweep). The sweep lists them in
+plots/index.md itself (reports/sweep_index.h, by the same names)."""
 
 import json
 import math
@@ -15,7 +16,6 @@ from rtsim_plots.common import (
     load_parsed,
     plt,
     save,
-    write_text,
 )
 from rtsim_plots.files import RESULTS_JSON
 
@@ -186,7 +186,3 @@ def sweep(folder, written):
                 os.path.join(out, fname),
                 written,
             )
-    lines = [f"# Sweep {name}: plots", ""] + [f"- [{f}]({f})" for f in files]
-    if not files:
-        lines.append("No axis has two or more values yet: nothing to plot.")
-    write_text(os.path.join(out, "index.md"), "\n".join(lines) + "\n", written)

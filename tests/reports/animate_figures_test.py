@@ -62,6 +62,7 @@ class AnimateFigures(fc.FigureTest):
                 "plots/animate_preprocessing.png",
             ],
         )
+        self.assertNoMarkdown()  # summary.md is rtsim animate's (reports/animation_summary.cpp)
 
     def expect_lines(self, ax, want):
         got = fc.series(ax)

@@ -2,6 +2,8 @@
 """The area-light figure (plots.py area, reports/rtsim_plots/area_figures.py) shows, per scene and
 sample count, the frame-time reduction of culling on against off in the sweep's results.json: each
 line's points are compared with (cycles off - cycles on) / cycles off of the rows the test wrote.
+It writes no Markdown: area_lights.md is the sweep's (reports/area_report.cpp, tested by
+tests/reports/test_markdown_reports.cpp).
 Usage: area_figures_test.py SOURCE_DIR"""
 
 import itertools
@@ -50,6 +52,7 @@ class AreaFigure(fc.FigureTest):
         )
         figures = self.draw(area_figures.area)
         self.assertEqual(list(figures), ["plots/area_reduction.png"])
+        self.assertNoMarkdown()  # area_lights.md is the sweep's (reports/area_report.cpp)
         return figures["plots/area_reduction.png"].axes[0]
 
     def expect_reductions(self, ax, rows):

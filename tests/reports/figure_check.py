@@ -114,6 +114,16 @@ class FigureTest(unittest.TestCase):
                 self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n", path)
         return {os.path.relpath(path, self.dir): fig for path, fig in kept.items()}
 
+    def assertNoMarkdown(self):
+        """The C++ side writes every Markdown report: no .md file in the folder (or plots/)."""
+        found = [
+            os.path.relpath(os.path.join(root, f), self.dir)
+            for root, _, files in os.walk(self.dir)
+            for f in files
+            if f.endswith(".md")
+        ]
+        self.assertEqual(found, [], "Markdown written by Python")
+
     def assertNumbers(self, actual, expected, msg=None):
         """Two sequences of numbers equal to rounding, element by element."""
         actual, expected = list(actual), list(expected)

@@ -1,5 +1,5 @@
-// The studies the rtsim command runs: area lights and their sweep report, animations as resumable
-// sweeps, and the ablation of the contention limits.
+// The studies the rtsim command runs: sweeps past their time limit, animations as resumable sweeps,
+// and the ablation of the contention limits (area lights: test_cli_area.cpp).
 #include "tests/test_util.h"
 #include "tests/testbench/cli_util.h"
 
@@ -15,70 +15,6 @@
 
 namespace rtsim::cli_test {
 namespace {
-
-TEST(Cli, AreaLightsAreCheckedAndRenderedWithVisibilityCounts) {
-  const fs::path dir = test::temp_dir("cli_area");
-  const std::string head =
-      "geometry:\n  - procedural: {kind: city, blocks: 2}\nlights:\n  from_files: false\n  add:\n";
-  auto light = [&](const std::string& name, const std::string& entry) {
-    write(dir / name, head + "    - " + entry + "\n");
-    return "info " + (dir / name).string();
-  };
-  const std::string ok =
-      "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}, samples: 4}";
-  ASSERT_EQ(run(light("ok.yaml", ok)).code, 0) << run(light("ok.yaml", ok)).err;
-  expect_input_error(
-      light("zero.yaml", "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [8, 0, 0]}}"),
-      {"zero.yaml:", "edge2", "span an area"});
-  expect_input_error(
-      light("nan.yaml", "{area: {corner: [0, 40, 0], edge1: [.nan, 0, 0], edge2: [0, 0, 4]}}"),
-      {"nan.yaml:", "edge1", "finite"});
-  expect_input_error(
-      light("s0.yaml",
-            "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}, samples: 0}"),
-      {"s0.yaml:", "samples", "[1, 256]"});
-  expect_input_error(
-      light("s1000.yaml",
-            "{area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}, samples: 1000}"),
-      {"s1000.yaml:", "samples", "[1, 256]"});
-  expect_input_error(
-      light(
-          "both.yaml",
-          "{position: [0, 40, 0], area: {corner: [0, 40, 0], edge1: [4, 0, 0], edge2: [0, 0, 4]}}"),
-      {"both.yaml:", "either 'position'"});
-  expect_input_error(light("pts.yaml", "{position: [0, 40, 0], samples: 4}"),
-                     {"pts.yaml:", "samples", "'area'"});
-  // A variant of a setup: its base, with these keys in place of the base's.
-  write(dir / "base.yaml", head + "    - {position: [0, 40, 0]}\n");
-  write(dir / "variant.yaml",
-        "base: base.yaml\nname: variant\nlights:\n  from_files: false\n  add: [{position: [0, 40, "
-        "0]}]\n  area_from_points: {side_fraction: 0.05, samples: 9}\n");
-  RunResult r = run("info " + (dir / "variant.yaml").string());
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_NE(r.out.find("two-sided, 9 samples"), std::string::npos) << r.out;
-  // render: visibility.npy holds the occluded samples per pixel and light, (H, W, L).
-  const fs::path out = dir / "render";
-  r = run("render " + (dir / "variant.yaml").string() + " --width 40 --height 24 --out " +
-          out.string());
-  ASSERT_EQ(r.code, 0) << r.err;
-  const std::string npy = slurp(out / "visibility.npy");
-  EXPECT_NE(npy.find("'shape': (24, 40, 1)"), std::string::npos);
-  // The model generates the samples: the same pixels, culled rays and visibility counts as the
-  // reference tracer, with reflections too, in both schedules.
-  for (const char* schedule : {"two-phase", "one-phase"}) {
-    r = run("run " + (dir / "variant.yaml").string() + " --hw " +
-            (test::source_dir() / "configs/hw/small.yaml").string() +
-            " --width 40 --height 24 --reflections 1 --check --no-plots --set hw.schedule=" +
-            schedule + " --out " + (dir / "run").string());
-    ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("reference check: 0 of 960 pixels differ"), std::string::npos) << r.out;
-    const nlohmann::json report = nlohmann::json::parse(slurp(dir / "run/report.json"));
-    EXPECT_EQ(report["per_light"][0]["shadow_rays"].get<uint64_t>() % 9, 0u)
-        << "nine samples per hit";
-    EXPECT_NE(slurp(dir / "run/visibility.npy").find("'shape': (24, 40, 1)"), std::string::npos);
-  }
-  fs::remove_all(dir);
-}
 
 // A CSV file's rows by column name (quoted cells as results.csv writes them: "" is a quote).
 std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
@@ -113,8 +49,6 @@ std::vector<std::map<std::string, std::string>> csv_rows(const fs::path& file) {
   return rows;
 }
 
-// The area-light measurement on a small scene: a sweep over the samples per light, culling off
-// and on, then plots.py area pairs the runs. Its table's figures are those of the sweep's rows.
 // A point past its time limit is killed and recorded as failed with the reason and its log's
 // tail (failure.json, results.json's "failed", results.csv's `failure` column); the same command
 // without the limit finishes it.
@@ -151,62 +85,6 @@ TEST(Cli, APointPastItsTimeLimitFailsWithItsReasonAndTheNextRunFinishesIt) {
   EXPECT_EQ(csv[0]["failure"], "");
   EXPECT_NE(csv[0]["cycles_total"], "");
   EXPECT_FALSE(fs::exists(dir / "out/points/p0000/failure.json"));
-  fs::remove_all(dir);
-}
-
-TEST(Cli, AreaLightSweepTablePairsCullingOffAndOn) {
-  const fs::path dir = test::temp_dir("cli_area_sweep");
-  write(dir / "scene.yaml",
-        "geometry:\n  - procedural: {kind: city, blocks: 2}\nlights: {area_from_points: "
-        "{side_fraction: 0.02}}\n");
-  write(dir / "sweep.yaml",
-        "name: area\nscenes: [scene.yaml]\nhw: " +
-            (test::source_dir() / "configs/hw/small.yaml").string() +
-            "\nset: {run.width: 32, run.height: 18}\naxes:\n  "
-            "scene.lights.area_from_points.samples: [1, 4]\n  run.lvb: [off, on]\nmetrics: "
-            "[cycles_total, rays_shadow, shadow_culled, shadow_culled_rate]\nreports: [area]\n");
-  RunResult r = run("sweep " + (dir / "sweep.yaml").string() + " --out " + (dir / "out").string() +
-                    " --jobs 2");
-  ASSERT_EQ(r.code, 0) << r.err;
-  EXPECT_EQ(r.err, "") << "figures and the area report written";
-  EXPECT_TRUE(fs::exists(dir / "out/plots/area_reduction.png"));
-  const nlohmann::json res = nlohmann::json::parse(slurp(dir / "out/results.json"));
-  std::map<std::pair<int, bool>, uint64_t> cycles;
-  std::map<std::pair<int, bool>, nlohmann::json> reports;
-  const std::string scene = res["rows"][0]["scene"].get<std::string>();
-  for (const auto& row : res["rows"]) {
-    const std::pair<int, bool> key{row["scene.lights.area_from_points.samples"].get<int>(),
-                                   row["run.lvb"].get<bool>()};
-    cycles[key] = row["cycles_total"].get<uint64_t>();
-    reports[key] = nlohmann::json::parse(
-        slurp(dir / "out/points" / row["id"].get<std::string>() / "report.json"));
-  }
-  const std::string table = slurp(dir / "out/area_lights.md");
-  const size_t bounds = table.find("## What bounds the shadow phase");
-  ASSERT_NE(bounds, std::string::npos) << table;
-  for (int n : {1, 4}) {
-    const double off = double(cycles[{n, false}]), on = double(cycles[{n, true}]);
-    EXPECT_NE(table.find(fmt::format("| {} | {} | ", scene, n)), std::string::npos) << table;
-    EXPECT_NE(table.find(fmt::format("{:.2f}%", 100 * (off - on) / off)), std::string::npos)
-        << table;
-    // The second table's row: the shadow phase and the TRV operations, culling on against off.
-    auto shadow = [&](bool lvb) { return reports[{n, lvb}]["cycles_shadow"].get<double>(); };
-    auto trv = [&](bool lvb) {
-      return reports[{n, lvb}]["stats"]["trv"]["total"]["busy_cycles"].get<double>();
-    };
-    EXPECT_NE(table.find(fmt::format("| {} | {} | {:.2f}% | {:.2f}% | ", scene, n,
-                                     100 * (1 - shadow(true) / shadow(false)),
-                                     100 * (1 - trv(true) / trv(false))),
-                         bounds),
-              std::string::npos)
-        << table;
-  }
-  // A report the sweep cannot draw is refused before anything runs.
-  write(dir / "bad.yaml", "name: bad\nscenes: [scene.yaml]\nhw: " +
-                              (test::source_dir() / "configs/hw/small.yaml").string() +
-                              "\naxes:\n  run.lvb: [off, on]\nreports: [area]\n");
-  expect_input_error("sweep " + (dir / "bad.yaml").string() + " --out " + (dir / "bad").string(),
-                     {"bad.yaml:", "reports", "scene.lights.area_from_points.samples"});
   fs::remove_all(dir);
 }
 

@@ -1,0 +1,55 @@
+#include "reports/sweep_index.h"
+
+#include <fmt/format.h>
+
+#include <cctype>
+#include <set>
+
+namespace rtsim::report {
+
+namespace {
+
+using nlohmann::json;
+
+// Distinct values of `axis` over the rows, a missing one counting as null; by JSON text, so that
+// true and 1 stay apart.
+size_t distinct(const json& rows, const std::string& axis) {
+  std::set<std::string> seen;
+  for (const json& row : rows) seen.insert(row.is_object() ? row.value(axis, json()).dump() : "");
+  return seen.size();
+}
+
+std::string sanitize(const std::string& name) {
+  std::string out = name;
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '.' && c != '-') c = '_';
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::string> sweep_figure_files(const json& results) {
+  const json rows = results.value("rows", json::array());
+  std::vector<std::string> axes = results.value("axes", std::vector<std::string>());
+  const std::vector<std::string> metrics = results.value("metrics", std::vector<std::string>());
+  bool has_scene = false;
+  for (const std::string& a : axes) has_scene |= a == "scene";
+  if (distinct(rows, "scene") > 1 && !has_scene) axes.push_back("scene");
+  std::vector<std::string> files;
+  for (const std::string& m : metrics)
+    for (const std::string& a : axes)
+      if (distinct(rows, a) >= 2) files.push_back(sanitize(m) + "_vs_" + sanitize(a) + ".png");
+  return files;
+}
+
+std::string sweep_plots_index(const json& results) {
+  const json name = results.value("name", json(""));
+  std::string md = fmt::format("# Sweep {}: plots\n\n",
+                               name.is_string() ? name.get<std::string>() : name.dump());
+  const std::vector<std::string> files = sweep_figure_files(results);
+  for (const std::string& f : files) md += fmt::format("- [{}]({})\n", f, f);
+  if (files.empty()) md += "No axis has two or more values yet: nothing to plot.\n";
+  return md;
+}
+
+}  // namespace rtsim::report
