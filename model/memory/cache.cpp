@@ -120,7 +120,7 @@ Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t coo
     }
     Mshr& m = mshrs_[way.mshr];
     if (cfg_.max_merge > 0 && m.line == line && m.merged >= cfg_.max_merge) {
-      // Its merge list is full: served by the fill, as a hit then
+      // Its MSHR serves no more requests: served by the fill, as a hit then
       ++stats_.merge_full_events;
       if (!requeued) ++stats_.mshr_stall_events;
       if (way.ready == kUnknown) {

@@ -84,12 +84,12 @@ void DramController::add_rules() {
   // stamps each target once (the stamps are maxima, so this changes no timing).
   for (const TimingRule& r : rules) {
     auto& by_prev = r.scope == Scope::kBankGroup ? group_rules_by_prev_ : rules_by_prev_;
-    std::vector<TimingRule>& list = by_prev[size_t(r.prev)];
-    const auto same = std::find_if(list.begin(), list.end(), [&r](const TimingRule& o) {
+    std::vector<TimingRule>& after = by_prev[size_t(r.prev)];
+    const auto same = std::find_if(after.begin(), after.end(), [&r](const TimingRule& o) {
       return o.next == r.next && o.scope == r.scope;
     });
-    if (same == list.end())
-      list.push_back(r);
+    if (same == after.end())
+      after.push_back(r);
     else
       same->cycles = std::max(same->cycles, r.cycles);
   }
