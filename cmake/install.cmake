@@ -39,6 +39,6 @@ set(CPACK_PACKAGE_DESCRIPTION_SUMMARY
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 # What a project that links the static libraries needs (Debian 12 package names)
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libsystemc-dev, libfmt-dev, libglm-dev, libyaml-cpp-dev, \
-nlohmann-json3-dev, libtinyobjloader-dev, libtinygltf-dev, libmeshoptimizer-dev, pkg-config, cmake")
+nlohmann-json3-dev, libtinyobjloader-dev, libtinygltf-dev, libmeshoptimizer-dev, libembree-dev, pkg-config, cmake")
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 include(CPack)

@@ -13,7 +13,7 @@ PKGS=(
   build-essential cmake ninja-build pkg-config git
   libsystemc-dev libglm-dev libtinygltf-dev libstb-dev
   libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libfmt-dev
-  libtinyobjloader-dev libmeshoptimizer-dev libgtest-dev
+  libtinyobjloader-dev libmeshoptimizer-dev libembree-dev libgtest-dev
   procps python3 python3-numpy python3-matplotlib python3-pil
 )
 if [ "${1:-}" = "--test" ]; then PKGS+=(clang-format black flake8 slurm-wlm munge); fi
