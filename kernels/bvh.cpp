@@ -97,7 +97,8 @@ void on_embree_error(void* user, RTCError, const char* message) {
 // Copies Embree's tree into `out` depth-first in pre-order (see the header).
 class Flattener {
  public:
-  Flattener(const std::vector<AABB>& boxes, Bvh& out) : boxes_(boxes), out_(out) {}
+  Flattener(const std::vector<AABB>& boxes, const BvhConfig& config, Bvh& out)
+      : boxes_(boxes), config_(config), out_(out) {}
 
   void root(const TmpNode* t) {
     if (t != nullptr && t->is_leaf) {  // the whole scene is one leaf: below a root of its own
@@ -115,7 +116,8 @@ class Flattener {
   // `depth`: inner nodes above `t`.
   BvhChild emit(const TmpNode* t, uint32_t depth) {
     if (t == nullptr) throw std::runtime_error("bvh: Embree returned a null node (out of memory?)");
-    if (t->count > (t->is_leaf ? kBvhMaxLeafSize : kBvhMaxBranching))
+    // Embree keeps to the limits it was given; a node that does not is refused, never cut.
+    if (t->count == 0 || t->count > (t->is_leaf ? config_.max_leaf_size : config_.branching))
       throw std::logic_error("bvh: Embree made a node of " + std::to_string(t->count) +
                              (t->is_leaf ? " triangles" : " children"));
     BvhChild c;
@@ -140,16 +142,17 @@ class Flattener {
   }
 
   const std::vector<AABB>& boxes_;
+  const BvhConfig& config_;
   Bvh& out_;
 };
 
 // Runs rtcBuildBVH over `prims` (reordered by Embree) and copies the result into `out`.
 void embree_build(std::vector<RTCBuildPrimitive>& prims, const std::vector<AABB>& boxes,
                   const BvhConfig& config, Bvh& out) {
+  std::string error;  // before the device: it must outlive the device's error callback
   const std::string device_config = "threads=" + std::to_string(config.build_threads);
   std::unique_ptr<RTCDeviceTy, DeviceRelease> device(rtcNewDevice(device_config.c_str()));
   if (!device) throw std::runtime_error("bvh: Embree could not create a device");
-  std::string error;
   rtcSetDeviceErrorFunction(device.get(), on_embree_error, &error);
   std::unique_ptr<RTCBVHTy, BvhRelease> handle(rtcNewBVH(device.get()));
   if (!handle) throw std::runtime_error("bvh: Embree could not create a BVH: " + error);
@@ -179,7 +182,7 @@ void embree_build(std::vector<RTCBuildPrimitive>& prims, const std::vector<AABB>
                                   " triangles (Embree: " + error + ")");
     throw std::runtime_error("bvh: Embree's build failed: " + (error.empty() ? "no root" : error));
   }
-  Flattener(boxes, out).root(root);
+  Flattener(boxes, config, out).root(root);
 }
 
 void compute_stats(const Bvh& bvh, BvhStats& s) {
@@ -207,6 +210,9 @@ void compute_stats(const Bvh& bvh, BvhStats& s) {
 
 Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhConfig& config) {
   config.validate();
+  if (triangles.size() > UINT32_MAX)  // triangle indices are 32-bit here and in the hardware
+    throw std::length_error("bvh: " + std::to_string(triangles.size()) + " triangles, at most " +
+                            std::to_string(UINT32_MAX));
   const auto start = std::chrono::steady_clock::now();
   Bvh out;
   out.branching = config.branching;
