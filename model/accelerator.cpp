@@ -120,7 +120,7 @@ void Accelerator::Netlist::bind_control_and_memory() {
   for (size_t t = 0; t < units.size(); ++t)
     for (size_t i = 0; i < units[t].size(); ++i)
       units[t][i]->mem_side.bind(reach(*memory, topology.units[t][i]));
-  if (culling->own_l1()) culling->mem_side.bind(reach(*memory, topology.culling));
+  if (auto* below = culling->mem_side()) below->bind(reach(*memory, topology.culling));
   phases.primaries.bind(generator->control);
   phases.shadows.bind(culling->control);
   if (cfg.write_records)

@@ -5,7 +5,8 @@
 namespace rtsim::model {
 
 ClientCaches::ClientCaches(const TypeMemoryConfig& cfg, bool private_l2, const Clock& clock,
-                           const FillListener* requester, const std::string& type) {
+                           const FillListener* requester, const std::string& type)
+    : mem_side("mem_side") {
   if (private_l2) {
     l2_ = std::make_unique<Cache>("l2", cfg.l2, clock, nullptr);
     icnt_ = std::make_unique<Crossbar>("icnt", cfg.link, clock, 1, cfg.l2.banks);

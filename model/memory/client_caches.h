@@ -1,9 +1,11 @@
 // A memory client's own caches (a unit's): its L1 and, when its L2 is private, that L2 and the
 // crossbar from the L1 to its banks, built as children of the module under construction (`l1`,
-// and `l2` and `icnt`). The last of them reaches the level below through what the owner connects
-// once its port is bound: a shared L2's crossbar port, or the memory crossbar
-// (model/memory/memory_system.h). Who shares which level is the netlist's data; nothing here
-// names a client.
+// and `l2` and `icnt`), with the port below them (`mem_side`, a child of that module too). The
+// last cache reaches what the port is bound to (a shared L2's crossbar port, or the memory
+// crossbar, model/memory/memory_system.h) once the owner connects it at the end of elaboration.
+// Who shares which level is the netlist's data; nothing here names a client. A unit holds its
+// ClientCaches on the heap: the port and the caches' owners are cold, and would otherwise sit
+// among what every activation reads.
 #pragma once
 
 #include "model/memory/cache.h"
@@ -41,8 +43,12 @@ class ClientCaches {
 
   Cache& l1() const { return *l1_; }
   Cache* l2() const { return l2_.get(); }  // the private L2, or null
-  // The level below the last cache; before the first access (end of elaboration).
+  // Connects the last cache to what mem_side is bound to (at the end of elaboration).
+  void connect_below() { connect(*mem_side[0]); }
+  // The level below the last cache, given directly; before the first access.
   void connect(LineSource& below);
+
+  sc_core::sc_port<LineSource> mem_side;
   void invalidate();
   // Every cache and crossbar under its name relative to `top`; `end` closes utilisations.
   void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <memory>
 
 namespace rtsim::model {
 
@@ -33,9 +34,11 @@ struct RayUnitConfig {
 struct UnitTypeConfig : RayUnitConfig, TypeMemoryConfig {};
 
 class RayUnit : public Unit, public FillListener {
+  std::unique_ptr<ClientCaches> caches_;  // first: mem_side refers into it
+
  public:
   RayFifo in;
-  sc_core::sc_port<LineSource> mem_side;  // below the unit's own caches
+  sc_core::sc_port<LineSource>& mem_side;  // below the unit's own caches (caches().mem_side)
 
   // A line a parked ray waited for arrived; the ray may issue again at `when`.
   void on_fill(uint64_t line, uint64_t ray, Tick when) override {
@@ -47,8 +50,8 @@ class RayUnit : public Unit, public FillListener {
     wake(when);
   }
   Cache& l1() const { return *l1_; }
-  const ClientCaches& caches() const { return caches_; }
-  ClientCaches& caches() { return caches_; }
+  const ClientCaches& caches() const { return *caches_; }
+  ClientCaches& caches() { return *caches_; }
 
   // A ray's entry seen as a line source (read_record's view of it).
   struct EntryLines {
@@ -67,16 +70,17 @@ class RayUnit : public Unit, public FillListener {
   RayUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
           Stage stage, const char* type)
       : Unit(name, *ctx.calendar, ctx.clock),
+        caches_(std::make_unique<ClientCaches>(cfg, cfg.l2_sharing == L2Sharing::kUnit, ctx.clock,
+                                               this, type)),
         in("in", cfg.fifo_depth, this),
-        mem_side("mem_side"),
+        mem_side(caches_->mem_side),
         ctx_(ctx),
-        caches_(cfg, cfg.l2_sharing == L2Sharing::kUnit, ctx.clock, this, type),
-        l1_(&caches_.l1()),
+        l1_(&caches_->l1()),
         stage_(stage),
         capacity_(cfg.capacity),
         interval_(ctx.clock.cycles(cfg.initiation_interval)) {}
   // The caches reach what mem_side is bound to.
-  void end_of_elaboration() override { caches_.connect(*mem_side[0]); }
+  void end_of_elaboration() override { caches_->connect_below(); }
 
   // Works on one ready ray at `now`.
   virtual void process(uint32_t ray, Tick now) = 0;
@@ -239,7 +243,6 @@ class RayUnit : public Unit, public FillListener {
     uint32_t ray = 0;
     Tick when = 0;
   };
-  ClientCaches caches_;
   Cache* l1_;
   Stage stage_;
   uint32_t capacity_;

@@ -12,7 +12,6 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
     : Unit(name, *ctx.calendar, ctx.clock),
       to_trv("to_trv", this),
       lights("lights"),
-      mem_side("mem_side"),
       records("records"),
       hits("hits"),
       control("control"),
@@ -47,11 +46,7 @@ void ShadowCullingUnit::begin_frame(bool culling) {
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
-  if (own_l1_) {
-    if (mem_side.size() == 0)
-      report_error(kReportInternal, std::string(name()) + ": its own L1 reaches nothing below");
-    own_l1_->connect(*mem_side[0]);
-  }
+  if (own_l1_) own_l1_->connect_below();
   l1_ = lights[0];
   reader_ = records.size() > 0 ? records[0] : nullptr;
 }

@@ -89,8 +89,6 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
  public:
   RayDeal to_trv;                       // the TRV units' inputs, dealt in turn
   sc_core::sc_port<LineSource> lights;  // the L1 the light records come through
-  // Below its own L1, when it has one (the level it shares with the shading units' L1s).
-  sc_core::sc_port<LineSource, 1, sc_core::SC_ZERO_OR_MORE_BOUND> mem_side;
   // Two phases at a limited rate: the frame buffer's records (unbound: from the host-side frame).
   sc_core::sc_port<LineSource, 1, sc_core::SC_ZERO_OR_MORE_BOUND> records;
   sc_core::sc_export<ShadedHits> hits;     // one phase: hits as they are shaded
@@ -106,6 +104,8 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   void begin_frame(bool culling);
   // Its own L1 (null when it shares shading unit 0's).
   Cache* own_l1() const { return own_l1_ ? &own_l1_->l1() : nullptr; }
+  // Below its own L1 (the level it shares with the shading units' L1s); null without one.
+  sc_core::sc_port<LineSource>* mem_side() { return own_l1_ ? &own_l1_->mem_side : nullptr; }
 
   // ShadowRays.
   void scan_all(Tick now) override;

@@ -31,14 +31,12 @@ class FakeClient : public sc_core::sc_module, public FillListener {
  public:
   FakeClient(sc_core::sc_module_name name, const TypeMemoryConfig& cfg, bool private_l2,
              const char* type)
-      : sc_core::sc_module(name),
-        mem_side("mem_side"),
-        caches(cfg, private_l2, Clock(), this, type) {}
-  void end_of_elaboration() override { caches.connect(*mem_side[0]); }
+      : sc_core::sc_module(name), caches(cfg, private_l2, Clock(), this, type) {}
+  void end_of_elaboration() override { caches.connect_below(); }
   void on_fill(uint64_t line, uint64_t, Tick when) override { fills.push_back({line, when}); }
   Cache& l1() { return caches.l1(); }
-  sc_core::sc_port<LineSource> mem_side;
   ClientCaches caches;
+  sc_core::sc_port<LineSource>& mem_side = caches.mem_side;
   std::vector<std::pair<uint64_t, Tick>> fills;
 };
 
