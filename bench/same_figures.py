@@ -20,110 +20,34 @@ import tempfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
+
+def args(scene, hw, width, height, *extra):
+    """Arguments after `rtsim run`: a scene and hardware file of configs/ at a resolution."""
+    return [f"configs/scenes/{scene}.yaml", "--hw", f"configs/hw/{hw}.yaml"] + [
+        "--width",
+        str(width),
+        "--height",
+        str(height),
+        *extra,
+    ]
+
+
 # name: arguments after `rtsim run`
 RUNS = {
-    "city-tni": [
-        "configs/scenes/city.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "160",
-        "--height",
-        "90",
-    ],
-    "city-small": [
-        "configs/scenes/city.yaml",
-        "--hw",
-        "configs/hw/small.yaml",
-        "--width",
-        "160",
-        "--height",
-        "90",
-    ],
-    "city-ideal": [
-        "configs/scenes/city.yaml",
-        "--hw",
-        "configs/hw/ideal.yaml",
-        "--width",
-        "160",
-        "--height",
-        "90",
-    ],
-    "robots-on": [
-        "configs/scenes/robots.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "160",
-        "--height",
-        "90",
-    ],
-    "robots-off": [
-        "configs/scenes/robots.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "160",
-        "--height",
-        "90",
-        "--lvb",
-        "off",
-    ],
-    "robots-one-phase": [
-        "configs/scenes/robots.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "160",
-        "--height",
-        "90",
-        "--set",
-        "hw.schedule=one-phase",
-    ],
-    "kitchen-paper": [
-        "configs/scenes/kitchen.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "120",
-        "--height",
-        "68",
-        "--set",
-        "run.lvb_self_occlusion=ignore",
-    ],
-    "kitchen-reflect": [
-        "configs/scenes/kitchen.yaml",
-        "--hw",
-        "configs/hw/small.yaml",
-        "--width",
-        "64",
-        "--height",
-        "36",
-        "--reflections",
-        "1",
-    ],
-    "bunny-area": [
-        "configs/scenes/bunny-area.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "96",
-        "--height",
-        "54",
-        "--set",
-        "scene.lights.area_from_points.samples=4",
-    ],
-    "city-checked": [
-        "configs/scenes/city.yaml",
-        "--hw",
-        "configs/hw/tni-paper.yaml",
-        "--width",
-        "96",
-        "--height",
-        "54",
-        "--set",
-        "run.tlm_checks=true",
-    ],
+    "city-tni": args("city", "tni-paper", 160, 90),
+    "city-small": args("city", "small", 160, 90),
+    "city-ideal": args("city", "ideal", 160, 90),
+    "robots-on": args("robots", "tni-paper", 160, 90),
+    "robots-off": args("robots", "tni-paper", 160, 90, "--lvb", "off"),
+    "robots-one-phase": args("robots", "tni-paper", 160, 90, "--set", "hw.schedule=one-phase"),
+    "kitchen-paper": args(
+        "kitchen", "tni-paper", 120, 68, "--set", "run.lvb_self_occlusion=ignore"
+    ),
+    "kitchen-reflect": args("kitchen", "small", 64, 36, "--reflections", "1"),
+    "bunny-area": args(
+        "bunny-area", "tni-paper", 96, 54, "--set", "scene.lights.area_from_points.samples=4"
+    ),
+    "city-checked": args("city", "tni-paper", 96, 54, "--set", "run.tlm_checks=true"),
 }
 
 
