@@ -33,6 +33,8 @@ struct TypeMemoryConfig {
 
 class ClientCaches {
  public:
+  sc_core::sc_port<LineSource> mem_side;  // below the last cache: a shared L2's port, or memory
+
   // `requester` (the client) is named `type` in the L1's bank statistics, and the L1 in a private
   // L2's. `private_l2`: build cfg.l2 behind cfg.link as the client's own.
   ClientCaches(const TypeMemoryConfig& cfg, bool private_l2, const Clock& clock,
@@ -47,8 +49,6 @@ class ClientCaches {
   void connect_below() { connect(*mem_side[0]); }
   // The level below the last cache, given directly; before the first access.
   void connect(LineSource& below);
-
-  sc_core::sc_port<LineSource> mem_side;
   void invalidate();
   // Every cache and crossbar under its name relative to `top`; `end` closes utilisations.
   void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;
