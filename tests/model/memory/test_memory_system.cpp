@@ -122,9 +122,9 @@ std::string path(const char* name) { return std::string("bench.") + name; }
 
 TEST(MemorySystem, NamesEachBlockWhereItSits) {
   run();
-  for (const char* name :
-       {"a.l2", "a.icnt", "a0.l1", "a1.l1", "b0.l1", "b0.l2", "b0.icnt", "c.l2", "c.icnt", "c0.l1",
-        "d0.l1", "memory.icnt", "memory.port", "memory.writer0", "memory.writer1"})
+  for (const char* name : {"a.l2", "a.icnt", "a0.l1", "a1.l1", "b0.l1", "b0.l2", "b0.icnt", "c.l2",
+                           "c.icnt", "c0.l1", "d0.l1", "a0.mem_side", "b0.mem_side", "memory.icnt",
+                           "memory.port", "memory.writer0", "memory.writer1"})
     EXPECT_NE(sc_core::sc_find_object(path(name).c_str()), nullptr) << name;
   // A private L2 is its client's: no module of the memory system holds it.
   for (const char* name : {"b.l2", "b0.l2.l2", "c0.l2", "d0.l2"})
