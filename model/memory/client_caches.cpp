@@ -19,7 +19,7 @@ ClientCaches::ClientCaches(const TypeMemoryConfig& cfg, bool private_l2, const C
 
 ClientCaches::~ClientCaches() = default;
 
-void ClientCaches::connect(LineSource& below) { (l2_ ? *l2_ : *l1_).connect(below); }
+void ClientCaches::connect_below() { (l2_ ? *l2_ : *l1_).connect(*mem_side[0]); }
 
 void ClientCaches::invalidate() {
   l1_->invalidate();

@@ -45,10 +45,9 @@ class ClientCaches {
 
   Cache& l1() const { return *l1_; }
   Cache* l2() const { return l2_.get(); }  // the private L2, or null
-  // Connects the last cache to what mem_side is bound to (at the end of elaboration).
-  void connect_below() { connect(*mem_side[0]); }
-  // The level below the last cache, given directly; before the first access.
-  void connect(LineSource& below);
+  // Connects the last cache to what mem_side is bound to (at the end of elaboration, before
+  // the first access).
+  void connect_below();
   void invalidate();
   // Every cache and crossbar under its name relative to `top`; `end` closes utilisations.
   void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;

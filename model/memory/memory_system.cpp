@@ -24,15 +24,15 @@ class MemorySystem::SharedL2 : public sc_core::sc_module {
   std::vector<std::unique_ptr<CrossbarPort>> ports;  // by source
 };
 
-MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock, Calendar& calendar)
-    : cfg_(config) {
+MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock,
+                           Calendar& calendar) {
   uint32_t banks = 0;
-  for (const L2Config& l2 : cfg_.l2s) banks += l2.l2.banks;
+  for (const L2Config& l2 : config.l2s) banks += l2.l2.banks;
   interconnect_ = std::make_unique<MemoryInterconnect>(
-      "memory", cfg_.memory_link, cfg_.dram, clock, calendar, banks, cfg_.writers, cfg_.reader,
-      cfg_.write_buffer, cfg_.loosely_timed_memory);
+      "memory", config.memory_link, config.dram, clock, calendar, banks, config.writers,
+      config.reader, config.write_buffer, config.loosely_timed_memory);
   uint32_t first = 0;
-  for (const L2Config& l2 : cfg_.l2s) {
+  for (const L2Config& l2 : config.l2s) {
     auto port = interconnect_->l2_port(first, l2.l2.banks, l2.name + ".l2");
     first += l2.l2.banks;
     if (l2.clients.empty()) {

@@ -59,7 +59,6 @@ class MemorySystem {
   LineSource& client_port(size_t l2, uint32_t source);
   // Private L2 `l2`'s way to memory.
   LineSource& memory_port(size_t l2);
-  const MemorySystemConfig& config() const { return cfg_; }
 
   MemoryInterconnect& interconnect() { return *interconnect_; }
   // The shared L2s, in the configuration's order.
@@ -72,7 +71,6 @@ class MemorySystem {
 
  private:
   class SharedL2;  // the sc_module `<name>` holding a shared L2 and its crossbar
-  MemorySystemConfig cfg_;
   std::unique_ptr<MemoryInterconnect> interconnect_;
   std::vector<std::unique_ptr<SharedL2>> shared_;         // by L2, null for a private one
   std::vector<std::unique_ptr<CrossbarPort>> to_memory_;  // by L2: private ones only
