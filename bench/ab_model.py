@@ -63,11 +63,11 @@ def main():
             s, cycles = run(binary, hw, args, extra)
             seconds[side].append(s)
             print(
-                f"run {k + 1} {side}: {s:.1f} s simulate, {cycles:,} cycles ({binary}, {hw})",
+                f"run {k + 1} {side}: {s:.3f} s simulate, {cycles:,} cycles ({binary}, {hw})",
                 flush=True,
             )
     ma, mb = statistics.median(seconds["a"]), statistics.median(seconds["b"])
-    print(f"median a {ma:.1f} s, b {mb:.1f} s, b / a = {mb / ma:.3f}")
+    print(f"median a {ma:.3f} s, b {mb:.3f} s, b / a = {mb / ma:.3f}")
 
 
 if __name__ == "__main__":
