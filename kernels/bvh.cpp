@@ -122,11 +122,17 @@ class Flattener {
                              (t->is_leaf ? " triangles" : " children"));
     BvhChild c;
     if (t->is_leaf) {
-      c.index = static_cast<uint32_t>(out_.prims.size());
-      c.count = t->count;
+      BvhLeaf leaf;
+      leaf.first = static_cast<uint32_t>(out_.prims.size());
+      leaf.count = t->count;
       out_.prims.insert(out_.prims.end(), t->ids, t->ids + t->count);
-      std::sort(out_.prims.begin() + c.index, out_.prims.end());
-      for (uint32_t i = c.index; i < c.index + c.count; ++i) c.box.extend(boxes_[out_.prims[i]]);
+      std::sort(out_.prims.begin() + leaf.first, out_.prims.end());
+      for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i)
+        leaf.box.extend(boxes_[out_.prims[i]]);
+      c.index = static_cast<uint32_t>(out_.leaves.size());
+      c.count = leaf.count;
+      c.box = leaf.box;
+      out_.leaves.push_back(leaf);
       out_.stats.max_depth = std::max(out_.stats.max_depth, depth);
       return c;
     }
@@ -185,6 +191,20 @@ void embree_build(std::vector<RTCBuildPrimitive>& prims, const std::vector<AABB>
   Flattener(boxes, config, out).root(root);
 }
 
+// Numbers the leaves node by node, each node's leaf children in slot order (see the header).
+void number_leaves(Bvh& bvh) {
+  std::vector<BvhLeaf> leaves;
+  leaves.reserve(bvh.leaves.size());
+  for (BvhNode& n : bvh.nodes)
+    for (uint32_t i = 0; i < n.child_count; ++i) {
+      BvhChild& c = n.children[i];
+      if (!c.is_leaf()) continue;
+      leaves.push_back(bvh.leaves[c.index]);
+      c.index = static_cast<uint32_t>(leaves.size() - 1);
+    }
+  bvh.leaves = std::move(leaves);
+}
+
 void compute_stats(const Bvh& bvh, BvhStats& s) {
   s.nodes = bvh.nodes.size();
   s.prims = bvh.prims.size();
@@ -233,6 +253,7 @@ Bvh build_bvh(const std::vector<Triangle>& triangles, const BvhConfig& config) {
     out.nodes.emplace_back();  // a root without children
   } else {
     embree_build(prims, boxes, config, out);
+    number_leaves(out);
   }
   compute_stats(out, out.stats);
   out.stats.build_seconds =

@@ -31,7 +31,8 @@ struct BvhConfig {
 };
 
 // One child slot: its box is the union of the boxes of the triangles below it (exact float
-// min/max). count == 0: an inner node, nodes[index]; count > 0: a leaf, prims[index, index+count).
+// min/max). count == 0: an inner node, nodes[index]; count > 0: a leaf, leaves[index], whose
+// `count` triangles are prims[leaves[index].first, + count).
 struct BvhChild {
   AABB box;
   uint32_t index = 0;
@@ -42,6 +43,14 @@ struct BvhChild {
 struct BvhNode {
   uint32_t child_count = 0;
   BvhChild children[kBvhMaxBranching];  // slots from child_count on are unused (zero)
+};
+
+// A leaf: its triangle list and its box (the leaf record of the memory image, and the box the LVB
+// preprocessor reasons about).
+struct BvhLeaf {
+  uint32_t first = 0;  // offset into Bvh::prims
+  uint32_t count = 0;
+  AABB box;
 };
 
 struct BvhStats {
@@ -56,14 +65,17 @@ struct BvhStats {
 };
 
 // Node 0 is the root; nodes are numbered depth-first in pre-order, children in Embree's order
-// (largest triangle count first). Leaves' triangles are in ascending index order, and the
-// leaves' lists are concatenated in the order the walk meets them. The root has no children for
+// (largest triangle count first). The leaves' lists are concatenated in the order the walk meets
+// them, a leaf's triangles in ascending index order; the leaves are numbered node by node (in node
+// order, each node's leaf children in slot order), so that one node's leaves are consecutive, as
+// a compressed node's single leaf base index needs (docs/memory-image.md). The root has no children for
 // a scene without (non-degenerate) triangles and one leaf child when Embree makes the whole scene
 // one leaf (a single triangle, for instance); every other inner node has 2..branching children.
 struct Bvh {
   AABB bounds;  // union of all triangles in the tree (empty when there are none)
   uint32_t branching = 2;
   std::vector<BvhNode> nodes;
+  std::vector<BvhLeaf> leaves;  // numbered node by node, a node's leaves in slot order
   std::vector<uint32_t> prims;
   BvhStats stats;
 };

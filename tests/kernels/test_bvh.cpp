@@ -63,6 +63,14 @@ class Checker {
     EXPECT_EQ(bvh_.stats.left_out, tris_.size() - expected);
     EXPECT_EQ(bvh_.stats.nodes, bvh_.nodes.size());
     EXPECT_EQ(bvh_.stats.leaves, leaves_);
+    EXPECT_EQ(bvh_.leaves.size(), leaves_);
+    // Leaves are numbered node by node, a node's leaves in slot order.
+    uint32_t next_leaf = 0;
+    for (const BvhNode& nd : bvh_.nodes)
+      for (uint32_t i = 0; i < nd.child_count; ++i)
+        if (nd.children[i].is_leaf()) {
+          EXPECT_EQ(nd.children[i].index, next_leaf++);
+        }
     EXPECT_LE(bvh_.stats.max_depth, config_.max_depth);
     expect_same_box(bvh_.bounds, all, "scene bounds");
     for (uint32_t i = 0; i < tris_.size(); ++i)
@@ -110,14 +118,20 @@ class Checker {
 
   AABB leaf(const BvhChild& c, uint32_t depth) {
     ++leaves_;
-    EXPECT_EQ(c.index, next_prim_) << "leaf lists in walk order";
+    if (c.index >= bvh_.leaves.size()) {
+      ADD_FAILURE() << "leaf " << c.index << " out of range";
+      return {};
+    }
+    const BvhLeaf& l = bvh_.leaves[c.index];
+    EXPECT_EQ(l.count, c.count);
+    EXPECT_EQ(l.first, next_prim_) << "leaf lists in walk order";
     EXPECT_GE(c.count, 1u);
     EXPECT_LE(c.count, config_.max_leaf_size);
     EXPECT_LE(depth, bvh_.stats.max_depth);
     AABB box;
-    for (uint32_t i = c.index; i < c.index + c.count && i < bvh_.prims.size(); ++i) {
+    for (uint32_t i = l.first; i < l.first + l.count && i < bvh_.prims.size(); ++i) {
       const uint32_t p = bvh_.prims[i];
-      if (i > c.index) {
+      if (i > l.first) {
         EXPECT_LT(bvh_.prims[i - 1], p) << "leaf triangles in index order";
       }
       if (p >= tris_.size()) {
@@ -392,7 +406,8 @@ TestHit walk(const Bvh& bvh, const std::vector<Triangle>& tris, const Ray& ray, 
         stack.push_back(c.index);
         continue;
       }
-      for (uint32_t k = c.index; k < c.index + c.count; ++k)
+      const BvhLeaf& l = bvh.leaves[c.index];
+      for (uint32_t k = l.first; k < l.first + l.count; ++k)
         if (offer(tris, bvh.prims[k], ray, shear, best) && any_hit) return best;
     }
   }
