@@ -38,6 +38,7 @@ Header decode_header(const uint8_t* p) {
   h.light_count = load_u32(p + 60);
   h.bounds.lo = load_vec3(p + 64);
   h.bounds.hi = load_vec3(p + 76);
+  h.accel = static_cast<Accel>(load_u32(p + 88));
   return h;
 }
 
@@ -46,14 +47,30 @@ Header decode_header(const uint8_t* p) {
 using namespace image;
 
 MemoryImage::MemoryImage(const Scene& scene, const KdTree& tree) {
-  lay_out(scene, tree);
+  header_.bounds = tree.bounds;
+  lay_out(scene, tree.nodes.size(), tree.leaves.size(), tree.prims.size());
   bytes_.assign(header_.image_bytes, 0);
   write_header();
   write_tree(tree);
   write_scene(scene);
 }
 
-void MemoryImage::lay_out(const Scene& scene, const KdTree& tree) {
+MemoryImage::MemoryImage(const Scene& scene, const Bvh& bvh, Accel accel) {
+  const BvhNodeSection nodes = encode_bvh_nodes(bvh, accel);
+  header_.accel = accel;
+  header_.bounds = bvh.bounds;
+  lay_out(scene, nodes.count, bvh.leaves.size(), bvh.prims.size());
+  bytes_.assign(header_.image_bytes, 0);
+  write_header();
+  std::copy(nodes.bytes.begin(), nodes.bytes.end(), bytes_.begin() + header_.nodes.base);
+  for (size_t i = 0; i < bvh.leaves.size(); ++i)
+    write_leaf(static_cast<uint32_t>(i), bvh.leaves[i].first, bvh.leaves[i].count);
+  for (size_t i = 0; i < bvh.prims.size(); ++i)
+    store_u32(&bytes_[prim_addr(static_cast<uint32_t>(i))], bvh.prims[i]);
+  write_scene(scene);
+}
+
+void MemoryImage::lay_out(const Scene& scene, size_t nodes, size_t leaves, size_t prims) {
   Header& h = header_;
   uint64_t cursor = kHeaderBytes;
   // Addresses are 32-bit in every record; refuse what cannot be addressed, before any truncation.
@@ -67,9 +84,9 @@ void MemoryImage::lay_out(const Scene& scene, const KdTree& tree) {
     s.base = static_cast<uint32_t>(base);
     s.count = static_cast<uint32_t>(count);
   };
-  place(h.nodes, tree.nodes.size(), kNodeBytes);
-  place(h.leaves, tree.leaves.size(), kLeafBytes);
-  place(h.prims, tree.prims.size(), kPrimBytes);
+  place(h.nodes, nodes, h.node_bytes());
+  place(h.leaves, leaves, kLeafBytes);
+  place(h.prims, prims, kPrimBytes);
   place(h.triangles, scene.triangles.size(), kTriangleBytes);
   place(h.materials, scene.materials.size(), kMaterialBytes);
   // With an area light, a second block of records holds the lights' edges (point-only scenes keep
@@ -79,7 +96,6 @@ void MemoryImage::lay_out(const Scene& scene, const KdTree& tree) {
   place(h.lights, scene.lights.size() * (any_area ? 2 : 1), kLightBytes);
   h.image_bytes = static_cast<uint32_t>(align_up(cursor));
   h.light_count = static_cast<uint32_t>(scene.lights.size());
-  h.bounds = tree.bounds;
 }
 
 void MemoryImage::write_header() {
@@ -97,25 +113,28 @@ void MemoryImage::write_header() {
   store_u32(b + 60, h.light_count);
   store_vec3(b + 64, h.bounds.lo);
   store_vec3(b + 76, h.bounds.hi);
+  store_u32(b + 88, static_cast<uint32_t>(h.accel));  // 0 for the kd-tree: its images unchanged
 }
 
 void MemoryImage::write_tree(const KdTree& tree) {
   uint8_t* b = bytes_.data();
-  const uint32_t lights = header_.light_count;
-  const uint32_t all_lights = lights >= 32 ? ~0u : (1u << lights) - 1u;
   for (size_t i = 0; i < tree.nodes.size(); ++i) {
     uint8_t* p = b + node_addr(static_cast<uint32_t>(i));
     store_u32(p, tree.nodes[i].word0);
     store_u32(p + 4, tree.nodes[i].word1);
   }
-  for (size_t i = 0; i < tree.leaves.size(); ++i) {
-    uint8_t* p = b + leaf_addr(static_cast<uint32_t>(i));
-    store_u32(p, tree.leaves[i].first);
-    store_u32(p + 4, tree.leaves[i].count);
-    store_u32(p + 8, all_lights);
-  }
+  for (size_t i = 0; i < tree.leaves.size(); ++i)
+    write_leaf(static_cast<uint32_t>(i), tree.leaves[i].first, tree.leaves[i].count);
   for (size_t i = 0; i < tree.prims.size(); ++i)
     store_u32(b + prim_addr(static_cast<uint32_t>(i)), tree.prims[i]);
+}
+
+void MemoryImage::write_leaf(uint32_t i, uint32_t first, uint32_t count) {
+  const uint32_t lights = header_.light_count;
+  uint8_t* p = &bytes_[leaf_addr(i)];
+  store_u32(p, first);
+  store_u32(p + 4, count);
+  store_u32(p + 8, lights >= 32 ? ~0u : (1u << lights) - 1u);  // no culling until the LVB is set
 }
 
 void MemoryImage::write_scene(const Scene& scene) {

@@ -3,6 +3,7 @@
 // tracer and the SystemC model both decode exactly these bytes. Layout: docs/memory-image.md.
 #pragma once
 
+#include "kernels/bvh_image.h"
 #include "kernels/kdtree.h"
 #include "scene/scene.h"
 
@@ -38,7 +39,9 @@ struct Header {
   Section nodes, leaves, prims, triangles, materials, lights;
   uint32_t image_bytes = 0;
   uint32_t light_count = 0;  // lights (the section holds twice as many records with area lights)
-  AABB bounds;               // root cell of the kd-tree
+  AABB bounds;               // root cell of the kd-tree, or the BVH's root box
+  Accel accel = Accel::kKdTree;  // what the node section holds (kernels/bvh_image.h)
+  uint32_t node_bytes() const { return bvh_node_bytes(accel); }
 };
 
 // Leaf record: where the leaf's primitive list is, and its light visibility bits.
@@ -125,11 +128,13 @@ class MemoryImage {
  public:
   // Lays out the tree and the scene; every leaf's LVB word starts as all ones (no culling).
   MemoryImage(const Scene& scene, const KdTree& tree);
+  // The same with a BVH in node format `accel` (bvh.branching must be the format's).
+  MemoryImage(const Scene& scene, const Bvh& bvh, Accel accel);
 
   const std::vector<uint8_t>& bytes() const { return bytes_; }
   const image::Header& header() const { return header_; }
 
-  uint32_t node_addr(uint32_t i) const { return header_.nodes.base + i * image::kNodeBytes; }
+  uint32_t node_addr(uint32_t i) const { return header_.nodes.base + i * header_.node_bytes(); }
   uint32_t leaf_addr(uint32_t i) const { return header_.leaves.base + i * image::kLeafBytes; }
   uint32_t prim_addr(uint32_t i) const { return header_.prims.base + i * image::kPrimBytes; }
   uint32_t triangle_addr(uint32_t i) const {
@@ -144,6 +149,9 @@ class MemoryImage {
 
   // Host-side decoding of the same bytes (the reference tracer's path into memory).
   KdNode node(uint32_t i) const { return image::decode_node(&bytes_[node_addr(i)]); }
+  BvhNodeView bvh_node(uint32_t i) const {
+    return decode_bvh_node(header_.accel, &bytes_[node_addr(i)]);
+  }
   image::LeafRecord leaf(uint32_t i) const { return image::decode_leaf(&bytes_[leaf_addr(i)]); }
   uint32_t prim(uint32_t i) const { return image::load_u32(&bytes_[prim_addr(i)]); }
   image::TriangleRecord triangle(uint32_t i) const {
@@ -162,9 +170,11 @@ class MemoryImage {
   void set_leaf_lvb(uint32_t leaf, uint32_t lvb);
 
  private:
-  void lay_out(const Scene& scene, const KdTree& tree);  // the header's sections and sizes
+  // The header's sections and sizes, for `nodes` node records and `leaves` leaf records.
+  void lay_out(const Scene& scene, size_t nodes, size_t leaves, size_t prims);
   void write_header();
   void write_tree(const KdTree& tree);
+  void write_leaf(uint32_t i, uint32_t first, uint32_t count);
   void write_scene(const Scene& scene);
 
   std::vector<uint8_t> bytes_;

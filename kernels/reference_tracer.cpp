@@ -16,11 +16,34 @@ namespace rtsim {
 ReferenceTracer::ReferenceTracer(const MemoryImage& image)
     : image_(image), mem_(image.bytes().data()), h_(image.header()) {
   abs_eps_ = 1e-6f * std::max(h_.bounds.diagonal(), 1e-20f);
-  if (h_.nodes.count == 0) throw InputError("memory image has no kd-tree nodes");
+  if (h_.nodes.count == 0) throw InputError("memory image has no nodes");
+  if (uint32_t(h_.accel) > uint32_t(Accel::kCwbvh8))
+    throw InputError(fmt::format("memory image: acceleration structure {} is not one of {}",
+                                 uint32_t(h_.accel), kAccelNames));
+}
+
+template <bool kAnyHit>
+void ReferenceTracer::test_leaf(const RayWalk& s, TraversalResult& result,
+                                TraversalCounters& c) const {
+  const image::LeafRecord leaf =
+      image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
+  const Ray r = traversal_leaf_ray(s, result);
+  for (uint32_t k = 0; k < leaf.prim_count; ++k) {
+    const uint32_t tri =
+        image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
+    const image::TriangleRecord t =
+        image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
+    ++c.tri_tests;
+    float t_hit;
+    if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
+    traversal_hit(result, s, tri, t_hit);
+    if (kAnyHit) break;
+  }
 }
 
 template <bool kAnyHit>
 bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const {
+  if (is_bvh(h_.accel)) return traverse_bvh<kAnyHit>(ray, hit, c);
   TraversalState s;
   TraversalResult result = traversal_result_begin(ray);
   if (!traversal_begin(s, ray, kAnyHit, h_.bounds, abs_eps_)) return false;
@@ -33,21 +56,31 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) c
       ++c.leaves;
     step = traversal_node(s, result, node);
     if (step != TraversalStep::kLeaf) continue;
-    const image::LeafRecord leaf =
-        image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
-    const Ray r = traversal_leaf_ray(s, result);
-    for (uint32_t k = 0; k < leaf.prim_count; ++k) {
-      const uint32_t tri =
-          image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
-      const image::TriangleRecord t =
-          image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
-      ++c.tri_tests;
-      float t_hit;
-      if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
-      traversal_hit(result, s, tri, t_hit);
-      if (kAnyHit) break;
-    }
+    test_leaf<kAnyHit>(s, result, c);
     step = traversal_pop(s, result);
+  }
+  hit = result.hit;
+  return result.found;
+}
+
+template <bool kAnyHit>
+bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& c) const {
+  BvhStackEntry stack[kBvhStackEntries];
+  BvhTraversalState s;
+  TraversalResult result = traversal_result_begin(ray);
+  if (!bvh_traversal_begin(s, ray, kAnyHit, h_.bounds, abs_eps_, stack)) return false;
+  const uint32_t node_bytes = h_.node_bytes();
+  TraversalStep step = TraversalStep::kFetchNode;
+  while (step != TraversalStep::kDone) {
+    if (step == TraversalStep::kFetchNode) {
+      ++c.nodes;
+      const uint8_t* p = mem_ + h_.nodes.base + size_t(s.node) * node_bytes;
+      step = bvh_traversal_node(s, result, decode_bvh_node(h_.accel, p));
+      continue;
+    }
+    ++c.leaves;
+    test_leaf<kAnyHit>(s, result, c);
+    step = bvh_traversal_pop(s, result);
   }
   hit = result.hit;
   return result.found;

@@ -2,6 +2,7 @@
 // Whatever the SystemC model computes per ray must equal what this computes, bit for bit.
 #pragma once
 
+#include "kernels/bvh_traversal.h"
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
 #include "kernels/ray.h"
@@ -83,6 +84,11 @@ class ReferenceTracer {
  private:
   template <bool kAnyHit>
   bool traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const;
+  template <bool kAnyHit>
+  bool traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& c) const;
+  // Tests the current leaf's triangles (the walk's leaf and range), as IST does.
+  template <bool kAnyHit>
+  void test_leaf(const RayWalk& walk, TraversalResult& result, TraversalCounters& c) const;
 
   const MemoryImage& image_;
   const uint8_t* mem_;

@@ -30,19 +30,25 @@ struct Hit {
 
 enum class TraversalStep { kFetchNode, kLeaf, kDone };
 
-struct TraversalState {
-  struct Entry {
-    uint32_t node;
-    float tmin, tmax;
-  };
+// What a walk tells the leaf's intersection tests, whatever the structure: the ray, and the leaf
+// with the range of t in which its hits count (a kd-tree cell's; the whole ray for a BVH leaf).
+struct RayWalk {
   Ray ray;
   Vec3 inv;
   RayShear shear{Vec3(0, 0, 1)};
   bool any_hit = false;
   float abs_eps = 0.f;
-  uint32_t node = 0;         // the node to fetch next
   float tmin = 0, tmax = 0;  // the current cell's range along the ray
   uint32_t leaf = 0;         // the leaf being tested (after kLeaf)
+};
+
+// The kd-tree's walk.
+struct TraversalState : RayWalk {
+  struct Entry {
+    uint32_t node;
+    float tmin, tmax;
+  };
+  uint32_t node = 0;  // the node to fetch next
   int sp = 0;
   Entry stack[kTraversalStackDepth];  // last: a step reads only its top, near the fields above
 };
@@ -140,7 +146,7 @@ inline TraversalStep traversal_node(TraversalState& s, const TraversalResult& r,
 
 // The ray as the current leaf tests its triangles: only hits inside this cell (with slack) belong
 // to it, and only hits not beyond the best so far (equal t may still win on a lower index).
-inline Ray traversal_leaf_ray(const TraversalState& s, const TraversalResult& result) {
+inline Ray traversal_leaf_ray(const RayWalk& s, const TraversalResult& result) {
   Ray r = s.ray;
   if (!s.any_hit) {
     r.tmin = std::max(s.ray.tmin, s.tmin * (1.f - kLeafRelEps) - s.abs_eps);
@@ -152,7 +158,7 @@ inline Ray traversal_leaf_ray(const TraversalState& s, const TraversalResult& re
 
 // Records a hit of triangle `tri` at `t` found by the current leaf. Ties in t go to the lower
 // triangle index, so the result does not depend on the order of the tests.
-inline void traversal_hit(TraversalResult& r, const TraversalState& s, uint32_t tri, float t) {
+inline void traversal_hit(TraversalResult& r, const RayWalk& s, uint32_t tri, float t) {
   if (s.any_hit) {
     if (!r.found) r.hit = Hit{tri, t, s.leaf};
     r.found = true;

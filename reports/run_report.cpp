@@ -51,7 +51,7 @@ double json_number(const nlohmann::json& j, const std::string& path) {
   return at->is_number() ? at->get<double>() : NAN;
 }
 
-nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& kdtree,
+nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& structure,
                                const nlohmann::json& config, const nlohmann::json& lvb,
                                const RunFigures& r, const nlohmann::json& check,
                                const RunHost& host) {
@@ -62,10 +62,9 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
                          {"culled", r.shadow_culled[l]}});
   const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
   const double sim = host.simulate;
-  return {{"schema", kRunReportSchema},
+  nlohmann::json j = {{"schema", kRunReportSchema},
           {"command", "run"},
           {"scene", scene},
-          {"kdtree", kdtree},
           {"config", config},
           {"lvb", lvb},
           {"clock_ghz", r.clock_ghz},
@@ -97,6 +96,12 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
             {"rays_per_second", sim > 0 ? double(rays) / sim : 0.0},
             {"cycles_per_second", sim > 0 ? double(r.cycles_total) / sim : 0.0},
             {"peak_memory_mb", host.peak_memory_mb}}}};
+  j.update(structure);
+  return j;
+}
+
+const nlohmann::json& structure_section(const nlohmann::json& report) {
+  return report.contains("bvh") ? report["bvh"] : report["kdtree"];
 }
 
 std::string cache_hit_rate_metric(const nlohmann::json& cache) {
@@ -109,7 +114,7 @@ std::string stats_csv(const nlohmann::json& r) {
   std::string out = "name,value\n";
   for (const char* key :
        {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow", "frame_ms", "rays",
-        "per_light", "lvb", "kdtree", "reference_check", "stats"})
+        "per_light", "lvb", "kdtree", "bvh", "reference_check", "stats"})
     if (r.contains(key)) flatten(r[key], key, out);
   return out;
 }
@@ -141,8 +146,10 @@ void title(std::ostringstream& md, const json& r, bool lvb) {
 
 void scene_table(std::ostringstream& md, const json& r) {
   const json& scene = r["scene"];
-  const json& kd = r["kdtree"];
-  md << "## Scene (as the paper's Table 3)\n\n| triangles | lights | kd-tree nodes | leaves | "
+  const json& kd = structure_section(r);
+  md << "## Scene (as the paper's Table 3)\n\n| triangles | lights | "
+     << (r.contains("bvh") ? r["accel"].get<std::string>() : std::string("kd-tree"))
+     << " nodes | leaves | "
         "non-empty leaves | max depth | memory image |\n|---|---|---|---|---|---|---|\n";
   md << fmt::format("| {} | {} | {} | {} | {} | {} | {:.1f} MB |\n\n",
                     num(scene["triangles"].get<double>()), scene["lights"].size(),
@@ -158,7 +165,7 @@ void culled_leaves_table(std::ostringstream& md, const json& r) {
         "non-empty leaves | all leaves | rate of all leaves (the paper's) "
         "|\n|---|---|---|---|---|---|\n";
   const json& lp = r["lvb"]["per_light"];
-  const double all = r["kdtree"]["leaves"].get<double>();
+  const double all = structure_section(r)["leaves"].get<double>();
   for (size_t l = 0; l < lp.size(); ++l) {
     const double c = lp[l]["culled_leaves"].get<double>(),
                  n = lp[l]["nonempty_leaves"].get<double>();

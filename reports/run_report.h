@@ -33,10 +33,15 @@ struct RunHost {
 
 // report.json: the parts other modules describe (scene, kd-tree, resolved configuration, the LVB
 // section, the reference check; each JSON, or null) with the run's figures and host time.
-nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& kdtree,
+// `structure`: the acceleration structure's sections, {"kdtree": ...} or {"accel": ..., "bvh": ...}.
+nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& structure,
                                const nlohmann::json& config, const nlohmann::json& lvb,
                                const RunFigures& figures, const nlohmann::json& check,
                                const RunHost& host);
+
+// A report's acceleration structure section: "bvh" on a BVH machine, else "kdtree" (both give
+// nodes, leaves, nonempty_leaves and max_depth).
+const nlohmann::json& structure_section(const nlohmann::json& report);
 
 // "name,value" rows: every simulated figure (results, per-light counts, LVB statistics, every
 // named model statistic) by its dotted path; host-dependent figures are left out, so the file is

@@ -8,10 +8,10 @@ namespace rtsim {
 int run_info(const InfoArgs& args) {
   const PreparedScene p = prepare_scene(args.scene, args.prepare);
   if (args.json) {
-    const nlohmann::json j = {
+    nlohmann::json j = {
         {"scene", scene_json(p)},
-        {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
         {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
+    j.update(structure_json(p));
     fmt::print("{}\n", j.dump(2));
     return 0;
   }
@@ -34,12 +34,23 @@ int run_info(const InfoArgs& args) {
                  l.two_sided ? "two" : "one", l.samples);
     fmt::print("\n");
   }
-  fmt::print(
-      "kd-tree      {} nodes, {} leaves ({} empty), {} references, {:.2f} mean / {} max per "
-      "non-empty leaf\n",
-      k.nodes, k.leaves, k.empty_leaves, k.prim_refs, k.mean_prims_per_leaf, k.max_prims_per_leaf);
-  fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n", k.max_depth,
-             k.depth_limit, k.sah_cost, k.build_seconds);
+  if (is_bvh(p.accel)) {
+    const BvhStats& b = p.bvh.stats;
+    fmt::print("{:<12} {} nodes, {} leaves, {} triangles ({} degenerate left out), {:.2f} mean / "
+               "{} max per leaf\n",
+               to_string(p.accel), b.nodes, b.leaves, b.prims, b.left_out, b.mean_leaf_size,
+               b.max_leaf_size);
+    fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n",
+               b.max_depth, p.bvh_config.max_depth, b.sah_cost, b.build_seconds);
+  } else {
+    fmt::print(
+        "kd-tree      {} nodes, {} leaves ({} empty), {} references, {:.2f} mean / {} max per "
+        "non-empty leaf\n",
+        k.nodes, k.leaves, k.empty_leaves, k.prim_refs, k.mean_prims_per_leaf,
+        k.max_prims_per_leaf);
+    fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n",
+               k.max_depth, k.depth_limit, k.sah_cost, k.build_seconds);
+  }
   fmt::print("image        {} bytes\nload         {:.3f} s\n", p.image->header().image_bytes,
              p.load_seconds);
   return 0;

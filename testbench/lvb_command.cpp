@@ -20,6 +20,10 @@ std::string frustum_note(const LvbParams& lp) {
   if (lp.self_occlusion != LvbSelfOcclusion::kIgnore) return "";
   return fmt::format(", frustum test {}", to_string(lp.frustum_test));
 }
+// All leaves, empty ones included (a BVH has none).
+uint64_t leaf_count(const PreparedScene& p) {
+  return is_bvh(p.accel) ? p.bvh.stats.leaves : p.tree.stats.leaves;
+}
 double rate(uint64_t part, uint64_t whole) {
   return whole ? 100.0 * double(part) / double(whole) : 0.0;
 }
@@ -29,7 +33,7 @@ double fraction(uint64_t part, uint64_t whole) {
 // The paper's Table 4 divides by all leaves (empty ones included, its Table 3 count); only
 // non-empty leaves get an LVB, so we print both rates.
 void print_table4(const PreparedScene& p, const LvbResult& lvb) {
-  const uint64_t all_leaves = p.tree.stats.leaves;
+  const uint64_t all_leaves = leaf_count(p);
   fmt::print(
       "Table 4: leaves culled (LVB = 0) per light\n| light | culled leaves | non-empty leaves | "
       "rate of non-empty leaves | all leaves | rate of all leaves (the paper's) "
@@ -61,7 +65,7 @@ void print_table5(const PreparedScene& p, const TraceResult& r, bool verify) {
 
 nlohmann::json per_light_json(const PreparedScene& p, const LvbResult& lvb, const TraceResult& r,
                               bool verify) {
-  const uint64_t all_leaves = p.tree.stats.leaves;
+  const uint64_t all_leaves = leaf_count(p);
   nlohmann::json per_light = nlohmann::json::array();
   for (size_t i = 0; i < p.scene.lights.size(); ++i) {
     const LightCounters& lc = r.stats.per_light[i];
@@ -86,7 +90,7 @@ nlohmann::json per_light_json(const PreparedScene& p, const LvbResult& lvb, cons
 
 nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbResult& lvb,
                         const TraceResult& r, bool verify, double total) {
-  return {{"command", "lvb"},
+  nlohmann::json j = {{"command", "lvb"},
           {"method", to_string(lp.method)},
           {"bounds", to_string(lp.bounds)},
           {"self_occlusion", to_string(lp.self_occlusion)},
@@ -100,7 +104,6 @@ nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbRe
           {"region_tests", lvb.stats.region_tests},
           {"pair_tests", lvb.stats.pair_tests},
           {"scene", scene_json(p)},
-          {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
           {"rays", {{"primary", r.stats.primary_rays}, {"primary_hits", r.stats.primary_hits}}},
           {"per_light", per_light_json(p, lvb, r, verify)},
           {"host_seconds",
@@ -109,6 +112,8 @@ nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbRe
             {"preprocess", lvb.stats.seconds},
             {"trace", r.stats.seconds},
             {"total", total}}}};
+  j.update(structure_json(p));
+  return j;
 }
 
 }  // namespace
@@ -118,9 +123,7 @@ int run_lvb(const LvbArgs& args) {
   PreparedScene p = prepare_scene(args.scene, args.prepare);
   check_memory(render_memory_need(p.scene));  // it traces the frame
   LvbParams lp = args.lvb;
-  lp.shadow_offset = lvb_shadow_offset(p.tree);
-  lp.origin_margin = lvb_origin_margin(p.scene, p.tree);
-  const LvbResult lvb = compute_lvb(p.scene, p.tree, lp);
+  const LvbResult lvb = compute_scene_lvb(p, lp);
   for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
 
   TracerOptions opt;
@@ -137,10 +140,11 @@ int run_lvb(const LvbArgs& args) {
   }
 
   fmt::print(
-      "{}: {} lights, {} non-empty of {} leaves; method {}, bounds {}, self-occlusion {}{}; "
+      "{}: {}, {} lights, {} non-empty of {} leaves; method {}, bounds {}, self-occlusion {}{}; "
       "preprocessing {:.3f} s ({} threads)\n\n",
-      p.scene.name, p.scene.lights.size(), p.tree.stats.leaves - p.tree.stats.empty_leaves,
-      p.tree.stats.leaves, to_string(lp.method), to_string(lp.bounds), to_string(lp.self_occlusion),
+      p.scene.name, to_string(p.accel), p.scene.lights.size(),
+      leaf_count(p) - (is_bvh(p.accel) ? 0 : p.tree.stats.empty_leaves), leaf_count(p),
+      to_string(lp.method), to_string(lp.bounds), to_string(lp.self_occlusion),
       frustum_note(lp), lvb.stats.seconds, lp.threads);
   print_table4(p, lvb);
   print_table5(p, r, args.verify);

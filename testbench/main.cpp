@@ -25,6 +25,15 @@ std::string default_out(const std::string& scene, const char* command) {
       .string();
 }
 
+// --accel NAME: the acceleration structure in the memory image (run.accel).
+CLI::Option* add_accel_option(CLI::App* cmd, std::function<void(const std::string&)> set) {
+  return cmd
+      ->add_option_function<std::string>(
+          "--accel", std::move(set),
+          "Acceleration structure: kdtree (the paper's, default), bvh2, bvh4, bvh8 or cwbvh8")
+      ->check(CLI::IsMember({"kdtree", "bvh2", "bvh4", "bvh8", "cwbvh8"}));
+}
+
 void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {
   cmd->add_option("--scene-root", p.scene_root,
                   "Directory that relative geometry paths resolve against")
@@ -33,6 +42,7 @@ void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {
       ->check(CLI::Range(1, 16384));
   cmd->add_option("--height", p.height, "Override the scene's image height")
       ->check(CLI::Range(1, 16384));
+  add_accel_option(cmd, [&p](const std::string& v) { p.accel = rtsim::parse_accel(v); });
 }
 
 // Every subcommand's options, and the flags of `run` that override a --config file only when given.
@@ -128,6 +138,7 @@ void add_run(CLI::App& app, Commands& c) {
       c.run_cmd->add_option("--height", c.run_height, "Override the scene's image height")
           ->check(CLI::Range(1, 16384));
   c.plots_opt = c.run_cmd->add_flag("--no-plots", c.run_no_plots, "Skip the PNG figures");
+  add_accel_option(c.run_cmd, [&c](const std::string& v) { c.run.sources.run_flags["accel"] = v; });
   c.run_cmd
       ->add_option("--scene-root", c.run.sources.scene_root,
                    "Directory that relative geometry paths resolve against")
@@ -167,6 +178,8 @@ void add_sweep(CLI::App& app, Commands& c) {
       ->add_option("--point", c.sweep.point, "Run one point of DIR/manifest.json (array tasks)")
       ->check(CLI::Range(0, 1 << 30));
   c.sweep_cmd->add_flag("--no-plots", c.sweep_no_plots, "Skip the figures");
+  add_accel_option(c.sweep_cmd,
+                   [&c](const std::string& v) { c.sweep.set.push_back("run.accel=" + v); });
   c.sweep_cmd
       ->add_option("--point-timeout", c.sweep.point_timeout,
                    "Seconds a point may run before it is killed and recorded as failed "

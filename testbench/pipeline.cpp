@@ -23,14 +23,33 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
       load_scene_file(scene_file, SceneFileOptions{options.scene_root, options.overrides});
   p.scene = std::move(setup.scene);
   p.kdtree_params = setup.kdtree;
+  p.bvh_config = setup.bvh;
+  p.bvh_config.branching = accel_branching(options.accel);
+  p.accel = options.accel;
   if (options.width > 0) p.scene.width = options.width;
   if (options.height > 0) p.scene.height = options.height;
   p.load_seconds = seconds_since(t0);
   t0 = std::chrono::steady_clock::now();
-  p.tree = build_kdtree(p.scene.triangles, p.kdtree_params);
-  p.image = std::make_unique<MemoryImage>(p.scene, p.tree);
+  if (is_bvh(p.accel)) {
+    p.bvh = build_bvh(p.scene.triangles, p.bvh_config);
+    try {
+      p.image = std::make_unique<MemoryImage>(p.scene, p.bvh, p.accel);
+    } catch (const std::length_error& e) {  // the tree does not fit the format's index fields
+      throw InputError(fmt::format("{}: {}", scene_file, e.what()));
+    }
+  } else {
+    p.tree = build_kdtree(p.scene.triangles, p.kdtree_params);
+    p.image = std::make_unique<MemoryImage>(p.scene, p.tree);
+  }
   p.build_seconds = seconds_since(t0);
   return p;
+}
+
+LvbResult compute_scene_lvb(const PreparedScene& p, LvbParams& params) {
+  if (is_bvh(p.accel)) throw InputError("LVB on BVH leaves: TEMPORARY until merged");
+  params.shadow_offset = lvb_shadow_offset(p.tree);
+  params.origin_margin = lvb_origin_margin(p.scene, p.tree);
+  return compute_lvb(p.scene, p.tree, params);
 }
 
 nlohmann::json scene_json(const PreparedScene& p) {
@@ -81,6 +100,32 @@ nlohmann::json kdtree_json(const KdTreeParams& p, const KdTreeStats& s) {
           {"depth_limit", s.depth_limit},
           {"sah_cost", s.sah_cost},
           {"build_seconds", s.build_seconds}};
+}
+
+nlohmann::json bvh_json(const BvhConfig& c, const BvhStats& s) {
+  return {{"params",
+           {{"branching", c.branching},
+            {"min_leaf_size", c.min_leaf_size},
+            {"max_leaf_size", c.max_leaf_size},
+            {"traversal_cost", c.traversal_cost},
+            {"intersection_cost", c.intersection_cost},
+            {"max_depth", c.max_depth}}},
+          {"nodes", s.nodes},
+          {"leaves", s.leaves},
+          {"nonempty_leaves", s.leaves},
+          {"prims", s.prims},
+          {"left_out", s.left_out},
+          {"mean_prims_per_leaf", s.mean_leaf_size},
+          {"max_prims_per_leaf", s.max_leaf_size},
+          {"max_depth", s.max_depth},
+          {"sah_cost", s.sah_cost},
+          {"build_seconds", s.build_seconds}};
+}
+
+nlohmann::json structure_json(const PreparedScene& p) {
+  if (is_bvh(p.accel))
+    return {{"accel", to_string(p.accel)}, {"bvh", bvh_json(p.bvh_config, p.bvh.stats)}};
+  return {{"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)}};
 }
 
 }  // namespace rtsim

@@ -14,7 +14,7 @@ namespace rtsim {
 
 int run_render(const RenderArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::optional<Activity> doing(std::in_place, "loading the scene and building its kd-tree");
+  std::optional<Activity> doing(std::in_place, "loading the scene and building its acceleration structure");
   PreparedScene p = prepare_scene(args.scene, args.prepare);
   check_memory(render_memory_need(p.scene));
   doing.emplace("tracing the frame and writing the outputs");
@@ -46,7 +46,6 @@ int run_render(const RenderArgs& args) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json j = {{"command", "render"},
                       {"scene", scene_json(p)},
-                      {"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)},
                       {"reflection_depth", args.reflection_depth},
                       {"rays",
                        {{"primary", s.primary_rays},
@@ -70,6 +69,7 @@ int run_render(const RenderArgs& args) {
                         {"build", p.build_seconds},
                         {"trace", s.seconds},
                         {"total", total}}}};
+  j.update(structure_json(p));
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);

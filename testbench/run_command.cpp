@@ -98,9 +98,7 @@ model::SimulationHooks trace_hooks(const RunArgs& args) {
 // what a lazy rebuild since that time would redo).
 nlohmann::json compute_run_lvb(const RunConfig& c, PreparedScene& p, double& seconds) {
   LvbParams lp = c.run.lvb_params;
-  lp.shadow_offset = lvb_shadow_offset(p.tree);
-  lp.origin_margin = lvb_origin_margin(p.scene, p.tree);
-  const LvbResult lvb = compute_lvb(p.scene, p.tree, lp);
+  const LvbResult lvb = compute_scene_lvb(p, lp);
   for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
   seconds = lvb.stats.seconds;
   nlohmann::json per_light = nlohmann::json::array();
@@ -120,6 +118,8 @@ nlohmann::json compute_run_lvb(const RunConfig& c, PreparedScene& p, double& sec
   std::vector<ConfigOverride> at = scene_overrides(c.scene_set);
   at.push_back({{"time"}, YAML::Node(*c.run.lvb_lazy_since), "run.lvb_lazy_since"});
   const Scene before = load_scene_file(c.scene_file, SceneFileOptions{c.scene_root, at}).scene;
+  if (is_bvh(p.accel))
+    throw InputError("run.lvb_lazy_since: lazy LVB statistics are for the kd-tree only so far");
   const LvbLazyStats z = lvb_lazy_stats(p.scene, p.tree, lp, lvb_change(before, p.scene));
   j["lazy"] = {{"since", *c.run.lvb_lazy_since},   {"moved_triangles", z.moved_triangles},
                {"moved_lights", z.moved_lights},   {"pairs", z.pairs},
@@ -214,9 +214,9 @@ int run_model(const RunArgs& args) {
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
   // ran.
-  std::optional<Activity> doing(std::in_place, "loading the scene and building its kd-tree");
-  PreparedScene p = prepare_scene(
-      c.scene_file, {c.scene_root, scene_overrides(c.scene_set), c.run.width, c.run.height});
+  std::optional<Activity> doing(std::in_place, "loading the scene and building its acceleration structure");
+  PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
+                                                 c.run.width, c.run.height, c.run.accel});
   check_memory(run_memory_need(c.hw, p.scene, c.run.check));
   RunHost host;
   doing.emplace("computing the light visibility bits");
@@ -240,16 +240,17 @@ int run_model(const RunArgs& args) {
   if (c.run.check) check = reference_check(p, c.run, r, mismatches);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
-  nlohmann::json kdtree = kdtree_json(p.kdtree_params, p.tree.stats);
-  kdtree.erase("build_seconds");  // host time lives under "host"
+  nlohmann::json structure = structure_json(p);
+  for (auto& [key, section] : structure.items())
+    if (section.is_object()) section.erase("build_seconds");  // host time lives under "host"
   const nlohmann::json config = run_config_json(c);
   host.load = p.load_seconds;
-  host.kdtree = p.tree.stats.build_seconds;
-  host.image = p.build_seconds - p.tree.stats.build_seconds;
+  host.kdtree = p.structure_seconds();
+  host.image = p.build_seconds - p.structure_seconds();
   host.total = seconds_since(t0);
   host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
   const nlohmann::json report =
-      run_report_json(scene_json(p), kdtree, config, lvb_json, figures_of(r), check, host);
+      run_report_json(scene_json(p), structure, config, lvb_json, figures_of(r), check, host);
   write_run_outputs(out, p, r, config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());

@@ -51,6 +51,8 @@ Enum read_choice(YamlMap& m, const std::string& key, Enum fallback,
 
 RunSettings read_run_settings(YamlMap m) {
   RunSettings r;
+  r.accel = read_choice(m, "accel", r.accel,
+                        {Accel::kKdTree, Accel::kBvh2, Accel::kBvh4, Accel::kBvh8, Accel::kCwbvh8});
   r.lvb = m.get<bool>("lvb", r.lvb);
   r.lvb_params.method = read_choice(m, "lvb_method", r.lvb_params.method,
                                     {LvbMethod::kHierarchical, LvbMethod::kPaper});
@@ -157,7 +159,8 @@ model::TraceRequest parse_trace_request(const char* flag, const std::string& fil
 }
 
 nlohmann::json run_settings_json(const RunSettings& r) {
-  nlohmann::json j = {{"lvb", r.lvb},
+  nlohmann::json j = {{"accel", to_string(r.accel)},
+                      {"lvb", r.lvb},
                       {"lvb_method", to_string(r.lvb_params.method)},
                       {"lvb_bounds", to_string(r.lvb_params.bounds)},
                       {"lvb_self_occlusion", to_string(r.lvb_params.self_occlusion)},

@@ -9,6 +9,7 @@
 #pragma once
 
 #include "common/yaml_reader.h"
+#include "kernels/bvh_image.h"
 #include "kernels/lvb.h"
 #include "model/accelerator.h"
 
@@ -21,7 +22,8 @@
 namespace rtsim {
 
 struct RunSettings {
-  bool lvb = true;       // shadow-ray culling with the precomputed LVB words
+  Accel accel = Accel::kKdTree;  // the acceleration structure (the paper's kd-tree by default)
+  bool lvb = true;               // shadow-ray culling with the precomputed LVB words
   LvbParams lvb_params;  // method, bounds, self-occlusion (the exact mode by default)
   int reflections = 0;   // mirror bounces
   // 0 = the scene file's resolution (which --set scene.resolution changes)

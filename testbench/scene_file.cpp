@@ -183,6 +183,18 @@ KdTreeParams read_kdtree(YamlMap k) {
   return p;
 }
 
+// The BVH builder's knobs but the branching factor (kernels/bvh.h; Embree's limits).
+BvhConfig read_bvh(YamlMap k) {
+  BvhConfig p;
+  p.max_leaf_size = k.get_in_range("max_leaf_size", p.max_leaf_size, 1u, kBvhMaxLeafSize);
+  p.min_leaf_size = k.get_in_range("min_leaf_size", p.min_leaf_size, 1u, p.max_leaf_size);
+  p.traversal_cost = k.get_in_range("traversal_cost", p.traversal_cost, 1e-6f, 1e6f);
+  p.intersection_cost = k.get_in_range("intersection_cost", p.intersection_cost, 1e-6f, 1e6f);
+  p.max_depth = k.get_in_range("max_depth", p.max_depth, 1u, kBvhMaxDepth);
+  k.finish();
+  return p;
+}
+
 // A light of `lights.add`: a point (`position`) or a parallelogram (`area: {corner, edge1, edge2,
 // two_sided}` with `samples`).
 Light read_light(YamlMap& a) {
@@ -321,6 +333,7 @@ SceneSetup load_scene_file(const std::string& path, const SceneFileOptions& opti
                                        scene.width, scene.height));
   if (scene.triangles.empty()) top.fail("geometry", "the scene has no triangles");
   if (top.has("kdtree")) setup.kdtree = read_kdtree(top.map("kdtree"));
+  if (top.has("bvh")) setup.bvh = read_bvh(top.map("bvh"));
   top.finish();
   return setup;
 }

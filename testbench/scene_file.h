@@ -5,6 +5,7 @@
 #pragma once
 
 #include "common/yaml_reader.h"
+#include "kernels/bvh.h"
 #include "kernels/kdtree.h"
 #include "scene/scene.h"
 
@@ -22,10 +23,12 @@ struct SceneFileOptions {
 // tree) when it exists, else the working directory.
 std::string default_scene_root();
 
-// What a scene file describes: the scene, and how to build its kd-tree.
+// What a scene file describes: the scene, and how to build its kd-tree and its BVHs (the
+// branching factor comes from the run's acceleration structure, run.accel).
 struct SceneSetup {
   Scene scene;
   KdTreeParams kdtree;
+  BvhConfig bvh;
 };
 
 // Loads the scene a YAML file describes; every error names the file, line and key.
