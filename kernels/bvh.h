@@ -68,9 +68,10 @@ struct BvhStats {
 // (largest triangle count first). The leaves' lists are concatenated in the order the walk meets
 // them, a leaf's triangles in ascending index order; the leaves are numbered node by node (in node
 // order, each node's leaf children in slot order), so that one node's leaves are consecutive, as
-// a compressed node's single leaf base index needs (docs/memory-image.md). The root has no children for
-// a scene without (non-degenerate) triangles and one leaf child when Embree makes the whole scene
-// one leaf (a single triangle, for instance); every other inner node has 2..branching children.
+// a compressed node's single leaf base index needs (docs/memory-image.md). The root has no children
+// for a scene without (non-degenerate) triangles and one leaf child when Embree makes the whole
+// scene one leaf (a single triangle, for instance); every other inner node has 2..branching
+// children.
 struct Bvh {
   AABB bounds;  // union of all triangles in the tree (empty when there are none)
   uint32_t branching = 2;

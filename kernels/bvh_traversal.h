@@ -97,8 +97,9 @@ inline TraversalStep bvh_traversal_node(BvhTraversalState& s, const TraversalRes
     hits[count++] = {n.leaf[i] ? (BvhStackEntry::kLeafBit | n.ref[i]) : n.ref[i], t0};
   }
   // Nearest first; equal distances keep the node's slot order (a stable sort of at most 8).
-  std::stable_sort(hits, hits + count,
-                   [](const BvhStackEntry& a, const BvhStackEntry& b) { return a.tnear < b.tnear; });
+  std::stable_sort(hits, hits + count, [](const BvhStackEntry& a, const BvhStackEntry& b) {
+    return a.tnear < b.tnear;
+  });
   if (s.sp + count > kBvhStackEntries)
     throw std::logic_error("BVH deeper than the traversal stack");
   for (uint32_t i = count; i-- > 0;) s.stack[s.sp++] = hits[i];

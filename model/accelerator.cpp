@@ -38,6 +38,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   info.tile = uint32_t(cfg.tile);
   info.memory_bytes = dram ? dram->store_bytes() : 0;
   info.lvb_culling = cfg.lvb_culling;
+  info.bvh = cfg.structure == Structure::kBvh;
   registers = std::make_unique<ControlRegisters>("registers", info, *this);
   registers->irq.bind(top.irq);
   calendar.on_settled([this] { check_frame_end(); });
@@ -73,9 +74,9 @@ void Accelerator::Netlist::build_units() {
   generator =
       std::make_unique<RayGenerator>("raygen", ctx, cfg.order, cfg.tile, cfg.raygen_rays_per_cycle);
   const UnitBuild b{ctx, cfg, &frame, records};
-  for (const RayUnitType& type : kRayUnitTypes)
-    for (uint32_t i = 0; i < (cfg.*type.config).count; ++i)
-      units[type.stage].push_back(type.make(indexed(type.key, i).c_str(), b, i));
+  for (const RayUnitType* type : unit_types(cfg))
+    for (uint32_t i = 0; i < (cfg.*type->config).count; ++i)
+      units[type->stage].push_back(type->make(indexed(type->key, i).c_str(), b, i));
   // Its own L1 is a shading L1.
   const bool own_l1 = cfg.culling.l1 == CullingL1::kOwn;
   culling = std::make_unique<ShadowCullingUnit>("culling", ctx, cfg.culling,
@@ -88,12 +89,13 @@ void Accelerator::Netlist::build_units() {
 // -> IST unit j x ist / list); culling -> TRV. Back: IST and shading -> router -> the ray's TRV
 // unit, and IST -> router -> its TRV unit's shading unit; retirement through the router.
 void Accelerator::Netlist::bind_ray_path() {
-  for (uint32_t i = 0; i < cfg.trv.count; ++i) {
-    TrvUnit& t = trv(i);
+  const uint32_t traversal_units = uint32_t(units[kTrvStage].size());
+  for (uint32_t i = 0; i < traversal_units; ++i) {
+    TraversalUnit& t = traversal(i);
     generator->to_trv.bind(t.in);
     culling->to_trv.bind(t.in);
-    t.to_list.bind(list(i * cfg.list.count / cfg.trv.count).in);
-    t.to_shading.bind(shading(i * cfg.shading.count / cfg.trv.count).in);
+    t.to_list.bind(list(i * cfg.list.count / traversal_units).in);
+    t.to_shading.bind(shading(i * cfg.shading.count / traversal_units).in);
     router.owners.bind(t.owner);
   }
   for (uint32_t j = 0; j < cfg.list.count; ++j)
@@ -139,8 +141,8 @@ void Accelerator::Netlist::bind_control_and_memory() {
 void Accelerator::Netlist::declare_order() {
   if (dram) calendar.set_rank(*dram, kDramRank);
   calendar.set_rank(memory->interconnect().port(), kMemoryPortRank);
-  for (const RayUnitType& type : kRayUnitTypes)
-    for (auto& u : units[type.stage]) calendar.set_rank(*u, type.rank);
+  for (const RayUnitType* type : unit_types(cfg))
+    for (auto& u : units[type->stage]) calendar.set_rank(*u, type->rank);
   calendar.set_rank(*generator, kRayGeneratorRank);
   calendar.set_rank(*culling, kCullingRank);
   calendar.set_rank(*watchdog, kWatchdogRank);
@@ -217,17 +219,17 @@ void Accelerator::Netlist::report_progress(Tick now) const {
 void Accelerator::Netlist::register_stats() {
   // Per unit type: each unit's figures and caches, and totals beside them (its units' cycles, its
   // L1s, its private L2s).
-  for (const RayUnitType& type : kRayUnitTypes) {
+  for (const RayUnitType* type : unit_types(cfg)) {
     std::vector<const Cache*> l1s, l2s;
-    for (const auto& u : units[type.stage]) {
+    for (const auto& u : units[type->stage]) {
       u->register_stats(stats, stat_prefix(*u, top));
       u->caches().register_stats(stats, top, &end);
       l1s.push_back(&u->l1());
       if (u->caches().l2()) l2s.push_back(u->caches().l2());
     }
-    register_unit_totals(type.key, units[type.stage]);
-    register_cache_totals(stats, std::string(type.key) + ".l1", l1s);
-    if (!l2s.empty()) register_cache_totals(stats, std::string(type.key) + ".l2", l2s);
+    register_unit_totals(type->key, units[type->stage]);
+    register_cache_totals(stats, std::string(type->key) + ".l1", l1s);
+    if (!l2s.empty()) register_cache_totals(stats, std::string(type->key) + ".l2", l2s);
   }
   if (const Cache* own = culling->own_l1()) own->register_stats(stats, stat_prefix(*own, top));
   memory->register_stats(stats, top, &end);

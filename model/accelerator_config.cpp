@@ -8,10 +8,11 @@ namespace rtsim::model {
 void AcceleratorConfig::validate() const {
   RangeCheck check;
   describe(check, *this);
-  if (list.l2.line_bytes != trv.l2.line_bytes || ist.l2.line_bytes != trv.l2.line_bytes)
+  const UnitTypeConfig& walk = traversal();
+  if (list.l2.line_bytes != walk.l2.line_bytes || ist.l2.line_bytes != walk.l2.line_bytes)
     throw std::invalid_argument(
         "l2.line_bytes: the three L2s share one memory; expected equal line sizes");
-  for (const UnitTypeConfig* u : {&trv, &list, &ist})
+  for (const UnitTypeConfig* u : {&walk, &list, &ist})
     if (u->l1.line_bytes > u->l2.line_bytes)
       throw std::invalid_argument("l1.line_bytes: expected <= the L2's");
   if (shading.l1.line_bytes > ist.l2.line_bytes)
@@ -28,7 +29,7 @@ void AcceleratorConfig::validate() const {
 
 DramConfig AcceleratorConfig::memory_dram() const {
   DramConfig d = dram;
-  d.request_bytes = trv.l2.line_bytes;  // one L2 line per memory transaction
+  d.request_bytes = traversal().l2.line_bytes;  // one L2 line per memory transaction
   return d;
 }
 

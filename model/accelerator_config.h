@@ -7,6 +7,7 @@
 #include "model/memory/client_caches.h"
 #include "model/memory/crossbar.h"
 #include "model/memory/dram_config.h"
+#include "model/units/bvh_unit.h"
 #include "model/units/phase_controller.h"
 #include "model/units/ray_generator.h"
 #include "model/units/ray_unit.h"
@@ -82,7 +83,13 @@ inline UnitTypeConfig shading() {
 
 struct AcceleratorConfig {
   double clock_ghz = 1.0;
+  Structure structure = Structure::kKdTree;  // what the traversal units walk
   UnitTypeConfig trv = paper_machine::units(24, 8, paper_machine::l1(8, 2), paper_machine::l2(128));
+  // The BVH units (structure: bvh) in the TRV units' place: their count, rays, FIFOs and caches,
+  // so that a comparison changes the structure only; their latency is Vulkan-Sim's for an inner
+  // node, also 8 (docs/bvh.md, "The BVH machine").
+  UnitTypeConfig bvh = paper_machine::units(24, 8, paper_machine::l1(8, 2), paper_machine::l2(128));
+  BvhWalkConfig bvh_walk;
   UnitTypeConfig list = paper_machine::units(12, 2, paper_machine::l1(4, 2), paper_machine::l2(32));
   UnitTypeConfig ist =
       paper_machine::units(12, 36, paper_machine::l1(16, 4), paper_machine::l2(128));
@@ -108,6 +115,8 @@ struct AcceleratorConfig {
   void validate() const;
   // The memory as the accelerator uses it: `dram` with one L2 line per request.
   DramConfig memory_dram() const;
+  // The traversal units' type: TRV's or the BVH units', by `structure`.
+  const UnitTypeConfig& traversal() const { return structure == Structure::kBvh ? bvh : trv; }
 };
 
 // Every field of a unit type, once (model/sim/config_description.h): `has_l2` for TRV, LIST and IST
@@ -152,7 +161,15 @@ DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {
            "as their hit is shaded");
   v.number("watchdog_cycles", c.watchdog_cycles, 1000, double(uint64_t(1) << 40), "cycles",
            "an error naming the stuck FIFOs and units after this long without progress");
-  v.section("trv", "the traversal units", [&] { describe(v, c.trv, true, 1024); });
+  v.choice("structure", c.structure, {{"kdtree", Structure::kKdTree}, {"bvh", Structure::kBvh}},
+           "what the traversal units walk: the kd-tree (TRV units, the paper's) or a BVH (BVH "
+           "units); the image must hold it");
+  v.section("trv", "the kd-tree traversal units (structure: kdtree)",
+            [&] { describe(v, c.trv, true, 1024); });
+  v.section("bvh", "the BVH traversal units (structure: bvh)", [&] {
+    describe(v, c.bvh, true, 1024);
+    describe(v, c.bvh_walk);
+  });
   v.section("list", "the primitive-list units", [&] { describe(v, c.list, true, 1024); });
   v.section("ist", "the intersection units", [&] { describe(v, c.ist, true, 1024); });
   v.section("shading",

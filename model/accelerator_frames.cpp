@@ -34,6 +34,7 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   const Tick begin = ctx.clock.edge_at_or_after(at);
   const image::Header& h = p.header;
   ctx.header = placed(h, p.image_base);
+  ctx.bvh = is_bvh(h.accel);
   // The reference tracer's constants (reference_tracer.cpp), computed the same way.
   ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
   ctx.shadow_offset = 1e-5f * h.bounds.diagonal();
@@ -173,7 +174,7 @@ AcceleratorResult Accelerator::result() {
   }
   out.stats = n.stats.values();
   out.units = report_units(n.cfg);
-  out.caches = report_caches();
+  out.caches = report_caches(n.cfg);
   out.glossary = n.stats.glossary();
   out.frame = n.frame;
   return out;

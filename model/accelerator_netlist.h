@@ -15,6 +15,7 @@
 #include "model/sim/periodic_probe.h"
 #include "model/sim/report.h"
 #include "model/sim/watchdog.h"
+#include "model/units/bvh_unit.h"
 #include "model/units/ist_unit.h"
 #include "model/units/list_unit.h"
 #include "model/units/lvb_updater.h"
@@ -59,7 +60,7 @@ struct Accelerator::Netlist : FrameEngine {
   U& unit(Stage stage, uint32_t i) const {
     return static_cast<U&>(*units[stage][i]);
   }
-  TrvUnit& trv(uint32_t i) const { return unit<TrvUnit>(kTrvStage, i); }
+  TraversalUnit& traversal(uint32_t i) const { return unit<TraversalUnit>(kTrvStage, i); }
   ListUnit& list(uint32_t i) const { return unit<ListUnit>(kListStage, i); }
   IstUnit& ist(uint32_t i) const { return unit<IstUnit>(kIstStage, i); }
   ShadingUnit& shading(uint32_t i) const { return unit<ShadingUnit>(kShadingStage, i); }

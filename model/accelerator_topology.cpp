@@ -44,14 +44,16 @@ MemoryTopology memory_topology(const AcceleratorConfig& cfg, MemoryTarget target
   m.reader = "culling";
   // A type's own L2s first; then the types on another's L2, which is shared or, when that type's
   // L2s are private, one of their own with its configuration.
+  const UnitTypes types = unit_types(cfg);
   std::array<size_t, kStages> shared{};
-  for (const RayUnitType& type : kRayUnitTypes)
-    if (type.l2_of == type.stage)
-      shared[type.stage] = add_type(m, type.key, cfg.*type.config, t.units[type.stage]);
-  for (const RayUnitType& type : kRayUnitTypes) {
+  for (const RayUnitType* type : types)
+    if (type->l2_of == type->stage)
+      shared[type->stage] = add_type(m, type->key, cfg.*type->config, t.units[type->stage]);
+  for (const RayUnitType* tp : types) {
+    const RayUnitType& type = *tp;
     if (type.l2_of == type.stage) continue;
     size_t& l2 = shared[type.l2_of];
-    const UnitTypeConfig& host = cfg.*kRayUnitTypes[type.l2_of].config;
+    const UnitTypeConfig& host = cfg.*types[type.l2_of]->config;
     if (l2 == kPrivate) {
       l2 = m.l2s.size();
       m.l2s.push_back({type.key, host.l2, host.link, {}});

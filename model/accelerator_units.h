@@ -15,6 +15,7 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 
 namespace rtsim::model {
 
@@ -43,7 +44,8 @@ struct UnitBuild {
   const HitRecordRegion& records;
 };
 
-// A type of ray unit (model/units/ray_unit.h).
+// A type of ray unit (model/units/ray_unit.h). A machine has one type per stage: the traversal
+// stage's is TRV or the BVH unit, by `structure`.
 struct RayUnitType {
   Stage stage;        // its place on a ray's path, and its entry in a ray's state (ray_state.h)
   const char* key;    // its units are <key><i>; statistics <key>.*; its hardware file section
@@ -55,15 +57,21 @@ struct RayUnitType {
   Stage l2_of;
   // Builds unit `index` of the type, named `name`, in the current module's scope.
   std::unique_ptr<RayUnit> (*make)(const char* name, const UnitBuild& b, uint32_t index);
+  // The machines that have this type: what their traversal units walk (any, for the others).
+  std::optional<Structure> only_for;
 };
 
-// Indexed by stage.
-extern const std::array<RayUnitType, kStages> kRayUnitTypes;
+// Every type, in stage order.
+extern const std::array<RayUnitType, kStages + 1> kRayUnitTypes;
+
+// The types of the machine `cfg` describes, indexed by stage.
+using UnitTypes = std::array<const RayUnitType*, kStages>;
+UnitTypes unit_types(const AcceleratorConfig& cfg);
 
 // The unit types a report lists, in its order ({key, label, count, stats}: `stats` the prefix of
 // the type's busy/stalled/idle cycles, summed over its units), and the caches it lists ({key,
 // unit, label, level}: `key` the statistics prefix, a type's total over its units).
 nlohmann::json report_units(const AcceleratorConfig& cfg);
-nlohmann::json report_caches();
+nlohmann::json report_caches(const AcceleratorConfig& cfg);
 
 }  // namespace rtsim::model

@@ -33,7 +33,8 @@ struct RunHost {
 
 // report.json: the parts other modules describe (scene, kd-tree, resolved configuration, the LVB
 // section, the reference check; each JSON, or null) with the run's figures and host time.
-// `structure`: the acceleration structure's sections, {"kdtree": ...} or {"accel": ..., "bvh": ...}.
+// `structure`: the acceleration structure's sections, {"kdtree": ...} or {"accel": ..., "bvh":
+// ...}.
 nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& structure,
                                const nlohmann::json& config, const nlohmann::json& lvb,
                                const RunFigures& figures, const nlohmann::json& check,

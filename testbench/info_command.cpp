@@ -8,9 +8,8 @@ namespace rtsim {
 int run_info(const InfoArgs& args) {
   const PreparedScene p = prepare_scene(args.scene, args.prepare);
   if (args.json) {
-    nlohmann::json j = {
-        {"scene", scene_json(p)},
-        {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
+    nlohmann::json j = {{"scene", scene_json(p)},
+                        {"host_seconds", {{"load", p.load_seconds}, {"build", p.build_seconds}}}};
     j.update(structure_json(p));
     fmt::print("{}\n", j.dump(2));
     return 0;
@@ -36,10 +35,11 @@ int run_info(const InfoArgs& args) {
   }
   if (is_bvh(p.accel)) {
     const BvhStats& b = p.bvh.stats;
-    fmt::print("{:<12} {} nodes, {} leaves, {} triangles ({} degenerate left out), {:.2f} mean / "
-               "{} max per leaf\n",
-               to_string(p.accel), b.nodes, b.leaves, b.prims, b.left_out, b.mean_leaf_size,
-               b.max_leaf_size);
+    fmt::print(
+        "{:<12} {} nodes, {} leaves, {} triangles ({} degenerate left out), {:.2f} mean / "
+        "{} max per leaf\n",
+        to_string(p.accel), b.nodes, b.leaves, b.prims, b.left_out, b.mean_leaf_size,
+        b.max_leaf_size);
     fmt::print("             depth {} (limit {}), SAH cost {:.2f}, built in {:.3f} s\n",
                b.max_depth, p.bvh_config.max_depth, b.sah_cost, b.build_seconds);
   } else {

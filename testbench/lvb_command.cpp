@@ -90,28 +90,29 @@ nlohmann::json per_light_json(const PreparedScene& p, const LvbResult& lvb, cons
 
 nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbResult& lvb,
                         const TraceResult& r, bool verify, double total) {
-  nlohmann::json j = {{"command", "lvb"},
-          {"method", to_string(lp.method)},
-          {"bounds", to_string(lp.bounds)},
-          {"self_occlusion", to_string(lp.self_occlusion)},
-          {"frustum_test", to_string(lp.frustum_test)},
-          {"verify", verify},
-          {"shadow_offset", lp.shadow_offset},
-          {"origin_margin", lp.origin_margin},
-          {"preprocess_seconds", lvb.stats.seconds},
-          {"preprocess_threads", lp.threads},
-          {"nodes_visited", lvb.stats.nodes_visited},
-          {"region_tests", lvb.stats.region_tests},
-          {"pair_tests", lvb.stats.pair_tests},
-          {"scene", scene_json(p)},
-          {"rays", {{"primary", r.stats.primary_rays}, {"primary_hits", r.stats.primary_hits}}},
-          {"per_light", per_light_json(p, lvb, r, verify)},
-          {"host_seconds",
-           {{"load", p.load_seconds},
-            {"build", p.build_seconds},
-            {"preprocess", lvb.stats.seconds},
-            {"trace", r.stats.seconds},
-            {"total", total}}}};
+  nlohmann::json j = {
+      {"command", "lvb"},
+      {"method", to_string(lp.method)},
+      {"bounds", to_string(lp.bounds)},
+      {"self_occlusion", to_string(lp.self_occlusion)},
+      {"frustum_test", to_string(lp.frustum_test)},
+      {"verify", verify},
+      {"shadow_offset", lp.shadow_offset},
+      {"origin_margin", lp.origin_margin},
+      {"preprocess_seconds", lvb.stats.seconds},
+      {"preprocess_threads", lp.threads},
+      {"nodes_visited", lvb.stats.nodes_visited},
+      {"region_tests", lvb.stats.region_tests},
+      {"pair_tests", lvb.stats.pair_tests},
+      {"scene", scene_json(p)},
+      {"rays", {{"primary", r.stats.primary_rays}, {"primary_hits", r.stats.primary_hits}}},
+      {"per_light", per_light_json(p, lvb, r, verify)},
+      {"host_seconds",
+       {{"load", p.load_seconds},
+        {"build", p.build_seconds},
+        {"preprocess", lvb.stats.seconds},
+        {"trace", r.stats.seconds},
+        {"total", total}}}};
   j.update(structure_json(p));
   return j;
 }
@@ -144,8 +145,8 @@ int run_lvb(const LvbArgs& args) {
       "preprocessing {:.3f} s ({} threads)\n\n",
       p.scene.name, to_string(p.accel), p.scene.lights.size(),
       leaf_count(p) - (is_bvh(p.accel) ? 0 : p.tree.stats.empty_leaves), leaf_count(p),
-      to_string(lp.method), to_string(lp.bounds), to_string(lp.self_occlusion),
-      frustum_note(lp), lvb.stats.seconds, lp.threads);
+      to_string(lp.method), to_string(lp.bounds), to_string(lp.self_occlusion), frustum_note(lp),
+      lvb.stats.seconds, lp.threads);
   print_table4(p, lvb);
   print_table5(p, r, args.verify);
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

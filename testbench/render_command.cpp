@@ -14,7 +14,8 @@ namespace rtsim {
 
 int run_render(const RenderArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
-  std::optional<Activity> doing(std::in_place, "loading the scene and building its acceleration structure");
+  std::optional<Activity> doing(std::in_place,
+                                "loading the scene and building its acceleration structure");
   PreparedScene p = prepare_scene(args.scene, args.prepare);
   check_memory(render_memory_need(p.scene));
   doing.emplace("tracing the frame and writing the outputs");

@@ -214,7 +214,8 @@ int run_model(const RunArgs& args) {
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
   // ran.
-  std::optional<Activity> doing(std::in_place, "loading the scene and building its acceleration structure");
+  std::optional<Activity> doing(std::in_place,
+                                "loading the scene and building its acceleration structure");
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
                                                  c.run.width, c.run.height, c.run.accel});
   check_memory(run_memory_need(c.hw, p.scene, c.run.check));

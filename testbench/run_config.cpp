@@ -116,6 +116,13 @@ RunConfig resolve_run_config(const RunSources& src) {
       YamlMap::from_node(run_node, run_file, src.config_file.empty() ? "" : "run", run_ov));
   c.hw.lvb_culling = c.run.lvb;
   c.hw.reflection_depth = c.run.reflections;
+  if (is_bvh(c.run.accel) != (c.hw.structure == model::Structure::kBvh))
+    throw InputError(fmt::format(
+        "run.accel: {} needs a machine whose traversal units walk {} (hw.structure: {}); {} has "
+        "structure: {} (configs/hw/bvh-tni.yaml walks BVHs, configs/hw/tni-paper.yaml the kd-tree)",
+        to_string(c.run.accel), is_bvh(c.run.accel) ? "a BVH" : "the kd-tree",
+        is_bvh(c.run.accel) ? "bvh" : "kdtree", c.hw_file.empty() ? "the hardware" : c.hw_file,
+        c.hw.structure == model::Structure::kBvh ? "bvh" : "kdtree"));
   return c;
 }
 

@@ -24,8 +24,8 @@ namespace rtsim {
 struct RunSettings {
   Accel accel = Accel::kKdTree;  // the acceleration structure (the paper's kd-tree by default)
   bool lvb = true;               // shadow-ray culling with the precomputed LVB words
-  LvbParams lvb_params;  // method, bounds, self-occlusion (the exact mode by default)
-  int reflections = 0;   // mirror bounces
+  LvbParams lvb_params;          // method, bounds, self-occlusion (the exact mode by default)
+  int reflections = 0;           // mirror bounces
   // 0 = the scene file's resolution (which --set scene.resolution changes)
   int width = 0, height = 0;
   bool check = false;       // compare every pixel with the reference tracer

@@ -67,17 +67,27 @@ bool is_sweep_metric(const std::string& name) {
                                "rays_shadow",        "shadow_culled",     "shadow_culled_rate",
                                "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
                                "dram_reads"};
-    // The model's unit types and caches, whatever the configuration.
-    for (const auto& u : model::report_units(model::AcceleratorConfig()))
-      v.push_back(u["key"].get<std::string>() + "_busy");
-    for (const auto& c : model::report_caches()) v.push_back(cache_hit_rate_metric(c));
+    // The model's unit types and caches, whatever the configuration (a kd-tree or a BVH machine).
+    for (const model::Structure s : {model::Structure::kKdTree, model::Structure::kBvh}) {
+      model::AcceleratorConfig cfg;
+      cfg.structure = s;
+      for (const auto& u : model::report_units(cfg)) {
+        const std::string metric = u["key"].get<std::string>() + "_busy";
+        if (std::find(v.begin(), v.end(), metric) == v.end()) v.push_back(metric);
+      }
+      for (const auto& c : model::report_caches(cfg)) {
+        const std::string metric = cache_hit_rate_metric(c);
+        if (std::find(v.begin(), v.end(), metric) == v.end()) v.push_back(metric);
+      }
+    }
     return v;
   }();
   if (std::find(named.begin(), named.end(), name) != named.end()) return true;
   const std::string head = name.substr(0, name.find('.'));
   for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz"})
     if (name == key) return true;
-  for (const char* key : {"frame_ms", "rays", "per_light", "lvb", "kdtree", "scene", "stats"})
+  for (const char* key :
+       {"frame_ms", "rays", "per_light", "lvb", "kdtree", "bvh", "scene", "stats"})
     if (head == key && name.size() > head.size() + 1) return true;
   return false;
 }

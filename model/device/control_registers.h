@@ -41,6 +41,7 @@ struct DeviceInfo {
   uint32_t tile = 8;
   uint64_t memory_bytes = 0;  // the built-in memory's size; 0: the platform's, not checked
   bool lvb_culling = true;    // CULLING's reset value
+  bool bvh = false;           // the traversal units walk a BVH (else a kd-tree)
 };
 
 // The frames the register block starts: the accelerator's netlist.

@@ -24,6 +24,9 @@ const char* error_name(uint32_t code) {
              "built-in one holds hw.dram.capacity_mib)";
     case regs::kBusyStart: return "a frame is running";
     case regs::kBusyReset: return "a reset while a frame runs";
+    case regs::kBadStructure:
+      return "the image's acceleration structure is not the one the traversal units walk "
+             "(hw.structure: kdtree for a kd-tree image, bvh for bvh2, bvh4, bvh8 and cwbvh8)";
     default: return "unknown error";
   }
 }

@@ -67,6 +67,7 @@ enum Error : uint32_t {
   kBadPlacement = 5,   // image or frame buffer unaligned, overlapping, or outside memory
   kBusyStart = 6,      // START while a frame runs
   kBusyReset = 7,      // RESET while a frame runs (a frame cannot be aborted)
+  kBadStructure = 8,   // the image's acceleration structure is not what the traversal units walk
 };
 
 }  // namespace rtsim::model::regs

@@ -19,7 +19,7 @@ void IstUnit::admitted(uint32_t ray) {
 void IstUnit::process(uint32_t id, Tick now) {
   RayState& r = ray_state(id);
   IstState& s = r.ist;
-  const TraversalState& walk = r.trv.walk;
+  const RayWalk& walk = r.trv.leaf_walk(ctx_.bvh);
   if (s.tests_issued == 0) s.leaf_ray = traversal_leaf_ray(walk, s.result);
   const uint32_t tri = r.list.tris[s.tests_issued];
   const uint64_t addr = ctx_.header.triangles.base + uint64_t(tri) * image::kTriangleBytes;

@@ -18,7 +18,8 @@ void ListUnit::process(uint32_t id, Tick now) {
   ListState& l = r.list;
   const image::Header& h = ctx_.header;
   if (l.prim_count == 0) {  // first the leaf record (a non-empty leaf's)
-    const uint64_t addr = h.leaves.base + uint64_t(r.trv.walk.leaf) * image::kLeafBytes;
+    const uint64_t addr =
+        h.leaves.base + uint64_t(r.trv.leaf_walk(ctx_.bvh).leaf) * image::kLeafBytes;
     uint8_t bytes[image::kLeafBytes];
     const Tick ready = load(l1(), id, addr, image::kLeafBytes, bytes, now);
     if (ready == kUnknown) return;

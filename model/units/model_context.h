@@ -14,6 +14,7 @@ struct ModelContext {
   Calendar* calendar = nullptr;  // the accelerator's calendar
   RayPool* pool = nullptr;
   image::Header header;
+  bool bvh = false;  // the image holds a BVH (header.accel): the traversal units walk it
   Clock clock;
   float abs_eps = 0.f;        // the traversal's absolute slack (1e-6 of the scene diagonal)
   float shadow_offset = 0.f;  // shadow-ray origin offset (1e-5 of the scene diagonal)

@@ -4,6 +4,7 @@
 // its own part when the ray enters it; the pool sets up a new ray's result (no hit yet).
 #pragma once
 
+#include "kernels/bvh_traversal.h"
 #include "kernels/shading.h"
 #include "kernels/traversal.h"
 #include "model/sim/time.h"
@@ -46,11 +47,23 @@ struct FetchState {
   std::vector<uint8_t> bytes;  // two L1 lines
 };
 
-// TRV: the walk through the kd-tree, and which TRV unit owns the ray's slot.
+// The traversal stage: the walk through the kd-tree (TRV) or the BVH (the BVH unit), and which
+// unit owns the ray's slot.
 struct TrvState {
   uint16_t owner = 0;
   bool started = false;  // traversal_begin done
-  TraversalState walk;   // last: its stack ends the ray's state
+  // BVH unit only: the ray's stack slot in its unit, the stack entries held on chip (the rest
+  // are spilled), and whether its next operation hands a popped leaf to LIST.
+  uint16_t stack_slot = 0;
+  uint16_t on_chip = 0;
+  bool leaf_next = false;
+  uint8_t node_chunk = 0;  // the part of a wide node its next operation fetches
+  BvhTraversalState bvh;   // its stack lives in the BVH unit
+  TraversalState walk;     // last: its stack ends the ray's state
+  // What the leaf's intersection tests read, whichever structure the ray walks.
+  const RayWalk& leaf_walk(bool bvh_walk) const {
+    return bvh_walk ? static_cast<const RayWalk&>(bvh) : walk;
+  }
 };
 
 // LIST: the current leaf's record and primitive list.

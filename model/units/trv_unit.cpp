@@ -4,38 +4,13 @@ namespace rtsim::model {
 
 TrvUnit::TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
                  uint32_t index)
-    : RayUnit(name, ctx, cfg, kTrvStage, "trv"),
-      to_list("to_list", this),
-      to_shading("to_shading", this),
-      owner("owner"),
-      latency_(cfg.latency),
-      index_(uint16_t(index)) {
-  owner.bind(*this);
-  count_slots(&owned_);
-}
-
-void TrvUnit::admitted(uint32_t ray) {
-  ++owned_;
-  TrvState& t = ray_state(ray).trv;
-  t.owner = index_;
-  t.started = false;
-}
+    : TraversalUnit(name, ctx, cfg, index, "trv"), latency_(cfg.latency) {}
 
 bool TrvUnit::leaf_done(uint32_t ray, Tick when) {
   RayState& r = ray_state(ray);
   if (traversal_pop(r.trv.walk, r.ist.result) != TraversalStep::kFetchNode) return false;
   take_back(ray, when);
   return true;
-}
-
-void TrvUnit::reflect(uint32_t ray, Tick when) {
-  ray_state(ray).trv.started = false;
-  take_back(ray, when);
-}
-
-void TrvUnit::release_slot(uint32_t) {
-  --owned_;
-  wake(now_ps());
 }
 
 void TrvUnit::process(uint32_t id, Tick now) {

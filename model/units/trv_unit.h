@@ -1,19 +1,14 @@
 // TRV: kd-tree traversal. Each operation fetches one 8-byte node through the unit's L1 and runs
 // one step of the shared traversal state machine (8-cycle pipeline, one operation per cycle).
 // A ray whose node misses to memory parks in the ray accumulation buffer until the line arrives.
-// Rays keep their slot here while they visit LIST and IST (the T&I engine's scheme): the unit
-// owns at most `capacity` rays, and a ray coming back after its leaf never waits for room. The
-// unit owns its rays' stacks: it pops a ray's stack when IST is done with its leaf.
-//
-// Ports: `to_list` (a ray reaching a leaf), `to_shading` (a ray whose traversal is over); the
-// export `owner` (RayOwner: rays coming back, slots freeing).
+// A traversal unit (model/units/traversal_unit.h): it pops a ray's stack when IST is done with
+// its leaf.
 #pragma once
 
 #include "model/sim/stats_description.h"
 
 #include "model/memory/cache.h"
-#include "model/units/ray_ports.h"
-#include "model/units/ray_unit.h"
+#include "model/units/traversal_unit.h"
 
 namespace rtsim::model {
 
@@ -31,32 +26,23 @@ void describe_stats(V& v, const TrvStats& s) {
   v.counter("rays_done", s.rays_done, "count", "rays whose traversal ended here");
 }
 
-class TrvUnit : public RayUnit, public RayOwner {
+class TrvUnit : public TraversalUnit {
  public:
-  RayOut to_list;
-  RayOut to_shading;
-  sc_core::sc_export<RayOwner> owner;
-
   // Unit `index` of the TRV units (the owner its rays come back to).
   TrvUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
           uint32_t index);
 
   // RayOwner.
   bool leaf_done(uint32_t ray, Tick when) override;
-  void reflect(uint32_t ray, Tick when) override;
-  void release_slot(uint32_t ray) override;
 
   const TrvStats& stats() const { return stats_; }
   void register_stats(StatsRegistry& r, const std::string& prefix) const override;
 
  protected:
   void process(uint32_t ray, Tick now) override;
-  void admitted(uint32_t ray) override;
 
  private:
   uint32_t latency_;
-  uint32_t owned_ = 0;
-  uint16_t index_;
   TrvStats stats_;
 };
 
