@@ -65,14 +65,18 @@ struct LazyCounters {
 struct Region {
   bool exact = false;
   bool contained = false;  // the paper's test read literally (leaf boxes only)
+  // BVH leaves, the paper's method: a box reaching into the leaf's own box counts too (another
+  // leaf's triangles may lie between the leaf's triangles and the light inside it).
+  bool own_counts = false;
   LightFrusta frusta;
-  DBox enclosing;
+  DBox enclosing, own;
   HullTest hull;
 
   bool may_hold(const DBox& b, Counters& c) const {
     ++c.region_tests;
     if (exact) return hull.intersects(b);
     if (!boxes_overlap_open(enclosing, b)) return false;
+    if (own_counts && boxes_overlap_open(own, b)) return true;
     for (int i = 0; i < frusta.count; ++i)
       if (frustum_may_intersect_open(frusta.frusta[i], b)) return true;
     return false;
@@ -83,15 +87,19 @@ struct Region {
   bool holds_candidate(const DBox& b, Counters& c) const {
     if (!may_hold(b, c)) return false;
     if (!contained || exact) return true;
+    if (own_counts && boxes_overlap_open(own, b)) return true;
     for (int i = 0; i < frusta.count; ++i)
       if (frustum_contains(frusta.frusta[i], b)) return true;
     return false;
   }
 };
 
-// What the preprocessor reads of a kd-tree: its leaves (first, count, cell) over its triangle
-// list, and the tree for the walk. In a kd-tree a leaf's cell may cut its triangles: a leaf holds
-// the parts of its triangles inside its cell.
+// What the preprocessor reads of a kd-tree or a BVH: its leaves (first, count, box) over its
+// triangle list, its bounds, and the tree for the walk (one of the two).
+// - kd-tree: a leaf's box is its cell. Cells tile the scene and may cut triangles: a leaf holds
+//   the parts of its triangles inside its cell, and accepts hits a little outside it.
+// - BVH: a leaf's box is the union of its triangles' boxes. Boxes may overlap; every triangle is
+//   whole in exactly one leaf, and a hit anywhere on it is credited to that leaf.
 struct LeafView {
   struct Leaf {
     uint32_t first = 0, count = 0;
@@ -101,16 +109,36 @@ struct LeafView {
   std::vector<Leaf> leaves;
   const std::vector<uint32_t>* prims = nullptr;
   const KdTree* kd = nullptr;
+  const Bvh* bvh = nullptr;
 };
 
-LeafView view_of(const KdTree& tree) {
+// The leaves and triangle list of a kd-tree or a BVH; `box` reads a leaf's box.
+template <class Tree, class LeafBox>
+LeafView leaves_of(const Tree& tree, LeafBox box) {
   LeafView v;
   v.bounds = tree.bounds;
   v.leaves.reserve(tree.leaves.size());
-  for (const KdLeaf& l : tree.leaves) v.leaves.push_back({l.first, l.count, l.cell});
+  for (const auto& l : tree.leaves) v.leaves.push_back({l.first, l.count, box(l)});
   v.prims = &tree.prims;
+  return v;
+}
+
+LeafView view_of(const KdTree& tree) {
+  LeafView v = leaves_of(tree, [](const KdLeaf& l) { return l.cell; });
   v.kd = &tree;
   return v;
+}
+
+LeafView view_of(const Bvh& bvh) {
+  LeafView v = leaves_of(bvh, [](const BvhLeaf& l) { return l.box; });
+  v.bvh = &bvh;
+  return v;
+}
+
+// Squared distance from a point to a box (0 inside): the walk's nearer-to-the-light order.
+double distance2(const AABB& b, const DVec3& p) {
+  const DVec3 d = glm::max(glm::max(DVec3(b.lo) - p, p - DVec3(b.hi)), DVec3(0.0));
+  return glm::dot(d, d);
 }
 
 class Preprocessor {
@@ -172,7 +200,16 @@ class Preprocessor {
       const AABB hit_region = grown_outward(leaf.box, slack);
       for (uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) {
         const Triangle& t = scene.triangles[prims_[k]];
-        if (exact_) {
+        if (view.bvh) {
+          // A whole triangle: hits anywhere on it (up to the hit point's rounding, the margin's
+          // part beyond the offset) are this leaf's.
+          const AABB tb = t.bounds();
+          in_cell_[k] = DBox(tb);
+          if (exact_) {
+            origin_[k] = DBox(grown_outward(tb, slack)).grown(p.shadow_offset + tolerance_);
+            extend(origin_region_[l], origin_[k]);
+          }
+        } else if (exact_) {
           // Shadow rays from hits on this triangle credited to this leaf start in here; one clip
           // serves both boxes (its part in the cell is contained in the clip to the grown cell).
           const AABB h = clip_triangle_bounds(t, hit_region);
@@ -264,6 +301,8 @@ class Preprocessor {
       if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
       r.enclosing = enclosing_box(box(b), light);
       r.contained = p_.frustum_test == LvbFrustumTest::kContained;
+      r.own_counts = view_.bvh != nullptr;
+      r.own = box(b);
     }
     if (dirty && !*dirty) {
       // Moved geometry in the leaf's own cell, or somewhere the region reaches.
@@ -282,7 +321,7 @@ class Preprocessor {
       }
       return false;
     }
-    return walk_kdtree(q, c);
+    return view_.kd ? walk_kdtree(q, c) : walk_bvh(q, c);
   }
 
   // Is leaf l a candidate occluder of leaf b, and (exact mode) does one of its triangles confirm?
@@ -323,6 +362,45 @@ class Preprocessor {
         stack[sp++] = {n.above_child(), above};
         stack[sp++] = {e.node + 1, below};
       }
+    }
+    return false;
+  }
+
+  // The same walk on a BVH: a child whose box fails the region test holds no leaf box that passes
+  // (its box holds theirs, and the test is monotone), so it is pruned; a leaf is tested as the
+  // scan tests it. Every node read counts, leaves included; children nearer the light go first.
+  bool walk_bvh(Query& q, Counters& c) const {
+    const Bvh& bvh = *view_.bvh;
+    if (bvh.nodes.empty()) return false;
+    constexpr uint32_t kLeafBit = 1u << 31;  // a stack entry that is a leaf number
+    std::vector<uint32_t> stack{0};
+    stack.reserve(kBvhMaxBranching * 16);
+    while (!stack.empty()) {
+      const uint32_t e = stack.back();
+      stack.pop_back();
+      ++c.nodes_visited;
+      if (e & kLeafBit) {
+        if (candidate_blocks(q, e & ~kLeafBit, c)) return true;
+        continue;
+      }
+      const BvhNode& n = bvh.nodes[e];
+      // The children to visit, farthest from the light first (so the nearest is popped first).
+      uint32_t next[kBvhMaxBranching];
+      double key[kBvhMaxBranching];
+      int m = 0;
+      for (uint32_t i = 0; i < n.child_count; ++i) {
+        const BvhChild& ch = n.children[i];
+        if (!ch.is_leaf() && !q.region.may_hold(DBox(ch.box), c)) continue;
+        const double d = distance2(ch.box, q.light);
+        int j = m++;
+        for (; j > 0 && key[j - 1] < d; --j) {
+          key[j] = key[j - 1];
+          next[j] = next[j - 1];
+        }
+        key[j] = d;
+        next[j] = ch.is_leaf() ? ch.index | kLeafBit : ch.index;
+      }
+      stack.insert(stack.end(), next, next + m);
     }
     return false;
   }
@@ -465,6 +543,13 @@ LvbResult compute(const Scene& scene, const LeafView& view, const LvbParams& par
   return out;
 }
 
+LvbLazyStats lazy_stats(const Scene& scene, const LeafView& view, const LvbParams& params,
+                        const LvbChange& change) {
+  LvbLazyStats z;
+  compute(scene, view, params, &change, &z);
+  return z;
+}
+
 }  // namespace
 
 LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params) {
@@ -473,9 +558,16 @@ LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& p
 
 LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params,
                             const LvbChange& change) {
-  LvbLazyStats z;
-  compute(scene, view_of(tree), params, &change, &z);
-  return z;
+  return lazy_stats(scene, view_of(tree), params, change);
+}
+
+LvbResult compute_lvb(const Scene& scene, const Bvh& bvh, const LvbParams& params) {
+  return compute(scene, view_of(bvh), params, nullptr, nullptr);
+}
+
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const Bvh& bvh, const LvbParams& params,
+                            const LvbChange& change) {
+  return lazy_stats(scene, view_of(bvh), params, change);
 }
 
 }  // namespace rtsim
