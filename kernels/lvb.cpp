@@ -65,14 +65,18 @@ struct LazyCounters {
 struct Region {
   bool exact = false;
   bool contained = false;  // the paper's test read literally (leaf boxes only)
+  // BVH leaves, the paper's method: a box reaching into the leaf's own box counts too (another
+  // leaf's triangles may lie between the leaf's triangles and the light inside it).
+  bool own_counts = false;
   LightFrusta frusta;
-  DBox enclosing;
+  DBox enclosing, own;
   HullTest hull;
 
   bool may_hold(const DBox& b, Counters& c) const {
     ++c.region_tests;
     if (exact) return hull.intersects(b);
     if (!boxes_overlap_open(enclosing, b)) return false;
+    if (own_counts && boxes_overlap_open(own, b)) return true;
     for (int i = 0; i < frusta.count; ++i)
       if (frustum_may_intersect_open(frusta.frusta[i], b)) return true;
     return false;
@@ -83,21 +87,73 @@ struct Region {
   bool holds_candidate(const DBox& b, Counters& c) const {
     if (!may_hold(b, c)) return false;
     if (!contained || exact) return true;
+    if (own_counts && boxes_overlap_open(own, b)) return true;
     for (int i = 0; i < frusta.count; ++i)
       if (frustum_contains(frusta.frusta[i], b)) return true;
     return false;
   }
 };
 
+// What the preprocessor reads of a kd-tree or a BVH: its leaves (first, count, box) over its
+// triangle list, its bounds, and the tree for the walk (one of the two).
+// - kd-tree: a leaf's box is its cell. Cells tile the scene and may cut triangles: a leaf holds
+//   the parts of its triangles inside its cell, and accepts hits a little outside it.
+// - BVH: a leaf's box is the union of its triangles' boxes. Boxes may overlap; every triangle is
+//   whole in exactly one leaf, and a hit anywhere on it is credited to that leaf.
+struct LeafView {
+  struct Leaf {
+    uint32_t first = 0, count = 0;
+    AABB box;
+  };
+  AABB bounds;
+  std::vector<Leaf> leaves;
+  const std::vector<uint32_t>* prims = nullptr;
+  const KdTree* kd = nullptr;
+  const Bvh* bvh = nullptr;
+};
+
+// The leaves and triangle list of a kd-tree or a BVH; `box` reads a leaf's box.
+template <class Tree, class LeafBox>
+LeafView leaves_of(const Tree& tree, LeafBox box) {
+  LeafView v;
+  v.bounds = tree.bounds;
+  v.leaves.reserve(tree.leaves.size());
+  for (const auto& l : tree.leaves) v.leaves.push_back({l.first, l.count, box(l)});
+  v.prims = &tree.prims;
+  return v;
+}
+
+LeafView view_of(const KdTree& tree) {
+  LeafView v = leaves_of(tree, [](const KdLeaf& l) { return l.cell; });
+  v.kd = &tree;
+  return v;
+}
+
+LeafView view_of(const Bvh& bvh) {
+  LeafView v = leaves_of(bvh, [](const BvhLeaf& l) { return l.box; });
+  v.bvh = &bvh;
+  return v;
+}
+
+// Squared distance from a point to a box (0 inside): the walk's nearer-to-the-light order.
+double distance2(const AABB& b, const DVec3& p) {
+  const DVec3 d = glm::max(glm::max(DVec3(b.lo) - p, p - DVec3(b.hi)), DVec3(0.0));
+  return glm::dot(d, d);
+}
+
 class Preprocessor {
  public:
-  Preprocessor(const Scene& scene, const KdTree& tree, const LvbParams& p)
-      : scene_(scene), tree_(tree), p_(p), exact_(p.self_occlusion == LvbSelfOcclusion::kTest) {
-    const double scale = max_abs_coordinate(tree.bounds) + tree.bounds.diagonal();
+  Preprocessor(const Scene& scene, const LeafView& view, const LvbParams& p)
+      : scene_(scene),
+        view_(view),
+        prims_(*view.prims),
+        p_(p),
+        exact_(p.self_occlusion == LvbSelfOcclusion::kTest) {
+    const double scale = max_abs_coordinate(view.bounds) + view.bounds.diagonal();
     tolerance_ = 1e-9 * scale;
     // A hit point lies on its triangle's plane up to the rounding of o + t d (a few ulps of the
     // largest coordinate); the half-space filter below is only sound when the offset dwarfs that.
-    const double point_error = 8.0 * std::ldexp(max_abs_coordinate(tree.bounds), -23);
+    const double point_error = 8.0 * std::ldexp(max_abs_coordinate(view.bounds), -23);
     halfspace_ok_ = p.shadow_offset > 4 * point_error;
     point_error_ = point_error;
 
@@ -128,32 +184,41 @@ class Preprocessor {
       ti.n = len > 0 ? n / len : DVec3(0.0);
       ti.c = glm::dot(ti.n, ti.v[0]);
     }
-    const size_t leaves = tree.leaves.size();
+    const size_t leaves = view.leaves.size();
     cell_.resize(leaves);
     geom_.assign(leaves, empty_dbox());
-    in_cell_.resize(tree.prims.size());
-    origin_.resize(exact_ ? tree.prims.size() : 0);
+    in_cell_.resize(prims_.size());
+    origin_.resize(exact_ ? prims_.size() : 0);
     origin_region_.assign(exact_ ? leaves : 0, empty_dbox());
     // Cell-mode regions grow by the margin plus float rounding of the grown cell used for clipping.
     cell_growth_ =
-        p.origin_margin + 4 * std::ldexp(max_abs_coordinate(tree.bounds), -23) + 2 * tolerance_;
+        p.origin_margin + 4 * std::ldexp(max_abs_coordinate(view.bounds), -23) + 2 * tolerance_;
     const double slack = std::max(0.0, p.origin_margin - p.shadow_offset);
     for (size_t l = 0; l < leaves; ++l) {
-      const KdLeaf& leaf = tree.leaves[l];
-      cell_[l] = DBox(leaf.cell);
-      const AABB hit_region = grown_outward(leaf.cell, slack);
+      const LeafView::Leaf& leaf = view.leaves[l];
+      cell_[l] = DBox(leaf.box);
+      const AABB hit_region = grown_outward(leaf.box, slack);
       for (uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) {
-        const Triangle& t = scene.triangles[tree.prims[k]];
-        if (exact_) {
+        const Triangle& t = scene.triangles[prims_[k]];
+        if (view.bvh) {
+          // A whole triangle: hits anywhere on it (up to the hit point's rounding, the margin's
+          // part beyond the offset) are this leaf's.
+          const AABB tb = t.bounds();
+          in_cell_[k] = DBox(tb);
+          if (exact_) {
+            origin_[k] = DBox(grown_outward(tb, slack)).grown(p.shadow_offset + tolerance_);
+            extend(origin_region_[l], origin_[k]);
+          }
+        } else if (exact_) {
           // Shadow rays from hits on this triangle credited to this leaf start in here; one clip
           // serves both boxes (its part in the cell is contained in the clip to the grown cell).
           const AABB h = clip_triangle_bounds(t, hit_region);
           origin_[k] = h.empty() ? empty_dbox() : DBox(h).grown(p.shadow_offset + tolerance_);
           extend(origin_region_[l], origin_[k]);
-          const AABB c = h.intersect(leaf.cell);
+          const AABB c = h.intersect(leaf.box);
           in_cell_[k] = h.empty() || c.empty() ? empty_dbox() : DBox(c);
         } else {
-          const AABB c = clip_triangle_bounds(t, leaf.cell);
+          const AABB c = clip_triangle_bounds(t, leaf.box);
           in_cell_[k] = c.empty() ? empty_dbox() : DBox(c);
         }
         extend(geom_[l], in_cell_[k]);
@@ -236,6 +301,8 @@ class Preprocessor {
       if (r.frusta.slabs_containing_light == 3) return true;  // internal light (Table 1)
       r.enclosing = enclosing_box(box(b), light);
       r.contained = p_.frustum_test == LvbFrustumTest::kContained;
+      r.own_counts = view_.bvh != nullptr;
+      r.own = box(b);
     }
     if (dirty && !*dirty) {
       // Moved geometry in the leaf's own cell, or somewhere the region reaches.
@@ -248,36 +315,37 @@ class Preprocessor {
     // The leaf's own triangles are the likeliest blockers and need no search (exact mode).
     if (exact_ && candidate_blocks(q, b, c)) return true;
     if (p_.method == LvbMethod::kPaper) {
-      for (uint32_t l = 0; l < tree_.leaves.size(); ++l) {
+      for (uint32_t l = 0; l < view_.leaves.size(); ++l) {
         ++c.nodes_visited;
         if (candidate_blocks(q, l, c)) return true;
       }
       return false;
     }
-    return walk(q, c);
+    return view_.kd ? walk_kdtree(q, c) : walk_bvh(q, c);
   }
 
   // Is leaf l a candidate occluder of leaf b, and (exact mode) does one of its triangles confirm?
   bool candidate_blocks(Query& q, uint32_t l, Counters& c) const {
-    if (tree_.leaves[l].count == 0 || (l == q.b && (!exact_ || q.own_done))) return false;
+    if (view_.leaves[l].count == 0 || (l == q.b && (!exact_ || q.own_done))) return false;
     if (l == q.b) q.own_done = true;
     if (!q.region.holds_candidate(box(l), c)) return false;
     return !exact_ || pair_blocks(q, l, c);
   }
 
   // The paper's future work: visit only the kd-tree cells that reach the region.
-  bool walk(Query& q, Counters& c) const {
+  bool walk_kdtree(Query& q, Counters& c) const {
+    const KdTree& tree = *view_.kd;
     struct Entry {
       uint32_t node;
       DBox cell;
     };
     Entry stack[128];
     int sp = 0;
-    stack[sp++] = {0, DBox(tree_.bounds)};
+    stack[sp++] = {0, DBox(tree.bounds)};
     while (sp > 0) {
       const Entry e = stack[--sp];
       ++c.nodes_visited;
-      const KdNode& n = tree_.nodes[e.node];
+      const KdNode& n = tree.nodes[e.node];
       if (n.is_leaf()) {
         if (candidate_blocks(q, n.leaf_index(), c)) return true;
         continue;
@@ -298,11 +366,50 @@ class Preprocessor {
     return false;
   }
 
+  // The same walk on a BVH: a child whose box fails the region test holds no leaf box that passes
+  // (its box holds theirs, and the test is monotone), so it is pruned; a leaf is tested as the
+  // scan tests it. Every node read counts, leaves included; children nearer the light go first.
+  bool walk_bvh(Query& q, Counters& c) const {
+    const Bvh& bvh = *view_.bvh;
+    if (bvh.nodes.empty()) return false;
+    constexpr uint32_t kLeafBit = 1u << 31;  // a stack entry that is a leaf number
+    std::vector<uint32_t> stack{0};
+    stack.reserve(kBvhMaxBranching * 16);
+    while (!stack.empty()) {
+      const uint32_t e = stack.back();
+      stack.pop_back();
+      ++c.nodes_visited;
+      if (e & kLeafBit) {
+        if (candidate_blocks(q, e & ~kLeafBit, c)) return true;
+        continue;
+      }
+      const BvhNode& n = bvh.nodes[e];
+      // The children to visit, farthest from the light first (so the nearest is popped first).
+      uint32_t next[kBvhMaxBranching];
+      double key[kBvhMaxBranching];
+      int m = 0;
+      for (uint32_t i = 0; i < n.child_count; ++i) {
+        const BvhChild& ch = n.children[i];
+        if (!ch.is_leaf() && !q.region.may_hold(DBox(ch.box), c)) continue;
+        const double d = distance2(ch.box, q.light);
+        int j = m++;
+        for (; j > 0 && key[j - 1] < d; --j) {
+          key[j] = key[j - 1];
+          next[j] = next[j - 1];
+        }
+        key[j] = d;
+        next[j] = ch.is_leaf() ? ch.index | kLeafBit : ch.index;
+      }
+      stack.insert(stack.end(), next, next + m);
+    }
+    return false;
+  }
+
   void prepare_origins(Query& q) const {
-    const KdLeaf& lb = tree_.leaves[q.b];
+    const LeafView::Leaf& lb = view_.leaves[q.b];
     for (uint32_t ka = lb.first; ka < lb.first + lb.count; ++ka) {
       if (origin_[ka].lo.x > origin_[ka].hi.x) continue;  // no hit on A can be credited to b
-      const TriangleInfo& ta = tris_[tree_.prims[ka]];
+      const TriangleInfo& ta = tris_[prims_[ka]];
       // The shadow ray starts `offset` off A's plane on the light's side and ends at the light, so
       // every point of it is at least min(offset, light distance) into that side: a blocker
       // must reach that far.
@@ -319,7 +426,7 @@ class Preprocessor {
         slack = q.area->error;
       }
       Origin o;
-      o.tri = tree_.prims[ka];
+      o.tri = prims_[ka];
       o.use_halfspace = halfspace_ok_ && std::abs(dl) > 4 * point_error_ + slack;
       o.side = dl > 0 ? 1.0 : -1.0;
       o.need = 0.5 * std::min(p_.shadow_offset - 2 * point_error_,
@@ -333,11 +440,11 @@ class Preprocessor {
   // Exact mode: can a triangle T of leaf l block a shadow ray from a hit on a triangle A of leaf b?
   bool pair_blocks(Query& q, uint32_t l, Counters& c) const {
     if (!q.origins_ready) prepare_origins(q);
-    const KdLeaf& ll = tree_.leaves[l];
+    const LeafView::Leaf& ll = view_.leaves[l];
     for (uint32_t kt = ll.first; kt < ll.first + ll.count; ++kt) {
       // A triangle outside the whole region can block nothing.
       if (ll.count > 1 && !q.region.may_hold(in_cell_[kt], c)) continue;
-      const uint32_t t = tree_.prims[kt];
+      const uint32_t t = prims_[kt];
       const TriangleInfo& tt = tris_[t];
       for (const Origin& o : q.origins) {
         if (t == o.tri) continue;
@@ -360,7 +467,8 @@ class Preprocessor {
   }
 
   const Scene& scene_;
-  const KdTree& tree_;
+  const LeafView& view_;
+  const std::vector<uint32_t>& prims_;
   LvbParams p_;
   const LvbChange* change_ = nullptr;
   std::unique_ptr<MovedBoxes> moved_;
@@ -379,13 +487,13 @@ class Preprocessor {
 
 namespace {
 
-LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& params,
+LvbResult compute(const Scene& scene, const LeafView& view, const LvbParams& params,
                   const LvbChange* change, LvbLazyStats* lazy_stats) {
   const auto t0 = std::chrono::steady_clock::now();
   LvbResult out;
   const uint32_t all = scene.lights.size() >= 32 ? ~0u : (1u << scene.lights.size()) - 1u;
-  out.words.assign(tree.leaves.size(), all);
-  Preprocessor pre(scene, tree, params);
+  out.words.assign(view.leaves.size(), all);
+  Preprocessor pre(scene, view, params);
   pre.set_change(change);
   const int threads = std::max(1, params.threads);
   std::vector<Counters> counters(threads);
@@ -393,9 +501,10 @@ LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& param
   auto body = [&](int w) {
     // Interleaved blocks of leaves: every leaf's word is computed independently of the others.
     constexpr uint32_t kBlock = 64;
-    for (uint32_t start = w * kBlock; start < tree.leaves.size(); start += threads * kBlock)
-      for (uint32_t l = start; l < std::min<uint32_t>(start + kBlock, tree.leaves.size()); ++l)
-        if (tree.leaves[l].count > 0)
+    const uint32_t n = uint32_t(view.leaves.size());
+    for (uint32_t start = w * kBlock; start < n; start += threads * kBlock)
+      for (uint32_t l = start; l < std::min<uint32_t>(start + kBlock, n); ++l)
+        if (view.leaves[l].count > 0)
           out.words[l] = pre.word(l, counters[w], change ? &lazy[w] : nullptr);
   };
   std::vector<std::thread> pool;
@@ -404,8 +513,8 @@ LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& param
   for (auto& t : pool) t.join();
 
   out.stats.per_light.assign(scene.lights.size(), {});
-  for (size_t l = 0; l < tree.leaves.size(); ++l) {
-    if (tree.leaves[l].count == 0) continue;
+  for (size_t l = 0; l < view.leaves.size(); ++l) {
+    if (view.leaves[l].count == 0) continue;
     for (size_t i = 0; i < scene.lights.size(); ++i) {
       ++out.stats.per_light[i].nonempty_leaves;
       if (!((out.words[l] >> i) & 1u)) ++out.stats.per_light[i].culled_leaves;
@@ -434,17 +543,31 @@ LvbResult compute(const Scene& scene, const KdTree& tree, const LvbParams& param
   return out;
 }
 
+LvbLazyStats lazy_stats(const Scene& scene, const LeafView& view, const LvbParams& params,
+                        const LvbChange& change) {
+  LvbLazyStats z;
+  compute(scene, view, params, &change, &z);
+  return z;
+}
+
 }  // namespace
 
 LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params) {
-  return compute(scene, tree, params, nullptr, nullptr);
+  return compute(scene, view_of(tree), params, nullptr, nullptr);
 }
 
 LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params,
                             const LvbChange& change) {
-  LvbLazyStats z;
-  compute(scene, tree, params, &change, &z);
-  return z;
+  return lazy_stats(scene, view_of(tree), params, change);
+}
+
+LvbResult compute_lvb(const Scene& scene, const Bvh& bvh, const LvbParams& params) {
+  return compute(scene, view_of(bvh), params, nullptr, nullptr);
+}
+
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const Bvh& bvh, const LvbParams& params,
+                            const LvbChange& change) {
+  return lazy_stats(scene, view_of(bvh), params, change);
 }
 
 }  // namespace rtsim

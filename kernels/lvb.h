@@ -1,8 +1,10 @@
-// The LVB preprocessor: one light visibility bit per kd-tree leaf and light (Kim et al. 2013).
-// Bit 0 means no shadow ray from a hit in that leaf to that light can be blocked, so the shading
-// stage need not trace it. Design and the proof of "never wrong": docs/lvb.md.
+// The LVB preprocessor: one light visibility bit per leaf and light (Kim et al. 2013), for the
+// leaves of a kd-tree or of a BVH. Bit 0 means no shadow ray from a hit in that leaf to that light
+// can be blocked, so the shading stage need not trace it. Design and the proof of "never wrong":
+// docs/lvb.md (its section "LVB bits on BVH leaves" for the BVH).
 #pragma once
 
+#include "kernels/bvh.h"
 #include "kernels/kdtree.h"
 #include "scene/scene.h"
 
@@ -12,8 +14,10 @@
 
 namespace rtsim {
 
-enum class LvbMethod { kPaper, kHierarchical };  // all-pairs scan, or a walk of the kd-tree
-enum class LvbBounds { kCell, kGeometry };       // leaf cell, or its geometry clipped to the cell
+enum class LvbMethod { kPaper, kHierarchical };  // all-pairs scan, or a walk of the tree
+// The leaf's cell, or its geometry clipped to the cell. A BVH leaf's box is its geometry's bounds:
+// both are that box.
+enum class LvbBounds { kCell, kGeometry };
 enum class LvbSelfOcclusion { kIgnore, kTest };  // the paper's method, or the exact one
 // The paper's frustum inclusion test read two ways: a candidate box that reaches into a frustum
 // counts (overlap), or only one lying wholly inside it (contained, Section 3.3's literal words).
@@ -26,7 +30,8 @@ struct LvbParams {
   // The paper's method with a point light only; the exact mode and area lights test the hull.
   LvbFrustumTest frustum_test = LvbFrustumTest::kOverlap;
   // Exact mode only: how far a shadow ray's origin may lie outside the leaf's cell (the tracer's
-  // origin offset plus its hit-acceptance slack), in world units. See lvb_origin_margin().
+  // origin offset plus its hit-acceptance slack), or for a BVH outside the hit triangle (the
+  // offset plus the hit point's rounding), in world units. See lvb_origin_margin().
   double origin_margin = 0;
   double shadow_offset = 0;  // the tracer's shadow-origin offset in world units
   int threads = 1;
@@ -54,8 +59,9 @@ struct LvbLazyStats {
 
 struct LvbStats {
   std::vector<LvbLightStats> per_light;
-  // The search's work, what a hardware LVB builder would do: kd-tree nodes read (all leaves for
-  // the paper's scan), box-versus-region tests (cells and, exact mode, triangle bounds).
+  // The search's work, what a hardware LVB builder would do: tree nodes read (all leaves for the
+  // paper's scan; a BVH walk counts inner nodes and leaves), box-versus-region tests (cells or
+  // node boxes and, exact mode, triangle bounds).
   uint64_t nodes_visited = 0;
   uint64_t region_tests = 0;
   uint64_t pair_tests = 0;  // triangle-pair tests (exact mode)
@@ -63,7 +69,8 @@ struct LvbStats {
 };
 
 struct LvbResult {
-  std::vector<uint32_t> words;  // per leaf (KdTree::leaves order); empty leaves keep all ones
+  // Per leaf (KdTree::leaves or Bvh::leaves order); empty leaves keep all ones.
+  std::vector<uint32_t> words;
   LvbStats stats;
 };
 
@@ -72,6 +79,10 @@ struct LvbResult {
 // slack with which a leaf accepts hits just outside its cell.
 double lvb_shadow_offset(const KdTree& tree, float relative_offset = 1e-5f);
 double lvb_origin_margin(const Scene& scene, const KdTree& tree, float relative_offset = 1e-5f);
+// The same for a BVH tracer (the offset of the BVH's diagonal; the margin is the offset plus the
+// hit point's rounding: a BVH credits a hit to the leaf listing its triangle, with no slack).
+double lvb_shadow_offset(const Bvh& bvh, float relative_offset = 1e-5f);
+double lvb_origin_margin(const Scene& scene, const Bvh& bvh, float relative_offset = 1e-5f);
 
 // What moved between two frames of one scene: triangles by index (bounds over both times; all of
 // them when the counts differ) and lights by index.
@@ -85,6 +96,12 @@ LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& p
 // The same computation once more, counting which bits a lazy rebuild would redo after `change`
 // and that work (a pass of its own, so compute_lvb's seconds stay those of the full rebuild).
 LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params,
+                            const LvbChange& change);
+
+// The same on a BVH's leaves (words in Bvh::leaves order): a leaf's box is BvhLeaf::box, the
+// paper's method scans every leaf, the hierarchical method walks the BVH (docs/lvb.md).
+LvbResult compute_lvb(const Scene& scene, const Bvh& bvh, const LvbParams& params);
+LvbLazyStats lvb_lazy_stats(const Scene& scene, const Bvh& bvh, const LvbParams& params,
                             const LvbChange& change);
 
 }  // namespace rtsim
