@@ -46,7 +46,11 @@ PreparedScene prepare_scene(const std::string& scene_file, const PrepareOptions&
 }
 
 LvbResult compute_scene_lvb(const PreparedScene& p, LvbParams& params) {
-  if (is_bvh(p.accel)) throw InputError("LVB on BVH leaves: TEMPORARY until merged");
+  if (is_bvh(p.accel)) {
+    params.shadow_offset = lvb_shadow_offset(p.bvh);
+    params.origin_margin = lvb_origin_margin(p.scene, p.bvh);
+    return compute_lvb(p.scene, p.bvh, params);
+  }
   params.shadow_offset = lvb_shadow_offset(p.tree);
   params.origin_margin = lvb_origin_margin(p.scene, p.tree);
   return compute_lvb(p.scene, p.tree, params);

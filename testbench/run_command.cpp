@@ -118,9 +118,9 @@ nlohmann::json compute_run_lvb(const RunConfig& c, PreparedScene& p, double& sec
   std::vector<ConfigOverride> at = scene_overrides(c.scene_set);
   at.push_back({{"time"}, YAML::Node(*c.run.lvb_lazy_since), "run.lvb_lazy_since"});
   const Scene before = load_scene_file(c.scene_file, SceneFileOptions{c.scene_root, at}).scene;
-  if (is_bvh(p.accel))
-    throw InputError("run.lvb_lazy_since: lazy LVB statistics are for the kd-tree only so far");
-  const LvbLazyStats z = lvb_lazy_stats(p.scene, p.tree, lp, lvb_change(before, p.scene));
+  const LvbChange change = lvb_change(before, p.scene);
+  const LvbLazyStats z = is_bvh(p.accel) ? lvb_lazy_stats(p.scene, p.bvh, lp, change)
+                                         : lvb_lazy_stats(p.scene, p.tree, lp, change);
   j["lazy"] = {{"since", *c.run.lvb_lazy_since},   {"moved_triangles", z.moved_triangles},
                {"moved_lights", z.moved_lights},   {"pairs", z.pairs},
                {"dirty_pairs", z.dirty_pairs},     {"dirty_tests", z.dirty_tests},
