@@ -42,8 +42,10 @@ def measure(binary, args):
         subprocess.run([binary, *args, "--out", out, "--no-plots", "--quiet"], cwd=ROOT, check=True)
         with open(os.path.join(out, "report.json")) as f:
             report = json.load(f)
+    # On a BVH machine the traversal units are the bvh units: the same figures under their name.
+    traversal = "bvh" if any(u["key"] == "bvh" for u in report.get("units", [])) else "trv"
     figures = {}
-    for key in KEYS:
+    for key in (k.replace("stats.trv.", f"stats.{traversal}.") for k in KEYS):
         value = lookup(report, key)
         if value is None:
             sys.exit(f"{key}: not in the report of rtsim {' '.join(args)}")
