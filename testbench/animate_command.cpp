@@ -58,13 +58,11 @@ std::string sweep_yaml(const AnimateArgs& a, const std::vector<double>& times) {
   std::string y = "# Written by rtsim animate: the frames of " + a.scene + "\nname: animate\n";
   y += fmt::format("scenes: [\"{}\"]\nhw: \"{}\"\n", fs::absolute(a.scene).string(),
                    fs::absolute(a.hw).string());
-  if (a.width > 0 || a.height > 0) {
-    y += "set: {";
-    if (a.width > 0) y += fmt::format("run.width: {}", a.width);
-    if (a.width > 0 && a.height > 0) y += ", ";
-    if (a.height > 0) y += fmt::format("run.height: {}", a.height);
-    y += "}\n";
-  }
+  std::vector<std::string> set;
+  if (a.width > 0) set.push_back(fmt::format("run.width: {}", a.width));
+  if (a.height > 0) set.push_back(fmt::format("run.height: {}", a.height));
+  if (!a.accel.empty()) set.push_back(fmt::format("run.accel: {}", a.accel));
+  if (!set.empty()) y += fmt::format("set: {{{}}}\n", fmt::join(set, ", "));
   y += "axes:\n  scene.time: [";
   for (size_t i = 0; i < times.size(); ++i) y += fmt::format("{}{:.9g}", i ? ", " : "", times[i]);
   y += "]\n";

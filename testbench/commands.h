@@ -39,6 +39,7 @@ int run_lvb(const LvbArgs& args);
 struct AnimateArgs {
   std::string scene, hw, times, out, emit;
   std::string lvb = "both";  // on, off or both
+  std::string accel;         // the acceleration structure (run.accel); empty: the run's default
   int width = 0, height = 0, jobs = 1;
   int check_every = 0;  // the reference check on frames 0, K, 2K, ... (0: none)
 };
