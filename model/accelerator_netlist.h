@@ -72,6 +72,7 @@ struct Accelerator::Netlist : FrameEngine {
   std::string describe_stall() const;
   void report_progress(Tick now) const;
   void register_stats();
+  void register_work_totals();
   void register_unit_totals(const std::string& key,
                             const std::vector<std::unique_ptr<RayUnit>>& units);
   // The socket towards memory: the protocol checker's, when there is one.

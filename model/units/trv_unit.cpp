@@ -27,10 +27,10 @@ void TrvUnit::process(uint32_t id, Tick now) {
     }
   }
   const uint64_t addr = ctx_.header.nodes.base + uint64_t(walk.node) * image::kNodeBytes;
-  ++stats_.node_fetches;
   uint8_t bytes[image::kNodeBytes];
   const Tick ready = load(l1(), id, addr, image::kNodeBytes, bytes, now);
-  if (ready == kUnknown) return;
+  if (ready == kUnknown) return;  // parked: the fetch counts when the node is read
+  ++stats_.node_fetches;
   const TraversalStep step = traversal_node(walk, r.ist.result, image::decode_node(bytes));
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
   switch (step) {
