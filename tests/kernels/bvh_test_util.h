@@ -1,0 +1,38 @@
+// What the tests of the BVH images and of their walk share: the uncompressed node formats, a
+// float's bits (results must be equal bit for bit) and the scenes they are built over.
+#pragma once
+
+#include "kernels/bvh_image.h"
+#include "testbench/scene_file.h"
+#include "tests/test_util.h"
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+namespace rtsim::bvh_test {
+
+// The formats that need no stub here (cwbvh8 is written elsewhere).
+inline constexpr Accel kBvhAccels[] = {Accel::kBvh2, Accel::kBvh4, Accel::kBvh8};
+
+inline uint32_t bits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
+}
+
+inline SceneSetup load_city() {
+  return load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string(),
+                         SceneFileOptions{test::shared_scenes().string(), {}});
+}
+
+// One default material and one light around the triangles.
+inline Scene scene_of(std::vector<Triangle> tris) {
+  Scene s;
+  s.add_material(Material{});
+  s.triangles = std::move(tris);
+  s.lights.push_back({});
+  return s;
+}
+
+}  // namespace rtsim::bvh_test
