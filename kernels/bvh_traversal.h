@@ -56,10 +56,11 @@ inline bool bvh_traversal_begin(BvhTraversalState& s, const Ray& ray, bool any_h
   return clip_ray_to_box(ray, s.inv, root, t0, t1);
 }
 
-// The farthest t at which a box may still hold a hit that counts: the best hit's, with the
-// kd-tree's slack so that a tie on a box face is not lost to rounding.
+// The farthest t at which a box may still hold a hit that counts: the best hit's, or the ray's
+// end, with the kd-tree's slack on a cell's far side: a triangle touches its leaf box's faces, so
+// a hit at (or a rounding short of) that t may lie where the box's exit rounds below it.
 inline float bvh_reach(const BvhTraversalState& s, const TraversalResult& r) {
-  return r.found ? std::min(s.ray.tmax, r.best * (1.f + kLeafRelEps) + s.abs_eps) : s.ray.tmax;
+  return (r.found ? r.best : s.ray.tmax) * (1.f + kLeafRelEps) + s.abs_eps;
 }
 
 // Pops the next child to visit; done when the stack is empty (or an any-hit ray has its hit).

@@ -264,8 +264,7 @@ void Accelerator::Netlist::register_work_totals() {
   if (cfg.structure == Structure::kBvh)
     register_stats_totals<BvhUnit>(stats, "bvh", units[kTrvStage],
                                    {"node_fetches", "box_tests", "leaves", "rays_started",
-                                    "stack_pushes", "stack_pops", "stack_spills",
-                                    "stack_refills"});
+                                    "stack_pushes", "stack_pops", "stack_spills", "stack_refills"});
   else
     register_stats_totals<TrvUnit>(stats, "trv", units[kTrvStage],
                                    {"node_fetches", "rays_started"});

@@ -46,6 +46,21 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
     }
     return n > 0 ? c / n : kNaN;
   }
+  // The traversal units' figures whichever structure they walk (trv.* or bvh.*), per ray they
+  // started: nodes and leaves visited, triangles tested, bytes read from DRAM.
+  const bool bvh = r.contains("bvh");
+  const std::string walk = bvh ? "stats.bvh" : "stats.trv";
+  auto per_ray = [&](const std::string& path) {
+    const double rays = json_number(r, walk + ".total.rays_started");
+    return rays > 0 ? json_number(r, path) / rays : kNaN;
+  };
+  if (name == "traversal_busy") return share(walk + ".total");
+  if (name == "traversal_l1_hit_rate") return json_number(r, walk + ".l1.hit_rate");
+  if (name == "traversal_l2_hit_rate") return json_number(r, walk + ".l2.hit_rate");
+  if (name == "nodes_per_ray") return per_ray(walk + ".total.node_fetches");
+  if (name == "leaves_per_ray") return per_ray("stats.list.total.leaves");
+  if (name == "tests_per_ray") return per_ray("stats.ist.total.tests");
+  if (name == "dram_bytes_per_ray") return per_ray("stats.dram.bytes");
   if (name == "dram_row_hit_rate") return json_number(r, "stats.dram.row_hit_rate");
   if (name == "dram_bandwidth_gbps") return json_number(r, "stats.dram.bandwidth_gbps");
   if (name == "dram_reads") return json_number(r, "stats.dram.reads");
@@ -63,10 +78,15 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
 
 bool is_sweep_metric(const std::string& name) {
   static const std::vector<std::string> named = [] {
-    std::vector<std::string> v{"frame_ms_all",       "frame_ms_shadow",   "rays_primary",
-                               "rays_shadow",        "shadow_culled",     "shadow_culled_rate",
-                               "leaves_culled_rate", "dram_row_hit_rate", "dram_bandwidth_gbps",
-                               "dram_reads"};
+    std::vector<std::string> v{"frame_ms_all",          "frame_ms_shadow",
+                               "rays_primary",          "rays_shadow",
+                               "shadow_culled",         "shadow_culled_rate",
+                               "leaves_culled_rate",    "dram_row_hit_rate",
+                               "dram_bandwidth_gbps",   "dram_reads",
+                               "traversal_busy",        "traversal_l1_hit_rate",
+                               "traversal_l2_hit_rate", "nodes_per_ray",
+                               "leaves_per_ray",        "tests_per_ray",
+                               "dram_bytes_per_ray"};
     // The model's unit types and caches, whatever the configuration (a kd-tree or a BVH machine).
     for (const model::Structure s : {model::Structure::kKdTree, model::Structure::kBvh}) {
       model::AcceleratorConfig cfg;
