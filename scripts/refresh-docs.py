@@ -338,6 +338,13 @@ STUDIES = [
         copy_markdown("ablation.md", "Sweep `ablation.yaml`"),
     ),
     Study(
+        "bvh",
+        "docs/bvh.md",
+        45,
+        ["reproduce", "--bvh"],
+        copy_markdown("bvh.md", "Sweep `bvh-study.yaml`"),
+    ),
+    Study(
         "animation",
         "docs/animation.md",
         12,

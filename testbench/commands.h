@@ -63,6 +63,7 @@ struct ReproduceArgs {
   std::string sweep;  // the sweep file to run instead of the shipped one (empty: the shipped one)
   std::vector<std::string> variants;  // only these of the sweep's variants (empty: all)
   bool ablation = false;
+  bool bvh = false;  // the BVH study instead (configs/sweeps/bvh-study.yaml)
   int jobs = 1;
   int width = 0, height = 0;  // 0 = the setups' 1920x1080
 };

@@ -239,9 +239,14 @@ void add_params_and_reproduce(CLI::App& app, Commands& c) {
       "--ablation", c.reproduce.ablation,
       "Run the contention ablation instead (configs/sweeps/ablation.yaml into "
       "OUT/ablation; OUT/ablation.md and OUT/ablation.json)");
+  c.reproduce_cmd->add_flag(
+      "--bvh", c.reproduce.bvh,
+      "Run the BVH study instead (configs/sweeps/bvh-study.yaml into OUT/bvh: the setups on the "
+      "kd-tree and on BVH machines, culling off, paper's and exact; OUT/bvh.md and OUT/bvh.json)");
   c.reproduce_cmd->add_option("--sweep", c.reproduce.sweep,
                               "Sweep file to run instead of the shipped one "
-                              "(paper-reproduction.yaml, or ablation.yaml with --ablation)");
+                              "(paper-reproduction.yaml, ablation.yaml with --ablation, "
+                              "bvh-study.yaml with --bvh)");
   c.reproduce_cmd
       ->add_option("--variants", c.reproduce.variants,
                    "Only these of the sweep's variants (off,paper,exact: the paper's 9 runs)")

@@ -6,6 +6,7 @@
 // their outputs; the reports are composed in reports/.
 #include "common/error.h"
 #include "reports/ablation_report.h"
+#include "reports/bvh_report.h"
 #include "reports/output_files.h"
 #include "reports/paper_tables.h"
 #include "reports/plots.h"
@@ -20,6 +21,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 
 namespace fs = std::filesystem;
 
@@ -205,10 +207,63 @@ int run_ablation(const ReproduceArgs& a) {
   return sweep_code;
 }
 
+// ---- rtsim reproduce --bvh --------------------------------------------------------------------
+
+// A finished point as the BVH study reads it: the structure and culling from its configuration,
+// the sweep's metrics from its row.
+std::optional<report::BvhStudyRun> bvh_study_run(const SweepSpec& spec, const SweepPoint& p,
+                                                 const std::string& dir) {
+  const fs::path point(sweep_point_dir(dir, p));
+  const nlohmann::json row =
+      nlohmann::json::parse(std::ifstream(point / output::kRowJson), nullptr, false);
+  const nlohmann::json r =
+      nlohmann::json::parse(std::ifstream(point / output::kReportJson), nullptr, false);
+  if (row.is_discarded() || r.is_discarded() || !r.contains("config") || !r.contains("scene"))
+    return std::nullopt;
+  const nlohmann::json& run = r["config"]["run"];
+  report::BvhStudyRun out;
+  out.scene = r["scene"]["name"].get<std::string>();
+  out.accel = run.value("accel", "kdtree");
+  out.culling = !run.value("lvb", false)                          ? "off"
+                : run.value("lvb_self_occlusion", "") == "ignore" ? "paper"
+                                                                  : "exact";
+  out.width = r["scene"]["resolution"][0].get<int>();
+  out.height = r["scene"]["resolution"][1].get<int>();
+  for (const std::string& m : spec.metrics)
+    if (row.contains(m) && row[m].is_number()) out.figures[m] = row[m].get<double>();
+  return out;
+}
+
+int run_bvh_study(const ReproduceArgs& a) {
+  std::vector<std::string> extra;
+  prepare(a, extra);
+  const std::string file =
+      a.sweep.empty() ? std::string(RTSIM_CONFIGS_DIR) + "/sweeps/bvh-study.yaml" : a.sweep;
+  const SweepSpec spec = load_sweep(file, extra, a.variants);
+  const std::string dir = (fs::path(a.out) / "bvh").string();
+  const int sweep_code = run_sweep_points(spec, dir, a.jobs, true);
+  report::BvhStudyInput in;
+  in.sweep_file = spec.file;
+  in.points = spec.points.size();
+  for (const SweepPoint& p : spec.points) {
+    std::optional<report::BvhStudyRun> r = bvh_study_run(spec, p, dir);
+    if (r)
+      in.runs.push_back(std::move(*r));
+    else
+      ++in.missing;
+  }
+  const report::ReportText r = report::bvh_study_report(in);
+  write_json((fs::path(a.out) / output::kBvhStudyJson).string(), r.json);
+  write_file_atomic((fs::path(a.out) / output::kBvhStudyMd).string(), r.markdown);
+  fmt::print("wrote {}/{}\n", a.out, output::kBvhStudyMd);
+  return sweep_code;
+}
+
 }  // namespace
 
 int run_reproduce(const ReproduceArgs& a) {
   if (a.ablation) return run_ablation(a);
+  if (a.bvh) return run_bvh_study(a);
   std::vector<std::string> extra{"run.plots=true"};
   prepare(a, extra);
   const std::string file = a.sweep.empty()
