@@ -63,7 +63,7 @@ def main():
     for a in setups:
         m = statistics.median(per_ray[a])
         rays, cycles = facts[a]
-        print(f"| {a} | {rays:,} | {cycles:,} | {1e6 * m:.2f} | {m / base:.2f}x |")
+        print(f"| {a} | {int(rays):,} | {cycles:,} | {1e6 * m:.2f} | {m / base:.2f}x |")
 
 
 if __name__ == "__main__":
