@@ -1,6 +1,7 @@
 // The LVB's small public helpers: names of its settings, the shadow-ray offset and origin margin
 // the preprocessor assumes (the reference tracer's), and what changed between two frames of an
-// animation (for the lazy rebuild's accounting). The preprocessor itself is kernels/lvb.cpp.
+// animation (for the lazy rebuild's accounting). The preprocessor itself is kernels/lvb.cpp (its
+// driver) and kernels/lvb_preprocessor.cpp (its search).
 #include "kernels/light_region.h"
 #include "kernels/lvb.h"
 

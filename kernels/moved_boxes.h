@@ -1,6 +1,6 @@
 // The boxes of the triangles that moved since the last frame (an animation's change), in a
 // bounding-volume hierarchy, so the lazy LVB rebuild's "may this pair have changed?" test costs a
-// walk, not a scan (kernels/lvb.cpp).
+// walk, not a scan (kernels/lvb_preprocessor.cpp).
 #pragma once
 
 #include "kernels/light_region.h"
