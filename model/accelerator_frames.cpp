@@ -47,6 +47,7 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   frame.allocate(ctx.light_samples);
   records = record_region(cfg, p);
   invalidate_caches();
+  pool.begin_frame();
   generator->begin_frame(p.camera, p.width, p.height);
   culling->begin_frame(p.lvb_culling);
   phases.begin_frame(begin);

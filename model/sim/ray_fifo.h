@@ -165,6 +165,8 @@ class RoundRobin {
     }
     return nullptr;
   }
+  // The first FIFO first again (a new frame deals as the first one did).
+  void restart() { next_ = 0; }
   bool any_free() const {
     for (const RayQueueIn* f : bound())
       if (!f->full()) return true;

@@ -35,6 +35,7 @@ void RayGenerator::begin_frame(const Camera& camera, int width, int height) {
   width_ = width;
   height_ = height;
   next_ = 0;
+  inputs_.restart();
   total_ = uint64_t(width) * uint64_t(height);
   order_ = issue_order(width, height, order_kind_, tile_);
 }

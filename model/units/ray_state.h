@@ -104,9 +104,13 @@ struct alignas(64) RayState {
 
 class RayPool {
  public:
-  explicit RayPool(uint32_t capacity) : rays_(capacity) {
-    free_.reserve(capacity);
-    for (uint32_t i = capacity; i-- > 0;) free_.push_back(i);
+  explicit RayPool(uint32_t capacity) : rays_(capacity) { begin_frame(); }
+  // Every slot free, in the order of the first frame (ids 0, 1, ... handed out first): a frame's
+  // ray ids, and the orders that break ties by id, do not depend on the frames before it.
+  void begin_frame() {
+    free_.clear();
+    free_.reserve(rays_.size());
+    for (uint32_t i = uint32_t(rays_.size()); i-- > 0;) free_.push_back(i);
   }
   bool full() const { return free_.empty(); }
   uint32_t in_flight() const { return uint32_t(rays_.size() - free_.size()); }

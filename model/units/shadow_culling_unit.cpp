@@ -40,6 +40,7 @@ void ShadowCullingUnit::begin_frame(bool culling) {
   closed_ = waiting_ = scanning_ = false;
   entry_ = requested_ = 0;
   queue_.clear();
+  inputs_.restart();
   added_ = done_ = generated_ = 0;
   light_ = sample_ = 0;
   light_latched_ = record_open_ = false;
