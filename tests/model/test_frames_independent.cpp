@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 #include <tlm_utils/simple_initiator_socket.h>
 
-#include <cstdio>
 #include <vector>
 
 namespace rtsim::model {
@@ -17,14 +16,16 @@ namespace {
 
 constexpr int kWidth = 64, kHeight = 36;
 
-// The driver: programs and starts `frames` frames of the city's camera, `idle` apart.
+// The driver: programs and starts a frame of the city's camera, waits `idle[k]` after frame k,
+// and so on for every idle time, then one frame more.
 class Host : public sc_core::sc_module {
  public:
   tlm_utils::simple_initiator_socket<Host> registers{"registers"};
   sc_core::sc_in<bool> irq{"irq"};
 
-  Host(sc_core::sc_module_name name, const test::CityFrame& city, int frames, sc_core::sc_time idle)
-      : sc_core::sc_module(name), city_(city), frames_(frames), idle_(idle) {
+  Host(sc_core::sc_module_name name, const test::CityFrame& city,
+       std::vector<sc_core::sc_time> idle)
+      : sc_core::sc_module(name), city_(city), idle_(std::move(idle)) {
     SC_THREAD(run);
   }
   std::vector<uint64_t> cycles;
@@ -35,25 +36,24 @@ class Host : public sc_core::sc_module {
     DeviceDriver regs(registers, 0);
     const FrameSetup setup =
         frame_after_image(*city_.image, city_.scene.camera, kWidth, kHeight, true);
-    for (int k = 0; k < frames_; ++k) {
+    for (size_t k = 0; k <= idle_.size(); ++k) {
       regs.program(*city_.image, setup);
       regs.start();
       sc_core::wait(irq.posedge_event());
       cycles.push_back(regs.finish());
-      sc_core::wait(idle_);
+      if (k < idle_.size()) sc_core::wait(idle_[k]);
     }
   }
   const test::CityFrame& city_;
-  int frames_;
-  sc_core::sc_time idle_;
+  std::vector<sc_core::sc_time> idle_;
 };
 
 // The device on a fixed-latency memory that holds the image (and room for the frame buffer).
 struct Platform {
-  Platform(const test::CityFrame& city, int frames, sc_core::sc_time idle)
+  Platform(const test::CityFrame& city, std::vector<sc_core::sc_time> idle)
       : device("device", AcceleratorConfig{}, {}, MemoryTarget::kApproximatelyTimed),
         memory("memory", with_frame_buffer(city), sc_core::sc_time(40, sc_core::SC_NS)),
-        host("host", city, frames, idle) {
+        host("host", city, std::move(idle)) {
     device.memory_socket().bind(memory.socket);
     host.registers.bind(device.register_socket());
     device.irq.bind(irq);
@@ -70,15 +70,19 @@ struct Platform {
   sc_core::sc_signal<bool> irq{"irq"};
 };
 
-TEST(Frames, TheSameCameraTakesTheSameCyclesEveryFrame) {
+// Before each frame began from the first frame's state (RayPool::begin_frame, RoundRobin::restart)
+// frames 2 and 3 took 16,539 and 17,157 cycles here against frame 1's 16,097. The last idle time
+// is not a whole number of cycles.
+TEST(Frames, TheSameCameraTakesTheSameCyclesEveryFrameWhateverTheIdleTime) {
+  using sc_core::sc_time;
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   const test::CityFrame city(kWidth, kHeight);
-  Platform p(city, 3, sc_core::sc_time(1, sc_core::SC_US));
+  Platform p(city, {sc_core::SC_ZERO_TIME, sc_time(1, sc_core::SC_US), sc_time(100, sc_core::SC_US),
+                    sc_time(1.3, sc_core::SC_NS)});
   test::simulate();
-  ASSERT_EQ(p.host.cycles.size(), 3u);
-  for (uint64_t c : p.host.cycles) std::printf("frame cycles %llu\n", (unsigned long long)c);
-  EXPECT_EQ(p.host.cycles[1], p.host.cycles[0]);
-  EXPECT_EQ(p.host.cycles[2], p.host.cycles[0]);
+  ASSERT_EQ(p.host.cycles.size(), 5u);
+  for (size_t k = 1; k < p.host.cycles.size(); ++k)
+    EXPECT_EQ(p.host.cycles[k], p.host.cycles[0]) << "frame " << k + 1;
 }
 
 }  // namespace
