@@ -21,7 +21,7 @@ constexpr int kWidth = 160, kHeight = 90;
 
 // A frame as the driver runs it: its camera, then the idle time before the next START. Another
 // camera's frame has a frame buffer of its own, 8 MiB on: the culling unit reads the records
-// back, and the driver cannot clear them (docs/systemc-integration.md, step 3).
+// back, and this driver has no way to memory to clear them (docs/systemc-integration.md, step 3).
 struct Run {
   Camera camera;
   sc_core::sc_time idle_after;
@@ -66,7 +66,7 @@ Camera turned(const Camera& c, float degrees) {
   return out;
 }
 
-// The device on a fixed-latency memory that holds the image (and room for the frame buffer).
+// The device on a fixed-latency memory that holds the image (and room for two frame buffers).
 struct Platform {
   Platform(const test::CityFrame& city, std::vector<Run> runs)
       : device("device", AcceleratorConfig{}, {}, MemoryTarget::kApproximatelyTimed),
