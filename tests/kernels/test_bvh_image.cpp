@@ -21,6 +21,7 @@ namespace {
 
 using bvh_test::bits;
 using bvh_test::kBvhAccels;
+using bvh_test::kUncompressedAccels;
 using kdtree_test::tri;
 
 uint32_t word(const uint8_t* p) {
@@ -189,7 +190,7 @@ TEST(BvhImage, RecordsAreTheFormatsBytes) {
   const std::vector<Triangle> tris{tri({100, 0, 0}, {101, 0, 0}, {100, 1, 1}),
                                    tri({0, 0, 0}, {1, 0, 0}, {0, 1, 1})};
   const float lo[2][3] = {{0, 0, 0}, {100, 0, 0}}, hi[2][3] = {{1, 1, 1}, {101, 1, 1}};
-  for (Accel a : kBvhAccels) {
+  for (Accel a : kUncompressedAccels) {
     SCOPED_TRACE(to_string(a));
     const Bvh bvh = bvh_for(tris, a);
     ASSERT_EQ(bvh.nodes.size(), 1u);
@@ -227,7 +228,7 @@ TEST(BvhImage, EveryNodeDecodesToTheTreesNode) {
   const std::vector<Triangle> one{tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0.5f})};
   const std::vector<Triangle> none{tri({0, 0, 0}, {1, 1, 1}, {2, 2, 2})};
   for (const auto* tris : {&soup, &boxes, &one, &none})
-    for (Accel a : kBvhAccels) {
+    for (Accel a : kUncompressedAccels) {
       const Bvh bvh = bvh_for(*tris, a);
       const BvhNodeSection s = encode_bvh_nodes(bvh, a);
       ASSERT_EQ(s.count, bvh.nodes.size());
@@ -238,19 +239,19 @@ TEST(BvhImage, EveryNodeDecodesToTheTreesNode) {
 
 TEST(BvhImage, ImageHoldsTheTreeAndTheScene) {
   const Scene s = image_scene();
-  for (Accel a : kBvhAccels) expect_image(s, s.triangles, a);
+  for (Accel a : kUncompressedAccels) expect_image(s, s.triangles, a);
 }
 
 TEST(BvhImage, CityImages) {
   const Scene city = bvh_test::load_city().scene;
-  for (Accel a : kBvhAccels) expect_image(city, city.triangles, a);
+  for (Accel a : kUncompressedAccels) expect_image(city, city.triangles, a);
 }
 
 TEST(BvhImage, WrongBranchingIsRefusedNamingTheFormat) {
   const Scene s = image_scene();
-  for (Accel tree : kBvhAccels) {
+  for (Accel tree : kUncompressedAccels) {
     const Bvh bvh = bvh_for(s.triangles, tree);
-    for (Accel a : kBvhAccels) {
+    for (Accel a : kUncompressedAccels) {
       if (a == tree) continue;
       try {
         encode_bvh_nodes(bvh, a);

@@ -1,5 +1,6 @@
 // --accel end to end: a frame rendered through any BVH format is the kd-tree's frame byte for byte,
 // the reports name the structure, and a bad name is one line and exit code 2.
+#include "kernels/bvh_image.h"
 #include "tests/test_util.h"
 #include "tests/testbench/cli_util.h"
 
@@ -33,7 +34,7 @@ TEST(CliAccel, RenderWithEveryBvhIsTheKdTreesFrame) {
   EXPECT_FALSE(kd_json.contains("bvh"));
   EXPECT_FALSE(kd_json.contains("accel"));
   EXPECT_GT(kd_json["rays"]["reflection_hits"].get<int>(), 0) << "the mirror is in the frame";
-  for (const std::string accel : {"bvh2", "bvh4", "bvh8"}) {
+  for (const std::string accel : {"bvh2", "bvh4", "bvh8", "cwbvh8"}) {
     SCOPED_TRACE(accel);
     const fs::path out = render(accel, dir);
     for (const char* file : {"mask.npy", "render.png", "visibility.npy"})
@@ -42,7 +43,7 @@ TEST(CliAccel, RenderWithEveryBvhIsTheKdTreesFrame) {
     EXPECT_EQ(j["accel"], accel);
     ASSERT_TRUE(j.contains("bvh"));
     EXPECT_GT(j["bvh"]["nodes"].get<int>(), 0);
-    EXPECT_EQ(j["bvh"]["params"]["branching"], std::stoi(accel.substr(3)));
+    EXPECT_EQ(j["bvh"]["params"]["branching"], accel_branching(parse_accel(accel)));
     EXPECT_EQ(j["bvh"]["prims"].get<int>() + j["bvh"]["left_out"].get<int>(),
               j["scene"]["triangles"].get<int>());
     EXPECT_FALSE(j.contains("kdtree"));
