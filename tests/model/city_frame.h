@@ -11,6 +11,9 @@
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>
+#include <glm/geometric.hpp>
+
+#include <cmath>
 
 #include <memory>
 
@@ -59,5 +62,14 @@ struct CityFrame {
   std::unique_ptr<MemoryImage> image;
   TraceResult reference;
 };
+
+// The camera turned `degrees` to its right about its up vector (another frame of the same scene).
+inline Camera turned(const Camera& c, float degrees) {
+  const Vec3 d = glm::normalize(c.dir), right = glm::normalize(glm::cross(d, c.up));
+  const float a = degrees * 3.14159265f / 180.f;
+  Camera out = c;
+  out.dir = glm::normalize(std::cos(a) * d + std::sin(a) * right);
+  return out;
+}
 
 }  // namespace rtsim::test

@@ -58,14 +58,6 @@ class Host : public sc_core::sc_module {
   std::vector<Run> runs_;
 };
 
-Camera turned(const Camera& c, float degrees) {
-  const Vec3 d = glm::normalize(c.dir), right = glm::normalize(glm::cross(d, c.up));
-  const float a = degrees * 3.14159265f / 180.f;
-  Camera out = c;
-  out.dir = glm::normalize(std::cos(a) * d + std::sin(a) * right);
-  return out;
-}
-
 // The device on a fixed-latency memory that holds the image (and room for two frame buffers).
 struct Platform {
   Platform(const test::CityFrame& city, std::vector<Run> runs)
@@ -101,7 +93,7 @@ TEST(Frames, TheSameCameraTakesTheSameCyclesEveryFrameWhateverCameBefore) {
                     {same, sc_time(1, sc_core::SC_US)},
                     {same, sc_time(100, sc_core::SC_US)},
                     {same, sc_time(1.3, sc_core::SC_NS)},
-                    {turned(same, 20.f), sc_core::SC_ZERO_TIME, true},
+                    {test::turned(same, 20.f), sc_core::SC_ZERO_TIME, true},
                     {same, sc_core::SC_ZERO_TIME}});
   test::simulate();
   ASSERT_EQ(p.host.cycles.size(), 6u);

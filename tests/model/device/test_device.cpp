@@ -53,14 +53,6 @@ struct Platform {
   sc_core::sc_signal<bool> irq{"irq"};
 };
 
-Camera turned(const Camera& c, float degrees) {
-  const Vec3 d = glm::normalize(c.dir), right = glm::normalize(glm::cross(d, c.up));
-  const float a = degrees * 3.14159265f / 180.f;
-  Camera out = c;
-  out.dir = glm::normalize(std::cos(a) * d + std::sin(a) * right);
-  return out;
-}
-
 // Primary hit records in `records` (slot order) that differ from the reference's hits.
 int wrong_records(const std::vector<uint8_t>& records, const TraceResult& ref,
                   const AcceleratorConfig& cfg, uint32_t stride) {
@@ -84,7 +76,8 @@ TEST(Device, FramesRunBackToBackThroughTheRegistersAndTheFirstIsTheConstructorsF
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   const test::CityFrame city(160, 90);
   const AcceleratorConfig cfg;
-  const Camera cameras[] = {city.scene.camera, turned(city.scene.camera, 20.f), city.scene.camera};
+  const Camera cameras[] = {city.scene.camera, test::turned(city.scene.camera, 20.f),
+                            city.scene.camera};
   struct Frame {
     uint64_t cycles = 0;
     std::vector<uint8_t> records;
