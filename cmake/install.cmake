@@ -1,13 +1,15 @@
 # The package a platform builds against: `cmake --install build --prefix DIR` puts the model's
 # libraries, their headers (under include/rtsim, in their folders) and rtsimConfig.cmake with the
 # exported targets rtsim::model, rtsim::kernels, rtsim::scene (the scene loaders),
-# rtsim::scene_types and rtsim::common; `find_package(rtsim)` then finds them
-# (docs/systemc-integration.md, "The package"). `cpack -G DEB` makes a .deb of the same files.
-# The rtsim command is not installed: it runs from the build tree, where its configs and report
-# scripts are.
+# rtsim::config (the readers of hardware and scene files), rtsim::scene_types and rtsim::common;
+# `find_package(rtsim)` then finds them and sets rtsim_CONFIG_DIR to the installed configs/
+# (share/rtsim/configs: hardware, scene and sweep files) (docs/systemc-integration.md,
+# "The package"). `cpack -G DEB` makes a .deb of the same files. The rtsim command is not
+# installed: it runs from the build tree, where its report scripts are.
 include(CMakePackageConfigHelpers)
 
-set(RTSIM_PACKAGE_TARGETS rtsim_common rtsim_scene_types rtsim_scene rtsim_kernels rtsim_model)
+set(RTSIM_PACKAGE_TARGETS rtsim_common rtsim_scene_types rtsim_scene rtsim_kernels rtsim_model
+  rtsim_config)
 foreach(t ${RTSIM_PACKAGE_TARGETS})
   string(REPLACE "rtsim_" "" short ${t})
   set_target_properties(${t} PROPERTIES EXPORT_NAME ${short})
@@ -17,13 +19,20 @@ endforeach()
 install(TARGETS ${RTSIM_PACKAGE_TARGETS} EXPORT rtsimTargets
   ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rtsim)
-install(DIRECTORY common scene scene_loader kernels model
+install(DIRECTORY common scene scene_loader kernels model config_loader
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rtsim FILES_MATCHING PATTERN "*.h")
+
+# The hardware, scene and sweep files, found through rtsim_CONFIG_DIR (inside the tree, the
+# source's, for the examples built with it)
+set(rtsim_CONFIG_DIR ${PROJECT_SOURCE_DIR}/configs)
+set(RTSIM_CONFIG_INSTALL_DIR ${CMAKE_INSTALL_DATADIR}/rtsim/configs)
+install(DIRECTORY configs/ DESTINATION ${RTSIM_CONFIG_INSTALL_DIR})
 
 set(RTSIM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/rtsim)
 install(EXPORT rtsimTargets NAMESPACE rtsim:: DESTINATION ${RTSIM_CMAKE_DIR})
 configure_package_config_file(cmake/rtsimConfig.cmake.in
-  ${PROJECT_BINARY_DIR}/rtsimConfig.cmake INSTALL_DESTINATION ${RTSIM_CMAKE_DIR})
+  ${PROJECT_BINARY_DIR}/rtsimConfig.cmake INSTALL_DESTINATION ${RTSIM_CMAKE_DIR}
+  PATH_VARS RTSIM_CONFIG_INSTALL_DIR)
 write_basic_package_version_file(${PROJECT_BINARY_DIR}/rtsimConfigVersion.cmake
   COMPATIBILITY SameMinorVersion)
 install(FILES ${PROJECT_BINARY_DIR}/rtsimConfig.cmake ${PROJECT_BINARY_DIR}/rtsimConfigVersion.cmake

@@ -82,6 +82,23 @@ struct FrameJob {
   int width = 0, height = 0;
 };
 
+// Where a frame's bytes lie in memory, from the configuration, the image's size and the resolution
+// alone: a platform sizes and maps its memory with it before elaboration ends. The frame buffer
+// holds a record per pixel and level (a primary hit and each reflection), `record_stride` bytes
+// each, in issue order (docs/systemc-integration.md, "The register map").
+struct MemoryLayout {
+  uint64_t image_base = 0, image_bytes = 0;
+  uint64_t fb_base = 0, fb_bytes = 0;  // the frame buffer: after the image, 4 KiB aligned
+  uint32_t record_stride = 0;          // RECORD_STRIDE: a whole memory line
+  uint64_t end() const { return fb_base + fb_bytes; }  // the bytes from address 0 the frame uses
+};
+// Bytes per hit record in the frame buffer (the register RECORD_STRIDE).
+uint32_t record_stride(const AcceleratorConfig& config);
+// The image at `image_base` (64-byte aligned), the frame buffer at the first 4 KiB boundary after
+// it, as rtsim run and DeviceDriver lay them out (frame_buffer_after, device_driver.h).
+MemoryLayout memory_layout(const AcceleratorConfig& config, uint64_t image_bytes, int width,
+                           int height, uint64_t image_base = 0);
+
 // What the memory socket is bound to (docs/systemc-integration.md).
 enum class MemoryTarget {
   kBuiltin,             // the built-in GDDR3, `<top>.dram`
@@ -130,7 +147,8 @@ class Accelerator : public sc_core::sc_module {
   // The built-in memory's host port (Dram::host_socket); rtsim/internal without one.
   TargetSocket& memory_host_socket();
   // The bytes the memory must hold: with a frame programmed at construction, the image then
-  // its frame buffer; else the built-in memory's size (0 with the platform's).
+  // its frame buffer (memory_layout(...).end()); else the built-in memory's size (0 with the
+  // platform's: memory_layout() tells what a frame needs).
   uint64_t memory_bytes() const;
 
  private:

@@ -2,6 +2,23 @@
 
 namespace rtsim::model {
 
+// A whole memory line, so that a record is one write and no two pixels share a line.
+uint32_t record_stride(const AcceleratorConfig& config) {
+  return std::max(kHitRecordBytes, config.memory_dram().request_bytes);
+}
+
+MemoryLayout memory_layout(const AcceleratorConfig& config, uint64_t image_bytes, int width,
+                           int height, uint64_t image_base) {
+  MemoryLayout l;
+  l.image_base = image_base;
+  l.image_bytes = image_bytes;
+  l.fb_base = frame_buffer_after(image_base, image_bytes);
+  l.record_stride = record_stride(config);
+  l.fb_bytes = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) *
+               (config.reflection_depth + 1) * l.record_stride;
+  return l;
+}
+
 namespace {
 
 HitRecordRegion record_region(const AcceleratorConfig& cfg, const FrameProgram& p) {
@@ -93,8 +110,8 @@ void Accelerator::build(const AcceleratorConfig& config, const SimulationHooks& 
   uint64_t image_memory_bytes = 0;
   if (image) {
     setup = frame_after_image(*image, job->camera, job->width, job->height, config.lvb_culling);
-    image_memory_bytes = setup.fb_base + uint64_t(job->width) * uint64_t(job->height) *
-                                             (config.reflection_depth + 1) * record_stride(config);
+    image_memory_bytes =
+        memory_layout(config, image->bytes().size(), job->width, job->height).end();
   }
   net_ = std::make_unique<Netlist>(*this, config, hooks, memory, image, image_memory_bytes);
   if (image) {

@@ -29,11 +29,6 @@
 
 namespace rtsim::model {
 
-// Bytes per hit record in the frame buffer: a whole memory line.
-inline uint32_t record_stride(const AcceleratorConfig& cfg) {
-  return std::max(kHitRecordBytes, cfg.memory_dram().request_bytes);
-}
-
 struct Accelerator::Netlist : FrameEngine {
   Netlist(Accelerator& top, const AcceleratorConfig& cfg, const SimulationHooks& hooks,
           MemoryTarget memory_target, const MemoryImage* image, uint64_t image_memory_bytes);

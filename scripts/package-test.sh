@@ -11,11 +11,17 @@ build=$(cd "$1" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# One smoke run per example: its arguments and a line its output must contain.
+# One smoke run per example (name, build dir, install prefix): its arguments and what its
+# output must contain.
 smoke() {
   case "$1" in
     tlm_memory) "$2/tlm_memory_example" triangle 0 100 | grep -q '"cycles":677' ;;
-    platform) [ "$("$2/platform_example" city 64 36 | grep -c '"wrong_records":0')" = 2 ] ;;
+    # the hardware file from the installed configs (share/rtsim/configs), two right frames
+    platform)
+      local out
+      out=$("$2/platform_example" city 64 36)
+      grep -qF "\"hw\":\"$3/share/rtsim/configs/hw/tni-paper.yaml\"" <<< "$out" &&
+        [ "$(grep -c '"wrong_records":0' <<< "$out")" = 2 ] ;;
     *) echo "package-test: no smoke run for example $1" >&2; return 1 ;;
   esac
 }
@@ -30,7 +36,7 @@ build_examples() {
     cmake -S "$work/src-$tag-$name" -B "$work/build-$tag-$name" -G Ninja \
       -DCMAKE_PREFIX_PATH="$prefix" -DCMAKE_BUILD_TYPE=Release > "$work/cmake-$tag-$name.log"
     cmake --build "$work/build-$tag-$name" > "$work/make-$tag-$name.log"
-    smoke "$name" "$work/build-$tag-$name" 2> /dev/null
+    smoke "$name" "$work/build-$tag-$name" "$prefix" 2> /dev/null
     echo "package-test: $name built and ran against $prefix ($tag)"
   done
 }

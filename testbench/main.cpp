@@ -1,7 +1,7 @@
 // rtsim: the command-line front end. Input errors print one line and exit with code 2.
 #include "common/error.h"
+#include "config_loader/hw_config.h"
 #include "testbench/commands.h"
-#include "testbench/hw_config.h"
 #include "testbench/resources.h"
 #include "testbench/sweep.h"
 

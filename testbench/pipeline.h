@@ -1,12 +1,12 @@
 // The host-side preparation every command shares: scene file -> Scene -> kd-tree -> memory image.
 #pragma once
 
+#include "config_loader/scene_file.h"
 #include "kernels/bvh.h"
 #include "kernels/kdtree.h"
 #include "kernels/lvb.h"
 #include "kernels/memory_image.h"
 #include "kernels/ray.h"
-#include "testbench/scene_file.h"
 
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,8 @@
 // rtsim run: one testbench run of the SystemC model over a scene. Writes, in the output
 // directory: config.json (the resolved configuration), report.json, report.md, stats.csv,
 // render.png, mask.npy, culled.npy, visibility.npy and the figures (reports/plots.py).
+#include "config_loader/hw_config.h"
+#include "config_loader/scene_file.h"
 #include "kernels/lvb.h"
 #include "kernels/reference_tracer.h"
 #include "model/accelerator.h"
@@ -8,10 +10,8 @@
 #include "reports/plots.h"
 #include "reports/run_report.h"
 #include "testbench/commands.h"
-#include "testbench/hw_config.h"
 #include "testbench/progress.h"
 #include "testbench/resources.h"
-#include "testbench/scene_file.h"
 #include "testbench/simulate.h"
 
 #include <fmt/format.h>

@@ -1,6 +1,6 @@
 #include "testbench/run_config.h"
 
-#include "testbench/hw_config.h"
+#include "config_loader/hw_config.h"
 
 #include <fmt/format.h>
 

@@ -12,15 +12,17 @@ cd "$src"
 folders=$(find . -mindepth 1 -maxdepth 1 -type d ! -name '.*' ! -name 'build*' -printf '%f\n' | sort)
 # The library each folder's CMakeLists.txt builds.
 declare -A library=([scene]=rtsim_scene_types [scene_loader]=rtsim_scene [kernels]=rtsim_kernels
-                    [model]=rtsim_model [testbench]=rtsim_cli)
+                    [model]=rtsim_model [config_loader]=rtsim_config
+                    [testbench]=rtsim_cli)
 
 # What a folder may not include: the whole project but common/ and scene/ for the two data folders.
 forbidden() {
   case $1 in
     common | scene) grep -vxE 'common|scene' <<< "$folders" ;;
-    scene_loader) echo kernels model testbench ;;
-    kernels) echo scene_loader model testbench ;;
-    model) echo scene_loader testbench ;;
+    scene_loader) echo kernels model config_loader testbench ;;
+    kernels) echo scene_loader model config_loader testbench ;;
+    model) echo scene_loader config_loader testbench ;;
+    config_loader) echo testbench ;;
   esac
 }
 
@@ -29,7 +31,7 @@ violation() {
   echo "FAIL: $1: $2"
   status=1
 }
-for dir in common scene scene_loader kernels model; do
+for dir in common scene scene_loader kernels model config_loader; do
   [ -d "$dir" ] || continue
   for bad in $(forbidden "$dir"); do
     while IFS= read -r hit; do

@@ -1,15 +1,23 @@
 // A small SystemC platform that drives the accelerator as a device: a driver thread, a router of
 // our own (router.h), one memory (memory.h), and the accelerator with its registers and interrupt.
+// The hardware is a hardware file of the package's configs (rtsim_CONFIG_DIR, set by
+// find_package(rtsim)): configs/hw/tni-paper.yaml, the paper's T&I engine, unless one is named.
+// The memory is sized from the layout the accelerator gives before elaboration (memory_layout).
 // The driver loads the scene's memory image over TLM, programs two frames of it with two cameras
 // (the scene's and one turned 20 degrees to the right), starts each, waits for the interrupt,
 // reads the hit records back over TLM and checks them against the reference tracer; it prints
-// one JSON line per frame. Exit status 1 if a record is wrong.
+// a JSON line of the hardware file and the memory's size, then one per frame. Exit status 1 if a
+// record is wrong, 2 for bad input.
 //
-//   platform_example SCENE.aff [WIDTH HEIGHT]   a BART scene (e.g. the kitchen), 160x90 by default
-//   platform_example city [WIDTH HEIGHT]        the procedural city (configs/scenes/city.yaml)
+//   platform_example SCENE [WIDTH HEIGHT [HW.yaml]]   160x90 by default; SCENE is
+//     city          the procedural city (configs/scenes/city.yaml of the package)
+//     FILE.yaml     a scene file (docs/scene-files.md; geometry under $RTSIM_SCENE_ROOT)
+//     FILE.aff      a BART scene (e.g. the kitchen)
 #include "memory.h"
 #include "router.h"
 
+#include "config_loader/hw_config.h"
+#include "config_loader/scene_file.h"
 #include "kernels/kdtree.h"
 #include "kernels/lvb.h"
 #include "kernels/memory_image.h"
@@ -18,7 +26,6 @@
 #include "model/device/device_driver.h"
 #include "model/units/ray_generator.h"
 #include "scene_loader/aff_loader.h"
-#include "scene_loader/procedural.h"
 
 #include <glm/geometric.hpp>
 #include <nlohmann/json.hpp>
@@ -52,12 +59,14 @@ class Driver : public sc_core::sc_module {
   sc_core::sc_in<bool> irq{"irq"};
 
   Driver(sc_core::sc_module_name name, const rtsim::MemoryImage& image,
-         std::vector<rtsim::Camera> cameras, int width, int height, int reflection_depth)
+         std::vector<rtsim::Camera> cameras, int width, int height,
+         const rtsim::model::MemoryLayout& layout, int reflection_depth)
       : sc_core::sc_module(name),
         image_(image),
         cameras_(std::move(cameras)),
         width_(width),
         height_(height),
+        layout_(layout),
         depth_(reflection_depth) {
     SC_THREAD(run);
   }
@@ -68,20 +77,20 @@ class Driver : public sc_core::sc_module {
 
   void run() {
     DeviceDriver bus(socket, kRegisterBase);
-    bus.load(image_, 0);  // the scene image at address 0, over TLM
-    const uint64_t fb_base = rtsim::model::frame_buffer_after(0, image_.bytes().size());
+    bus.load(image_, layout_.image_base);  // the scene image, over TLM
+    const uint64_t fb_base = layout_.fb_base;
     for (size_t k = 0; k < cameras_.size(); ++k) {
       rtsim::model::FrameSetup setup;
+      setup.image_base = layout_.image_base;
       setup.fb_base = fb_base;
       setup.camera = cameras_[k];
       setup.width = width_;
       setup.height = height_;
       bus.program(image_, setup);
-      // Only hits' records are written: clear the frame buffer the last frame filled.
-      const uint64_t fb_bytes =
-          uint64_t(bus.read_register(regs::kFbBytesHi)) << 32 | bus.read_register(regs::kFbBytesLo);
-      const std::vector<uint8_t> zeros(fb_bytes, 0);
-      bus.write(fb_base, zeros.data(), fb_bytes);
+      // Only hits' records are written: clear the frame buffer the last frame filled (its size
+      // is also the register FB_BYTES once the resolution is programmed).
+      const std::vector<uint8_t> zeros(layout_.fb_bytes, 0);
+      bus.write(fb_base, zeros.data(), layout_.fb_bytes);
       const sc_core::sc_time started = sc_core::sc_time_stamp();
       bus.start();
       sc_core::wait(irq.posedge_event());  // the level may not have fallen yet in this delta
@@ -138,32 +147,42 @@ class Driver : public sc_core::sc_module {
 
   const rtsim::MemoryImage& image_;
   std::vector<rtsim::Camera> cameras_;
-  int width_, height_, depth_;
+  int width_, height_;
+  rtsim::model::MemoryLayout layout_;
+  int depth_;
   uint64_t wrong_ = 0, hits_ = 0;
 };
 
 }  // namespace
 
 int sc_main(int argc, char** argv) {
-  if (argc != 2 && argc != 4) {
-    std::fprintf(stderr, "usage: %s SCENE.aff|city [WIDTH HEIGHT]\n", argv[0]);
+  if (argc != 2 && argc != 4 && argc != 5) {
+    std::fprintf(stderr, "usage: %s SCENE.yaml|SCENE.aff|city [WIDTH HEIGHT [HW.yaml]]\n", argv[0]);
     return 2;
   }
   const std::string what = argv[1];
-  const int width = argc == 4 ? std::stoi(argv[2]) : 160,
-            height = argc == 4 ? std::stoi(argv[3]) : 90;
-  rtsim::Scene scene;
+  const int width = argc >= 4 ? std::stoi(argv[2]) : 160,
+            height = argc >= 4 ? std::stoi(argv[3]) : 90;
+  const std::string configs = RTSIM_CONFIG_DIR;  // the package's configs/
+  const std::string hw = argc == 5 ? argv[4] : configs + "/hw/tni-paper.yaml";
+  rtsim::SceneSetup setup;
+  rtsim::model::AcceleratorConfig config;
   try {
-    if (what == "city")
-      rtsim::make_city(rtsim::CityParams{}, scene);
+    const bool yaml = what.size() > 5 && what.compare(what.size() - 5, 5, ".yaml") == 0;
+    if (what == "city" || yaml)
+      setup = rtsim::load_scene_file(what == "city" ? configs + "/scenes/city.yaml" : what);
     else
-      rtsim::load_aff(what, 0.0, scene);
+      rtsim::load_aff(what, 0.0, setup.scene);
+    config = rtsim::load_hw_config(hw);  // every error names the file, line and key
+    if (config.structure != rtsim::model::Structure::kKdTree)
+      throw rtsim::InputError(hw + ": hw.structure: this example builds kd-tree images only");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
   }
+  const rtsim::Scene& scene = setup.scene;
   // The host's preparation: kd-tree, memory image, light visibility bits.
-  const rtsim::KdTree tree = rtsim::build_kdtree(scene.triangles);
+  const rtsim::KdTree tree = rtsim::build_kdtree(scene.triangles, setup.kdtree);
   rtsim::MemoryImage image(scene, tree);
   rtsim::LvbParams lvb;
   lvb.shadow_offset = rtsim::lvb_shadow_offset(tree);
@@ -172,15 +191,14 @@ int sc_main(int argc, char** argv) {
   for (uint32_t i = 0; i < bits.words.size(); ++i) image.set_leaf_lvb(i, bits.words[i]);
 
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
-  const rtsim::model::AcceleratorConfig config;  // the paper's T&I engine
   rtsim::model::Accelerator accelerator("accelerator", config, {},
                                         rtsim::model::MemoryTarget::kLooselyTimed);
-  // Room for the image and a frame buffer of up to 256 bytes per record.
-  const uint64_t bytes = rtsim::model::frame_buffer_after(0, image.bytes().size()) +
-                         uint64_t(width) * height * (config.reflection_depth + 1) * 256;
-  example::Memory memory("memory", bytes, sc_core::sc_time(40, sc_core::SC_NS));
+  // The memory the frames need, known before elaboration ends: the image, then the frame buffer.
+  const rtsim::model::MemoryLayout layout =
+      rtsim::model::memory_layout(config, image.bytes().size(), width, height);
+  example::Memory memory("memory", layout.end(), sc_core::sc_time(40, sc_core::SC_NS));
   example::Router router("router", memory.size(), kRegisterBase, regs::kMapBytes);
-  Driver driver("driver", image, {scene.camera, turned(scene.camera, 20.f)}, width, height,
+  Driver driver("driver", image, {scene.camera, turned(scene.camera, 20.f)}, width, height, layout,
                 config.reflection_depth);
   sc_core::sc_signal<bool> irq("irq");
   driver.socket.bind(router.target);
@@ -189,6 +207,8 @@ int sc_main(int argc, char** argv) {
   accelerator.memory_socket().bind(memory.socket);
   accelerator.irq.bind(irq);
   driver.irq.bind(irq);
+  // What the platform was built from: the hardware file and the memory it sized
+  std::printf("%s\n", nlohmann::json{{"hw", hw}, {"memory_bytes", layout.end()}}.dump().c_str());
   try {
     sc_core::sc_start();
   } catch (const sc_core::sc_report& r) {

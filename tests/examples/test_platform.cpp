@@ -1,7 +1,8 @@
 // examples/platform: a driver programs the accelerator through its registers, twice, with two
 // cameras, over one LT memory behind a router, and checks the hit records it reads back against
 // the reference tracer. Each frame must come back whole (no wrong record) and in order: the
-// second starts after the first's interrupt.
+// second starts after the first's interrupt. The hardware is a file of configs/ (the package's
+// when installed: scripts/package-test.sh), the memory sized by memory_layout().
 #include "tests/examples/run_example.h"
 #include "tests/test_util.h"
 
@@ -16,8 +17,14 @@ namespace {
 
 using test::run_example;
 
-void expect_two_good_frames(const std::vector<nlohmann::json>& frames, uint64_t pixels) {
-  ASSERT_EQ(frames.size(), 2u);
+// The first line names the hardware file and the memory's size; a frame per line follows.
+void expect_two_good_frames(std::vector<nlohmann::json> frames, uint64_t pixels) {
+  ASSERT_EQ(frames.size(), 3u);
+  const nlohmann::json platform = frames.front();
+  frames.erase(frames.begin());
+  EXPECT_NE(platform["hw"].get<std::string>().find("configs/hw/tni-paper.yaml"), std::string::npos);
+  // The image, then a 64-byte record per pixel and level (the paper's machine: one reflection)
+  EXPECT_GT(platform["memory_bytes"].get<uint64_t>(), pixels * 2 * 64);
   for (const nlohmann::json& f : frames) {
     EXPECT_EQ(f["wrong_records"], 0) << f.dump();
     EXPECT_EQ(f["pixels"], pixels);
@@ -38,6 +45,15 @@ TEST(PlatformExample, TwoFramesOfTheKitchenComeBackWithNoWrongRecord) {
   RTSIM_REQUIRE_SHARED_SCENES();
   const std::string kitchen = (test::shared_scenes() / "bart/kitchen/kitchen.aff").string();
   expect_two_good_frames(run_example(kitchen + " 160 90"), 160 * 90);
+}
+
+// A hardware file the loader refuses: one error naming it, exit 2, no frame.
+TEST(PlatformExample, ABadHardwareFileIsOneErrorAndExitTwo) {
+  const test::RunResult r =
+      test::run_command(std::string(RTSIM_EXAMPLE_BINARY) + " city 64 36 /nonexistent/hw.yaml");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("/nonexistent/hw.yaml"), std::string::npos) << r.err;
+  EXPECT_EQ(r.out.find("wrong_records"), std::string::npos);
 }
 
 }  // namespace

@@ -2,8 +2,8 @@
 // float's bits (results must be equal bit for bit) and the scenes they are built over.
 #pragma once
 
+#include "config_loader/scene_file.h"
 #include "kernels/bvh_image.h"
-#include "testbench/scene_file.h"
 #include "tests/test_util.h"
 
 #include <cstdint>

@@ -1,10 +1,10 @@
 // BVH builder (Embree's rtcBuildBVH, renumbered by us): structure, exact boxes, leaf sizes,
 // child order, determinism, and a walk of the tree against brute force.
+#include "config_loader/scene_file.h"
 #include "kernels/bvh.h"
 #include "kernels/clip.h"
 #include "kernels/ray.h"
 #include "kernels/traversal.h"
-#include "testbench/scene_file.h"
 #include "tests/kernels/kdtree_test_util.h"
 #include "tests/test_util.h"
 

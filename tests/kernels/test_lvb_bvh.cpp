@@ -1,6 +1,7 @@
 // The LVB preprocessor on BVH leaves, at branching 2, 4 and 8: the BVH walk equals the scan of
 // all leaves bit for bit in every mode, the exact mode is never wrong for shadow rays built as the
 // tracer builds them, and the paper's method counts every box that overlaps the leaf's own.
+#include "config_loader/scene_file.h"
 #include "kernels/bvh.h"
 #include "kernels/clip.h"
 #include "kernels/kdtree.h"
@@ -9,7 +10,6 @@
 #include "kernels/ray.h"
 #include "kernels/shading.h"
 #include "scene_loader/procedural.h"
-#include "testbench/scene_file.h"
 #include "tests/kernels/kdtree_test_util.h"
 #include "tests/test_util.h"
 

@@ -1,10 +1,10 @@
 // The reference tracer against brute force, on the memory image it reads.
+#include "config_loader/scene_file.h"
 #include "kernels/clip.h"
 #include "kernels/kdtree.h"
 #include "kernels/light_samples.h"
 #include "kernels/memory_image.h"
 #include "kernels/reference_tracer.h"
-#include "testbench/scene_file.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

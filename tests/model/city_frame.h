@@ -2,12 +2,12 @@
 // LVB words in, and the reference tracer's frame to compare a simulated frame with, pixel by pixel.
 #pragma once
 
+#include "config_loader/scene_file.h"
 #include "kernels/kdtree.h"
 #include "kernels/lvb.h"
 #include "kernels/memory_image.h"
 #include "kernels/reference_tracer.h"
 #include "model/units/frame_buffer.h"
-#include "testbench/scene_file.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

@@ -2,10 +2,10 @@
 // its own calendar, and each gets exactly the figures it gets alone (computed in a child process,
 // since SystemC elaborates once per process). Also: the module tree names every block where its
 // statistics say it is.
+#include "config_loader/scene_file.h"
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator.h"
-#include "testbench/scene_file.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

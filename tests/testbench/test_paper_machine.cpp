@@ -1,8 +1,8 @@
 // The paper's machine is written twice on purpose: as the named defaults of AcceleratorConfig
 // (model/accelerator_config.h, paper_machine) and as configs/hw/tni-paper.yaml, the file users
 // run and read. They must agree key for key, the DRAM's timings included.
+#include "config_loader/hw_config.h"
 #include "model/accelerator_config.h"
-#include "testbench/hw_config.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

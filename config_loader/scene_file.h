@@ -1,7 +1,7 @@
 // The scene description file (YAML): which geometry to load, at what time, seen by which camera,
 // lit by which lights. Format: docs/scene-files.md.
-// It composes the loaders and the kd-tree parameters, so it lives in the testbench: the one folder
-// that may include both scene_loader/ and kernels/.
+// It composes the loaders and the kd-tree parameters, so it lives in config_loader/, above both
+// scene_loader/ and kernels/ (rtsim::config in the package, with the hardware file's reader).
 #pragma once
 
 #include "common/yaml_reader.h"

@@ -1,4 +1,4 @@
-#include "testbench/hw_config.h"
+#include "config_loader/hw_config.h"
 
 #include "common/yaml_reader.h"
 

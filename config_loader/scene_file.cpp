@@ -1,4 +1,4 @@
-#include "testbench/scene_file.h"
+#include "config_loader/scene_file.h"
 
 #include "common/yaml_reader.h"
 #include "scene_loader/aff_loader.h"
