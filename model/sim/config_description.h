@@ -1,8 +1,8 @@
 // One description per configuration parameter. Each config struct has a describe() function
 // template (next to the struct) that names every field once: its key, range, unit and meaning.
-// Visitors walk it: the hardware-file reader and the config.json writer (config_loader/hw_config.cpp),
-// the range check of validate() (RangeCheck, below) and the documentation table
-// (`rtsim params`, the table in configs/README.md). A visitor provides:
+// Visitors walk it: the hardware-file reader and the config.json writer
+// (config_loader/hw_config.cpp), the range check of validate() (RangeCheck, below) and the
+// documentation table (`rtsim params`, the table in configs/README.md). A visitor provides:
 //
 //   number(key, field, lo, hi, unit, meaning)     an integer or floating-point field in [lo, hi]
 //   kib(key, bytes, lo, hi, meaning)              a byte count given in KB (cache sizes)
