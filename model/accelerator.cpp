@@ -223,7 +223,7 @@ void Accelerator::Netlist::register_stats() {
     std::vector<const Cache*> l1s, l2s;
     for (const auto& u : units[type->stage]) {
       u->register_stats(stats, stat_prefix(*u, top));
-      u->caches().register_stats(stats, top, &end);
+      u->caches().register_stats(stats, top, &stats_span);
       l1s.push_back(&u->l1());
       if (u->caches().l2()) l2s.push_back(u->caches().l2());
     }
@@ -233,13 +233,13 @@ void Accelerator::Netlist::register_stats() {
   }
   register_work_totals();
   if (const Cache* own = culling->own_l1()) own->register_stats(stats, stat_prefix(*own, top));
-  memory->register_stats(stats, top, &end);
+  memory->register_stats(stats, top, &stats_span);
   generator->register_unit_stats(stats, stat_prefix(*generator, top));
   culling->register_stats(stats, stat_prefix(*culling, top));
   lvb.register_stats(stats, stat_prefix(lvb, top));
   if (dram) dram->register_stats(stats, stat_prefix(*dram, top));
   if (checker) checker->register_stats(stats, stat_prefix(*checker, top));
-  for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &end);
+  for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &stats_span);
 }
 
 namespace {

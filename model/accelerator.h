@@ -74,6 +74,11 @@ struct SimulationHooks {
   // A TLM-2.0 base-protocol checker (model/memory/tlm_checker.h, `<top>.tlm_checker`) between the
   // memory port and the memory: a violation is rtsim/tlm.
   bool tlm_checks = false;
+  // What the statistics count: each frame on its own (every counter starts at 0 at START, and the
+  // time-weighted figures cover the frame's time), or every frame since elaboration, the idle
+  // time between frames included.
+  enum class Statistics { kPerFrame, kAllFrames };
+  Statistics statistics = Statistics::kPerFrame;
 };
 
 // The frame to render: `camera` at width x height.
@@ -132,9 +137,10 @@ class Accelerator : public sc_core::sc_module {
   const char* kind() const override { return "rtsim_accelerator"; }
   void end_of_elaboration() override;
 
-  // After the simulation: whether the last frame completed, and its figures (rtsim/internal if
-  // it did not): its cycles, its hits and the host-side frame; the statistics cover every frame
-  // since elaboration. Closes the statistics the first time it is called.
+  // After the simulation (or between frames): whether the last frame completed, and its figures
+  // (rtsim/internal if it did not): its cycles, its hits and the host-side frame, and the
+  // statistics: the frame's own, or every frame's (SimulationHooks::statistics). Closes the
+  // statistics the first time it is called after a frame.
   bool finished() const;
   AcceleratorResult result();
   const StatsRegistry& stats() const;

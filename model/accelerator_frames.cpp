@@ -63,6 +63,7 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   frame.levels = cfg.reflection_depth + 1;
   frame.allocate(ctx.light_samples);
   records = record_region(cfg, p);
+  if (hooks.statistics == SimulationHooks::Statistics::kPerFrame) reset_stats(begin);
   invalidate_caches();
   pool.begin_frame();
   generator->begin_frame(p.camera, p.width, p.height);
@@ -76,6 +77,16 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   if (progress) progress->start_at(begin);
   if (trace && frames == 0) trace->start();
   ++frames;
+}
+
+void Accelerator::Netlist::reset_stats(Tick at) {
+  // The time before `at` (the idle time since the last frame) goes to the window that ends.
+  generator->finish_accounting(at);
+  culling->finish_accounting(at);
+  for (RayUnit* u : ray_units) u->finish_accounting(at);
+  for (RayFifo* f : fifos) f->finish_accounting(at);
+  stats.reset();
+  stats_begin = at;
 }
 
 void Accelerator::Netlist::check_frame_end() {
@@ -170,6 +181,7 @@ AcceleratorResult Accelerator::result() {
     for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
     for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
     n.frame.close_samples();
+    n.stats_span = n.end > n.stats_begin ? n.end - n.stats_begin : 0;
     n.collected = true;
   }
   AcceleratorResult out;

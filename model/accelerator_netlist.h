@@ -38,6 +38,8 @@ struct Accelerator::Netlist : FrameEngine {
   void reset() override { invalidate_caches(); }
   // Empties every cache: the units' own and the shared L2s.
   void invalidate_caches();
+  // Closes the time-weighted statistics at `at` and starts every counter again from 0.
+  void reset_stats(Tick at);
   // The frame is over once every ray retired and its records' writes are answered.
   void check_frame_end();
 
@@ -105,6 +107,9 @@ struct Accelerator::Netlist : FrameEngine {
   StatsRegistry stats;
   Tick end = 0;
   Tick frame_begin = 0;  // the first edge of the frame running or last run
+  // The statistics' window: from elaboration, or from the last START (per-frame statistics)
+  Tick stats_begin = 0;
+  Tick stats_span = 0;  // end - stats_begin, the time-weighted figures' denominator
   bool frame_active = false;
   uint64_t frames = 0;  // begun
   uint64_t memory_bytes = 0;

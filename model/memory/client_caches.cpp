@@ -27,11 +27,11 @@ void ClientCaches::invalidate() {
 }
 
 void ClientCaches::register_stats(StatsRegistry& r, const sc_core::sc_object& top,
-                                  const Tick* end) const {
+                                  const Tick* span) const {
   l1_->register_stats(r, stat_prefix(*l1_, top));
   if (!l2_) return;
   l2_->register_stats(r, stat_prefix(*l2_, top));
-  icnt_->register_stats(r, stat_prefix(*icnt_, top), end);
+  icnt_->register_stats(r, stat_prefix(*icnt_, top), span);
 }
 
 void register_cache_totals(StatsRegistry& r, const std::string& prefix,

@@ -49,8 +49,9 @@ class ClientCaches {
   // the first access).
   void connect_below();
   void invalidate();
-  // Every cache and crossbar under its name relative to `top`; `end` closes utilisations.
-  void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;
+  // Every cache and crossbar under its name relative to `top`; `span`: the window of
+  // utilisations.
+  void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* span) const;
 
  private:
   std::unique_ptr<Cache> l2_;

@@ -73,7 +73,7 @@ Tick Crossbar::reply(uint32_t dst, uint32_t src, uint32_t payload, Tick t) {
   return transfer(dst_out_[dst], src_in_[src], payload, t, reply_);
 }
 
-void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const {
+void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const Tick* span) const {
   const uint64_t period = clock_.period();
   auto network = [&](const std::string& dir, const CrossbarStats& s,
                      const std::vector<PortSchedule>* a, const std::vector<PortSchedule>* b) {
@@ -83,14 +83,19 @@ void Crossbar::register_stats(StatsRegistry& r, const std::string& prefix, const
     // The busiest port's share: the ports' schedules', not a counter of the network's.
     r.formula(
         p + ".max_port_utilization",
-        [a, b, end, period] {
-          const double cycles = double(*end / period);
+        [a, b, span, period] {
+          const double cycles = double(*span / period);
           uint64_t most = 0;
           for (const auto* ports : {a, b})
             for (const PortSchedule& q : *ports) most = std::max(most, q.stats().requests);
           return cycles > 0 && !a->empty() && !a->front().ideal() ? double(most) / cycles : 0.0;
         },
         "ratio", "the busiest port's flits / cycles");
+    // The ports are this crossbar's own (registered read-only, as counters are).
+    r.on_reset([a, b] {
+      for (const auto* ports : {a, b})
+        for (const PortSchedule& q : *ports) const_cast<PortSchedule&>(q).reset_stats();
+    });
   };
   network("request", request_, &src_out_, &dst_in_);
   network("reply", reply_, &dst_out_, &src_in_);

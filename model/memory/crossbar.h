@@ -102,8 +102,9 @@ class Crossbar : public sc_core::sc_object {
   uint32_t sources() const { return uint32_t(src_out_.size()); }
   uint32_t destinations() const { return uint32_t(dst_in_.size()); }
   // <prefix>.{request,reply}.{packets,flits,queue_cycles,avg_queue_cycles}, and the busiest
-  // port's share of cycles with a flit, .{request,reply}.max_port_utilization, over [0, *end).
-  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const;
+  // port's share of cycles with a flit, .{request,reply}.max_port_utilization, over a window *span
+  // long.
+  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* span) const;
 
  private:
   Tick transfer(PortSchedule& out, PortSchedule& in, uint32_t payload, Tick t, CrossbarStats& s);

@@ -31,12 +31,13 @@ void LooselyTimedPath::send(tlm::tlm_generic_payload& p, Tick now, Tick at, cons
     opts.dont_initialize();
     // Named under the process that spawns it (the calendar's)
     sc_core::sc_spawn([this, w] { run(w); },
-                      (name_ + "_lt_call" + std::to_string(stats_.lt_threads)).c_str(), &opts);
-    ++stats_.lt_threads;
+                      (name_ + "_lt_call" + std::to_string(workers_.size() - 1)).c_str(), &opts);
     idle_.push_back(w);
   }
   Worker* w = idle_.back();
   idle_.pop_back();
+  // The threads are kept for later frames; the statistic is the most calls in flight at once.
+  stats_.lt_threads = std::max<uint64_t>(stats_.lt_threads, workers_.size() - idle_.size());
   w->payload = &p;
   w->delay = time.to_sc_time(at - now);
   w->go.notify(sc_core::SC_ZERO_TIME);  // the call is made in the next delta, at this time

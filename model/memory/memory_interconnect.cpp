@@ -98,8 +98,8 @@ std::unique_ptr<CrossbarPort> MemoryInterconnect::l2_port(uint32_t first_source,
 LineWriter& MemoryInterconnect::writer(uint32_t s) { return *writers_.at(s); }
 
 void MemoryInterconnect::register_stats(StatsRegistry& r, const std::string& prefix,
-                                        const Tick* end) const {
-  icnt_.register_stats(r, prefix + ".icnt", end);
+                                        const Tick* span) const {
+  icnt_.register_stats(r, prefix + ".icnt", span);
   port_.register_stats(r, prefix + ".port");
   for (size_t s = 0; s < writers_.size(); ++s)
     writers_[s]->register_stats(r, prefix + ".writer" + std::to_string(s));

@@ -47,7 +47,7 @@ class MemoryInterconnect : public sc_core::sc_module {
   CrossbarPort& record_reader() { return *record_reader_; }
   MemoryPort& port() { return port_; }
   // <prefix>.icnt.*, <prefix>.port.*, and with a bounded write buffer <prefix>.writer<s>.*.
-  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const;
+  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* span) const;
 
  private:
   class Writer;

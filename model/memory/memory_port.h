@@ -87,7 +87,8 @@ class MemoryPort : public sc_core::sc_module,
   tlm_utils::simple_initiator_socket<MemoryPort> socket;
 
   // Transactions sent and not answered yet.
-  uint64_t in_flight() const { return stats_.reads + stats_.writes - stats_.responses; }
+  // (From counts a statistics reset leaves alone: every request made, every response.)
+  uint64_t in_flight() const { return requests_made_ - stats_.responses; }
   // Called when the last transaction in flight is answered (the accelerator's end of a frame
   // waits for its hit records' writes).
   void on_drained(std::function<void()> f) { drained_ = std::move(f); }

@@ -61,13 +61,13 @@ LineSource& MemorySystem::memory_port(size_t l2) {
 }
 
 void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& top,
-                                  const Tick* end) const {
+                                  const Tick* span) const {
   for (const auto& g : shared_) {
     if (!g) continue;
     g->l2.register_stats(r, stat_prefix(g->l2, top));
-    g->icnt.register_stats(r, stat_prefix(g->icnt, top), end);
+    g->icnt.register_stats(r, stat_prefix(g->icnt, top), span);
   }
-  interconnect_->register_stats(r, "memory", end);
+  interconnect_->register_stats(r, "memory", span);
 }
 
 std::vector<const Cache*> MemorySystem::shared_l2s() const {

@@ -66,8 +66,8 @@ class MemorySystem {
   // Empties the shared L2s (Cache::invalidate); the clients empty their own caches.
   void invalidate();
   // Registers every shared L2 and crossbar and the interconnect under its name relative to `top`;
-  // `end` is the frame's end time (utilisations).
-  void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* end) const;
+  // `span`: the statistics' time span (utilisations).
+  void register_stats(StatsRegistry& r, const sc_core::sc_object& top, const Tick* span) const;
 
  private:
   class SharedL2;  // the sc_module `<name>` holding a shared L2 and its crossbar

@@ -78,6 +78,7 @@ class alignas(64) PortSchedule {
   uint32_t ports() const { return ports_; }
   Tick period() const { return clock_.period(); }
   const PortStats& stats() const { return stats_; }
+  void reset_stats() { stats_ = {}; }
 
  private:
   static constexpr size_t kFirstWords = 4;

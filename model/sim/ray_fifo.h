@@ -69,14 +69,15 @@ struct FifoStats {
   uint64_t occupancy_ps = 0;  // integral of occupancy over time (entries x ps)
 };
 
-// Every FifoStats field, once (model/sim/stats_description.h); `end` closes the mean's window.
+// Every FifoStats field, once (model/sim/stats_description.h); `span` is the mean's window: the
+// statistics' time span (the frame's, or every frame's since elaboration).
 template <class V>
-void describe_stats(V& v, const FifoStats& s, const Tick* end) {
+void describe_stats(V& v, const FifoStats& s, const Tick* span) {
   v.counter("pushes", s.pushes, "count", "rays pushed");
   v.counter("max_occupancy", s.max_occupancy, "rays", "largest occupancy");
   v.counter("full_events", s.full_events, "count", "pushes refused while full");
   v.formula(
-      "mean_occupancy", [&s, end] { return *end ? double(s.occupancy_ps) / double(*end) : 0.0; },
+      "mean_occupancy", [&s, span] { return *span ? double(s.occupancy_ps) / double(*span) : 0.0; },
       "rays", "time-weighted mean occupancy");
 }
 
@@ -123,8 +124,8 @@ class RayFifo : public sc_core::sc_object, public RayQueueIn {
 
   void finish_accounting(Tick end) { integrate(end); }
   const FifoStats& stats() const { return stats_; }
-  // <prefix>.pushes, .max_occupancy, .full_events and .mean_occupancy over [0, *end).
-  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* end) const;
+  // <prefix>.pushes, .max_occupancy, .full_events and .mean_occupancy over a window *span long.
+  void register_stats(StatsRegistry& r, const std::string& prefix, const Tick* span) const;
   uint32_t depth() const { return depth_; }
 
  private:

@@ -26,6 +26,14 @@ void StatsRegistry::formula(const std::string& name, std::function<double()> val
   add(name, Entry{nullptr, std::move(value), unit, description});
 }
 
+void StatsRegistry::reset() {
+  // The counters are the blocks' own fields, registered read-only for the reporters; the blocks
+  // are not const, and resetting them is the registry's one write.
+  for (auto& [name, e] : entries_)
+    if (e.counter) *const_cast<uint64_t*>(e.counter) = 0;
+  for (const std::function<void()>& f : resets_) f();
+}
+
 double StatsRegistry::value(const std::string& name) const {
   const Entry& e = entries_.at(name);
   return e.counter ? double(*e.counter) : e.formula();

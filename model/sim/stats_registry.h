@@ -10,6 +10,7 @@
 #include <functional>
 #include <map>
 #include <string>
+#include <vector>
 
 namespace sc_core {
 class sc_object;
@@ -38,6 +39,12 @@ class StatsRegistry {
   };
   std::map<std::string, Glossary> glossary() const;
   double value(const std::string& name) const;  // throws std::out_of_range for an unknown name
+  // Every counter to 0, as gem5's statistics reset: what is counted from now on is a new window's
+  // (formulas follow, being computed from the counters), and every reset hook called. Only while
+  // the blocks hold no work.
+  void reset();
+  // For a formula that reads fields of its own (not counters): how they start again.
+  void on_reset(std::function<void()> f) { resets_.push_back(std::move(f)); }
   bool has(const std::string& name) const { return entries_.count(name) > 0; }
 
  private:
@@ -48,6 +55,7 @@ class StatsRegistry {
   };
   void add(const std::string& name, Entry e);
   std::map<std::string, Entry> entries_;  // sorted: dumps are deterministic
+  std::vector<std::function<void()>> resets_;
 };
 
 }  // namespace rtsim::model

@@ -23,7 +23,10 @@ class Watchdog : public Unit {
         progress_(std::move(progress)),
         pending_(std::move(pending)),
         describe_(std::move(describe)) {}
-  void start() { wake(now_ps() + clock().cycles(interval_)); }
+  void start() {
+    last_ = ~0ull;  // a new frame's count (the statistics may have started again from 0)
+    wake(now_ps() + clock().cycles(interval_));
+  }
   bool fired() const { return !report_.empty(); }
   const std::string& report() const { return report_; }
 

@@ -1,6 +1,6 @@
 // Frames do not leak into each other: on a memory with no state (fixed latency, no banks or
 // rows), the same camera takes the same cycles every frame, whatever the idle time and the frames
-// before it (issue 39).
+// before it, and each frame's statistics are its own (issue 39).
 #include "examples/tlm_memory/fixed_latency_memory.h"
 #include "model/accelerator.h"
 #include "model/device/device_driver.h"
@@ -10,8 +10,11 @@
 #include <tlm_utils/simple_initiator_socket.h>
 #include <glm/geometric.hpp>
 
-#include <cmath>
+#include <nlohmann/json.hpp>
 
+#include <cmath>
+#include <functional>
+#include <string>
 #include <vector>
 
 namespace rtsim::model {
@@ -39,6 +42,7 @@ class Host : public sc_core::sc_module {
     SC_THREAD(run);
   }
   std::vector<uint64_t> cycles;
+  std::function<void()> after_frame;  // called after each frame's interrupt, the device idle
 
  private:
   SC_HAS_PROCESS(Host);
@@ -51,6 +55,7 @@ class Host : public sc_core::sc_module {
       regs.start();
       sc_core::wait(irq.posedge_event());
       cycles.push_back(regs.finish());
+      if (after_frame) after_frame();
       sc_core::wait(r.idle_after);
     }
   }
@@ -58,12 +63,17 @@ class Host : public sc_core::sc_module {
   std::vector<Run> runs_;
 };
 
-// The device on a fixed-latency memory that holds the image (and room for two frame buffers).
+// The device on a fixed-latency memory that holds the image (and room for two frame buffers);
+// its blocks named <name>_device, ... so that several share one simulation.
 struct Platform {
-  Platform(const test::CityFrame& city, std::vector<Run> runs)
-      : device("device", AcceleratorConfig{}, {}, MemoryTarget::kApproximatelyTimed),
-        memory("memory", with_frame_buffer(city), sc_core::sc_time(40, sc_core::SC_NS)),
-        host("host", city, std::move(runs)) {
+  Platform(const test::CityFrame& city, std::vector<Run> runs, const std::string& name = "p",
+           const SimulationHooks& hooks = {})
+      : device((name + "_device").c_str(), AcceleratorConfig{}, hooks,
+               MemoryTarget::kApproximatelyTimed),
+        memory((name + "_memory").c_str(), with_frame_buffer(city),
+               sc_core::sc_time(40, sc_core::SC_NS)),
+        host((name + "_host").c_str(), city, std::move(runs)),
+        irq((name + "_irq").c_str()) {
     device.memory_socket().bind(memory.socket);
     host.registers.bind(device.register_socket());
     device.irq.bind(irq);
@@ -77,8 +87,30 @@ struct Platform {
   Accelerator device;
   example::FixedLatencyMemory memory;
   Host host;
-  sc_core::sc_signal<bool> irq{"irq"};
+  sc_core::sc_signal<bool> irq;
 };
+
+// The statistics of a frame: the named ones and the result's ray counts.
+nlohmann::json figures(Accelerator& device) {
+  const AcceleratorResult r = device.result();
+  return {{"stats", r.stats},
+          {"cycles", r.cycles_total},
+          {"primary_rays", r.primary_rays},
+          {"shadow_rays", r.shadow_rays},
+          {"shadow_generated", r.shadow_generated},
+          {"shadow_culled", r.shadow_culled}};
+}
+
+// The counters of `a` that differ from `b`'s (dotted names): what a failure names.
+void differing(const nlohmann::json& a, const nlohmann::json& b, const std::string& at,
+               std::vector<std::string>& out) {
+  if (a.is_object() && b.is_object()) {
+    for (const auto& [k, v] : a.items())
+      differing(v, b.contains(k) ? b[k] : nlohmann::json(), at + "." + k, out);
+  } else if (a != b) {
+    out.push_back(at + ": " + a.dump() + " vs " + b.dump());
+  }
+}
 
 // Before each frame began from the first frame's state (RayPool::begin_frame, RoundRobin::restart)
 // frames 2 to 5 of the city's camera took 74,058, 74,106, 74,064 and 73,942 cycles here against
@@ -99,6 +131,41 @@ TEST(Frames, TheSameCameraTakesTheSameCyclesEveryFrameWhateverCameBefore) {
   ASSERT_EQ(p.host.cycles.size(), 6u);
   EXPECT_NE(p.host.cycles[4], p.host.cycles[0]);  // the turned camera's frame
   for (size_t k : {1, 2, 3, 5}) EXPECT_EQ(p.host.cycles[k], p.host.cycles[0]) << "frame " << k + 1;
+}
+
+// Per-frame statistics (the default): frame 2's are those of a device that ran that one frame,
+// although 1 us of idle time and a whole frame came before it. Accumulated ones add up.
+TEST(Frames, EachFramesStatisticsAreItsOwnOrAddUpWhenAskedTo) {
+  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+  const test::CityFrame city(kWidth, kHeight);
+  const Camera same = city.scene.camera;
+  const sc_core::sc_time idle(1, sc_core::SC_US);
+  Platform two(city, {{same, idle}, {same, idle}}, "two");
+  Platform one(city, {{same, idle}}, "one");
+  SimulationHooks all;
+  all.statistics = SimulationHooks::Statistics::kAllFrames;
+  Platform summed(city, {{same, idle}, {same, idle}}, "summed", all);
+  std::vector<nlohmann::json> per_frame, one_frame, added;
+  two.host.after_frame = [&] { per_frame.push_back(figures(two.device)); };
+  one.host.after_frame = [&] { one_frame.push_back(figures(one.device)); };
+  summed.host.after_frame = [&] { added.push_back(figures(summed.device)); };
+  test::simulate();
+  ASSERT_EQ(per_frame.size(), 2u);
+  ASSERT_EQ(one_frame.size(), 1u);
+  ASSERT_EQ(added.size(), 2u);
+  std::vector<std::string> diff;
+  differing(per_frame[1], one_frame[0], "frame 2", diff);
+  std::string listed;
+  for (const std::string& d : diff) listed += "\n  " + d;
+  EXPECT_TRUE(diff.empty()) << diff.size() << " differ:" << listed;
+  EXPECT_GT(per_frame[1]["primary_rays"].get<uint64_t>(), 0u);
+  // Counted over both frames: twice the rays, the idle microsecond in the units' idle cycles.
+  EXPECT_EQ(added[1]["primary_rays"], 2 * one_frame[0]["primary_rays"].get<uint64_t>());
+  EXPECT_EQ(added[1]["stats"]["memory"]["port"]["reads"],
+            2 * one_frame[0]["stats"]["memory"]["port"]["reads"].get<uint64_t>());
+  EXPECT_GT(added[1]["stats"]["trv0"]["idle_cycles"].get<uint64_t>(),
+            2 * one_frame[0]["stats"]["trv0"]["idle_cycles"].get<uint64_t>());
+  EXPECT_EQ(added[1]["cycles"], one_frame[0]["cycles"]);  // cycles are the frame's either way
 }
 
 }  // namespace
