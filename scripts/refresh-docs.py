@@ -251,6 +251,65 @@ def animation_hd_table(run_dir):
     return "\n".join(out)
 
 
+def program_output(run_dir, sub):
+    with open(os.path.join(run_dir, sub, "stdout.txt")) as f:
+        return f.read()
+
+
+def cycles_lines(text):
+    """`NAME: N cycles` lines (the tests that print the figures docs quote), in order."""
+    return re.findall(r"^(\S[^:\n]*): (\d+) cycles$", text, re.M)
+
+
+def integration_table(run_dir):
+    """docs/systemc-integration.md: the cycles the prose quotes, each with the program that
+    measured it (the city at 160x90 on the paper's T&I engine unless named)."""
+    import json
+
+    out = ["| figure | cycles | measured by |", "|---|---|---|"]
+
+    def row(figure, cycles, by):
+        out.append(f"| {figure} | {cycles} | `{by}` |")
+
+    def frames(sub):
+        return ", ".join(fmt_int(c) for _, c in cycles_lines(program_output(run_dir, sub)))
+
+    row(
+        "three frames back to back on the built-in GDDR3: the setup's camera, one turned "
+        "20 degrees, the setup's again",
+        frames("device"),
+        "build/tests/test_device --gtest_filter=Device.FramesRunBackToBack*",
+    )
+    row(
+        "six frames on a fixed-latency memory (40 ns, no state): the same camera but the fifth "
+        "(turned, its own frame buffer)",
+        frames("frames"),
+        "build/tests/test_frames_independent --gtest_filter=Frames.TheSameCamera*",
+    )
+    styles = cycles_lines(program_output(run_dir, "styles"))
+    row(
+        "one frame per memory target style, 40 ns, END_REQ 2 ns late where the style has one: "
+        + ", ".join(name for name, _ in styles),
+        ", ".join(fmt_int(c) for _, c in styles),
+        "build/tests/test_tlm_target_styles",
+    )
+    kitchen = "../shared/scenes/bart/kitchen/kitchen.aff"
+    for sub, scene in (("platform-city", "city"), ("platform-kitchen", kitchen)):
+        lines = [json.loads(x) for x in program_output(run_dir, sub).splitlines() if x[:1] == "{"]
+        got = [x for x in lines if "frame" in x]
+        row(
+            f"examples/platform, {os.path.basename(scene)} at {got[0]['pixels']:,} pixels, two "
+            "cameras (interrupt "
+            + ", ".join(f"{x['interrupt_ns']:,.0f}" for x in got)
+            + " ns; wrong records "
+            + ", ".join(str(x["wrong_records"]) for x in got)
+            + ")",
+            ", ".join(fmt_int(x["cycles"]) for x in got),
+            f"build/platform_example {scene}",
+        )
+    return "\n".join(out)
+
+
 class Study:
     """A generated block: the runs behind it (one `rtsim` command, or several, each in its own
     sub-directory) and the function that renders the block from the run directory."""
@@ -261,7 +320,10 @@ class Study:
         self.figure = figure  # (a plot of the run, its copy in docs/figures/)
 
     def describe(self):
-        return "; ".join("rtsim " + " ".join(c) for _, c in self.runs)
+        return "; ".join(
+            " ".join(c) if c[0].startswith("build/") else "rtsim " + " ".join(c)
+            for _, c in self.runs
+        )
 
 
 def animate(scene, times, *options):
@@ -344,6 +406,26 @@ STUDIES = [
         ["reproduce", "--bvh"],
         copy_markdown("bvh.md", "Sweep `bvh-study.yaml`"),
     ),
+    # The integration doc's figures: examples and tests that print them (no rtsim run).
+    Study(
+        "integration",
+        "docs/systemc-integration.md",
+        2,
+        render=integration_table,
+        runs=[
+            ("device", ["build/tests/test_device", "--gtest_filter=Device.FramesRunBackToBack*"]),
+            (
+                "frames",
+                ["build/tests/test_frames_independent", "--gtest_filter=Frames.TheSameCamera*"],
+            ),
+            ("styles", ["build/tests/test_tlm_target_styles"]),
+            ("platform-city", ["build/platform_example", "city"]),
+            (
+                "platform-kitchen",
+                ["build/platform_example", "../shared/scenes/bart/kitchen/kitchen.aff"],
+            ),
+        ],
+    ),
     Study(
         "animation",
         "docs/animation.md",
@@ -388,6 +470,25 @@ def replace_block(doc_path, ident, body):
     os.replace(tmp, doc_path)
 
 
+def run_program(out, sub, command):
+    """A program of the build run from the source tree; its output kept in OUT/SUB/stdout.txt
+    (a skipped test, exit 77 or GTEST_SKIP, leaves `skipped` there)."""
+    os.makedirs(os.path.join(out, sub), exist_ok=True)
+    path = os.path.join(out, sub, "stdout.txt")
+    if os.path.exists(path):  # resumed
+        return
+    cmd = [os.path.join(ROOT, command[0])] + command[1:]
+    print("refresh-docs:", " ".join(cmd), file=sys.stderr, flush=True)
+    r = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise SystemExit(
+            f"refresh-docs: {' '.join(command)} failed (exit {r.returncode}):\n{r.stderr}"
+        )
+    with open(path + ".tmp", "w") as f:
+        f.write(r.stdout)
+    os.replace(path + ".tmp", path)
+
+
 def run_study(s, args, commit):
     """Runs (or resumes) the study; returns its directory, the minutes it took and the commit its
     points were run from."""
@@ -403,6 +504,9 @@ def run_study(s, args, commit):
         f.write(commit + "\n")
     start = datetime.datetime.now()
     for sub, command in s.runs:
+        if command[0].startswith("build/"):  # a program of the build (an example, a test)
+            run_program(out, sub, command)
+            continue
         # Absolute paths: a sweep's manifest names its inputs as resolved from them.
         command = [os.path.join(ROOT, a) if a.endswith(".yaml") else a for a in command]
         cmd = [args.rtsim] + command + ["--out", os.path.join(out, sub), "--jobs", str(args.jobs)]
