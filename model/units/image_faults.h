@@ -10,7 +10,7 @@
 namespace rtsim::model {
 
 enum class ImageFault : uint8_t {
-  kNodeIndex,      // a node index outside the nodes section (a child, a popped entry, the root)
+  kNodeIndex,      // a node index outside the nodes section, or a child not after its parent
   kStepBound,      // more node steps than the tree has nodes: a cycle of corrupt pointers
   kStackOverflow,  // a walk deeper than the traversal stack (kernels' kFault)
   kLeafIndex,      // a leaf index outside the leaves section
@@ -38,7 +38,7 @@ void describe_stats(V& v, const ImageFaultStats& s) {
                                            "leaf_index",    "prim_range", "triangle_index",
                                            "material_index"};
   static constexpr const char* kMeanings[] = {
-      "rays whose node index lay outside the image's nodes section",
+      "rays whose node index lay outside the nodes section, or a child not after its parent",
       "rays that made more node steps than the image has nodes (a cycle)",
       "rays whose walk overflowed the traversal stack",
       "rays whose leaf index lay outside the leaves section",

@@ -92,6 +92,12 @@ Outcome run_frame(const AcceleratorConfig& cfg, const MemoryImage& image, const 
 
 uint32_t error_of(uint32_t status) { return status >> regs::kErrorShift; }
 
+uint64_t all_faults(const Outcome& o) {
+  uint64_t n = 0;
+  for (const auto& [kind, count] : o.result.stats["faults"].items()) n += o.faults(kind);
+  return n;
+}
+
 // The checks every unreadable image must pass: the frame ended (DONE, the interrupt, FRAMES),
 // with kBadImage, every primary ray retired, and faults counted.
 void expect_faulted_frame(const Outcome& o) {
@@ -101,9 +107,7 @@ void expect_faulted_frame(const Outcome& o) {
   EXPECT_EQ(o.frames, 1u);
   EXPECT_EQ(o.cycles, o.result.cycles_total);
   EXPECT_EQ(o.result.primary_rays, uint64_t(kWidth) * kHeight);
-  uint64_t faults = 0;
-  for (const auto& [kind, count] : o.result.stats["faults"].items()) faults += o.faults(kind);
-  EXPECT_GT(faults, 0u);
+  EXPECT_GT(all_faults(o), 0u);
   // The figures the docs quote.
   std::cout << "cycles " << o.result.cycles_total << ", interrupt at " << o.irq_at << ", faults "
             << o.result.stats["faults"] << ", primary hits " << o.result.primary_hits << "\n";
@@ -156,21 +160,28 @@ TEST(DeviceFaults, ANodeThatIsItsOwnChildEndsEachRayAtItsFirstStep) {
   EXPECT_EQ(fetches, o.faults("node_index"));
 }
 
+// The city's image with nodes 0..levels-2 splitting the scene's box in its middle along x, each
+// with node i + 1 as both its below and its above child (children after their parents, as
+// stored depth first), and an empty leaf last: a ray that crosses the middle pushes at every
+// level and would visit 2^(levels-1) paths, each legal to look at.
+std::vector<uint8_t> ladder(const test::CityFrame& city, uint32_t levels) {
+  std::vector<uint8_t> bytes = city.image->bytes();
+  const image::Header& h = city.image->header();
+  const float middle = 0.5f * (h.bounds.lo.x + h.bounds.hi.x);
+  for (uint32_t i = 0; i + 1 < levels; ++i)
+    put_node(bytes, *city.image, i, KdNode::inner(0, middle, i + 1));
+  put_node(bytes, *city.image, levels - 1, KdNode::leaf(0, 0));
+  return bytes;
+}
+
 TEST(DeviceFaults, ALadderOfSharedChildrenIsCaughtByTheStepBound) {
   const test::CityFrame city(kWidth, kHeight);
-  std::vector<uint8_t> bytes = city.image->bytes();
-  // Nodes 0..kLevels-2 split the scene's box in its middle along x, each with node i + 1 as both
-  // its below and its above child (children after their parents, as stored depth first), and an
-  // empty leaf last: a ray that crosses the middle pushes at every level and would visit 2^20
-  // paths, each legal to look at; only its count of steps tells it from a tree.
+  // 2^20 paths, a stack of 20 at most: only the count of steps tells it from a tree.
   constexpr uint32_t kLevels = 21;
   const image::Header& h = city.image->header();
   ASSERT_LT(h.nodes.count, 1u << (kLevels - 1));
-  const float middle = 0.5f * (h.bounds.lo.x + h.bounds.hi.x);
-  for (uint32_t i = 0; i + 1 < kLevels; ++i)
-    put_node(bytes, *city.image, i, KdNode::inner(0, middle, i + 1));
-  put_node(bytes, *city.image, kLevels - 1, KdNode::leaf(0, 0));
-  const Outcome o = run_frame(AcceleratorConfig{}, *city.image, city.scene.camera, bytes);
+  const Outcome o =
+      run_frame(AcceleratorConfig{}, *city.image, city.scene.camera, ladder(city, kLevels));
   expect_faulted_frame(o);
   EXPECT_GT(o.faults("step_bound"), 0u);
   EXPECT_EQ(o.faults("node_index") + o.faults("stack_overflow"), 0u);
@@ -178,6 +189,84 @@ TEST(DeviceFaults, ALadderOfSharedChildrenIsCaughtByTheStepBound) {
   // A faulting ray made exactly as many steps as the tree has nodes.
   const auto fetches = uint64_t(o.result.stats["trv"]["total"]["node_fetches"].get<double>());
   EXPECT_GE(fetches, o.faults("step_bound") * h.nodes.count);
+}
+
+TEST(DeviceFaults, ALadderDeeperThanTheStackOverflowsIt) {
+  const test::CityFrame city(kWidth, kHeight);
+  // A push per level on the first way down: more levels than stack entries.
+  const uint32_t levels = kTraversalStackDepth + 6;
+  ASSERT_LT(levels, city.image->header().nodes.count);
+  const Outcome o =
+      run_frame(AcceleratorConfig{}, *city.image, city.scene.camera, ladder(city, levels));
+  expect_faulted_frame(o);
+  EXPECT_GT(o.faults("stack_overflow"), 0u);
+  EXPECT_EQ(all_faults(o), o.faults("stack_overflow"));
+  EXPECT_EQ(o.result.primary_hits, 0u);
+}
+
+// Writes `value` at byte `offset` of every record of `section` (of `record_bytes` each).
+void put_in_every(std::vector<uint8_t>& bytes, const image::Section& section, uint32_t record_bytes,
+                  uint32_t offset, uint32_t value) {
+  for (uint32_t i = 0; i < section.count; ++i)
+    std::memcpy(bytes.data() + section.base + i * record_bytes + offset, &value, 4);
+}
+
+// One frame of `city` with a u32 field of every record of one section set to the count of
+// another (one past its last record): that kind of fault, and no other, for every ray that reads
+// such a record.
+using SectionOf = const image::Section image::Header::*;
+Outcome run_with_every(const test::CityFrame& city, SectionOf section, uint32_t record_bytes,
+                       uint32_t offset, SectionOf past) {
+  std::vector<uint8_t> bytes = city.image->bytes();
+  const image::Header& h = city.image->header();
+  put_in_every(bytes, h.*section, record_bytes, offset, (h.*past).count);
+  const Outcome o = run_frame(AcceleratorConfig{}, *city.image, city.scene.camera, bytes);
+  expect_faulted_frame(o);
+  EXPECT_EQ(o.result.primary_hits, 0u);  // every ray that reached a leaf read one
+  return o;
+}
+
+TEST(DeviceFaults, LeavesPastTheLeavesSectionAreCounted) {
+  const test::CityFrame city(kWidth, kHeight);
+  std::vector<uint8_t> bytes = city.image->bytes();
+  const image::Header& h = city.image->header();
+  for (uint32_t i = 0; i < h.nodes.count; ++i) {
+    const KdNode n = city.image->node(i);
+    if (n.is_leaf()) put_node(bytes, *city.image, i, KdNode::leaf(h.leaves.count, n.prim_count()));
+  }
+  const Outcome o = run_frame(AcceleratorConfig{}, *city.image, city.scene.camera, bytes);
+  expect_faulted_frame(o);
+  EXPECT_GT(o.faults("leaf_index"), 0u);
+  EXPECT_EQ(all_faults(o), o.faults("leaf_index"));
+  EXPECT_EQ(o.result.primary_hits, 0u);
+}
+
+TEST(DeviceFaults, LeafRecordsWhoseListsLiePastThePrimsSectionAreCounted) {
+  const test::CityFrame city(kWidth, kHeight);
+  const Outcome o =
+      run_with_every(city, &image::Header::leaves, image::kLeafBytes, 0, &image::Header::prims);
+  EXPECT_GT(o.faults("prim_range"), 0u);
+  EXPECT_EQ(all_faults(o), o.faults("prim_range"));
+}
+
+TEST(DeviceFaults, PrimitivesNamingTrianglesPastTheirSectionAreCounted) {
+  const test::CityFrame city(kWidth, kHeight);
+  const Outcome o =
+      run_with_every(city, &image::Header::prims, image::kPrimBytes, 0, &image::Header::triangles);
+  EXPECT_GT(o.faults("triangle_index"), 0u);
+  EXPECT_EQ(all_faults(o), o.faults("triangle_index"));
+}
+
+TEST(DeviceFaults, TrianglesNamingMaterialsPastTheirSectionFaultEveryHit) {
+  const test::CityFrame city(kWidth, kHeight);
+  const Outcome o = run_with_every(city, &image::Header::triangles, image::kTriangleBytes, 36,
+                                   &image::Header::materials);
+  EXPECT_EQ(all_faults(o), o.faults("material_index"));
+  // Only shading reads a material, once per hit: each of the reference's hits faults.
+  uint64_t hits = 0;
+  for (const PixelRecord& p : city.reference.pixels) hits += p.hit.tri != kNoHit;
+  EXPECT_GT(hits, 0u);
+  EXPECT_EQ(o.faults("material_index"), hits);
 }
 
 // The city as a bvh8 image, for the BVH machine of configs/hw/bvh-tni.yaml.
