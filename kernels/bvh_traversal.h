@@ -14,7 +14,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace rtsim {
 
@@ -85,7 +84,7 @@ inline TraversalStep bvh_traversal_pop(BvhTraversalState& s, const TraversalResu
 }
 
 // Consumes the fetched node `s.node`: tests its children's boxes, pushes the hit ones farthest
-// first, and pops the nearest.
+// first, and pops the nearest; kFault when they would overflow the stack.
 inline TraversalStep bvh_traversal_node(BvhTraversalState& s, const TraversalResult& r,
                                         const BvhNodeView& n) {
   Ray clip = s.ray;
@@ -101,8 +100,7 @@ inline TraversalStep bvh_traversal_node(BvhTraversalState& s, const TraversalRes
   std::stable_sort(hits, hits + count, [](const BvhStackEntry& a, const BvhStackEntry& b) {
     return a.tnear < b.tnear;
   });
-  if (s.sp + count > kBvhStackEntries)
-    throw std::logic_error("BVH deeper than the traversal stack");
+  if (s.sp + count > kBvhStackEntries) return TraversalStep::kFault;
   for (uint32_t i = count; i-- > 0;) s.stack[s.sp++] = hits[i];
   s.pushed = count;
   return bvh_traversal_pop(s, r);

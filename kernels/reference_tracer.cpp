@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 #include <thread>
 
 namespace rtsim {
@@ -55,6 +56,8 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) c
     else
       ++c.leaves;
     step = traversal_node(s, result, node);
+    if (step == TraversalStep::kFault)
+      throw std::logic_error("kd-tree deeper than the traversal stack");
     if (step != TraversalStep::kLeaf) continue;
     test_leaf<kAnyHit>(s, result, c);
     step = traversal_pop(s, result);
@@ -76,6 +79,8 @@ bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& 
       ++c.nodes;
       const uint8_t* p = mem_ + h_.nodes.base + size_t(s.node) * node_bytes;
       step = bvh_traversal_node(s, result, decode_bvh_node(h_.accel, p));
+      if (step == TraversalStep::kFault)
+        throw std::logic_error("BVH deeper than the traversal stack");
       continue;
     }
     ++c.leaves;

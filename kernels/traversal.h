@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 
 namespace rtsim {
 
@@ -28,7 +27,9 @@ struct Hit {
   uint32_t leaf = kNoHit;  // the leaf whose cell holds the hit point (its LVB word applies)
 };
 
-enum class TraversalStep { kFetchNode, kLeaf, kDone };
+// kFault: the walk cannot go on (a stack overflow, which a tree the builder made never causes):
+// the bytes read are not an image. The reference tracer throws; the model retires the ray.
+enum class TraversalStep { kFetchNode, kLeaf, kDone, kFault };
 
 // What a walk tells the leaf's intersection tests, whatever the structure: the ray, and the leaf
 // with the range of t in which its hits count (a kd-tree cell's; the whole ray for a BVH leaf).
@@ -135,8 +136,7 @@ inline TraversalStep traversal_node(TraversalState& s, const TraversalResult& r,
   } else if (t_plane < s.tmin * (1.f - kLeafRelEps) - s.abs_eps) {
     s.node = second;
   } else {
-    if (s.sp == kTraversalStackDepth)
-      throw std::logic_error("kd-tree deeper than the traversal stack");
+    if (s.sp == kTraversalStackDepth) return TraversalStep::kFault;
     s.stack[s.sp++] = {second, t_plane, s.tmax};
     s.node = first;
     s.tmax = t_plane;

@@ -23,6 +23,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
       phases("phases", config.schedule, calendar) {
   ctx.calendar = &calendar;
   ctx.pool = &pool;
+  ctx.faults = &faults;
   ctx.clock = Clock(cfg.clock_ghz);
   build_memory(image, image_memory_bytes, memory_target);
   build_units();
@@ -237,6 +238,8 @@ void Accelerator::Netlist::register_stats() {
   generator->register_unit_stats(stats, stat_prefix(*generator, top));
   culling->register_stats(stats, stat_prefix(*culling, top));
   lvb.register_stats(stats, stat_prefix(lvb, top));
+  StatsRegistrar fault_stats(stats, "faults");
+  describe_stats(fault_stats, faults);
   if (dram) dram->register_stats(stats, stat_prefix(*dram, top));
   if (checker) checker->register_stats(stats, stat_prefix(*checker, top));
   for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &stats_span);

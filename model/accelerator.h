@@ -17,7 +17,8 @@
 // records are in memory; frames run back to back, each in two phases (all primary rays, then all
 // shadow rays) or in one (shadow rays as soon as their hit is shaded). It never sets the time
 // resolution, never starts or stops the simulation. Errors are sc_reports of type rtsim/*
-// (model/sim/report.h).
+// (model/sim/report.h); memory that does not hold a readable image is the platform's to see, not
+// a report: the frame ends with STATUS error regs::kBadImage (model/units/image_faults.h).
 #pragma once
 
 #include "kernels/memory_image.h"

@@ -65,6 +65,7 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   records = record_region(cfg, p);
   if (hooks.statistics == SimulationHooks::Statistics::kPerFrame) reset_stats(begin);
   invalidate_caches();
+  faults_before = faults.total();
   pool.begin_frame();
   generator->begin_frame(p.camera, p.width, p.height);
   culling->begin_frame(p.lvb_culling);
@@ -94,7 +95,10 @@ void Accelerator::Netlist::check_frame_end() {
   frame_active = false;
   const Tick end_edge = ctx.clock.edge_at_or_after(phases.end());
   const uint64_t cycles = ctx.clock.to_cycles(end_edge) - ctx.clock.to_cycles(frame_begin);
-  registers->frame_ended(cycles, std::max(calendar.now(), end_edge));
+  // A frame whose rays met memory that is not an image ends as any other (they retired as
+  // misses), with the error latched in STATUS.
+  const uint32_t error = faults.total() > faults_before ? regs::kBadImage : regs::kNoError;
+  registers->frame_ended(cycles, std::max(calendar.now(), end_edge), error);
 }
 
 Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,

@@ -82,6 +82,8 @@ struct Accelerator::Netlist : FrameEngine {
   AcceleratorConfig cfg;
   FrameJob job;  // the frame running or last run
   RayPool pool;
+  ImageFaultStats faults;      // every frame's, since elaboration
+  uint64_t faults_before = 0;  // their total when the frame running or last run began
   ModelContext ctx;
   FrameBuffer frame;
   HitRecordRegion records;

@@ -39,6 +39,7 @@ class Host : public sc_core::sc_module {
     SC_THREAD(run);
   }
   uint64_t cycles() const { return cycles_; }
+  uint32_t status_error() const { return status_error_; }
 
  private:
   SC_HAS_PROCESS(Host);
@@ -49,12 +50,27 @@ class Host : public sc_core::sc_module {
     device.start();
     sc_core::wait(irq.posedge_event());
     cycles_ = device.finish();
+    status_error_ = device.status_error();
   }
 
   const MemoryImage& image_;
   model::FrameSetup setup_;
   uint64_t cycles_ = 0;
+  uint32_t status_error_ = 0;
 };
+
+// A frame the device ended with an error: this program built the image, so that is a bug.
+void check_status(uint32_t error, const nlohmann::json& stats) {
+  if (error == 0) return;
+  std::string faults;
+  if (stats.contains("faults"))
+    for (const auto& [name, count] : stats["faults"].items())
+      if (count.get<double>() > 0)
+        faults += (faults.empty() ? "; " : ", ") + ("faults." + name) + " " + count.dump();
+  throw std::runtime_error("the accelerator ended the frame with STATUS error " +
+                           std::to_string(error) + " (" + model::status_error_name(error) + ")" +
+                           faults);
+}
 
 }  // namespace
 
@@ -88,6 +104,7 @@ SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const Memo
     if (out.cycles_total != host.cycles())
       throw std::runtime_error("the CYCLES register says " + std::to_string(host.cycles()) +
                                " cycles, the frame " + std::to_string(out.cycles_total));
+    check_status(host.status_error(), out.stats);
   } catch (const sc_core::sc_report& r) {
     rethrow(r);
   }

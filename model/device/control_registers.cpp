@@ -170,6 +170,7 @@ uint32_t ControlRegisters::validate(FrameProgram& p) const {
     return regs::kBadResolution;
   if (!camera_ok(p.camera)) return regs::kBadCamera;
   if (p.header.light_count > regs::kMaxLights) return regs::kTooManyLights;
+  if (p.header.lights.count < p.header.light_count) return regs::kBadHeader;  // reads past it
   const uint64_t image_end = p.image_base + p.header.image_bytes;
   const uint64_t fb_end = p.fb_base + wide(reg_[regs::kFbBytesLo / 4], reg_[regs::kFbBytesHi / 4]);
   const bool aligned =
@@ -199,14 +200,15 @@ void ControlRegisters::start(Tick at) {
   engine_.begin_frame(p, at);
 }
 
-void ControlRegisters::frame_ended(uint64_t cycles, Tick at) {
+void ControlRegisters::frame_ended(uint64_t cycles, Tick at, uint32_t error) {
   pending_cycles_ = cycles;
+  pending_error_ = error;
   ended_.notify(time_.delay_until(at));
 }
 
 void ControlRegisters::end_frame() {
   busy_ = false;
-  reg_[regs::kStatus / 4] = regs::kDone;
+  reg_[regs::kStatus / 4] = regs::kDone | pending_error_ << regs::kErrorShift;
   reg_[regs::kCyclesLo / 4] = uint32_t(pending_cycles_);
   reg_[regs::kCyclesHi / 4] = uint32_t(pending_cycles_ >> 32);
   ++reg_[regs::kFrames / 4];

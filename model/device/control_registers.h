@@ -63,9 +63,10 @@ class ControlRegisters : public sc_core::sc_module {
   ControlRegisters(sc_core::sc_module_name name, const DeviceInfo& info, FrameEngine& engine);
   const char* kind() const override { return "rtsim_control_registers"; }
 
-  // The engine's frame ended with `cycles`; the registers say so (and the interrupt rises) at
-  // model time `at`.
-  void frame_ended(uint64_t cycles, Tick at);
+  // The engine's frame ended with `cycles` and STATUS error `error` (regs::kNoError, or what the
+  // frame met: regs::kBadImage); the registers say so (and the interrupt rises) at model time
+  // `at`.
+  void frame_ended(uint64_t cycles, Tick at, uint32_t error = regs::kNoError);
   // Writes `value` at `offset` as a b_transport at model time `at` would.
   void write(uint32_t offset, uint32_t value, Tick at);
   uint32_t read(uint32_t offset) const;
@@ -93,6 +94,7 @@ class ControlRegisters : public sc_core::sc_module {
   std::array<uint32_t, regs::kMapBytes / 4> reg_{};
   bool busy_ = false;
   uint64_t pending_cycles_ = 0;
+  uint32_t pending_error_ = 0;
   sc_core::sc_event ended_, irq_changed_;
 };
 

@@ -11,9 +11,15 @@ namespace rtsim::model {
 
 namespace {
 
-constexpr uint64_t kChunk = 64 * 1024;
+uint32_t word(float f) {
+  uint32_t w;
+  std::memcpy(&w, &f, 4);
+  return w;
+}
 
-const char* error_name(uint32_t code) {
+}  // namespace
+
+const char* status_error_name(uint32_t code) {
   switch (code) {
     case regs::kBadHeader: return "the image header's magic or version is wrong";
     case regs::kBadResolution: return "the resolution is 0 or above 16384";
@@ -27,17 +33,31 @@ const char* error_name(uint32_t code) {
     case regs::kBadStructure:
       return "the image's acceleration structure is not the one the traversal units walk "
              "(hw.structure: kdtree for a kd-tree image, bvh for bvh2, bvh4, bvh8 and cwbvh8)";
+    case regs::kBadImage:
+      return "the memory does not hold a readable image (an index outside its section, or a "
+             "walk deeper than its stack or longer than its tree; statistics faults.*)";
     default: return "unknown error";
   }
 }
 
-uint32_t word(float f) {
-  uint32_t w;
-  std::memcpy(&w, &f, 4);
-  return w;
+DeviceDriver::DeviceDriver(tlm::tlm_fw_transport_if<>& bus, uint64_t register_base,
+                           uint64_t piece_bytes)
+    : bus_(&bus), register_base_(register_base) {
+  set_piece_bytes(piece_bytes);
 }
 
-}  // namespace
+DeviceDriver::DeviceDriver(sc_core::sc_port_b<tlm::tlm_fw_transport_if<>>& socket,
+                           uint64_t register_base, uint64_t piece_bytes)
+    : socket_(&socket), register_base_(register_base) {
+  set_piece_bytes(piece_bytes);
+}
+
+void DeviceDriver::set_piece_bytes(uint64_t bytes) {
+  if (bytes == 0 || bytes > UINT32_MAX)
+    return report_error(kReportConfig, "driver: a load piece of " + std::to_string(bytes) +
+                                           " bytes (expected 1 to 4294967295)");
+  piece_bytes_ = bytes;
+}
 
 std::vector<RegisterWrite> program_writes(const MemoryImage& image, const FrameSetup& s) {
   std::vector<RegisterWrite> w = {{regs::kImageBaseLo, uint32_t(s.image_base)},
@@ -69,7 +89,7 @@ void DeviceDriver::transport(tlm::tlm_command cmd, uint64_t addr, uint8_t* data,
   p.set_streaming_width(uint32_t(bytes));
   p.set_response_status(tlm::TLM_INCOMPLETE_RESPONSE);
   sc_core::sc_time delay = sc_core::SC_ZERO_TIME;
-  bus_->b_transport(p, delay);
+  bus().b_transport(p, delay);
   if (p.is_response_error()) {
     char where[24];
     std::snprintf(where, sizeof where, "0x%llx", static_cast<unsigned long long>(addr));
@@ -83,8 +103,8 @@ void DeviceDriver::transport(tlm::tlm_command cmd, uint64_t addr, uint8_t* data,
 
 void DeviceDriver::write(uint64_t addr, const uint8_t* data, uint64_t bytes) {
   std::vector<uint8_t> chunk;
-  for (uint64_t at = 0; at < bytes; at += kChunk) {
-    const uint64_t n = std::min(kChunk, bytes - at);
+  for (uint64_t at = 0; at < bytes; at += piece_bytes_) {
+    const uint64_t n = std::min(piece_bytes_, bytes - at);
     chunk.assign(data + at, data + at + n);
     transport(tlm::TLM_WRITE_COMMAND, addr + at, chunk.data(), n);
   }
@@ -92,8 +112,9 @@ void DeviceDriver::write(uint64_t addr, const uint8_t* data, uint64_t bytes) {
 
 std::vector<uint8_t> DeviceDriver::read(uint64_t addr, uint64_t bytes) {
   std::vector<uint8_t> out(bytes);
-  for (uint64_t at = 0; at < bytes; at += kChunk)
-    transport(tlm::TLM_READ_COMMAND, addr + at, out.data() + at, std::min(kChunk, bytes - at));
+  for (uint64_t at = 0; at < bytes; at += piece_bytes_)
+    transport(tlm::TLM_READ_COMMAND, addr + at, out.data() + at,
+              std::min(piece_bytes_, bytes - at));
   return out;
 }
 
@@ -123,7 +144,7 @@ void DeviceDriver::start() {
   const uint32_t status = read_register(regs::kStatus);
   if (const uint32_t code = status >> regs::kErrorShift)
     report_error(kReportDevice, "the accelerator refused the frame (STATUS error " +
-                                    std::to_string(code) + ": " + error_name(code) + ")");
+                                    std::to_string(code) + ": " + status_error_name(code) + ")");
 }
 
 uint64_t DeviceDriver::finish() {

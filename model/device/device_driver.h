@@ -50,16 +50,34 @@ inline FrameSetup frame_after_image(const MemoryImage& image, const Camera& came
   return s;
 }
 
-// A driver over an initiator socket that reaches the memory and, at `register_base`, the
-// accelerator's registers (through a router, or a socket bound to the registers alone with base
-// 0). Calls b_transport and waits out the delay each returns, so it runs in an SC_THREAD; an
-// error response is an rtsim/device report naming the access.
+// What STATUS error `code` (regs::Error) means, in words.
+const char* status_error_name(uint32_t code);
+
+// A driver over a forward path that reaches the memory and, at `register_base`, the
+// accelerator's registers (through a router, or a path to the registers alone with base 0).
+// Calls b_transport and waits out the delay each returns, so it runs in an SC_THREAD; an error
+// response is an rtsim/device report naming the access. Memory is written and read in pieces of
+// `piece_bytes` (default 64 KiB; a platform whose interconnect takes smaller bursts, or splits
+// them across channels, sets its own).
 class DeviceDriver {
  public:
-  DeviceDriver(tlm::tlm_initiator_socket<>& bus, uint64_t register_base)
-      : bus_(bus), register_base_(register_base) {}
+  static constexpr uint64_t kDefaultPieceBytes = 64 * 1024;
 
-  void write(uint64_t addr, const uint8_t* data, uint64_t bytes);  // in 64 KiB transactions
+  // Any initiator's forward path: `socket.operator->()` of a bound socket (simple, tagged or
+  // multi), or a target's interface called directly.
+  DeviceDriver(tlm::tlm_fw_transport_if<>& bus, uint64_t register_base,
+               uint64_t piece_bytes = kDefaultPieceBytes);
+  // An initiator socket (any kind: it is an sc_port of the forward interface), resolved at each
+  // access, so the driver may be made before the socket is bound.
+  DeviceDriver(sc_core::sc_port_b<tlm::tlm_fw_transport_if<>>& socket, uint64_t register_base,
+               uint64_t piece_bytes = kDefaultPieceBytes);
+
+  // The largest transaction write() and read() make to memory: more than 0, at most 4 GiB - 1
+  // (a payload's length); else rtsim/config.
+  void set_piece_bytes(uint64_t bytes);
+  uint64_t piece_bytes() const { return piece_bytes_; }
+
+  void write(uint64_t addr, const uint8_t* data, uint64_t bytes);  // in pieces
   std::vector<uint8_t> read(uint64_t addr, uint64_t bytes);
   void write_register(uint32_t offset, uint32_t value);
   uint32_t read_register(uint32_t offset);
@@ -71,12 +89,17 @@ class DeviceDriver {
   void start();
   // After the interrupt: clears it, returns the frame's cycles.
   uint64_t finish();
+  // STATUS's error code (0: none); after a frame, regs::kBadImage if it met an unreadable image.
+  uint32_t status_error() { return read_register(regs::kStatus) >> regs::kErrorShift; }
 
  private:
   void transport(tlm::tlm_command cmd, uint64_t addr, uint8_t* data, uint64_t bytes);
+  tlm::tlm_fw_transport_if<>& bus() { return bus_ ? *bus_ : *socket_->operator->(); }
 
-  tlm::tlm_initiator_socket<>& bus_;
+  tlm::tlm_fw_transport_if<>* bus_ = nullptr;
+  sc_core::sc_port_b<tlm::tlm_fw_transport_if<>>* socket_ = nullptr;
   uint64_t register_base_;
+  uint64_t piece_bytes_ = kDefaultPieceBytes;
 };
 
 }  // namespace rtsim::model

@@ -56,8 +56,8 @@ inline constexpr uint32_t kBusy = 1u << 0;
 inline constexpr uint32_t kDone = 1u << 1;  // the last START's frame ended
 inline constexpr uint32_t kErrorShift = 8;
 
-// STATUS error codes (set by a START or RESET the device refused; cleared by the next accepted
-// START or a RESET).
+// STATUS error codes (set by a START or RESET the device refused, or at the end of a frame that
+// met memory it cannot read as an image; cleared by the next accepted START or a RESET).
 enum Error : uint32_t {
   kNoError = 0,
   kBadHeader = 1,      // the header's magic or version is not the image format's
@@ -68,6 +68,10 @@ enum Error : uint32_t {
   kBusyStart = 6,      // START while a frame runs
   kBusyReset = 7,      // RESET while a frame runs (a frame cannot be aborted)
   kBadStructure = 8,   // the image's acceleration structure is not what the traversal units walk
+  // At a frame's end: the memory does not hold a readable image (an index outside its section,
+  // a walk deeper than its stack or longer than the tree; model/units/image_faults.h). The
+  // frame ended all the same, its faulting rays as misses; statistics faults.* count them.
+  kBadImage = 9,
 };
 
 }  // namespace rtsim::model::regs

@@ -4,6 +4,18 @@
 
 namespace rtsim::model {
 
+namespace {
+
+// Every BVH format numbers a node's inner children after it (pre-order, or cwbvh8's
+// breadth-first records; docs/memory-image.md): a child at or before its parent is not an image.
+bool children_after(const BvhNodeView& n, uint32_t node) {
+  for (uint32_t i = 0; i < n.count; ++i)
+    if (!n.leaf[i] && n.ref[i] <= node) return false;
+  return true;
+}
+
+}  // namespace
+
 BvhUnit::BvhUnit(sc_core::sc_module_name name, const ModelContext& ctx, const UnitTypeConfig& cfg,
                  const BvhWalkConfig& walk, uint32_t index)
     : TraversalUnit(name, ctx, cfg, index, "bvh"),
@@ -66,6 +78,7 @@ void BvhUnit::process(uint32_t id, Tick now) {
     t.on_chip = 0;
     t.leaf_next = false;
     t.node_chunk = 0;
+    t.steps = 0;
     ++stats_.rays_started;
     const bool any_hit = r.info.type == RayType::kShadow;
     if (!bvh_traversal_begin(t.bvh, r.info.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps,
@@ -94,6 +107,10 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
   const uint32_t chunk = 2 * l1().line_bytes();  // what one operation reads: two L1 lines
   const uint32_t chunks = (node_bytes + chunk - 1) / chunk;
   const uint32_t op = t.node_chunk;
+  if (op == 0 && !fetchable(id, walk.node, now + ctx_.clock.cycles(latency_), now)) {
+    ++stats_.rays_done;
+    return;
+  }
   if (op < chunks) {
     const uint32_t offset = op * chunk;
     const uint64_t addr = h.nodes.base + uint64_t(walk.node) * node_bytes + offset;
@@ -118,8 +135,16 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
   }
   t.node_chunk = 0;
   ++stats_.node_fetches;
+  ++t.steps;
   stats_.box_tests += node.count;
+  const uint32_t parent = walk.node;  // the step moves it on
   const TraversalStep step = bvh_traversal_node(walk, r.ist.result, node);
+  if (step == TraversalStep::kFault || !children_after(node, parent)) {
+    ++stats_.rays_done;
+    const ImageFault f =
+        step == TraversalStep::kFault ? ImageFault::kStackOverflow : ImageFault::kNodeIndex;
+    return walk_fault(id, f, now + ctx_.clock.cycles(latency_), now);
+  }
   // The nearest hit child goes straight on; the other hit children go on the stack. Without a
   // hit child the ray pops (skipping entries beyond its best hit).
   Tick extra = 0;
@@ -137,6 +162,7 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
       emit(to_list, id, done_at, now);
       break;
     case TraversalStep::kDone:
+    case TraversalStep::kFault:  // handled above
       ++stats_.rays_done;
       emit(to_shading, id, done_at, now);
       break;

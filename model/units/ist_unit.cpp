@@ -19,6 +19,10 @@ void IstUnit::admitted(uint32_t ray) {
 void IstUnit::process(uint32_t id, Tick now) {
   RayState& r = ray_state(id);
   IstState& s = r.ist;
+  if (!r.faulted && r.list.tris[s.tests_issued] >= ctx_.header.triangles.count)
+    fault(id, ImageFault::kTriangleIndex);
+  if (r.faulted)  // the image is unreadable (here or in LIST): no more tests, the walk is over
+    return emit(to_shading, id, std::max(s.leaf_done_at, now + ctx_.clock.period()), now);
   const RayWalk& walk = r.trv.leaf_walk(ctx_.bvh);
   if (s.tests_issued == 0) s.leaf_ray = traversal_leaf_ray(walk, s.result);
   const uint32_t tri = r.list.tris[s.tests_issued];

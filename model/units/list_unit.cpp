@@ -18,13 +18,17 @@ void ListUnit::process(uint32_t id, Tick now) {
   ListState& l = r.list;
   const image::Header& h = ctx_.header;
   if (l.prim_count == 0) {  // first the leaf record (a non-empty leaf's)
-    const uint64_t addr =
-        h.leaves.base + uint64_t(r.trv.leaf_walk(ctx_.bvh).leaf) * image::kLeafBytes;
+    const uint32_t index = r.trv.leaf_walk(ctx_.bvh).leaf;
+    if (index >= h.leaves.count) return fault_out(id, ImageFault::kLeafIndex, now);
+    const uint64_t addr = h.leaves.base + uint64_t(index) * image::kLeafBytes;
     uint8_t bytes[image::kLeafBytes];
     const Tick ready = load(l1(), id, addr, image::kLeafBytes, bytes, now);
     if (ready == kUnknown) return;
     const image::LeafRecord leaf = image::decode_leaf(bytes);
     ++stats_.leaves;
+    // The walk sends a ray to non-empty leaves only; the list must lie in its section.
+    if (leaf.prim_count == 0 || uint64_t(leaf.prim_offset) + leaf.prim_count > h.prims.count)
+      return fault_out(id, ImageFault::kPrimRange, now);
     l.prim_offset = leaf.prim_offset;
     l.prim_count = leaf.prim_count;
     l.leaf_lvb = leaf.lvb;  // the LVB updater takes it when a hit here becomes the closest
@@ -51,6 +55,11 @@ void ListUnit::process(uint32_t id, Tick now) {
     keep(id, done_at);
   else
     emit(to_ist, id, done_at, now);
+}
+
+void ListUnit::fault_out(uint32_t id, ImageFault f, Tick now) {
+  fault(id, f);
+  emit(to_ist, id, now + ctx_.clock.cycles(latency_), now);  // IST passes it on to shading
 }
 
 void ListUnit::register_stats(StatsRegistry& r, const std::string& prefix) const {

@@ -37,6 +37,9 @@ class ListUnit : public RayUnit {
   void admitted(uint32_t ray) override;
 
  private:
+  // The ray met memory that is not an image: it goes on with no triangles to test.
+  void fault_out(uint32_t id, ImageFault f, Tick now);
+
   uint32_t latency_;
   ListStats stats_;
 };

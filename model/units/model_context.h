@@ -4,6 +4,7 @@
 
 #include "kernels/memory_image.h"
 #include "model/sim/time.h"
+#include "model/units/image_faults.h"
 #include "model/units/ray_state.h"
 
 namespace rtsim::model {
@@ -13,6 +14,7 @@ class Calendar;
 struct ModelContext {
   Calendar* calendar = nullptr;  // the accelerator's calendar
   RayPool* pool = nullptr;
+  ImageFaultStats* faults = nullptr;  // what the units found unreadable (the accelerator's)
   image::Header header;
   bool bvh = false;  // the image holds a BVH (header.accel): the traversal units walk it
   Clock clock;

@@ -58,6 +58,7 @@ struct TrvState {
   uint16_t on_chip = 0;
   bool leaf_next = false;
   uint8_t node_chunk = 0;  // the part of a wide node its next operation fetches
+  uint32_t steps = 0;      // nodes fetched by this walk: a legal one fetches each at most once
   BvhTraversalState bvh;   // its stack lives in the BVH unit
   TraversalState walk;     // last: its stack ends the ray's state
   // What the leaf's intersection tests read, whichever structure the ray walks.
@@ -95,6 +96,9 @@ struct ShadingState {
 // lines; the traversal stack, of which a step reads only the top, comes last.
 struct alignas(64) RayState {
   RayInfo info;
+  // Set by the stage that found the image unreadable (model/units/image_faults.h): the ray's
+  // walk is over and shading retires it as a miss.
+  bool faulted = false;
   IstState ist;
   ListState list;
   ShadingState shading;
@@ -125,6 +129,7 @@ class RayPool {
   void renew(uint32_t id, const RayInfo& info) {
     RayState& r = rays_[id];
     r.info = info;
+    r.faulted = false;
     r.ist.result = traversal_result_begin(info.ray);
     r.ist.lvb = 0;
   }

@@ -223,6 +223,11 @@ class RayUnit : public Unit, public FillListener {
     }
     blocked_ = {sink, ray, when};
   }
+  // The ray met memory that is not an image: counted, and marked to end as a miss.
+  void fault(uint32_t ray, ImageFault f) {
+    ray_state(ray).faulted = true;
+    if (ctx_.faults) ctx_.faults->note(f);
+  }
   // The ray leaves this unit by another way (handed back to its owner, or retired).
   void release() { --held_; }
   // A ray comes back into this unit by another way than the input FIFO.

@@ -22,7 +22,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   RayState& r = ray_state(id);
   if (r.info.type == RayType::kShadow) return shadow_done(id, now);
   const TraversalResult& result = r.ist.result;
-  if (!result.found) {
+  if (!result.found || r.faulted) {  // a ray that met an unreadable image ends as a miss
     ++(r.info.type == RayType::kPrimary ? stats_.primary_rays : stats_.reflection_rays);
     return retire(id, r.info.type, now);
   }
@@ -43,6 +43,10 @@ void ShadingUnit::process(uint32_t id, Tick now) {
   if (records.size() > 0 && records->full()) {
     return hold_back(id);  // its record needs an entry: the unit stalls
   }
+  if (s.material >= h.materials.count) {
+    fault(id, ImageFault::kMaterialIndex);
+    return process(id, now);  // a miss
+  }
   const uint64_t addr = h.materials.base + uint64_t(s.material) * image::kMaterialBytes;
   uint8_t bytes[image::kMaterialBytes];
   const Tick ready = load(l1(), id, addr, image::kMaterialBytes, bytes, now);
@@ -53,7 +57,7 @@ void ShadingUnit::process(uint32_t id, Tick now) {
 void ShadingUnit::shadow_done(uint32_t id, Tick now) {
   const RayInfo& info = ray_state(id).info;
   ++stats_.shadow_rays;
-  if (ray_state(id).ist.result.found) {
+  if (ray_state(id).ist.result.found && !ray_state(id).faulted) {
     if (ctx_.light_samples[info.light] > 1)
       frame_->set_sample_occluded(info.entry, info.light, info.sample);
     else

@@ -49,6 +49,21 @@ class TraversalUnit : public RayUnit, public RayOwner {
     t.started = false;
     owned(ray);
   }
+  // The ray met memory that is not an image: its walk ends at `when`, and shading retires it as
+  // a miss.
+  void walk_fault(uint32_t ray, ImageFault f, Tick when, Tick now) {
+    fault(ray, f);
+    emit(to_shading, ray, when, now);
+  }
+  // Whether the ray's walk may fetch `node` next: inside the nodes section, and not more steps
+  // than the tree has nodes (a legal walk fetches each node at most once; more is a cycle of
+  // corrupt pointers, which would keep the ray moving for ever). Else its walk ends at `when`.
+  bool fetchable(uint32_t ray, uint32_t node, Tick when, Tick now) {
+    const uint32_t nodes = ctx_.header.nodes.count;
+    if (node < nodes && ray_state(ray).trv.steps < nodes) return true;
+    walk_fault(ray, node >= nodes ? ImageFault::kNodeIndex : ImageFault::kStepBound, when, now);
+    return false;
+  }
   // A subclass's part of admitting and releasing a ray.
   virtual void owned(uint32_t) {}
   virtual void released(uint32_t) {}

@@ -18,6 +18,7 @@ void TrvUnit::process(uint32_t id, Tick now) {
   TraversalState& walk = r.trv.walk;
   if (!r.trv.started) {
     r.trv.started = true;
+    r.trv.steps = 0;
     ++stats_.rays_started;
     const bool any_hit = r.info.type == RayType::kShadow;
     if (!traversal_begin(walk, r.info.ray, any_hit, ctx_.header.bounds, ctx_.abs_eps)) {
@@ -26,19 +27,34 @@ void TrvUnit::process(uint32_t id, Tick now) {
       return;
     }
   }
+  if (!fetchable(id, walk.node, now + ctx_.clock.cycles(latency_), now)) {
+    ++stats_.rays_done;
+    return;
+  }
   const uint64_t addr = ctx_.header.nodes.base + uint64_t(walk.node) * image::kNodeBytes;
   uint8_t bytes[image::kNodeBytes];
   const Tick ready = load(l1(), id, addr, image::kNodeBytes, bytes, now);
   if (ready == kUnknown) return;  // parked: the fetch counts when the node is read
   ++stats_.node_fetches;
-  const TraversalStep step = traversal_node(walk, r.ist.result, image::decode_node(bytes));
+  ++r.trv.steps;
+  const KdNode node = image::decode_node(bytes);
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);
+  // Nodes are stored depth first (docs/memory-image.md): a child lies after its parent.
+  if (!node.is_leaf() && node.above_child() <= walk.node) {
+    ++stats_.rays_done;
+    return walk_fault(id, ImageFault::kNodeIndex, done_at, now);
+  }
+  const TraversalStep step = traversal_node(walk, r.ist.result, node);
   switch (step) {
     case TraversalStep::kFetchNode: keep(id, done_at); break;
     case TraversalStep::kLeaf: emit(to_list, id, done_at, now); break;
     case TraversalStep::kDone:
       ++stats_.rays_done;
       emit(to_shading, id, done_at, now);
+      break;
+    case TraversalStep::kFault:
+      ++stats_.rays_done;
+      walk_fault(id, ImageFault::kStackOverflow, done_at, now);
       break;
   }
 }

@@ -202,7 +202,7 @@ inline bool walk_to_leaf(const MemoryImage& image, RayState& r, float abs_eps,
   for (;;) {
     const TraversalStep step = traversal_node(walk, r.ist.result, image.node(walk.node));
     if (step == TraversalStep::kLeaf) return true;
-    if (step == TraversalStep::kDone) return false;
+    if (step == TraversalStep::kDone || step == TraversalStep::kFault) return false;
   }
 }
 
