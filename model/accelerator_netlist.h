@@ -82,7 +82,7 @@ struct Accelerator::Netlist : FrameEngine {
   AcceleratorConfig cfg;
   FrameJob job;  // the frame running or last run
   RayPool pool;
-  ImageFaultStats faults;      // every frame's, since elaboration
+  ImageFaultStats faults;      // the statistics' window's (SimulationHooks::statistics)
   uint64_t faults_before = 0;  // their total when the frame running or last run began
   ModelContext ctx;
   FrameBuffer frame;

@@ -2,7 +2,7 @@
 // that went elsewhere, a corrupt node): each unit checks what it reads against the header's
 // section counts, as hardware would, and a ray that meets a fault ends as a miss, so the frame
 // drains and ends. The device latches a frame's faults into STATUS (regs::kBadImage); the counts
-// are statistics `faults.<kind>` (every frame since elaboration).
+// are statistics `faults.<kind>` (the frame's, or every frame's: SimulationHooks::statistics).
 #pragma once
 
 #include <cstdint>

@@ -3,10 +3,10 @@
 // nodes, a BVH's child past its section). Each frame must end, in bounded time, with STATUS
 // error kBadImage, the interrupt, every transaction complete under the protocol checker, and
 // the faults counted by name; nothing may be thrown past SystemC.
+#include "config_loader/hw_config.h"
 #include "kernels/bvh.h"
 #include "model/accelerator.h"
 #include "model/device/device_driver.h"
-#include "testbench/hw_config.h"
 #include "tests/model/city_frame.h"
 #include "tests/model/memory/tlm_target_styles.h"
 
