@@ -23,17 +23,18 @@ struct MemoryPort::Transaction : tlm::tlm_generic_payload {
 };
 
 MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
-                       const Clock& clock, Calendar& calendar, bool loosely_timed)
+                       const Clock& clock, Calendar& calendar, PortTarget target)
     : sc_core::sc_module(name),
       socket("socket"),
       line_bytes_(line_bytes),
       channels_(mapping.channels),
       mapping_(mapping.address_mapping, mapping.channels),
       clock_(clock),
-      calendar_(calendar) {
+      calendar_(calendar),
+      in_time_order_(target != PortTarget::kOwnCalendar) {
   socket.register_nb_transport_bw(this, &MemoryPort::nb_transport_bw);
   socket.register_invalidate_direct_mem_ptr(this, &MemoryPort::invalidate_direct_mem_ptr);
-  if (loosely_timed)
+  if (target == PortTarget::kLooselyTimed)
     lt_ = std::make_unique<LooselyTimedPath>(
         basename(), [this] { return socket.operator->(); },
         [this](tlm::tlm_generic_payload& p, Tick at) {
@@ -95,21 +96,40 @@ void MemoryPort::write_line(uint64_t line_addr, const uint8_t* data, Tick now,
 }
 
 void MemoryPort::send(Transaction* t) {
-  if (open_ || !held_.empty()) {
-    ++stats_.refused;
-    held_.push_back(t);
-    return;
-  }
-  send_now(t);
+  // A platform's memory gets its requests in time order (issue 39): they are made in calendar
+  // order, but each reaches memory its requester's latency later, so one made later may arrive
+  // earlier. Each waits here until the calendar reaches its arrival (none is made for a time
+  // before the calendar's now). Our GDDR3 orders them by arrival itself: due when made.
+  const Tick now = calendar_.now();
+  const Tick due = in_time_order_ ? t->requested : now;
+  if (!open_ && requests_.empty() && due <= now) return send_now(t, due);
+  requests_.push({due, t->order, t});
+  // (an open request's END_REQ, or an activation already armed for the requests ahead, sends it)
+  if (in_time_order_ && !open_) calendar_.schedule(this, due);
 }
 
-void MemoryPort::send_now(Transaction* t) {
+void MemoryPort::send_due() {
+  const Tick now = calendar_.now();
+  while (!open_ && !requests_.empty() && requests_.top().when <= now) {
+    const Queued q = requests_.top();
+    requests_.pop();
+    send_now(q.t, q.when);
+  }
+  if (!open_ && !requests_.empty()) calendar_.schedule(this, requests_.top().when);
+}
+
+void MemoryPort::send_now(Transaction* t, Tick due) {
   const Tick now = calendar_.now();
   const TimeBase& time = calendar_.time();
+  if (now > due) ++stats_.refused;  // it waited for the request channel
   Tick at = std::max(t->requested, now);
   if (lt_) return lt_->send(*t, now, at, time);  // no phases, no exclusion rules
-  // The request channel: not while the target is still taking the previous request
-  if (at >= taking_.from && at < taking_.until) at = taking_.until;
+  // The request channel: not before the target has taken the previous request. In time order
+  // that window began at or before `at`; our GDDR3 may get a request timed before it.
+  if (in_time_order_)
+    at = std::max(at, taking_.until);
+  else if (at >= taking_.from && at < taking_.until)
+    at = taking_.until;
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
   sc_core::sc_time delay = time.to_sc_time(at - now);
   // Open before the call: a target may send END_REQ or BEGIN_RESP back inside it.
@@ -152,7 +172,8 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
   if (&p == open_ && (phase == tlm::END_REQ || phase == tlm::BEGIN_RESP)) {
     open_ = nullptr;
     taking_ = {open_at_, at};
-    if (!held_.empty()) calendar_.schedule(this, clock_.edge_at_or_after(at));
+    if (!requests_.empty())
+      calendar_.schedule(this, std::max(clock_.edge_at_or_after(at), requests_.top().when));
   }
   if (phase != tlm::BEGIN_RESP) return tlm::TLM_ACCEPTED;
   response(static_cast<Transaction*>(&p), at, true);
@@ -212,11 +233,7 @@ void MemoryPort::activate() {
     responses_.pop();
     deliver(t);
   }
-  while (!open_ && !held_.empty()) {
-    Transaction* t = held_.front();
-    held_.pop_front();
-    send_now(t);
-  }
+  send_due();
   if (!responses_.empty()) calendar_.schedule(this, responses_.top().when);
 }
 
