@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 namespace rtsim::model {
 
@@ -170,6 +171,7 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
   // END_REQ, or a response to the open request (the base protocol's implicit END_REQ), frees the
   // request channel from its time on.
   if (&p == open_ && (phase == tlm::END_REQ || phase == tlm::BEGIN_RESP)) {
+    if (phase == tlm::BEGIN_RESP) warn_serialised();
     open_ = nullptr;
     taking_ = {open_at_, at};
     if (!requests_.empty())
@@ -181,6 +183,22 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
   // target that waits for END_RESP before its next response (DRAMSys's arbiter) needs.
   phase = tlm::END_RESP;
   return tlm::TLM_UPDATED;
+}
+
+// Accellera's nb-to-b adapter (simple_target_socket on a target that registered only
+// b_transport) ends each request with its response: the model then runs one access at a time, ~19x
+// slower on the city (docs/systemc-integration.md), with nothing else to show for it.
+void MemoryPort::warn_serialised() {
+  if (std::exchange(warned_serialised_, true)) return;
+  report_warning(
+      kReportSerialised,
+      std::string(name()) +
+          ": the memory ended a request only with its response (BEGIN_RESP with no END_REQ), as "
+          "simple_target_socket's nb-to-b adapter does for a target with only b_transport; while "
+          "it does so, requests are serialised (one transaction at a time), so the frame's cycles "
+          "include every access's full latency back to back. Attach a loosely-timed memory with "
+          "MemoryTarget::kLooselyTimed: its calls overlap (docs/systemc-integration.md, "
+          "\"Loosely-timed memories\"). Reported once.");
 }
 
 void MemoryPort::invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 end) {

@@ -154,6 +154,7 @@ class MemoryPort : public sc_core::sc_module,
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 end);
+  void warn_serialised();  // a request ended only by its response
   // A response arrived (at `at`); from the target's own call (nb_transport_bw), it may be handed
   // over at once (above).
   void response(Transaction* t, Tick at, bool may_deliver_now);
@@ -183,6 +184,7 @@ class MemoryPort : public sc_core::sc_module,
   uint64_t requests_made_ = 0;
   const Transaction* delivering_ = nullptr;  // the response being handed over
   bool sending_ = false;                     // inside a call of the target's nb_transport_fw
+  bool warned_serialised_ = false;           // rtsim/serialised, once
   std::unique_ptr<LooselyTimedPath> lt_;     // to a loosely-timed memory
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;

@@ -5,6 +5,7 @@
 // accelerators run side by side in one simulation (SystemC elaborates once per process), and
 // each alone in a child process: the same cycles.
 #include "model/accelerator.h"
+#include "model/sim/report.h"
 #include "tests/model/city_frame.h"
 #include "tests/model/memory/tlm_target_styles.h"
 
@@ -43,7 +44,10 @@ const Style kStyles[] = {
     {"at_fixed", TargetStyle::kEndReqDelay, 0, false},  // END_REQ at once: the LT runs' twin
     {"lt", TargetStyle::kLooselyTimed, 0, true},
     {"lt_dmi", TargetStyle::kLooselyTimedDmi, 0, true},
-    {"lt_waits", TargetStyle::kLooselyTimedWaits, 0, true}};
+    {"lt_waits", TargetStyle::kLooselyTimedWaits, 0, true},
+    // The LT memory bound as an AT one: simple_target_socket's nb-to-b adapter ends each request
+    // only with its response, so one transaction is in flight (rtsim/serialised says so)
+    {"lt_adapter", TargetStyle::kLooselyTimed, 0, false}};
 
 struct Styled {
   std::string name;
@@ -90,6 +94,7 @@ uint64_t alone(const Style& st, const test::CityFrame& city, double resolution_p
 
 struct Run {
   Run() : city(kW, kH) {
+    test::ExpectReports serialised({model::kReportSerialised});  // lt_adapter's
     for (const Style& st : kStyles) {
       cycles_alone.push_back(alone(st, city));
       if (st.name == std::string("at_fixed") || st.name == std::string("lt_waits"))
@@ -98,6 +103,7 @@ struct Run {
     sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
     for (const Style& st : kStyles) runs.push_back(build(st, city));
     test::simulate();
+    serialised_warnings = sc_core::sc_report_handler::get_count(model::kReportSerialised);
     for (Styled& s : runs) {
       s.result = s.accelerator->result();
       std::printf("%s: %llu cycles\n", s.name.c_str(), (unsigned long long)s.result.cycles_total);
@@ -112,6 +118,7 @@ struct Run {
   std::vector<Styled> runs;
   std::vector<uint64_t> cycles_alone;   // by style, each accelerator simulated alone
   std::vector<uint64_t> cycles_at_1ns;  // at_fixed and lt_waits alone at a 1 ns resolution
+  int serialised_warnings = 0;          // rtsim/serialised reports in this process
 };
 
 const Run& run() {
@@ -213,6 +220,18 @@ TEST(TargetStyles, ALooselyTimedMemoryRunsAtFullSpeed) {
   EXPECT_GT(stat(run().of("lt"), "port", "lt_threads"), 1u);
   EXPECT_GT(stat(run().of("lt_waits"), "port", "lt_threads"), 1u);
   EXPECT_EQ(stat(run().of("lt"), "port", "dmi_accesses"), 0u);
+}
+
+// An LT memory behind Accellera's adapter runs one access at a time, and the port says so once
+// for the accelerator (not once per request); no other style is serialised.
+TEST(TargetStyles, AnLtMemoryBehindTheAdapterIsSerialisedAndWarnedOnce) {
+  expect_clean("lt_adapter");
+  const uint64_t adapter = run().of("lt_adapter").result.cycles_total;
+  const uint64_t lt = run().of("lt").result.cycles_total;
+  std::printf("lt_adapter %llu / lt %llu = %.1fx\n", (unsigned long long)adapter,
+              (unsigned long long)lt, double(adapter) / double(lt));
+  EXPECT_GT(adapter, 10 * lt);
+  EXPECT_EQ(run().serialised_warnings, 1);
 }
 
 TEST(TargetStyles, DmiReadsAndWritesStayTimed) {
