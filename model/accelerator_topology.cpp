@@ -38,7 +38,9 @@ MemoryTopology memory_topology(const AcceleratorConfig& cfg, MemoryTarget target
   m.memory_link = cfg.memory_link;
   m.write_buffer = cfg.write_buffer;
   m.dram = cfg.memory_dram();
-  m.loosely_timed_memory = target == MemoryTarget::kLooselyTimed;
+  m.memory_target = target == MemoryTarget::kBuiltin        ? PortTarget::kOwnCalendar
+                    : target == MemoryTarget::kLooselyTimed ? PortTarget::kLooselyTimed
+                                                            : PortTarget::kPlatform;
   for (uint32_t s = 0; s < cfg.shading.count; ++s)
     m.writers.push_back("shading" + std::to_string(s));
   m.reader = "culling";

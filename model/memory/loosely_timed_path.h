@@ -1,10 +1,11 @@
 // The memory port's way to a loosely-timed memory: a target that implements b_transport (and
 // maybe DMI) and nothing of nb_transport. Accellera's adapter would turn each BEGIN_REQ into a
 // b_transport call and end the request only with its response, so one transaction would be in
-// flight; here every request is a b_transport call of its own, made at once with the request's
-// time as its annotated delay (temporal decoupling), from a thread of a pool (a target may call
-// wait() inside b_transport), so as many are in flight as the model issues. A call's response
-// time is the kernel's time when it returns plus the delay it returns.
+// flight; here every request is a b_transport call of its own, from a thread of a pool (a target
+// may call wait() inside b_transport), so as many are in flight as the model issues. The port
+// sends requests in time order, each when it reaches memory (model/memory/memory_port.h), so the
+// calls' annotated times (the kernel's time plus the delay, `at` - `now`) never go back. A call's
+// response time is the kernel's time when it returns plus the delay it returns.
 //
 // DMI: a target that sets the payload's DMI hint after a b_transport is asked for a DMI region;
 // later reads (writes) inside a region with read (write) access copy the bytes through its

@@ -73,9 +73,9 @@ MemoryInterconnect::MemoryInterconnect(sc_core::sc_module_name name, const LinkC
                                        Calendar& calendar, uint32_t l2_banks,
                                        const std::vector<std::string>& writers,
                                        const std::string& reader, uint32_t write_buffer,
-                                       bool loosely_timed)
+                                       PortTarget target)
     : sc_core::sc_module(name),
-      port_("port", dram.request_bytes, dram, clock, calendar, loosely_timed),
+      port_("port", dram.request_bytes, dram, clock, calendar, target),
       icnt_("icnt", link, clock, l2_banks + uint32_t(writers.size()) + 1, port_.port_count()),
       line_bytes_(dram.request_bytes) {
   const uint32_t reader_source = l2_banks + uint32_t(writers.size());

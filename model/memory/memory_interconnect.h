@@ -29,11 +29,11 @@ class MemoryInterconnect : public sc_core::sc_module {
   // `l2_banks` crossbar sources for the L2s (numbered as the caller assigns them), then one per
   // writer, then the reader. Every transaction is one `dram.request_bytes` line. Writer `s` is
   // `writers[s]` in the memory trace, with `write_buffer` writes in flight at most (0:
-  // unbounded); the reader is `reader`. `loosely_timed`: the memory implements b_transport only.
+  // unbounded); the reader is `reader`. `target`: what the memory port is bound to.
   MemoryInterconnect(sc_core::sc_module_name name, const LinkConfig& link, const DramConfig& dram,
                      const Clock& clock, Calendar& calendar, uint32_t l2_banks,
                      const std::vector<std::string>& writers, const std::string& reader,
-                     uint32_t write_buffer = 0, bool loosely_timed = false);
+                     uint32_t write_buffer = 0, PortTarget target = PortTarget::kPlatform);
   ~MemoryInterconnect() override;
 
   // The way to memory of an L2 of `banks` banks (its bank b on crossbar source first_source + b);

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <utility>
 
 namespace rtsim::model {
 
@@ -23,17 +24,18 @@ struct MemoryPort::Transaction : tlm::tlm_generic_payload {
 };
 
 MemoryPort::MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
-                       const Clock& clock, Calendar& calendar, bool loosely_timed)
+                       const Clock& clock, Calendar& calendar, PortTarget target)
     : sc_core::sc_module(name),
       socket("socket"),
       line_bytes_(line_bytes),
       channels_(mapping.channels),
       mapping_(mapping.address_mapping, mapping.channels),
       clock_(clock),
-      calendar_(calendar) {
+      calendar_(calendar),
+      in_time_order_(target != PortTarget::kOwnCalendar) {
   socket.register_nb_transport_bw(this, &MemoryPort::nb_transport_bw);
   socket.register_invalidate_direct_mem_ptr(this, &MemoryPort::invalidate_direct_mem_ptr);
-  if (loosely_timed)
+  if (target == PortTarget::kLooselyTimed)
     lt_ = std::make_unique<LooselyTimedPath>(
         basename(), [this] { return socket.operator->(); },
         [this](tlm::tlm_generic_payload& p, Tick at) {
@@ -95,21 +97,40 @@ void MemoryPort::write_line(uint64_t line_addr, const uint8_t* data, Tick now,
 }
 
 void MemoryPort::send(Transaction* t) {
-  if (open_ || !held_.empty()) {
-    ++stats_.refused;
-    held_.push_back(t);
-    return;
-  }
-  send_now(t);
+  // A platform's memory gets its requests in time order (issue 39): they are made in calendar
+  // order, but each reaches memory its requester's latency later, so one made later may arrive
+  // earlier. Each waits here until the calendar reaches its arrival (none is made for a time
+  // before the calendar's now). Our GDDR3 orders them by arrival itself: due when made.
+  const Tick now = calendar_.now();
+  const Tick due = in_time_order_ ? t->requested : now;
+  if (!open_ && requests_.empty() && due <= now) return send_now(t, due);
+  requests_.push({due, t->order, t});
+  // (an open request's END_REQ, or an activation already armed for the requests ahead, sends it)
+  if (in_time_order_ && !open_) calendar_.schedule(this, due);
 }
 
-void MemoryPort::send_now(Transaction* t) {
+void MemoryPort::send_due() {
+  const Tick now = calendar_.now();
+  while (!open_ && !requests_.empty() && requests_.top().when <= now) {
+    const Queued q = requests_.top();
+    requests_.pop();
+    send_now(q.t, q.when);
+  }
+  if (!open_ && !requests_.empty()) calendar_.schedule(this, requests_.top().when);
+}
+
+void MemoryPort::send_now(Transaction* t, Tick due) {
   const Tick now = calendar_.now();
   const TimeBase& time = calendar_.time();
+  if (now > due) ++stats_.refused;  // it waited for the request channel
   Tick at = std::max(t->requested, now);
   if (lt_) return lt_->send(*t, now, at, time);  // no phases, no exclusion rules
-  // The request channel: not while the target is still taking the previous request
-  if (at >= taking_.from && at < taking_.until) at = taking_.until;
+  // The request channel: not before the target has taken the previous request. In time order
+  // that window began at or before `at`; our GDDR3 may get a request timed before it.
+  if (in_time_order_)
+    at = std::max(at, taking_.until);
+  else if (at >= taking_.from && at < taking_.until)
+    at = taking_.until;
   tlm::tlm_phase phase = tlm::BEGIN_REQ;
   sc_core::sc_time delay = time.to_sc_time(at - now);
   // Open before the call: a target may send END_REQ or BEGIN_RESP back inside it.
@@ -150,9 +171,11 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
   // END_REQ, or a response to the open request (the base protocol's implicit END_REQ), frees the
   // request channel from its time on.
   if (&p == open_ && (phase == tlm::END_REQ || phase == tlm::BEGIN_RESP)) {
+    if (phase == tlm::BEGIN_RESP) warn_serialised();
     open_ = nullptr;
     taking_ = {open_at_, at};
-    if (!held_.empty()) calendar_.schedule(this, clock_.edge_at_or_after(at));
+    if (!requests_.empty())
+      calendar_.schedule(this, std::max(clock_.edge_at_or_after(at), requests_.top().when));
   }
   if (phase != tlm::BEGIN_RESP) return tlm::TLM_ACCEPTED;
   response(static_cast<Transaction*>(&p), at, true);
@@ -160,6 +183,22 @@ tlm::tlm_sync_enum MemoryPort::nb_transport_bw(tlm::tlm_generic_payload& p, tlm:
   // target that waits for END_RESP before its next response (DRAMSys's arbiter) needs.
   phase = tlm::END_RESP;
   return tlm::TLM_UPDATED;
+}
+
+// Accellera's nb-to-b adapter (simple_target_socket on a target that registered only
+// b_transport) ends each request with its response: the model then runs one access at a time, ~19x
+// slower on the city (docs/systemc-integration.md), with nothing else to show for it.
+void MemoryPort::warn_serialised() {
+  if (std::exchange(warned_serialised_, true)) return;
+  report_warning(
+      kReportSerialised,
+      std::string(name()) +
+          ": the memory ended a request only with its response (BEGIN_RESP with no END_REQ), as "
+          "simple_target_socket's nb-to-b adapter does for a target with only b_transport; while "
+          "it does so, requests are serialised (one transaction at a time), so the frame's cycles "
+          "include every access's full latency back to back. Attach a loosely-timed memory with "
+          "MemoryTarget::kLooselyTimed: its calls overlap (docs/systemc-integration.md, "
+          "\"Loosely-timed memories\"). Reported once.");
 }
 
 void MemoryPort::invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 end) {
@@ -212,11 +251,7 @@ void MemoryPort::activate() {
     responses_.pop();
     deliver(t);
   }
-  while (!open_ && !held_.empty()) {
-    Transaction* t = held_.front();
-    held_.pop_front();
-    send_now(t);
-  }
+  send_due();
   if (!responses_.empty()) calendar_.schedule(this, responses_.top().when);
 }
 

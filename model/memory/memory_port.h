@@ -6,10 +6,17 @@
 // sent with BEGIN_REQ and a delay annotation = the time it arrives at memory minus now (delays
 // are counted from the calendar's time, which is the kernel's at every accelerator edge). The
 // port follows the base protocol with every legal target (IEEE 1666-2011, 15.2):
-//  - requests: TLM_ACCEPTED holds further requests back until END_REQ (they wait here, in order,
-//    and go at the first accelerator clock edge at or after it); END_REQ returned with TLM_UPDATED
-//    and a delay, or sent with one, frees the request channel from that time on: the next BEGIN_REQ
-//    is annotated not to arrive before it. A BEGIN_RESP stands for a missing END_REQ.
+//  - time order: a platform's memory gets its requests in the order they reach memory (then the
+//    order they were made), each sent when the calendar reaches that time, so every BEGIN_REQ
+//    (b_transport call) is timed at or after the previous one, as a target that trusts annotations
+//    (a PEQ) needs. A request made later may arrive earlier (a shorter latency ahead of it), so
+//    sending as made would not do that. Our GDDR3 (PortTarget::kOwnCalendar) orders requests by
+//    their arrival itself: each is sent as it is made, annotated with its arrival.
+//  - requests: TLM_ACCEPTED holds further requests back until END_REQ (they wait here and go at
+//    the first accelerator clock edge at or after it); END_REQ returned with TLM_UPDATED and a
+//    delay, or sent with one, frees the request channel from that time on: the next BEGIN_REQ is
+//    annotated not to arrive before it. A BEGIN_RESP stands for a missing END_REQ; a request
+//    answered with its response in the call was taken at its own time.
 //  - responses: a BEGIN_RESP on the backward path is answered TLM_UPDATED with END_RESP (taken
 //    at once, at its time), so a target that waits for END_RESP before its next response goes
 //    on; an early completion (BEGIN_REQ answered TLM_UPDATED with BEGIN_RESP) gets its END_RESP
@@ -31,7 +38,7 @@
 // so nothing is read outside a response and no target needs the debug transport).
 //
 // Statistics: reads, writes, latency_cycles (sum over reads, request to response), refused
-// (BEGIN_REQs held back by the target).
+// (requests sent after they were due: held back by the target).
 #pragma once
 
 #include "model/memory/dram_config.h"
@@ -48,7 +55,6 @@
 #include <tlm>
 
 #include <cstdint>
-#include <deque>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -57,6 +63,14 @@
 #include <vector>
 
 namespace rtsim::model {
+
+// What the port's socket is bound to.
+enum class PortTarget {
+  kPlatform,      // a platform's memory, nb_transport: requests in time order
+  kLooselyTimed,  // a platform's b_transport-only memory (loosely_timed_path.h): the same
+  kOwnCalendar,   // the built-in GDDR3, a block of this calendar that orders requests by their
+                  // arrival itself: each is sent as it is made (its figures, the goldens)
+};
 
 struct MemoryPortStats {
   uint64_t reads = 0, writes = 0, refused = 0;
@@ -95,9 +109,9 @@ class MemoryPort : public sc_core::sc_module,
 
   // `line_bytes`: the size of every transaction; `mapping`: the memory's channel decode (the
   // crossbar's destination ports); `clock`: the accelerator's, on whose edges responses land;
-  // `loosely_timed`: the target implements b_transport only (model/memory/loosely_timed_path.h).
+  // `target`: what the socket is bound to.
   MemoryPort(sc_core::sc_module_name name, uint32_t line_bytes, const DramConfig& mapping,
-             const Clock& clock, Calendar& calendar, bool loosely_timed = false);
+             const Clock& clock, Calendar& calendar, PortTarget target = PortTarget::kPlatform);
   ~MemoryPort() override;
 
   Tick fetch_line(uint64_t line_addr, Tick now, FillListener* listener, uint64_t cookie) override;
@@ -124,21 +138,24 @@ class MemoryPort : public sc_core::sc_module,
 
  private:
   struct Transaction;
-  struct Response {
+  struct Queued {  // a request waiting for its time, or a response for its edge
     Tick when;
-    uint64_t order;  // the request's: what lands on one edge goes in request order
+    uint64_t order;  // the request's: what falls at one time goes in request order
     Transaction* t;
-    bool operator>(const Response& o) const {
+    bool operator>(const Queued& o) const {
       return when != o.when ? when > o.when : order > o.order;
     }
   };
+  using TimeOrder = std::priority_queue<Queued, std::vector<Queued>, std::greater<Queued>>;
 
   Transaction* make(uint64_t line, Tick arrival, bool write);
-  void send(Transaction* t);  // BEGIN_REQ, or queued behind a pending END_REQ
-  void send_now(Transaction* t);
+  void send(Transaction* t);  // now, or queued until it is due (send_due)
+  void send_due();            // the requests due by now, while the request channel is free
+  void send_now(Transaction* t, Tick due);
   tlm::tlm_sync_enum nb_transport_bw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                                      sc_core::sc_time& delay);
   void invalidate_direct_mem_ptr(sc_dt::uint64 start, sc_dt::uint64 end);
+  void warn_serialised();  // a request ended only by its response
   // A response arrived (at `at`); from the target's own call (nb_transport_bw), it may be handed
   // over at once (above).
   void response(Transaction* t, Tick at, bool may_deliver_now);
@@ -161,12 +178,14 @@ class MemoryPort : public sc_core::sc_module,
   struct Window {
     Tick from = 0, until = 0;
   };
-  Window taking_;                  // the last request's BEGIN_REQ to END_REQ: the target taking it
-  std::deque<Transaction*> held_;  // requests waiting for it
-  std::priority_queue<Response, std::vector<Response>, std::greater<Response>> responses_;
+  Window taking_;        // the last request's BEGIN_REQ to END_REQ: the target taking it
+  bool in_time_order_;   // a platform's memory: each request due at its arrival, not when made
+  TimeOrder requests_;   // not sent yet: by the time they are due, then the order made
+  TimeOrder responses_;  // by the edge they are handed over at
   uint64_t requests_made_ = 0;
   const Transaction* delivering_ = nullptr;  // the response being handed over
   bool sending_ = false;                     // inside a call of the target's nb_transport_fw
+  bool warned_serialised_ = false;           // rtsim/serialised, once
   std::unique_ptr<LooselyTimedPath> lt_;     // to a loosely-timed memory
   std::vector<std::pair<const FillListener*, std::string>> names_;
   TraceRequest trace_request_;

@@ -30,7 +30,7 @@ MemorySystem::MemorySystem(const MemorySystemConfig& config, const Clock& clock,
   for (const L2Config& l2 : config.l2s) banks += l2.l2.banks;
   interconnect_ = std::make_unique<MemoryInterconnect>(
       "memory", config.memory_link, config.dram, clock, calendar, banks, config.writers,
-      config.reader, config.write_buffer, config.loosely_timed_memory);
+      config.reader, config.write_buffer, config.memory_target);
   uint32_t first = 0;
   for (const L2Config& l2 : config.l2s) {
     auto port = interconnect_->l2_port(first, l2.l2.banks, l2.name + ".l2");

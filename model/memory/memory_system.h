@@ -43,7 +43,7 @@ struct MemorySystemConfig {
   std::string reader = "reader";     // the record reader, likewise
   uint32_t write_buffer = 0;         // a writer's posted writes in flight (0: unbounded)
   DramConfig dram;  // the memory's address mapping (the channels) and its request size
-  bool loosely_timed_memory = false;  // the memory implements b_transport only
+  PortTarget memory_target = PortTarget::kPlatform;  // what the memory port is bound to
 };
 
 class MemorySystem {

@@ -11,4 +11,8 @@ void report_error(const char* type, const std::string& message) {
   throw std::runtime_error(std::string(type) + ": " + message);
 }
 
+void report_warning(const char* type, const std::string& message) {
+  SC_REPORT_WARNING(type, message.c_str());
+}
+
 }  // namespace rtsim::model

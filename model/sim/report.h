@@ -1,6 +1,7 @@
 // How the model reports errors: through sc_report (SC_REPORT_ERROR) with message types of ours,
 // so a virtual platform that embeds the model sees them like any other SystemC block's, and the
-// testbench maps each type to its own message and exit code (testbench/simulate.cpp).
+// testbench maps each type to its own message and exit code (testbench/simulate.cpp). Warnings
+// (SC_REPORT_WARNING) say that a run goes on but its figures are not what one may expect.
 #pragma once
 
 #include <string>
@@ -14,9 +15,14 @@ inline constexpr const char* kReportTlm = "rtsim/tlm";            // a TLM-2.0 p
 inline constexpr const char* kReportDevice = "rtsim/device";      // a program the device refused
 inline constexpr const char* kReportTrace = "rtsim/trace";        // a trace that cannot be written
 inline constexpr const char* kReportInternal = "rtsim/internal";  // a broken invariant: a bug
+inline constexpr const char* kReportSerialised =
+    "rtsim/serialised";  // warning: one access at a time
 
 // SC_REPORT_ERROR(type, message). The default action throws the sc_report; a handler that returns
 // instead cannot let the model continue, so this then throws std::runtime_error.
 [[noreturn]] void report_error(const char* type, const std::string& message);
+
+// SC_REPORT_WARNING(type, message): the default actions print it and the run goes on.
+void report_warning(const char* type, const std::string& message);
 
 }  // namespace rtsim::model

@@ -2,7 +2,8 @@
 // base protocol's other answers: one that takes a request only later (TLM_ACCEPTED, then END_REQ),
 // so the port must hold the following requests back, in order; and one that completes a request
 // inside the call (TLM_COMPLETED), whose response must still reach the requester at a clock edge
-// after the call, never inside fetch_line. The bytes come with the responses.
+// after the call, never inside fetch_line; and requests made out of the order they reach memory,
+// which must reach it in time order. The bytes come with the responses.
 #include "model/memory/memory_port.h"
 
 #include "tests/test_util.h"
@@ -86,11 +87,13 @@ class CompleteAtOnce : public sc_core::sc_module {
       : sc_module(n), socket("socket"), latency_(latency) {
     socket.register_nb_transport_fw(this, &CompleteAtOnce::fw);
   }
+  std::vector<std::pair<Tick, uint64_t>> begin_req;  // time, line
 
  private:
   tlm::tlm_sync_enum fw(tlm::tlm_generic_payload& p, tlm::tlm_phase& phase,
                         sc_core::sc_time& delay) {
     if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;
+    begin_req.push_back({Tick((sc_core::sc_time_stamp() + delay).value()), p.get_address()});
     fill(p);
     delay += latency_;
     return tlm::TLM_COMPLETED;
@@ -119,12 +122,13 @@ class Recorder : public FillListener {
   const LineSource& port_;
 };
 
-// Three reads at 0 ns on `port`.
+// `reads` reads made at 0 ns on `port`, read k reaching memory at arrivals[k] (0 if none).
 class Driver : public sc_core::sc_module {
  public:
   SC_HAS_PROCESS(Driver);
-  Driver(sc_core::sc_module_name n, MemoryPort& port, Recorder& rec, int reads)
-      : sc_module(n), port_(port), rec_(rec), reads_(reads) {
+  Driver(sc_core::sc_module_name n, MemoryPort& port, Recorder& rec, int reads,
+         std::vector<Tick> arrivals = {})
+      : sc_module(n), port_(port), rec_(rec), reads_(reads), arrivals_(std::move(arrivals)) {
     SC_THREAD(run);
   }
   std::vector<Tick> returned;
@@ -133,13 +137,15 @@ class Driver : public sc_core::sc_module {
   void run() {
     for (int k = 0; k < reads_; ++k) {
       rec_.fetching = true;
-      returned.push_back(port_.fetch_line(uint64_t(k + 1) * kLine, 0, &rec_, uint64_t(k)));
+      const Tick at = arrivals_.empty() ? 0 : arrivals_[k];
+      returned.push_back(port_.fetch_line(uint64_t(k + 1) * kLine, at, &rec_, uint64_t(k)));
       rec_.fetching = false;
     }
   }
   MemoryPort& port_;
   Recorder& rec_;
   int reads_;
+  std::vector<Tick> arrivals_;
 };
 
 struct Scenario {
@@ -159,14 +165,20 @@ struct Scenario {
     quick_port->socket.bind(quick->socket);
     quick_rec = std::make_unique<Recorder>(*quick_port);
     quick_driver = std::make_unique<Driver>("quick_driver", *quick_port, *quick_rec, 2);
+    late_port = std::make_unique<MemoryPort>("late_port", kLine, mapping, Clock(1.0), *calendar);
+    late = std::make_unique<CompleteAtOnce>("late", sc_core::sc_time(5, sc_core::SC_NS));
+    late_port->socket.bind(late->socket);
+    late_rec = std::make_unique<Recorder>(*late_port);
+    late_driver = std::make_unique<Driver>("late_driver", *late_port, *late_rec, 3,
+                                           std::vector<Tick>{30 * kNs, 20 * kNs, 10 * kNs});
     test::simulate();
   }
   std::unique_ptr<Calendar> calendar;
-  std::unique_ptr<MemoryPort> slow_port, quick_port;
+  std::unique_ptr<MemoryPort> slow_port, quick_port, late_port;
   std::unique_ptr<AcceptLater> slow;
-  std::unique_ptr<CompleteAtOnce> quick;
-  std::unique_ptr<Recorder> slow_rec, quick_rec;
-  std::unique_ptr<Driver> slow_driver, quick_driver;
+  std::unique_ptr<CompleteAtOnce> quick, late;
+  std::unique_ptr<Recorder> slow_rec, quick_rec, late_rec;
+  std::unique_ptr<Driver> slow_driver, quick_driver, late_driver;
 };
 
 Scenario& scenario() {
@@ -203,6 +215,19 @@ TEST(MemoryPort, AResponseGivenInsideTheCallReachesTheRequesterAtTheNextEdgeAfte
   }
   EXPECT_EQ(s.quick_port->stats().refused, 0u);
   EXPECT_EQ(s.quick_port->stats().latency_cycles, 12u);  // 6 cycles each
+}
+
+// Reads made in one order that reach memory in the other go in the order they reach it, each
+// when it does (issue 39): a target that trusts annotations sees time go forward.
+TEST(MemoryPort, RequestsGoInTheOrderTheyReachMemory) {
+  Scenario& s = scenario();
+  EXPECT_EQ(s.late->begin_req,
+            (std::vector<std::pair<Tick, uint64_t>>{
+                {10 * kNs, 3 * kLine}, {20 * kNs, 2 * kLine}, {30 * kNs, kLine}}));
+  ASSERT_EQ(s.late_rec->fills.size(), 3u);
+  EXPECT_EQ(s.late_rec->fills[0].line, 3 * kLine);
+  EXPECT_EQ(s.late_rec->fills[0].when, 16 * kNs);  // 15 ns, at the next edge
+  EXPECT_EQ(s.late_port->stats().refused, 0u);
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 // accelerators run side by side in one simulation (SystemC elaborates once per process), and
 // each alone in a child process: the same cycles.
 #include "model/accelerator.h"
+#include "model/sim/report.h"
 #include "tests/model/city_frame.h"
 #include "tests/model/memory/tlm_target_styles.h"
 
@@ -43,7 +44,10 @@ const Style kStyles[] = {
     {"at_fixed", TargetStyle::kEndReqDelay, 0, false},  // END_REQ at once: the LT runs' twin
     {"lt", TargetStyle::kLooselyTimed, 0, true},
     {"lt_dmi", TargetStyle::kLooselyTimedDmi, 0, true},
-    {"lt_waits", TargetStyle::kLooselyTimedWaits, 0, true}};
+    {"lt_waits", TargetStyle::kLooselyTimedWaits, 0, true},
+    // The LT memory bound as an AT one: simple_target_socket's nb-to-b adapter ends each request
+    // only with its response, so one transaction is in flight (rtsim/serialised says so)
+    {"lt_adapter", TargetStyle::kLooselyTimed, 0, false}};
 
 struct Styled {
   std::string name;
@@ -90,6 +94,7 @@ uint64_t alone(const Style& st, const test::CityFrame& city, double resolution_p
 
 struct Run {
   Run() : city(kW, kH) {
+    test::ExpectReports serialised({model::kReportSerialised});  // lt_adapter's
     for (const Style& st : kStyles) {
       cycles_alone.push_back(alone(st, city));
       if (st.name == std::string("at_fixed") || st.name == std::string("lt_waits"))
@@ -98,6 +103,7 @@ struct Run {
     sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
     for (const Style& st : kStyles) runs.push_back(build(st, city));
     test::simulate();
+    serialised_warnings = sc_core::sc_report_handler::get_count(model::kReportSerialised);
     for (Styled& s : runs) {
       s.result = s.accelerator->result();
       std::printf("%s: %llu cycles\n", s.name.c_str(), (unsigned long long)s.result.cycles_total);
@@ -112,6 +118,7 @@ struct Run {
   std::vector<Styled> runs;
   std::vector<uint64_t> cycles_alone;   // by style, each accelerator simulated alone
   std::vector<uint64_t> cycles_at_1ns;  // at_fixed and lt_waits alone at a 1 ns resolution
+  int serialised_warnings = 0;          // rtsim/serialised reports in this process
 };
 
 const Run& run() {
@@ -131,9 +138,10 @@ void expect_clean(const std::string& name) {
   const uint64_t sent = stat(s, "port", "reads") + stat(s, "port", "writes");
   EXPECT_GT(stat(s, "port", "writes"), 0u) << s.name;  // the hit records
   const StyledMemory::Counts& c = s.memory->counts();
-  if (s.memory->loosely_timed()) {  // a DMI access makes no call
+  if (s.memory->loosely_timed()) {  // a DMI access makes no call (the adapter makes no DMI)
+    const bool lt_port = s.result.stats["memory"]["port"].contains("dmi_accesses");
     EXPECT_EQ(c.b_transports, checked) << s.name;
-    EXPECT_EQ(c.b_transports + stat(s, "port", "dmi_accesses"), sent) << s.name;
+    EXPECT_EQ(c.b_transports + (lt_port ? stat(s, "port", "dmi_accesses") : 0), sent) << s.name;
   } else {
     EXPECT_EQ(c.requests, checked) << s.name;
     EXPECT_EQ(checked, sent) << s.name;
@@ -153,6 +161,21 @@ TEST(TargetStyles, APlatformsMemoryGivesTheSameCyclesAtANanosecondResolution) {
   ASSERT_EQ(run().cycles_at_1ns.size(), 2u);
   EXPECT_EQ(run().cycles_at_1ns[0], run().of("at_fixed").result.cycles_total);
   EXPECT_EQ(run().cycles_at_1ns[1], run().of("lt_waits").result.cycles_total);
+}
+
+// Requests reach memory in time order (issue 39): every BEGIN_REQ (b_transport call) timed at or
+// after the previous one and after the previous request's END_REQ, which a target that trusts
+// annotations (a PEQ) needs; the checker, which checks in call order, would not see it.
+TEST(TargetStyles, EveryTargetSeesItsRequestsInTimeOrder) {
+  for (const Styled& s : run().runs) {
+    const StyledMemory::Counts& c = s.memory->counts();
+    std::printf("%s: %llu requests, %llu before the previous, %llu inside its window\n",
+                s.name.c_str(), (unsigned long long)(c.requests + c.b_transports),
+                (unsigned long long)c.before_previous, (unsigned long long)c.inside_window);
+    EXPECT_GT(c.requests + c.b_transports, 0u) << s.name;
+    EXPECT_EQ(c.before_previous, 0u) << s.name;
+    EXPECT_EQ(c.inside_window, 0u) << s.name;
+  }
 }
 
 TEST(TargetStyles, AcceptLaterHoldsTheNextRequestUntilEndReq) {
@@ -197,6 +220,18 @@ TEST(TargetStyles, ALooselyTimedMemoryRunsAtFullSpeed) {
   EXPECT_GT(stat(run().of("lt"), "port", "lt_threads"), 1u);
   EXPECT_GT(stat(run().of("lt_waits"), "port", "lt_threads"), 1u);
   EXPECT_EQ(stat(run().of("lt"), "port", "dmi_accesses"), 0u);
+}
+
+// An LT memory behind Accellera's adapter runs one access at a time, and the port says so once
+// for the accelerator (not once per request); no other style is serialised.
+TEST(TargetStyles, AnLtMemoryBehindTheAdapterIsSerialisedAndWarnedOnce) {
+  expect_clean("lt_adapter");
+  const uint64_t adapter = run().of("lt_adapter").result.cycles_total;
+  const uint64_t lt = run().of("lt").result.cycles_total;
+  std::printf("lt_adapter %llu / lt %llu = %.1fx\n", (unsigned long long)adapter,
+              (unsigned long long)lt, double(adapter) / double(lt));
+  EXPECT_GT(adapter, 10 * lt);
+  EXPECT_EQ(run().serialised_warnings, 1);
 }
 
 TEST(TargetStyles, DmiReadsAndWritesStayTimed) {

@@ -19,7 +19,11 @@
 //   kLooselyTimedWaits b_transport that waits out the request's delay and `latency` (wait()) and
 //                    returns a zero delay: a synchronising LT memory
 //
-// Each counts what it saw, so a test can tell that its style's path was taken.
+// Each counts what it saw, so a test can tell that its style's path was taken, and the requests
+// that came out of time order, which a target that trusts annotations (a PEQ) would mistime: a
+// BEGIN_REQ (or b_transport call) timed before the previous one, or a BEGIN_REQ timed before the
+// previous request's window ended (its END_REQ; a request answered with its response in the call
+// was taken at its own time, as model/memory/tlm_checker.cpp reads the base protocol).
 #pragma once
 
 #include <tlm_utils/peq_with_get.h>
@@ -52,6 +56,8 @@ class StyledMemory : public sc_core::sc_module {
   struct Counts {
     uint64_t requests = 0, end_resp_forward = 0, end_resp_returned = 0, completed_returned = 0;
     uint64_t b_transports = 0, dmi_grants = 0;
+    uint64_t before_previous = 0;  // timed before the previous request (BEGIN_REQ or b_transport)
+    uint64_t inside_window = 0;    // BEGIN_REQ timed before the previous request's END_REQ
   };
 
   SC_HAS_PROCESS(StyledMemory);
@@ -100,8 +106,19 @@ class StyledMemory : public sc_core::sc_module {
     p.set_response_status(tlm::TLM_OK_RESPONSE);
   }
 
+  // A request timed at `at`, whose request channel is the target's until `until`.
+  void check_order(sc_core::sc_time at, sc_core::sc_time until) {
+    if (counts_.requests + counts_.b_transports > 1) {
+      counts_.before_previous += at < last_request_;
+      counts_.inside_window += at < window_end_;
+    }
+    last_request_ = at;
+    window_end_ = until;
+  }
+
   void b_transport(tlm::tlm_generic_payload& p, sc_core::sc_time& delay) {
     ++counts_.b_transports;
+    check_order(sc_core::sc_time_stamp() + delay, sc_core::SC_ZERO_TIME);  // no request phase
     if (!in_range(p)) return p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
     take(p);
     answer(p);
@@ -135,6 +152,8 @@ class StyledMemory : public sc_core::sc_module {
     }
     if (phase != tlm::BEGIN_REQ) return tlm::TLM_COMPLETED;
     ++counts_.requests;
+    const sc_core::sc_time at = sc_core::sc_time_stamp() + delay;
+    check_order(at, taken_at_once(p) ? at : at + accept_);
     if (!in_range(p)) {
       p.set_response_status(tlm::TLM_ADDRESS_ERROR_RESPONSE);
       return tlm::TLM_COMPLETED;
@@ -169,6 +188,13 @@ class StyledMemory : public sc_core::sc_module {
         phase = tlm::END_REQ;
         return tlm::TLM_UPDATED;
     }
+  }
+
+  // Whether this BEGIN_REQ will be answered with its response in the call (no END_REQ window).
+  bool taken_at_once(const tlm::tlm_generic_payload& p) const {
+    return !in_range(p) || style_ == TargetStyle::kCompleteAtOnce ||
+           (style_ == TargetStyle::kEarlyCompletion && p.is_read() && !awaiting_end_resp_ &&
+            due_count_ == 0);
   }
 
   void end_request() {
@@ -208,6 +234,7 @@ class StyledMemory : public sc_core::sc_module {
   sc_core::sc_event resume_;
   const tlm::tlm_generic_payload* awaiting_end_resp_ = nullptr;
   uint64_t due_count_ = 0;  // accepted, response not sent yet
+  sc_core::sc_time last_request_, window_end_;
   Counts counts_;
 };
 
