@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
-"""scripts/refresh-docs.py without running a study: its renderers on a sweep's results.csv, the
-block replacement in a doc (only between its markers, the rest untouched), and that every block
-the script knows is in its doc and every generated block in docs/ belongs to a study."""
+"""scripts/refresh-docs.py without running a study: its renderers (scripts/docs_tables.py) on a
+sweep's results.csv and on programs' output, the block replacement in a doc (only between its
+markers, the rest untouched), and that every block the script knows is in its doc and every
+generated block in docs/ belongs to a study."""
 
 import csv
 import importlib.util
@@ -16,6 +17,8 @@ spec = importlib.util.spec_from_file_location(
 )
 refresh = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(refresh)
+import docs_tables  # noqa: E402  (on the path refresh-docs.py set)
+
 failures = []
 
 
@@ -27,7 +30,7 @@ def check(cond, what):
 with tempfile.TemporaryDirectory() as tmp:
     cols = (
         ["point", "id", "scene", "hw.trv.l1.size_kb", "cycles_total"]
-        + [m for _, m, _ in refresh.CACHE_COLUMNS]
+        + [m for _, m, _ in docs_tables.CACHE_COLUMNS]
         + ["failure"]
     )
     with open(os.path.join(tmp, "results.csv"), "w", newline="") as f:
@@ -130,6 +133,39 @@ with tempfile.TemporaryDirectory() as tmp:
         "| robots t = 1 | 20,000 / 18,000 | 2,000 (10.0%) | 20.0 | 0.4 |" in hd,
         "the HD row:\n" + hd,
     )
+
+# The integration table from what its programs print.
+with tempfile.TemporaryDirectory() as tmp:
+
+    def printed(sub, text):
+        os.makedirs(os.path.join(tmp, sub))
+        with open(os.path.join(tmp, sub, "stdout.txt"), "w") as f:
+            f.write(text)
+
+    printed(
+        "device", "Running main()\nframe 1: 73673 cycles\nframe 2: 71425 cycles\n[  PASSED  ]\n"
+    )
+    printed("frames", "frame 1: 100 cycles\nframe 2: 100 cycles\n")
+    printed("styles", "accept_later: 81494 cycles\nlt: 73488 cycles\n")
+    for sub in ("platform-city", "platform-kitchen"):
+        printed(
+            sub,
+            '{"hw": "x", "memory_bytes": 1}\n'
+            + "".join(
+                f'{{"frame": {k}, "cycles": {1000 * k}, "pixels": 14400, "interrupt_ns": 2000.4,'
+                f' "wrong_records": 0}}\n'
+                for k in (1, 2)
+            ),
+        )
+    table = docs_tables.integration_table(tmp)
+    for cells in [
+        "the setup's again | 73,673, 71,425 |",
+        "(turned, its own frame buffer) | 100, 100 |",
+        ": accept_later, lt | 81,494, 73,488 |",
+        "city at 14,400 pixels, two cameras (interrupt 2,000, 2,000 ns; wrong records 0, 0) | "
+        "1,000, 2,000 |",
+    ]:
+        check(cells in table, f"integration cells {cells}:\n{table}")
 
 ids = {s.id for s in refresh.STUDIES}
 for s in refresh.STUDIES:

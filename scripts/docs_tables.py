@@ -1,0 +1,286 @@
+"""The renderers of the tables scripts/refresh-docs.py writes into docs/: each takes a study's run
+directory and returns the block's Markdown."""
+
+import csv
+import json
+import os
+import re
+from statistics import median
+
+
+def fmt_int(v):
+    return f"{int(round(float(v))):,}"
+
+
+def fmt_pct(v):
+    return f"{100 * float(v):.1f}%"
+
+
+def fmt_1(v):
+    return f"{float(v):.1f}"
+
+
+def rows_of(run_dir):
+    with open(os.path.join(run_dir, "results.csv"), newline="") as f:
+        return list(csv.DictReader(f))
+
+
+# The cache sweeps' columns (docs/cache-sweeps.md): every row against the Table-2 point of its
+# scene in the same sweep.
+CACHE_COLUMNS = [
+    ("TRV L1 hits", "trv_l1_hit_rate", fmt_pct),
+    ("IST L1 hits", "ist_l1_hit_rate", fmt_pct),
+    ("IST L2 hits", "ist_l2_hit_rate", fmt_pct),
+    ("TRV busy", "trv_busy", fmt_pct),
+    ("TRV reply queue", "stats.trv.icnt.reply.avg_queue_cycles", fmt_1),
+    ("IST reply queue", "stats.ist.icnt.reply.avg_queue_cycles", fmt_1),
+    ("IST L2 bank stalls", "stats.ist.l2.bank.stall_cycles", fmt_int),
+    ("DRAM GB/s", "dram_bandwidth_gbps", fmt_1),
+]
+
+
+def cache_table(key, label, baseline):
+    def render(run_dir):
+        rows = rows_of(run_dir)
+        base = {r["scene"]: float(r["cycles_total"]) for r in rows if r[key] == baseline}
+        head = ["scene", label, "cycles", "vs Table 2"] + [c[0] for c in CACHE_COLUMNS]
+        out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+        for r in rows:
+            if r.get("failure"):
+                out.append(f"| {r['scene']} | {r[key]} | failed: {r['failure']} |")
+                continue
+            cyc = float(r["cycles_total"])
+            cells = [
+                r["scene"],
+                r[key],
+                fmt_int(cyc),
+                f"{100 * (cyc / base[r['scene']] - 1):+.1f}%",
+            ]
+            cells += [f(r[m]) if r[m] != "" else "-" for _, m, f in CACHE_COLUMNS]
+            out.append("| " + " | ".join(cells) + " |")
+        return "\n".join(out)
+
+    return render
+
+
+def knob_table(run_dir):
+    """The unpublished parameters: frame ms off / on per setup and variant, change against today."""
+    rows = rows_of(run_dir)
+    scenes = list(dict.fromkeys(r["scene"] for r in rows))
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    ms = {
+        (r["scene"], r["variant"], r["run.lvb"]): float(r["frame_ms_all"])
+        for r in rows
+        if not r.get("failure")
+    }
+    head = (
+        ["variant"] + [f"{s} off / on (ms)" for s in scenes] + [f"{s} off vs today" for s in scenes]
+    )
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for v in variants:
+        cells = [v]
+        for s in scenes:
+            off, on = ms.get((s, v, "false")), ms.get((s, v, "true"))
+            cells.append(
+                f"{off:.3f} / {on:.3f}" if off is not None and on is not None else "failed"
+            )
+        for s in scenes:
+            off, today = ms.get((s, v, "false")), ms.get((s, "today", "false"))
+            cells.append(f"{100 * (off / today - 1):+.1f}%" if off and today else "-")
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out)
+
+
+def copy_markdown(name, first_heading):
+    """A report the run wrote (area_lights.md, ablation.md), from `first_heading` on, its headings
+    one level down."""
+
+    def render(run_dir):
+        with open(os.path.join(run_dir, name)) as f:
+            text = f.read()
+        start = text.find(first_heading)
+        if start < 0:
+            raise SystemExit(f"refresh-docs: {name} in {run_dir} has no '{first_heading}'")
+        text = text[start:].strip()
+        return re.sub(r"^(#+) ", r"#\1 ", text, flags=re.M)
+
+    return render
+
+
+def animation_frames(run_dir):
+    """An `rtsim animate` run's frames.csv rows, numbers as floats ('' as None), host.csv's seconds
+    joined by time."""
+
+    def floats(path):
+        with open(path, newline="") as f:
+            return [
+                {k: float(v) if v != "" else None for k, v in r.items()} for r in csv.DictReader(f)
+            ]
+
+    host = {r["time"]: r for r in floats(os.path.join(run_dir, "host.csv"))}
+    frames = floats(os.path.join(run_dir, "frames.csv"))
+    for r in frames:
+        r.update({k: v for k, v in host.get(r["time"], {}).items() if k != "time"})
+        r["saved"] = r["cycles_off"] - r["cycles_on"]
+        r["tests"] = r["lvb_region_tests"] + r["lvb_pair_tests"]
+        if r["lazy_region_tests"] is not None:
+            r["lazy"] = r["lazy_dirty_tests"] + r["lazy_region_tests"] + r["lazy_pair_tests"]
+    return frames
+
+
+ANIMATION_SCENES = ["robots", "kitchen"]
+
+
+def animation_table(run_dir):
+    """docs/animation.md at 480x270: per scene, medians over the frames with their range."""
+
+    def m(v):
+        return f"{v / 1e6:.2f} M"
+
+    def ratio(a, b):
+        return a / b if b else float("inf")
+
+    def cells(fr):
+        def col(k):
+            return [r[k] for r in fr if r.get(k) is not None]
+
+        saved, off, tests = col("saved"), col("cycles_off"), col("tests")
+        pct = [100 * r["saved"] / r["cycles_off"] for r in fr]
+        per_saved = [ratio(r["tests"], r["saved"]) for r in fr]
+        lazy = [r for r in fr if r.get("lazy") is not None]
+        lazy_per_saved = [ratio(r["lazy"], r["saved"]) for r in lazy]
+        mlazy = median([r["lazy"] for r in lazy]) if lazy else None
+        checked = col("check_mismatched_pixels")
+        share = [100 * x for x in col("culled_share")]
+        yield f"{fmt_int(median(off))} ({min(off) / 1e6:.2f}-{max(off) / 1e6:.2f} M)"
+        yield (
+            f"{fmt_int(median(saved))} ({fmt_int(min(saved))}-{fmt_int(max(saved))}), "
+            f"{median(pct):.1f}% ({min(pct):.1f}-{max(pct):.1f}%)"
+        )
+        yield f"{median(share):.1f}% ({min(share):.1f}-{max(share):.1f}%)"
+        yield " / ".join(
+            m(median(col(k))) for k in ["lvb_nodes_visited", "lvb_region_tests", "lvb_pair_tests"]
+        )
+        yield (
+            f"{median(tests) / median(saved):.1f} ({min(per_saved):.1f}-{max(per_saved):.1f})"
+            if median(saved)
+            else "no saving"
+        )
+        yield f"{median(col('kdtree_seconds')):.2f} / {median(col('lvb_seconds')):.2f}"
+        if not lazy:
+            yield from ["-"] * 3
+        else:
+            dirty = [100 * r["lazy_dirty_pairs"] / r["lazy_pairs"] for r in lazy if r["lazy_pairs"]]
+            yield f"{median(dirty):.1f}% ({min(dirty):.1f}-{max(dirty):.1f}%)"
+            yield (
+                f"{m(mlazy)} ({100 * mlazy / median(tests):.0f}% of full; "
+                f"{m(median([r['lazy_dirty_tests'] for r in lazy]))} of it finding the dirty pairs)"
+            )
+            yield (
+                f"{mlazy / median(saved):.1f} ({min(lazy_per_saved):.1f}-{max(lazy_per_saved):.1f})"
+                if median(saved)
+                else "no saving"
+            )
+        yield f"{fmt_int(sum(checked))} in {len(checked)} frames x 2 runs"
+
+    labels = [
+        "cycles, culling off",
+        "cycles culling saves",
+        "shadow rays culled",
+        "LVB work: nodes visited / region tests / pair tests",
+        "LVB tests (region + pair) per saved cycle",
+        "host seconds: kd-tree / LVB (1 thread)",
+        "lazy: dirty pairs",
+        "lazy: tests (dirty + region + pair)",
+        "lazy tests per saved cycle",
+        "`--check-every 5`: pixels differing from the reference",
+    ]
+    columns = [list(cells(animation_frames(os.path.join(run_dir, s)))) for s in ANIMATION_SCENES]
+    out = [
+        "| per frame, 480x270 | " + " | ".join(ANIMATION_SCENES) + " |",
+        "|---|" + "---|" * len(columns),
+    ]
+    for i, label in enumerate(labels):
+        out.append(f"| {label} | " + " | ".join(c[i] for c in columns) + " |")
+    return "\n".join(out)
+
+
+def animation_hd_table(run_dir):
+    """docs/animation.md at 1920x1080: a row per frame, its saving against the same frame's at
+    480x270 (the `animation` study's runs, when they are there)."""
+    small_dir = os.path.join(os.path.dirname(run_dir), "animation")
+    out = [
+        "| frame | cycles off / on at 1920x1080 | saved | saved, x of 480x270's "
+        "| LVB tests per saved cycle |",
+        "|---|---|---|---|---|",
+    ]
+    for s in ANIMATION_SCENES:
+        small = {}
+        if os.path.exists(os.path.join(small_dir, s, "frames.csv")):
+            small = {r["time"]: r["saved"] for r in animation_frames(os.path.join(small_dir, s))}
+        for r in animation_frames(os.path.join(run_dir, s)):
+            x = f"{r['saved'] / small[r['time']]:.1f}" if small.get(r["time"]) else "-"
+            per = f"{r['tests'] / r['saved']:.1f}" if r["saved"] > 0 else "no saving"
+            out.append(
+                f"| {s} t = {r['time']:g} "
+                f"| {fmt_int(r['cycles_off'])} / {fmt_int(r['cycles_on'])} | "
+                f"{fmt_int(r['saved'])} ({100 * r['saved'] / r['cycles_off']:.1f}%) | {x} | {per} |"
+            )
+    return "\n".join(out)
+
+
+def program_output(run_dir, sub):
+    with open(os.path.join(run_dir, sub, "stdout.txt")) as f:
+        return f.read()
+
+
+def cycles_lines(text):
+    """`NAME: N cycles` lines (the tests that print the figures docs quote), in order."""
+    return re.findall(r"^(\S[^:\n]*): (\d+) cycles$", text, re.M)
+
+
+def integration_table(run_dir):
+    """docs/systemc-integration.md: the cycles the prose quotes, each with the program that
+    measured it (the city at 160x90 on the paper's T&I engine unless named)."""
+    out = ["| figure | cycles | measured by |", "|---|---|---|"]
+
+    def row(figure, cycles, by):
+        out.append(f"| {figure} | {cycles} | `{by}` |")
+
+    def frames(sub):
+        return ", ".join(fmt_int(c) for _, c in cycles_lines(program_output(run_dir, sub)))
+
+    row(
+        "three frames back to back on the built-in GDDR3: the setup's camera, one turned "
+        "20 degrees, the setup's again",
+        frames("device"),
+        "build/tests/test_device --gtest_filter=Device.FramesRunBackToBack*",
+    )
+    row(
+        "six frames on a fixed-latency memory (40 ns, no state): the same camera but the fifth "
+        "(turned, its own frame buffer)",
+        frames("frames"),
+        "build/tests/test_frames_independent --gtest_filter=Frames.TheSameCamera*",
+    )
+    styles = cycles_lines(program_output(run_dir, "styles"))
+    row(
+        "one frame per memory target style, 40 ns, END_REQ 2 ns late where the style has one: "
+        + ", ".join(name for name, _ in styles),
+        ", ".join(fmt_int(c) for _, c in styles),
+        "build/tests/test_tlm_target_styles",
+    )
+    kitchen = "../shared/scenes/bart/kitchen/kitchen.aff"
+    for sub, scene in (("platform-city", "city"), ("platform-kitchen", kitchen)):
+        lines = [json.loads(x) for x in program_output(run_dir, sub).splitlines() if x[:1] == "{"]
+        got = [x for x in lines if "frame" in x]
+        row(
+            f"examples/platform, {os.path.basename(scene)} at {got[0]['pixels']:,} pixels, two "
+            "cameras (interrupt "
+            + ", ".join(f"{x['interrupt_ns']:,.0f}" for x in got)
+            + " ns; wrong records "
+            + ", ".join(str(x["wrong_records"]) for x in got)
+            + ")",
+            ", ".join(fmt_int(x["cycles"]) for x in got),
+            f"build/platform_example {scene}",
+        )
+    return "\n".join(out)
