@@ -21,6 +21,10 @@ install(TARGETS ${RTSIM_PACKAGE_TARGETS} EXPORT rtsimTargets
   INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rtsim)
 install(DIRECTORY common scene scene_loader kernels model config_loader
   DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rtsim FILES_MATCHING PATTERN "*.h")
+# The example TLM-2.0 memory, a fixed-latency target a platform may bind at once: included as in
+# the tree, "examples/tlm_memory/fixed_latency_memory.h"
+install(FILES examples/tlm_memory/fixed_latency_memory.h
+  DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/rtsim/examples/tlm_memory)
 
 # The hardware, scene and sweep files, found through rtsim_CONFIG_DIR (inside the tree, the
 # source's, for the examples built with it)

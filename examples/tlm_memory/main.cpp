@@ -9,7 +9,7 @@
 //
 // The steps a platform takes are the four marked below (docs/model-design.md, "Embedding the
 // model").
-#include "fixed_latency_memory.h"
+#include "examples/tlm_memory/fixed_latency_memory.h"  // installed with the package's headers
 
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
