@@ -49,6 +49,10 @@ struct AcceleratorResult {
   double clock_ghz = 1.0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
+  // The primary phase by batches of RayGenerator::kBatchRays rays in issue order: from a batch's
+  // first issue to the next's (the last: to the last primary retirement). They add up to
+  // cycles_primary: the units a sampled frame estimates from (issue 38, docs/sampling.md).
+  std::vector<uint64_t> primary_batch_cycles;
   nlohmann::json stats;  // every named statistic
   // The unit types and the caches a report lists (model/accelerator_units.h).
   nlohmann::json units, caches;

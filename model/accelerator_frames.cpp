@@ -195,6 +195,12 @@ AcceleratorResult Accelerator::result() {
   out.cycles_primary =
       n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end())) - first;
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
+  const std::vector<Tick>& starts = n.generator->batch_starts();
+  for (size_t b = 0; b < starts.size(); ++b) {
+    const Tick next = b + 1 < starts.size() ? starts[b + 1] : n.phases.primary_end();
+    out.primary_batch_cycles.push_back(n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(next)) -
+                                       n.ctx.clock.to_cycles(starts[b]));
+  }
   for (uint32_t s = 0; s < n.cfg.shading.count; ++s) {
     const ShadingStats& u = n.shading(s).stats();
     out.primary_rays += u.primary_rays;

@@ -6,6 +6,7 @@
 #include "kernels/lvb.h"
 #include "kernels/reference_tracer.h"
 #include "model/accelerator.h"
+#include "model/units/ray_generator.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
 #include "reports/run_report.h"
@@ -171,6 +172,15 @@ RunFigures figures_of(const SimulatedFrame& r) {
   return f;
 }
 
+// The primary phase by batches of rays in issue order (docs/sampling.md): the units a sampled
+// frame estimates from, and what its validation compares with.
+std::string batches_csv(const std::vector<uint64_t>& cycles) {
+  std::string s = "batch,first_ray,cycles\n";
+  for (size_t b = 0; b < cycles.size(); ++b)
+    s += fmt::format("{},{},{}\n", b, b * model::RayGenerator::kBatchRays, cycles[b]);
+  return s;
+}
+
 void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
                        const SimulatedFrame& r, const nlohmann::json& config,
                        const nlohmann::json& report) {
@@ -184,6 +194,7 @@ void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
                 {size_t(h), size_t(w), planes.lights});
   write_file_atomic((out / output::kStatsCsv).string(), stats_csv(report));
   write_file_atomic((out / output::kGlossaryCsv).string(), glossary_csv(r.glossary));
+  write_file_atomic((out / output::kBatchesCsv).string(), batches_csv(r.primary_batch_cycles));
   write_file_atomic((out / output::kReportMd).string(), run_report_markdown(report));
   // Last: its presence marks a finished run.
   write_json((out / output::kReportJson).string(), report);
@@ -197,7 +208,7 @@ void print_summary(const RunConfig& c, const PreparedScene& p, const SimulatedFr
   fmt::print(
       "{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
       "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, "
-      "stats.csv, glossary.csv, config.json, render.png, mask.npy, culled.npy, "
+      "stats.csv, glossary.csv, batches.csv, config.json, render.png, mask.npy, culled.npy, "
       "visibility.npy{}\n",
       p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
       double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,

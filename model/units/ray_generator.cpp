@@ -38,6 +38,8 @@ void RayGenerator::begin_frame(const Camera& camera, int width, int height) {
   inputs_.restart();
   total_ = uint64_t(width) * uint64_t(height);
   order_ = issue_order(width, height, order_kind_, tile_);
+  batch_starts_.clear();
+  batch_starts_.reserve((total_ + kBatchRays - 1) / kBatchRays);
 }
 
 bool RayGenerator::cycle(Tick now) {
@@ -45,6 +47,7 @@ bool RayGenerator::cycle(Tick now) {
   for (; issued < rays_per_cycle_ && !finished() && !ctx_.pool->full(); ++issued) {
     RayQueueIn* f = inputs_.next_free();
     if (!f) break;
+    if (next_ % kBatchRays == 0) batch_starts_.push_back(now);
     RayInfo info;
     info.entry = pixel_of(next_++);  // bounce 0: the entry is the pixel
     info.ray = camera_.ray(int(info.entry % width_), int(info.entry / width_));

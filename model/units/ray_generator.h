@@ -30,6 +30,11 @@ class RayGenerator : public Unit, public PrimaryRays {
   // The next frame's rays: `camera` at width x height, from its first pixel.
   void begin_frame(const Camera& camera, int width, int height);
 
+  // When each batch of kBatchRays primary rays in issue order began to issue: the frame's units of
+  // work for sampling (issue 38, docs/sampling.md), the last batch maybe shorter.
+  static constexpr uint32_t kBatchRays = 64;
+  const std::vector<Tick>& batch_starts() const { return batch_starts_; }
+
   // PrimaryRays.
   bool finished() const override { return next_ == total_; }
   uint64_t issued() const override { return next_; }
@@ -52,6 +57,7 @@ class RayGenerator : public Unit, public PrimaryRays {
   uint32_t rays_per_cycle_;
   uint64_t next_ = 0, total_ = 0;
   std::vector<uint32_t> order_;  // pixels in issue order
+  std::vector<Tick> batch_starts_;
 };
 
 }  // namespace rtsim::model

@@ -206,6 +206,7 @@ TEST(Cli, IdenticalRunsGiveIdenticalReportsAndConfigJsonRepeatsARun) {
   const std::string ra = slurp(a / "report.json"), rb = slurp(b / "report.json");
   EXPECT_EQ(ra.size() > 0, true);
   EXPECT_EQ(slurp(a / "stats.csv"), slurp(b / "stats.csv"));
+  EXPECT_EQ(slurp(a / "batches.csv"), slurp(b / "batches.csv"));
   EXPECT_EQ(nlohmann::json::parse(slurp(a / "config.json"))["hw"]["trv"]["l1"]["size_kb"], 4);
   // config.json holds everything: --config repeats the run.
   const RunResult r = run("run --config " + (a / "config.json").string() + " --out " + c.string());
@@ -266,6 +267,18 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
   EXPECT_NE(csv.find("stats.trv.l1.hits," + rep["stats"]["trv"]["l1"]["hits"].dump() + "\n"),
             std::string::npos);
   EXPECT_EQ(csv.find("host"), std::string::npos) << "host figures stay out of stats.csv";
+  // batches.csv: 64-ray batches of the 2,304 primary rays, adding up to the primary phase.
+  std::istringstream batches(slurp(out / "batches.csv"));
+  std::string line;
+  std::getline(batches, line);
+  EXPECT_EQ(line, "batch,first_ray,cycles");
+  uint64_t rows = 0, cycles = 0;
+  while (std::getline(batches, line)) {
+    ++rows;
+    cycles += std::stoull(line.substr(line.rfind(',') + 1));
+  }
+  EXPECT_EQ(rows, 36u);
+  EXPECT_EQ(cycles, rep["cycles_primary"].get<uint64_t>());
   // culled.npy: bit l set in exactly per_light[l].culled pixels.
   const std::vector<uint16_t> culled = read_npy_u16(out / "culled.npy", 36, 64);
   for (size_t l = 0; l < rep["per_light"].size(); ++l) {
