@@ -14,8 +14,8 @@ MemoryLayout memory_layout(const AcceleratorConfig& config, uint64_t image_bytes
   l.image_bytes = image_bytes;
   l.fb_base = frame_buffer_after(image_base, image_bytes);
   l.record_stride = record_stride(config);
-  l.fb_bytes = uint64_t(std::max(width, 0)) * uint64_t(std::max(height, 0)) *
-               (config.reflection_depth + 1) * l.record_stride;
+  l.fb_bytes = regs::frame_buffer_bytes(uint32_t(std::max(width, 0)), uint32_t(std::max(height, 0)),
+                                        config.reflection_depth + 1, l.record_stride);
   return l;
 }
 

@@ -124,8 +124,8 @@ void ControlRegisters::write(uint32_t offset, uint32_t value, Tick at) {
       return;  // the read-only ones ignore writes
   }
   // The frame buffer's size follows the resolution.
-  const uint64_t bytes = uint64_t(reg_[regs::kWidth / 4]) * reg_[regs::kHeight / 4] * info_.levels *
-                         info_.record_stride;
+  const uint64_t bytes = regs::frame_buffer_bytes(reg_[regs::kWidth / 4], reg_[regs::kHeight / 4],
+                                                  info_.levels, info_.record_stride);
   reg_[regs::kFbBytesLo / 4] = uint32_t(bytes);
   reg_[regs::kFbBytesHi / 4] = uint32_t(bytes >> 32);
 }

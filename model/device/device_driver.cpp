@@ -141,8 +141,7 @@ void DeviceDriver::program(const MemoryImage& image, const FrameSetup& setup) {
 void DeviceDriver::start() {
   write_register(regs::kIrqEnable, 1);
   write_register(regs::kControl, regs::kStart);
-  const uint32_t status = read_register(regs::kStatus);
-  if (const uint32_t code = status >> regs::kErrorShift)
+  if (const uint32_t code = status_error())
     report_error(kReportDevice, "the accelerator refused the frame (STATUS error " +
                                     std::to_string(code) + ": " + status_error_name(code) + ")");
 }

@@ -44,6 +44,13 @@ enum Offset : uint32_t {
   kMapBytes = 0x200,      // the register window's size
 };
 
+// FB_BYTES: a record per pixel and level (the primary hit and each reflection), RECORD_STRIDE
+// bytes each; memory_layout() (model/accelerator.h) gives the same before elaboration.
+inline uint64_t frame_buffer_bytes(uint32_t width, uint32_t height, uint32_t levels,
+                                   uint32_t record_stride) {
+  return uint64_t(width) * height * levels * record_stride;
+}
+
 inline constexpr uint32_t kCameraWords = 10;
 inline constexpr uint32_t kHeaderBytes = 128;
 inline constexpr uint32_t kMaxLights = image::kMaxLights;  // one LVB word per leaf
