@@ -3,7 +3,7 @@
 systematic samples of their batches (batches.csv) as a sampled run would if its warming were
 perfect, for every start of the sample. What it prints bounds what warming can add to.
 
-  python3 bench/sampling_ideal.py RUN_DIR... [--fraction 0.1] [--group G]
+  python3 bench/sampling_ideal.py RUN_DIR... [--fraction 0.1] [--group G] [--phase shadow]
 
 Per run: the units (G consecutive batches each), the primary phase, and over the k starts the
 largest error of the estimate, the mean 95% half-interval (both in % of the phase) and how many
@@ -28,6 +28,7 @@ def main():
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--fraction", type=float, default=0.1)
     ap.add_argument("--group", type=int, default=1, help="batches per unit (contiguous)")
+    ap.add_argument("--phase", choices=["primary", "shadow"], default="primary")
     a = ap.parse_args()
     k = max(1, round(1 / a.fraction))
     print(f"fraction {a.fraction}, {a.group} batches of 64 rays a unit")
@@ -35,7 +36,8 @@ def main():
     print("|---|---|---|---|---|---|")
     for run in a.runs:
         with open(os.path.join(run, "batches.csv"), newline="") as f:
-            batches = [float(r["cycles"]) for r in csv.DictReader(f)]
+            rows = csv.DictReader(f)  # files before the phase column hold the primary phase
+            batches = [float(r["cycles"]) for r in rows if r.get("phase", "primary") == a.phase]
         g = a.group
         cycles = [sum(batches[i : i + g]) for i in range(0, len(batches), g)]
         truth = sum(cycles)

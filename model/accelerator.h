@@ -53,6 +53,10 @@ struct AcceleratorResult {
   // first issue to the next's (the last: to the last primary retirement). They add up to
   // cycles_primary: the units a sampled frame estimates from (issue 38, docs/sampling.md).
   std::vector<uint64_t> primary_batch_cycles;
+  // Two phases: the shadow phase by batches of as many entries of the culling unit's scan, from
+  // the scan reaching a batch's first entry to its reaching the next's (the last: to the last
+  // retirement). They add up to cycles_shadow. Empty in one phase.
+  std::vector<uint64_t> shadow_batch_cycles;
   nlohmann::json stats;  // every named statistic
   // The unit types and the caches a report lists (model/accelerator_units.h).
   nlohmann::json units, caches;

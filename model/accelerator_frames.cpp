@@ -35,6 +35,17 @@ HitRecordRegion record_region(const AcceleratorConfig& cfg, const FrameProgram& 
   return records;
 }
 
+// From each batch's start to the next's, the last to `end`: cycles that tile the phase.
+std::vector<uint64_t> batch_cycles(const Clock& clock, const std::vector<Tick>& starts, Tick end) {
+  std::vector<uint64_t> cycles;
+  cycles.reserve(starts.size());
+  for (size_t b = 0; b < starts.size(); ++b) {
+    const Tick next = b + 1 < starts.size() ? starts[b + 1] : end;
+    cycles.push_back(clock.to_cycles(clock.edge_at_or_after(next)) - clock.to_cycles(starts[b]));
+  }
+  return cycles;
+}
+
 // The header as the units use it: section addresses in memory.
 image::Header placed(image::Header h, uint64_t image_base) {
   for (image::Section* s : {&h.nodes, &h.leaves, &h.prims, &h.triangles, &h.materials, &h.lights})
@@ -195,12 +206,9 @@ AcceleratorResult Accelerator::result() {
   out.cycles_primary =
       n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end())) - first;
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
-  const std::vector<Tick>& starts = n.generator->batch_starts();
-  for (size_t b = 0; b < starts.size(); ++b) {
-    const Tick next = b + 1 < starts.size() ? starts[b + 1] : n.phases.primary_end();
-    out.primary_batch_cycles.push_back(n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(next)) -
-                                       n.ctx.clock.to_cycles(starts[b]));
-  }
+  out.primary_batch_cycles =
+      batch_cycles(n.ctx.clock, n.generator->batch_starts(), n.phases.primary_end());
+  out.shadow_batch_cycles = batch_cycles(n.ctx.clock, n.culling->batch_starts(), n.end);
   for (uint32_t s = 0; s < n.cfg.shading.count; ++s) {
     const ShadingStats& u = n.shading(s).stats();
     out.primary_rays += u.primary_rays;

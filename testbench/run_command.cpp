@@ -174,10 +174,14 @@ RunFigures figures_of(const SimulatedFrame& r) {
 
 // The primary phase by batches of rays in issue order (docs/sampling.md): the units a sampled
 // frame estimates from, and what its validation compares with.
-std::string batches_csv(const std::vector<uint64_t>& cycles) {
-  std::string s = "batch,first_ray,cycles\n";
-  for (size_t b = 0; b < cycles.size(); ++b)
-    s += fmt::format("{},{},{}\n", b, b * model::RayGenerator::kBatchRays, cycles[b]);
+// Each phase by batches: a primary batch's first ray in issue order, a shadow batch's first entry
+// of the culling unit's scan.
+std::string batches_csv(const SimulatedFrame& r) {
+  std::string s = "phase,batch,first,cycles\n";
+  for (const auto& [phase, cycles] :
+       {std::pair{"primary", &r.primary_batch_cycles}, std::pair{"shadow", &r.shadow_batch_cycles}})
+    for (size_t b = 0; b < cycles->size(); ++b)
+      s += fmt::format("{},{},{},{}\n", phase, b, b * model::kBatchRays, (*cycles)[b]);
   return s;
 }
 
@@ -194,7 +198,7 @@ void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
                 {size_t(h), size_t(w), planes.lights});
   write_file_atomic((out / output::kStatsCsv).string(), stats_csv(report));
   write_file_atomic((out / output::kGlossaryCsv).string(), glossary_csv(r.glossary));
-  write_file_atomic((out / output::kBatchesCsv).string(), batches_csv(r.primary_batch_cycles));
+  write_file_atomic((out / output::kBatchesCsv).string(), batches_csv(r));
   write_file_atomic((out / output::kReportMd).string(), run_report_markdown(report));
   // Last: its presence marks a finished run.
   write_json((out / output::kReportJson).string(), report);

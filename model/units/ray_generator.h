@@ -32,7 +32,7 @@ class RayGenerator : public Unit, public PrimaryRays {
 
   // When each batch of kBatchRays primary rays in issue order began to issue: the frame's units of
   // work for sampling (issue 38, docs/sampling.md), the last batch maybe shorter.
-  static constexpr uint32_t kBatchRays = 64;
+  static constexpr uint32_t kBatchRays = model::kBatchRays;
   const std::vector<Tick>& batch_starts() const { return batch_starts_; }
 
   // PrimaryRays.

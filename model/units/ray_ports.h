@@ -12,6 +12,10 @@
 
 namespace rtsim::model {
 
+// A sampled frame's unit of work (issue 38, docs/sampling.md): this many primary rays in issue
+// order, or hit records in the culling unit's scan order.
+inline constexpr uint32_t kBatchRays = 64;
+
 // A TRV unit as the owner of its rays' slots: rays come back to it after a leaf or as a
 // reflection, and leave it when they retire. (The router, model/units/ray_router.h, passes each
 // call to the ray's owner.)

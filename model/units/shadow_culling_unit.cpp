@@ -44,6 +44,7 @@ void ShadowCullingUnit::begin_frame(bool culling) {
   added_ = done_ = generated_ = 0;
   light_ = sample_ = 0;
   light_latched_ = record_open_ = false;
+  batch_starts_.clear();
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
@@ -66,7 +67,14 @@ void ShadowCullingUnit::scan_all(Tick now) {
   } else if (rate_ == 0) {
     while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit) ++entry_;
   }
+  mark_batches(now);
   wake(now);
+}
+
+void ShadowCullingUnit::mark_batches(Tick now) {
+  if (!scanning_) return;
+  const size_t end = std::min(entry_ + 1, frame_->pixels.size());
+  while (batch_starts_.size() * kBatchRays < end) batch_starts_.push_back(now);
 }
 
 void ShadowCullingUnit::hit_shaded(uint32_t entry, Tick ready) {
@@ -202,7 +210,9 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
 }
 
 bool ShadowCullingUnit::cycle(Tick now) {
-  return rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now);
+  const bool active = rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now);
+  mark_batches(now);
+  return active;
 }
 
 bool ShadowCullingUnit::cycle_unlimited(Tick now) {

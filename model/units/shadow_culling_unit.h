@@ -120,6 +120,9 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   double decided_fraction() const;
   // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
   void on_fill(uint64_t, uint64_t cookie, Tick when) override;
+  // Two phases: when the scan reached each batch of kBatchRays entries (record slots when it reads
+  // them from memory), the shadow phase's units of work for sampling (docs/sampling.md).
+  const std::vector<Tick>& batch_starts() const { return batch_starts_; }
   // Per light, over every frame so far.
   const std::vector<LightStats>& per_light() const { return light_stats_; }
   // Its statistics, and those of lights that later frames add.
@@ -159,6 +162,8 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool latch_light(Tick now);
 
   void register_lights();
+  // Marks the batches whose first entry the scan has reached by `now`.
+  void mark_batches(Tick now);
 
   const ModelContext& ctx_;
   bool culling_ = true;
@@ -198,6 +203,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   std::vector<Tick> arrival_;  // per entry in the window (entry % prefetch): when its record is in
   std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came
   CullingStats stats_;
+  std::vector<Tick> batch_starts_;
 };
 
 }  // namespace rtsim::model

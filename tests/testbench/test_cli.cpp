@@ -13,6 +13,24 @@
 namespace rtsim::cli_test {
 namespace {
 
+// batches.csv: each phase by 64-ray batches (`batches` of the primary rays, as many record slots
+// of the culling unit's scan), adding up to the phase.
+void expect_batches_tile_the_phases(const fs::path& file, const nlohmann::json& rep,
+                                    uint64_t batches) {
+  std::istringstream in(slurp(file));
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "phase,batch,first,cycles");
+  std::map<std::string, std::pair<uint64_t, uint64_t>> phases;  // rows, cycles
+  while (std::getline(in, line)) {
+    auto& [rows, cycles] = phases[line.substr(0, line.find(','))];
+    ++rows;
+    cycles += std::stoull(line.substr(line.rfind(',') + 1));
+  }
+  EXPECT_EQ(phases["primary"], std::pair(batches, rep["cycles_primary"].get<uint64_t>()));
+  EXPECT_EQ(phases["shadow"], std::pair(batches, rep["cycles_shadow"].get<uint64_t>()));
+}
+
 TEST(Cli, RenderWritesImageMaskAndStatistics) {
   const fs::path out = test::temp_dir("cli_render");
   const RunResult r = run("render " + (test::source_dir() / "configs/scenes/city.yaml").string() +
@@ -267,18 +285,7 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
   EXPECT_NE(csv.find("stats.trv.l1.hits," + rep["stats"]["trv"]["l1"]["hits"].dump() + "\n"),
             std::string::npos);
   EXPECT_EQ(csv.find("host"), std::string::npos) << "host figures stay out of stats.csv";
-  // batches.csv: 64-ray batches of the 2,304 primary rays, adding up to the primary phase.
-  std::istringstream batches(slurp(out / "batches.csv"));
-  std::string line;
-  std::getline(batches, line);
-  EXPECT_EQ(line, "batch,first_ray,cycles");
-  uint64_t rows = 0, cycles = 0;
-  while (std::getline(batches, line)) {
-    ++rows;
-    cycles += std::stoull(line.substr(line.rfind(',') + 1));
-  }
-  EXPECT_EQ(rows, 36u);
-  EXPECT_EQ(cycles, rep["cycles_primary"].get<uint64_t>());
+  expect_batches_tile_the_phases(out / "batches.csv", rep, 36);
   // culled.npy: bit l set in exactly per_light[l].culled pixels.
   const std::vector<uint16_t> culled = read_npy_u16(out / "culled.npy", 36, 64);
   for (size_t l = 0; l < rep["per_light"].size(); ++l) {
