@@ -27,6 +27,7 @@
 #include "model/memory/memory_port.h"
 #include "model/sim/stats_registry.h"
 #include "model/sim/vcd_trace.h"
+#include "model/units/detail_window.h"
 #include "model/units/frame_buffer.h"
 #include "scene/scene.h"
 
@@ -57,6 +58,10 @@ struct AcceleratorResult {
   // the scan reaching a batch's first entry to its reaching the next's (the last: to the last
   // retirement). They add up to cycles_shadow. Empty in one phase.
   std::vector<uint64_t> shadow_batch_cycles;
+  // A sampled frame (Accelerator::sample): each window's batches, in each phase (the shadow phase's
+  // in two phases only). The cycles above then count the simulated time, gaps included: a sampled
+  // frame's figures are estimated from these (testbench/sampled_frame.h).
+  std::vector<WindowBatches> primary_windows, shadow_windows;
   nlohmann::json stats;  // every named statistic
   // The unit types and the caches a report lists (model/accelerator_units.h).
   nlohmann::json units, caches;
@@ -166,12 +171,20 @@ class Accelerator : public sc_core::sc_module {
   // platform's: memory_layout() tells what a frame needs).
   uint64_t memory_bytes() const;
 
+  // Makes the frames started from now on sampled ones: only `windows` of their primary rays in
+  // issue order, and of the culling unit's record slots in the same order, run in detail
+  // (model/units/detail_window.h; empty: whole frames again). It needs two phases, records read
+  // from memory and no reflections, and windows that fit the frame; anything else is
+  // rtsim/config. A host-side control of the simulation, not a register: no hardware samples.
+  void sample(std::vector<DetailWindow> windows);
+
  private:
   struct Netlist;
   SC_HAS_PROCESS(Accelerator);
   void build(const AcceleratorConfig& config, const SimulationHooks& hooks, MemoryTarget memory,
              const MemoryImage* image, const FrameJob* job);
   void start();  // at the start of the simulation: a frame programmed at construction begins
+
   std::unique_ptr<Netlist> net_;
 };
 

@@ -35,15 +35,14 @@ HitRecordRegion record_region(const AcceleratorConfig& cfg, const FrameProgram& 
   return records;
 }
 
-// From each batch's start to the next's, the last to `end`: cycles that tile the phase.
-std::vector<uint64_t> batch_cycles(const Clock& clock, const std::vector<Tick>& starts, Tick end) {
-  std::vector<uint64_t> cycles;
-  cycles.reserve(starts.size());
-  for (size_t b = 0; b < starts.size(); ++b) {
-    const Tick next = b + 1 < starts.size() ? starts[b + 1] : end;
-    cycles.push_back(clock.to_cycles(clock.edge_at_or_after(next)) - clock.to_cycles(starts[b]));
-  }
-  return cycles;
+// Each window's batches.
+std::vector<WindowBatches> windows_of(const Clock& clock, const std::vector<DetailWindow>& windows,
+                                      uint64_t total, const std::vector<std::vector<Tick>>& starts,
+                                      Tick end) {
+  std::vector<WindowBatches> out;
+  for (size_t w = 0; w < windows.size(); ++w)
+    out.push_back(window_batches(clock, windows[w], total, starts[w], end));
+  return out;
 }
 
 // The header as the units use it: section addresses in memory.
@@ -78,8 +77,12 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   invalidate_caches();
   faults_before = faults.total();
   pool.begin_frame();
-  generator->begin_frame(p.camera, p.width, p.height);
-  culling->begin_frame(p.lvb_culling);
+  if (!windows.empty())
+    if (const std::string why = check_windows(windows, uint64_t(p.width) * uint64_t(p.height));
+        !why.empty())
+      report_error(kReportConfig, std::string(top.name()) + ": sampling: " + why);
+  generator->begin_frame(p.camera, p.width, p.height, windows);
+  culling->begin_frame(p.lvb_culling, windows);
   phases.begin_frame(begin);
   frame_begin = begin;
   frame_active = true;
@@ -110,6 +113,19 @@ void Accelerator::Netlist::check_frame_end() {
   // misses), with the error latched in STATUS.
   const uint32_t error = faults.total() > faults_before ? regs::kBadImage : regs::kNoError;
   registers->frame_ended(cycles, std::max(calendar.now(), end_edge), error);
+}
+
+void Accelerator::sample(std::vector<DetailWindow> windows) {
+  const AcceleratorConfig& config = net_->cfg;
+  std::string why;
+  if (config.schedule != Schedule::kTwoPhase) why = "a sampled frame runs in two phases";
+  if (config.culling.records_per_cycle == 0 || !config.write_records)
+    why =
+        "a sampled frame's culling unit reads the records from memory (records_per_cycle > 0, "
+        "write_records)";
+  if (config.reflection_depth > 0) why = "a sampled frame has no reflections";
+  if (!why.empty()) report_error(kReportConfig, std::string(name()) + ": sampling: " + why);
+  net_->windows = std::move(windows);
 }
 
 Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,
@@ -206,9 +222,18 @@ AcceleratorResult Accelerator::result() {
   out.cycles_primary =
       n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end())) - first;
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
-  out.primary_batch_cycles =
-      batch_cycles(n.ctx.clock, n.generator->batch_starts(), n.phases.primary_end());
-  out.shadow_batch_cycles = batch_cycles(n.ctx.clock, n.culling->batch_starts(), n.end);
+  out.primary_windows =
+      windows_of(n.ctx.clock, n.generator->windows(), uint64_t(n.job.width) * n.job.height,
+                 n.generator->window_starts(), n.phases.primary_end());
+  out.shadow_windows = windows_of(n.ctx.clock, n.culling->windows(), n.frame.pixels.size(),
+                                  n.culling->window_starts(), n.end);
+  if (n.windows.empty()) {  // a whole frame: one window each
+    out.primary_batch_cycles = std::move(out.primary_windows[0].cycles);
+    if (!out.shadow_windows.empty())
+      out.shadow_batch_cycles = std::move(out.shadow_windows[0].cycles);
+    out.primary_windows.clear();
+    out.shadow_windows.clear();
+  }
   for (uint32_t s = 0; s < n.cfg.shading.count; ++s) {
     const ShadingStats& u = n.shading(s).stats();
     out.primary_rays += u.primary_rays;

@@ -116,6 +116,7 @@ struct Accelerator::Netlist : FrameEngine {
   uint64_t frames = 0;  // begun
   uint64_t memory_bytes = 0;
   std::vector<RegisterWrite> preset;  // a frame programmed at construction
+  std::vector<DetailWindow> windows;  // ... and its windows of detail (FrameJob::windows)
   bool collected = false;
 };
 

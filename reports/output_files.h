@@ -18,6 +18,7 @@ inline constexpr const char* kReportJson = "report.json";  // written last: mark
 inline constexpr const char* kReportMd = "report.md";
 inline constexpr const char* kStatsCsv = "stats.csv";
 inline constexpr const char* kGlossaryCsv = "glossary.csv";
+inline constexpr const char* kSampleCsv = "sample.csv";    // a sampled run's measured units
 inline constexpr const char* kBatchesCsv = "batches.csv";  // the primary phase by ray batches
 inline constexpr const char* kConfigJson = "config.json";
 inline constexpr const char* kRenderPng = "render.png";

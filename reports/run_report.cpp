@@ -192,15 +192,40 @@ void culled_rays_table(std::ostringstream& md, const json& r) {
                     pct(culled_sum, shadow_sum), num(shadow_sum - culled_sum));
 }
 
+// A sampled run: the estimate's 95% interval, as a table cell.
+std::string interval(const json& r, const char* key) {
+  if (!r.contains("sampled")) return "";
+  const json& e = r["sample"][key];
+  return fmt::format(" ± {} ({:.2f}%) |", num(std::round(e["ci95"].get<double>())),
+                     e["ci95_pct"].get<double>());
+}
+
+void sampled_section(std::ostringstream& md, const json& r) {
+  const json& s = r["sample"];
+  md << fmt::format(
+      "## Sampled frame\n\nThe cycles are estimates from {} of the frame's {} units of {} primary "
+      "rays (fraction {}, seed {}), each simulated after {} rays of warm-up: {:.1f}% of the rays "
+      "ran in detail, in {} windows. Intervals are 95% confidence intervals from the sample's own "
+      "variance (docs/sampling.md). The pixels and ray counts are the reference tracer's; the "
+      "statistics cover the detailed windows only.\n\n",
+      num(s["measured_units"].get<double>()), num(s["units"].get<double>()),
+      num(s["unit_rays"].get<double>()), s["fraction"].get<double>(), s["seed"].dump(),
+      num(s["warmup_rays"].get<double>()), 100 * s["detailed_share"].get<double>(),
+      num(s["windows"].get<double>()));
+}
+
 void frame_time_table(std::ostringstream& md, const json& r) {
-  md << "## Frame time (as Table 6, this run's column)\n\n| rays | cycles | time "
-        "|\n|---|---|---|\n";
-  md << fmt::format("| all | {} | {:.3f} ms |\n", num(r["cycles_total"].get<double>()),
-                    r["frame_ms"]["all"].get<double>());
-  md << fmt::format("| shadow | {} | {:.3f} ms |\n", num(r["cycles_shadow"].get<double>()),
-                    r["frame_ms"]["shadow"].get<double>());
-  md << fmt::format("| primary | {} | {:.3f} ms |\n\n", num(r["cycles_primary"].get<double>()),
-                    r["cycles_primary"].get<double>() / (r["clock_ghz"].get<double>() * 1e6));
+  const bool sampled = r.contains("sampled");
+  if (sampled) sampled_section(md, r);
+  md << "## Frame time (as Table 6, this run's column)\n\n| rays | cycles | time |"
+     << (sampled ? " 95% interval |\n|---|---|---|---|\n" : "\n|---|---|---|\n");
+  md << fmt::format("| all | {} | {:.3f} ms |{}\n", num(r["cycles_total"].get<double>()),
+                    r["frame_ms"]["all"].get<double>(), interval(r, "cycles_total"));
+  md << fmt::format("| shadow | {} | {:.3f} ms |{}\n", num(r["cycles_shadow"].get<double>()),
+                    r["frame_ms"]["shadow"].get<double>(), interval(r, "cycles_shadow"));
+  md << fmt::format("| primary | {} | {:.3f} ms |{}\n\n", num(r["cycles_primary"].get<double>()),
+                    r["cycles_primary"].get<double>() / (r["clock_ghz"].get<double>() * 1e6),
+                    interval(r, "cycles_primary"));
   if (r["config"]["hw"].value("schedule", "two-phase") == "two-phase")
     md << "\"shadow\" is the second phase: from the last primary ray's retirement to the last "
           "shadow ray's (docs/model-design.md).\n\n";
@@ -253,12 +278,19 @@ void memory_tables(std::ostringstream& md, const json& r) {
 void check_host_and_figures(std::ostringstream& md, const json& r) {
   if (!r["reference_check"].is_null()) {
     const json& c = r["reference_check"];
-    md << fmt::format(
-        "## Reference check\n\n{} of {} pixels differ from the reference tracer; image {}; culled "
-        "counts {}.\n\n",
-        num(c["mismatched_pixels"].get<double>()), num(c["pixels"].get<double>()),
-        c["image_identical"].get<bool>() ? "identical" : "different",
-        c["culled_counts_identical"].get<bool>() ? "identical" : "different");
+    if (!c.contains("image_identical"))  // a sampled frame: the pixels of its windows
+      md << fmt::format(
+          "## Reference check\n\n{} of the {} pixels the sampled frame simulated differ from the "
+          "reference tracer.\n\n",
+          num(c["mismatched_pixels"].get<double>()), num(c["pixels"].get<double>()));
+    else
+      md << fmt::format(
+          "## Reference check\n\n{} of {} pixels differ from the reference tracer; image {}; "
+          "culled "
+          "counts {}.\n\n",
+          num(c["mismatched_pixels"].get<double>()), num(c["pixels"].get<double>()),
+          c["image_identical"].get<bool>() ? "identical" : "different",
+          c["culled_counts_identical"].get<bool>() ? "identical" : "different");
   }
   const json& host = r["host"];
   md << fmt::format(

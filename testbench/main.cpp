@@ -55,9 +55,10 @@ struct Commands {
   rtsim::RunArgs run;
   std::string lvb_switch = "on";
   int run_width = 0, run_height = 0, run_reflections = 0;
+  std::string run_sample;  // checked as run.sample
   bool run_check = false, run_no_plots = false;
   CLI::Option *lvb_opt = nullptr, *check_opt = nullptr, *refl_opt = nullptr, *width_opt = nullptr,
-              *height_opt = nullptr, *plots_opt = nullptr;
+              *height_opt = nullptr, *plots_opt = nullptr, *sample_opt = nullptr;
   rtsim::SweepArgs sweep;
   bool sweep_no_plots = false;
   rtsim::AnimateArgs animate;
@@ -138,6 +139,10 @@ void add_run(CLI::App& app, Commands& c) {
       c.run_cmd->add_option("--height", c.run_height, "Override the scene's image height")
           ->check(CLI::Range(1, 16384));
   c.plots_opt = c.run_cmd->add_flag("--no-plots", c.run_no_plots, "Skip the PNG figures");
+  c.sample_opt = c.run_cmd->add_option(
+      "--sample", c.run_sample,
+      "Simulate this fraction of the frame's units in detail and estimate its cycles with 95% "
+      "intervals (run.sample; docs/sampling.md)");
   add_accel_option(c.run_cmd, [&c](const std::string& v) { c.run.sources.run_flags["accel"] = v; });
   c.run_cmd
       ->add_option("--scene-root", c.run.sources.scene_root,
@@ -295,6 +300,7 @@ int dispatch(Commands& c) {
     if (c.lvb_opt->count()) flags["lvb"] = c.lvb_switch == "on";
     if (c.check_opt->count()) flags["check"] = c.run_check;
     if (c.refl_opt->count()) flags["reflections"] = c.run_reflections;
+    if (c.sample_opt->count()) flags["sample"] = YAML::Node(c.run_sample);
     if (c.width_opt->count()) flags["width"] = c.run_width;
     if (c.height_opt->count()) flags["height"] = c.run_height;
     if (c.plots_opt->count()) flags["plots"] = !c.run_no_plots;

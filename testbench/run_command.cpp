@@ -13,6 +13,7 @@
 #include "testbench/commands.h"
 #include "testbench/progress.h"
 #include "testbench/resources.h"
+#include "testbench/sampled_frame.h"
 #include "testbench/simulate.h"
 
 #include <fmt/format.h>
@@ -30,16 +31,36 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// --check: the golden model over the same image; every pixel must match bit for bit.
-nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run,
-                               const SimulatedFrame& r, uint64_t& mismatches) {
+// The golden model's frame with the run's settings.
+TraceResult reference_frame(const PreparedScene& p, const RunSettings& run) {
   TracerOptions opt;
   opt.width = p.scene.width;
   opt.height = p.scene.height;
   opt.cull_with_lvb = run.lvb;
   opt.reflection_depth = run.reflections;
-  const TraceResult ref = ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
+  return ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
+}
+
+// The pixels a sampled frame simulated (its windows, in issue order); empty: every pixel.
+std::vector<bool> simulated_pixels(const RunConfig& c, const PreparedScene& p,
+                                   const SamplePlan* plan) {
+  if (!plan) return {};
+  std::vector<bool> in(size_t(p.scene.width) * p.scene.height, false);
+  const std::vector<uint32_t> order =
+      model::issue_order(p.scene.width, p.scene.height, c.hw.order, c.hw.tile);
+  for (const model::DetailWindow& w : plan->windows)
+    for (uint64_t k = w.begin; k < w.end; ++k) in[order[k]] = true;
+  return in;
+}
+
+// --check: the golden model over the same image; every pixel the model simulated must match bit
+// for bit (a sampled frame's: those of its windows).
+nlohmann::json reference_check(const TraceResult& ref, const SimulatedFrame& r,
+                               const std::vector<bool>& simulated, uint64_t& mismatches) {
+  uint64_t compared = 0;
   for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    if (!simulated.empty() && !simulated[i]) continue;
+    ++compared;
     const PixelRecord& a = ref.pixels[i];
     const model::PixelState& b = r.frame.pixels[i];
     // Per light, the occluded samples too (visibility.npy).
@@ -59,8 +80,10 @@ nlohmann::json reference_check(const PreparedScene& p, const RunSettings& run,
   uint64_t culled_diff = 0;
   for (size_t l = 0; l < r.shadow_culled.size(); ++l)
     culled_diff += r.shadow_culled[l] != ref.stats.per_light[l].culled;
+  if (!simulated.empty())  // a sampled frame's image and counts are the reference's
+    return {{"pixels", compared}, {"mismatched_pixels", mismatches}};
   if (ref.rgb != r.rgb || culled_diff) ++mismatches;
-  return {{"pixels", ref.pixels.size()},
+  return {{"pixels", compared},
           {"mismatched_pixels", mismatches},
           {"image_identical", ref.rgb == r.rgb},
           {"culled_counts_identical", culled_diff == 0}};
@@ -154,6 +177,23 @@ PixelPlanes pixel_planes(const SimulatedFrame& r) {
   return planes;
 }
 
+// The same planes from the reference tracer's frame (a sampled run's pixels).
+PixelPlanes pixel_planes(const TraceResult& ref) {
+  PixelPlanes planes;
+  planes.lights = ref.stats.per_light.size();
+  planes.mask.resize(ref.pixels.size());
+  planes.culled.resize(ref.pixels.size());
+  planes.visibility.resize(ref.pixels.size() * planes.lights);
+  for (size_t i = 0; i < ref.pixels.size(); ++i) {
+    const PixelRecord& px = ref.pixels[i];
+    planes.mask[i] = mask_value(px.hit.tri, px.occluded);
+    planes.culled[i] = px.culled;
+    for (size_t l = 0; l < planes.lights; ++l)
+      planes.visibility[i * planes.lights + l] = px.occluded_samples[l];
+  }
+  return planes;
+}
+
 RunFigures figures_of(const SimulatedFrame& r) {
   RunFigures f;
   f.clock_ghz = r.clock_ghz;
@@ -175,20 +215,24 @@ RunFigures figures_of(const SimulatedFrame& r) {
 // The primary phase by batches of rays in issue order (docs/sampling.md): the units a sampled
 // frame estimates from, and what its validation compares with.
 // Each phase by batches: a primary batch's first ray in issue order, a shadow batch's first entry
-// of the culling unit's scan.
+// of the culling unit's scan; in a sampled frame, the batches its windows timed.
 std::string batches_csv(const SimulatedFrame& r) {
   std::string s = "phase,batch,first,cycles\n";
-  for (const auto& [phase, cycles] :
-       {std::pair{"primary", &r.primary_batch_cycles}, std::pair{"shadow", &r.shadow_batch_cycles}})
-    for (size_t b = 0; b < cycles->size(); ++b)
-      s += fmt::format("{},{},{},{}\n", phase, b, b * model::kBatchRays, (*cycles)[b]);
+  auto add = [&](const char* phase, uint64_t first, const std::vector<uint64_t>& cycles) {
+    for (size_t b = 0; b < cycles.size(); ++b)
+      s += fmt::format("{},{},{},{}\n", phase, first + b, (first + b) * model::kBatchRays,
+                       cycles[b]);
+  };
+  add("primary", 0, r.primary_batch_cycles);
+  for (const model::WindowBatches& w : r.primary_windows) add("primary", w.first_batch, w.cycles);
+  add("shadow", 0, r.shadow_batch_cycles);
+  for (const model::WindowBatches& w : r.shadow_windows) add("shadow", w.first_batch, w.cycles);
   return s;
 }
 
 void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
-                       const SimulatedFrame& r, const nlohmann::json& config,
-                       const nlohmann::json& report) {
-  const PixelPlanes planes = pixel_planes(r);
+                       const SimulatedFrame& r, const PixelPlanes& planes,
+                       const nlohmann::json& config, const nlohmann::json& report) {
   const int w = p.scene.width, h = p.scene.height;
   write_json((out / output::kConfigJson).string(), config);
   write_png_rgb((out / output::kRenderPng).string(), r.rgb, w, h);
@@ -202,6 +246,17 @@ void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
   write_file_atomic((out / output::kReportMd).string(), run_report_markdown(report));
   // Last: its presence marks a finished run.
   write_json((out / output::kReportJson).string(), report);
+}
+
+// A sampled run's estimates in report.json, and sample.csv beside it.
+void add_sampled(nlohmann::json& report, const SampleSettings& settings, const SamplePlan& plan,
+                 const SampledEstimates& e, const std::filesystem::path& out) {
+  report["sampled"] = true;
+  report["cycles_total_ci95"] = e.total.ci95;
+  report["cycles_primary_ci95"] = e.primary.ci95;
+  report["cycles_shadow_ci95"] = e.shadow.ci95;
+  report["sample"] = sample_json(settings, plan, e);
+  write_file_atomic((out / output::kSampleCsv).string(), sample_csv(plan, e));
 }
 
 void print_summary(const RunConfig& c, const PreparedScene& p, const SimulatedFrame& r,
@@ -245,15 +300,29 @@ int run_model(const RunArgs& args) {
   hooks.tlm_checks = c.run.tlm_checks;
   const auto t_sim = std::chrono::steady_clock::now();
   doing.emplace("simulating the frame");
-  const SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width,
-                                          p.scene.height, hooks, double(c.run.time_resolution_ps));
+  const std::optional<SamplePlan> plan =
+      c.run.sample.fraction > 0
+          ? std::optional(plan_sample(uint64_t(p.scene.width) * p.scene.height, c.run.sample))
+          : std::nullopt;
+  SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height,
+                                    hooks, double(c.run.time_resolution_ps),
+                                    plan ? plan->windows : std::vector<model::DetailWindow>{});
   host.simulate = seconds_since(t_sim);
   progress.finish();
 
   doing.emplace("checking the frame and writing the outputs");
+  // A sampled frame's pixels and counts are the reference tracer's (sampled_frame.h).
+  std::optional<TraceResult> ref;
+  if (plan || c.run.check) ref = reference_frame(p, c.run);
   nlohmann::json check = nullptr;
   uint64_t mismatches = 0;
-  if (c.run.check) check = reference_check(p, c.run, r, mismatches);
+  if (c.run.check)
+    check = reference_check(*ref, r, simulated_pixels(c, p, plan ? &*plan : nullptr), mismatches);
+  std::optional<SampledEstimates> estimates;
+  if (plan) {
+    estimates = estimate_sampled(*plan, r);
+    apply_sampled(r, *estimates, *ref);
+  }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   nlohmann::json structure = structure_json(p);
@@ -265,16 +334,20 @@ int run_model(const RunArgs& args) {
   host.image = p.build_seconds - p.structure_seconds();
   host.total = seconds_since(t0);
   host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
-  const nlohmann::json report =
+  nlohmann::json report =
       run_report_json(scene_json(p), structure, config, lvb_json, figures_of(r), check, host);
-  write_run_outputs(out, p, r, config, report);
+  if (plan) add_sampled(report, c.run.sample, *plan, *estimates, out);
+  write_run_outputs(out, p, r, plan ? pixel_planes(*ref) : pixel_planes(r), config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());
   if (!args.quiet)
     print_summary(c, p, r, host.simulate, out.string(), c.run.plots && plots_note.empty());
   if (!plots_note.empty())
     fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
-  if (c.run.check)
+  if (c.run.check && plan)
+    fmt::print("reference check: {} of the {} pixels simulated differ\n",
+               check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>());
+  else if (c.run.check)
     fmt::print("reference check: {} of {} pixels differ, image {}, culled counts {}\n",
                check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>(),
                check["image_identical"].get<bool>() ? "identical" : "DIFFERENT",

@@ -49,6 +49,18 @@ Enum read_choice(YamlMap& m, const std::string& key, Enum fallback,
   m.fail(key, "expected " + expected);
 }
 
+void read_sample_settings(YamlMap& m, SampleSettings& s) {
+  if (m.has("sample")) {
+    s.fraction = m.get<double>("sample", 0);
+    if (!(s.fraction > 0 && s.fraction <= 1)) m.fail("sample", "expected a fraction in (0, 1]");
+  }
+  s.unit = m.get_in_range<uint32_t>("sample_unit", s.unit, 64, 1u << 24);
+  if (s.unit % model::kBatchRays) m.fail("sample_unit", "expected a multiple of 64 rays");
+  s.warmup = m.get_in_range<uint32_t>("sample_warmup", s.warmup, 0, 1u << 24);
+  if (s.warmup % model::kBatchRays) m.fail("sample_warmup", "expected a multiple of 64 rays");
+  s.seed = m.get<uint64_t>("sample_seed", s.seed);
+}
+
 RunSettings read_run_settings(YamlMap m) {
   RunSettings r;
   r.accel = read_choice(m, "accel", r.accel,
@@ -74,8 +86,22 @@ RunSettings read_run_settings(YamlMap m) {
     if (v % 10 != 0) m.fail("time_resolution_ps", "expected a power of ten (1, 10, 100, 1000 ...)");
   if (const double since = m.get<double>("lvb_lazy_since", std::nan("")); !std::isnan(since))
     r.lvb_lazy_since = since;
+  read_sample_settings(m, r.sample);
   m.finish();
   return r;
+}
+
+// What a sampled frame needs of the machine (model/accelerator.h, Accelerator::sample).
+void check_sampled(const RunConfig& c) {
+  if (c.run.sample.fraction == 0) return;
+  const char* why = nullptr;
+  if (c.hw.schedule != model::Schedule::kTwoPhase) why = "hw.schedule: two-phase";
+  if (c.hw.culling.records_per_cycle == 0 || !c.hw.write_records)
+    why =
+        "the culling unit to read the hit records from memory (hw.culling.records_per_cycle > "
+        "0 and hw.shading.write_records: true)";
+  if (c.hw.reflection_depth > 0) why = "no reflections (run.reflections: 0)";
+  if (why) throw InputError(fmt::format("run.sample: a sampled frame needs {}", why));
 }
 
 }  // namespace
@@ -123,6 +149,7 @@ RunConfig resolve_run_config(const RunSources& src) {
         to_string(c.run.accel), is_bvh(c.run.accel) ? "a BVH" : "the kd-tree",
         is_bvh(c.run.accel) ? "bvh" : "kdtree", c.hw_file.empty() ? "the hardware" : c.hw_file,
         c.hw.structure == model::Structure::kBvh ? "bvh" : "kdtree"));
+  check_sampled(c);
   return c;
 }
 
@@ -180,6 +207,12 @@ nlohmann::json run_settings_json(const RunSettings& r) {
                       {"tlm_checks", r.tlm_checks},
                       {"time_resolution_ps", r.time_resolution_ps}};
   if (r.lvb_lazy_since) j["lvb_lazy_since"] = *r.lvb_lazy_since;
+  if (r.sample.fraction > 0) {
+    j["sample"] = r.sample.fraction;
+    j["sample_unit"] = r.sample.unit;
+    j["sample_warmup"] = r.sample.warmup;
+    j["sample_seed"] = r.sample.seed;
+  }
   return j;
 }
 

@@ -12,6 +12,7 @@
 #include "kernels/bvh_image.h"
 #include "kernels/lvb.h"
 #include "model/accelerator.h"
+#include "testbench/sample_plan.h"
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +37,8 @@ struct RunSettings {
   // The time of an earlier frame: the report's lvb.lazy counts what a lazy rebuild would redo
   // after it (rtsim animate sets the previous frame's; docs/animation.md).
   std::optional<double> lvb_lazy_since;
+  // A sampled frame (run.sample, docs/sampling.md): fraction 0 runs the whole frame in detail.
+  SampleSettings sample;
 };
 
 struct RunConfig {

@@ -17,11 +17,13 @@ struct SimulatedFrame : model::AcceleratorResult {
 
 // Simulates one frame of `camera` over `image` at width x height, with SystemC's time resolution
 // `resolution_ps` picoseconds (a power of ten). SystemC elaborates once per process: call this
-// once. A watchdog stop or another model error becomes std::runtime_error, a configuration out
-// of range (a resolution that cannot hold the clock included) InputError.
+// once. With `windows`, a sampled frame (Accelerator::sample). A watchdog stop or another model
+// error becomes std::runtime_error, a configuration out of range (a resolution that cannot hold the
+// clock included) InputError.
 SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image,
                               const Camera& camera, int width, int height,
-                              const model::SimulationHooks& hooks = {}, double resolution_ps = 1);
+                              const model::SimulationHooks& hooks = {}, double resolution_ps = 1,
+                              const std::vector<model::DetailWindow>& windows = {});
 
 // Runs the simulation until it ends (sc_start), mapping the model's sc_reports as simulate_frame
 // does.

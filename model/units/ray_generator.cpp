@@ -30,35 +30,52 @@ RayGenerator::RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx
   control.bind(*this);
 }
 
-void RayGenerator::begin_frame(const Camera& camera, int width, int height) {
+void RayGenerator::begin_frame(const Camera& camera, int width, int height,
+                               std::vector<DetailWindow> windows) {
   camera_ = PinholeCamera(camera, width, height);
   width_ = width;
   height_ = height;
-  next_ = 0;
   inputs_.restart();
   total_ = uint64_t(width) * uint64_t(height);
   order_ = issue_order(width, height, order_kind_, tile_);
-  batch_starts_.clear();
-  batch_starts_.reserve((total_ + kBatchRays - 1) / kBatchRays);
+  windows_ = std::move(windows);
+  if (windows_.empty()) windows_ = whole_frame(total_);
+  starts_.assign(windows_.size(), {});
+  window_ = 0;
+  next_ = windows_[0].begin;
+  limit_ = std::min(windows_[0].end + 1, total_);
+  issued_ = 0;
+}
+
+bool RayGenerator::next_window() {
+  if (window_ + 1 >= windows_.size() || ctx_.pool->in_flight() > 0) return false;
+  const DetailWindow& w = windows_[++window_];
+  next_ = w.begin;
+  limit_ = std::min(w.end + 1, total_);
+  return true;
 }
 
 bool RayGenerator::cycle(Tick now) {
+  if (next_ == limit_ && !next_window()) return false;
   uint32_t issued = 0;
-  for (; issued < rays_per_cycle_ && !finished() && !ctx_.pool->full(); ++issued) {
+  for (; issued < rays_per_cycle_ && next_ < limit_ && !ctx_.pool->full(); ++issued) {
     RayQueueIn* f = inputs_.next_free();
     if (!f) break;
-    if (next_ % kBatchRays == 0) batch_starts_.push_back(now);
+    if (next_ % kBatchRays == 0) starts_[window_].push_back(now);
     RayInfo info;
     info.entry = pixel_of(next_++);  // bounce 0: the entry is the pixel
     info.ray = camera_.ray(int(info.entry % width_), int(info.entry / width_));
     f->push(ctx_.pool->create(info), now + clock().period(), now);
+    ++issued_;
   }
   return issued > 0;
 }
 
 Tick RayGenerator::next_ready(Tick from) const {
-  if (finished() || ctx_.pool->full()) return kUnknown;  // woken when a ray retires
-  return inputs_.any_free() ? from : kUnknown;           // woken when a TRV input frees a slot
+  if (next_ == limit_)  // between windows: when the last ray in flight retires
+    return window_ + 1 < windows_.size() && ctx_.pool->in_flight() == 0 ? from : kUnknown;
+  if (ctx_.pool->full()) return kUnknown;       // woken when a ray retires
+  return inputs_.any_free() ? from : kUnknown;  // woken when a TRV input frees a slot
 }
 
 }  // namespace rtsim::model

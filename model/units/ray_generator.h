@@ -7,6 +7,7 @@
 #include "kernels/camera.h"
 #include "model/sim/ray_fifo.h"
 #include "model/sim/unit.h"
+#include "model/units/detail_window.h"
 #include "model/units/model_context.h"
 #include "model/units/ray_ports.h"
 
@@ -27,17 +28,22 @@ class RayGenerator : public Unit, public PrimaryRays {
 
   RayGenerator(sc_core::sc_module_name name, const ModelContext& ctx, RayOrder order, int tile,
                uint32_t rays_per_cycle = 1);
-  // The next frame's rays: `camera` at width x height, from its first pixel.
-  void begin_frame(const Camera& camera, int width, int height);
+  // The next frame's rays: `camera` at width x height, from its first pixel, those of `windows`
+  // only (check_windows; whole_frame() for all): between two windows it waits until no ray is
+  // in flight, then goes on at the next window's first ray.
+  void begin_frame(const Camera& camera, int width, int height,
+                   std::vector<DetailWindow> windows = {});
 
-  // When each batch of kBatchRays primary rays in issue order began to issue: the frame's units of
-  // work for sampling (issue 38, docs/sampling.md), the last batch maybe shorter.
+  // Per window, when each batch of kBatchRays primary rays in issue order began to issue: the
+  // frame's units of work for sampling (issue 38, docs/sampling.md). A window that ends before
+  // the frame's last ray issues ray `end` to time its last batch: its last start is that one.
   static constexpr uint32_t kBatchRays = model::kBatchRays;
-  const std::vector<Tick>& batch_starts() const { return batch_starts_; }
+  const std::vector<DetailWindow>& windows() const { return windows_; }
+  const std::vector<std::vector<Tick>>& window_starts() const { return starts_; }
 
   // PrimaryRays.
-  bool finished() const override { return next_ == total_; }
-  uint64_t issued() const override { return next_; }
+  bool finished() const override { return next_ == limit_ && window_ + 1 >= windows_.size(); }
+  uint64_t issued() const override { return issued_; }
   void slot_freed(Tick now) override { wake(now); }
 
  protected:
@@ -55,9 +61,16 @@ class RayGenerator : public Unit, public PrimaryRays {
   int tile_;
   RoundRobin inputs_;  // over to_trv
   uint32_t rays_per_cycle_;
+  // At the current window's end: goes on at the next window when the machine is empty.
+  bool next_window();
+
   uint64_t next_ = 0, total_ = 0;
+  uint64_t limit_ = 0;           // the current window's last ray to issue, plus one
+  uint64_t issued_ = 0;          // this frame
   std::vector<uint32_t> order_;  // pixels in issue order
-  std::vector<Tick> batch_starts_;
+  std::vector<DetailWindow> windows_;
+  size_t window_ = 0;
+  std::vector<std::vector<Tick>> starts_;  // per window
 };
 
 }  // namespace rtsim::model

@@ -31,7 +31,7 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
   own_l1_ = std::make_unique<ClientCaches>(*own_l1, false, ctx.clock, this, "culling");
 }
 
-void ShadowCullingUnit::begin_frame(bool culling) {
+void ShadowCullingUnit::begin_frame(bool culling, std::vector<DetailWindow> windows) {
   culling_ = culling;
   if (ctx_.header.light_count > light_stats_.capacity())
     report_error(kReportInternal, std::string(name()) + ": more lights than LVB bits");
@@ -44,7 +44,11 @@ void ShadowCullingUnit::begin_frame(bool culling) {
   added_ = done_ = generated_ = 0;
   light_ = sample_ = 0;
   light_latched_ = record_open_ = false;
-  batch_starts_.clear();
+  plan_ = std::move(windows);
+  windows_.clear();
+  starts_.clear();
+  window_ = 0;
+  scan_limit_ = 0;
 }
 
 void ShadowCullingUnit::end_of_elaboration() {
@@ -56,10 +60,22 @@ void ShadowCullingUnit::end_of_elaboration() {
 void ShadowCullingUnit::scan_all(Tick now) {
   scanning_ = closed_ = true;
   scan_ready_ = now;
-  entry_ = 0;
   light_ = 0;
+  windows_ = plan_.empty() ? whole_frame(frame_->pixels.size()) : plan_;
+  if (!plan_.empty() && !from_memory())
+    report_error(kReportInternal, std::string(name()) +
+                                      ": a scan in windows reads the records from memory "
+                                      "(records_per_cycle > 0)");
+  starts_.assign(windows_.size(), {});
+  window_ = 0;
+  entry_ = windows_[0].begin;
+  scan_limit_ = windows_[0].end;
   for (const PixelState& px : frame_->pixels) added_ += px.hit.tri != kNoHit;
-  if (ctx_.header.light_count == 0) entry_ = frame_->pixels.size();
+  if (ctx_.header.light_count == 0) {
+    entry_ = scan_limit_ = frame_->pixels.size();
+    windows_ = whole_frame(entry_);
+    starts_.assign(1, {});
+  }
   if (from_memory()) {
     arrival_.assign(prefetch_, kUnknown);
     prefetched_.assign(prefetch_, HitRecord{});
@@ -73,8 +89,20 @@ void ShadowCullingUnit::scan_all(Tick now) {
 
 void ShadowCullingUnit::mark_batches(Tick now) {
   if (!scanning_) return;
-  const size_t end = std::min(entry_ + 1, frame_->pixels.size());
-  while (batch_starts_.size() * kBatchRays < end) batch_starts_.push_back(now);
+  std::vector<Tick>& starts = starts_[window_];
+  const uint64_t first = windows_[window_].begin / kBatchRays;
+  const uint64_t end = std::min(entry_ + 1, frame_->pixels.size());
+  while ((first + starts.size()) * kBatchRays < end) starts.push_back(now);
+}
+
+bool ShadowCullingUnit::next_window(Tick now) {
+  if (window_ + 1 >= windows_.size() || ctx_.pool->in_flight() > 0) return false;
+  const DetailWindow& w = windows_[++window_];
+  entry_ = requested_ = w.begin;
+  scan_limit_ = w.end;
+  arrival_.assign(prefetch_, kUnknown);
+  mark_batches(now);
+  return true;
 }
 
 void ShadowCullingUnit::hit_shaded(uint32_t entry, Tick ready) {
@@ -210,22 +238,23 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
 }
 
 bool ShadowCullingUnit::cycle(Tick now) {
+  if (scanning_ && entry_ == scan_limit_ && !next_window(now)) return false;
   const bool active = rate_ == 0 ? cycle_unlimited(now) : cycle_limited(now);
   mark_batches(now);
   return active;
 }
 
 bool ShadowCullingUnit::cycle_unlimited(Tick now) {
-  if (!has_work() || waiting_ || current_ready() > now) return false;
+  if (!in_window() || waiting_ || current_ready() > now) return false;
   // The LVB check is a bitwise test on the hit's whole word: culled lights cost no cycle, the
   // unit emits the next shadow ray that is not culled.
   bool culled_any = false;
-  while (culling_ && has_work() && current_ready() <= now &&
+  while (culling_ && in_window() && current_ready() <= now &&
          !((frame_->pixels[current()].lvb >> light_) & 1u)) {
     cull_light();
     culled_any = true;
   }
-  if (!has_work() || current_ready() > now) return culled_any;
+  if (!in_window() || current_ready() > now) return culled_any;
   return emit(frame_->pixels[current()].surface, now) || culled_any;
 }
 
@@ -247,7 +276,7 @@ bool ShadowCullingUnit::request_records(Tick now) {
 bool ShadowCullingUnit::cycle_limited(Tick now) {
   const bool requested = request_records(now);
   uint32_t taken = 0;
-  while (has_work() && !waiting_ && current_ready() <= now) {
+  while (in_window() && !waiting_ && current_ready() <= now) {
     if (!record_open_) {  // a new record: it takes one of this cycle's slots
       if (taken == rate_) break;
       ++taken;
@@ -274,10 +303,12 @@ bool ShadowCullingUnit::cycle_limited(Tick now) {
 }
 
 Tick ShadowCullingUnit::next_ready(Tick from) const {
-  if (rate_ > 0 && can_request()) return from;   // keep the reads flowing
-  if (!has_work() || waiting_) return kUnknown;  // woken by hit_shaded() or a fill
-  if (ctx_.pool->full()) return kUnknown;        // woken when a ray retires
-  if (!inputs_.any_free()) return kUnknown;      // woken when a TRV input frees a slot
+  if (scanning_ && entry_ == scan_limit_)  // between windows: when the last ray in flight retires
+    return window_ + 1 < windows_.size() && ctx_.pool->in_flight() == 0 ? from : kUnknown;
+  if (rate_ > 0 && can_request()) return from;    // keep the reads flowing
+  if (!in_window() || waiting_) return kUnknown;  // woken by hit_shaded() or a fill
+  if (ctx_.pool->full()) return kUnknown;         // woken when a ray retires
+  if (!inputs_.any_free()) return kUnknown;       // woken when a TRV input frees a slot
   const Tick ready = current_ready();
   return ready == kUnknown ? kUnknown : std::max(from, ready);
 }
@@ -286,6 +317,7 @@ std::string ShadowCullingUnit::state() const {
   std::string s =
       "culling unit: " + std::to_string(done_) + " of " + std::to_string(added_) + " hits decided";
   if (!has_work()) return s + (closed_ ? ", done" : ", waiting for hits");
+  if (!in_window()) return s + ", between windows";
   s += ", at entry " + std::to_string(current()) + " light " + std::to_string(light_);
   if (ctx_.light_samples[light_] > 1) s += " sample " + std::to_string(sample_);
   if (waiting_) s += ", waiting for a light record";

@@ -23,6 +23,7 @@
 #include "model/sim/ray_fifo.h"
 #include "model/sim/stats_description.h"
 #include "model/sim/unit.h"
+#include "model/units/detail_window.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
 #include "model/units/model_context.h"
@@ -100,8 +101,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   ShadowCullingUnit(sc_core::sc_module_name name, const ModelContext& ctx,
                     const CullingConfig& config, const TypeMemoryConfig* own_l1, FrameBuffer* frame,
                     const HitRecordRegion& region);
-  // A new frame (the context holds its lights), with LVB culling on or off.
-  void begin_frame(bool culling);
+  // A new frame (the context holds its lights), with LVB culling on or off. In two phases the scan
+  // covers `windows` of the record slots only (detail_window.h; empty: every slot), waiting
+  // between two until no ray is in flight; windows need the records read from memory.
+  void begin_frame(bool culling, std::vector<DetailWindow> windows = {});
   // Its own L1 (null when it shares shading unit 0's).
   Cache* own_l1() const { return own_l1_ ? &own_l1_->l1() : nullptr; }
   // Below its own L1 (the level it shares with the shading units' L1s); null without one.
@@ -120,9 +123,12 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   double decided_fraction() const;
   // cookie 0: the light record came; cookie e + 1: frame entry e's record came.
   void on_fill(uint64_t, uint64_t cookie, Tick when) override;
-  // Two phases: when the scan reached each batch of kBatchRays entries (record slots when it reads
-  // them from memory), the shadow phase's units of work for sampling (docs/sampling.md).
-  const std::vector<Tick>& batch_starts() const { return batch_starts_; }
+  // Two phases, per window of the scan: when it reached each batch of kBatchRays entries (record
+  // slots when it reads them from memory), the shadow phase's units of work for sampling
+  // (docs/sampling.md). A window that ends before the last slot ends with the time it reached
+  // its end.
+  const std::vector<DetailWindow>& windows() const { return windows_; }
+  const std::vector<std::vector<Tick>>& window_starts() const { return starts_; }
   // Per light, over every frame so far.
   const std::vector<LightStats>& per_light() const { return light_stats_; }
   // Its statistics, and those of lights that later frames add.
@@ -136,7 +142,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool holds_work() const override { return has_work(); }
 
  private:
-  bool has_work() const { return scanning_ ? entry_ < frame_->pixels.size() : !queue_.empty(); }
+  // Work to do now: an entry to decide.
+  bool in_window() const { return scanning_ ? entry_ < scan_limit_ : !queue_.empty(); }
+  // ... or later: a window still to scan.
+  bool has_work() const { return in_window() || (scanning_ && window_ + 1 < windows_.size()); }
   // The frame entry being decided (reading memory, the cursor runs over record slots).
   uint32_t current() const {
     if (!scanning_) return queue_.front().entry;
@@ -153,7 +162,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool cycle_limited(Tick now);
   bool request_records(Tick now);  // memory reads for the coming entries; true if any issued
   bool can_request() const {
-    return from_memory() && requested_ < frame_->pixels.size() && requested_ < entry_ + prefetch_;
+    return from_memory() && requested_ < scan_limit_ && requested_ < entry_ + prefetch_;
   }
   // Emits the shadow ray of the current (hit, light) pair from `surface`: true if it went.
   bool emit(const SurfacePoint& surface, Tick now);
@@ -164,6 +173,8 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   void register_lights();
   // Marks the batches whose first entry the scan has reached by `now`.
   void mark_batches(Tick now);
+  // At a window's end: goes on at the next window when no ray is in flight.
+  bool next_window(Tick now);
 
   const ModelContext& ctx_;
   bool culling_ = true;
@@ -174,6 +185,7 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool closed_ = false, waiting_ = false;
   bool scanning_ = false;  // two phases: a cursor over the frame
   size_t entry_ = 0;
+  size_t scan_limit_ = 0;  // the current window's end
   Tick scan_ready_ = 0;
   struct Pending {
     uint32_t entry;
@@ -203,7 +215,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   std::vector<Tick> arrival_;  // per entry in the window (entry % prefetch): when its record is in
   std::vector<HitRecord> prefetched_;  // ... and its contents, decoded from the bytes that came
   CullingStats stats_;
-  std::vector<Tick> batch_starts_;
+  std::vector<DetailWindow> plan_;     // as begin_frame() had them
+  std::vector<DetailWindow> windows_;  // the scan's
+  size_t window_ = 0;
+  std::vector<std::vector<Tick>> starts_;  // per window
 };
 
 }  // namespace rtsim::model

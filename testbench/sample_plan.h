@@ -1,0 +1,51 @@
+// A sampled frame's plan (issue 38, docs/sampling.md): the frame's primary rays in issue order
+// cut into units of `unit` rays; the first and the last unit always measured (the pipeline's fill
+// and drain), the others in strata of k = round(1 / fraction) consecutive units with one drawn
+// at random from each (seeded: the same settings give the same sample). Each measured unit runs
+// in detail after `warmup` rays that are simulated but not measured; the culling unit's scan runs
+// over the same units of record slots. The windows of detail go to Accelerator::sample.
+#pragma once
+
+#include "model/units/detail_window.h"
+#include "testbench/sample_estimate.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace rtsim {
+
+struct SampleSettings {
+  double fraction = 0;     // of the units measured; 0: a full frame (no plan)
+  uint32_t unit = 2048;    // rays per unit, a multiple of kBatchRays
+  uint32_t warmup = 2048;  // rays simulated in detail before each measured unit, a multiple too
+  uint64_t seed = 1;
+};
+
+struct MeasuredUnit {
+  uint64_t index = 0;    // the unit's rays: [index x unit, (index + 1) x unit)
+  uint64_t weight = 1;   // the units of its stratum (1 for a unit always measured)
+  bool certain = false;  // always measured: not part of the sample's variance
+};
+
+struct SamplePlan {
+  uint64_t rays = 0, unit = 0;
+  uint64_t population = 0;  // units in the frame
+  std::vector<MeasuredUnit> units;
+  std::vector<model::DetailWindow> windows;
+};
+
+// The plan for a frame of `rays` primary rays (settings already validated).
+SamplePlan plan_sample(uint64_t rays, const SampleSettings& settings);
+
+// Each measured unit's cycles in one phase, from the windows' batches (AcceleratorResult::
+// primary_windows or shadow_windows): the sum of its batches.
+std::vector<double> unit_cycles(const SamplePlan& plan,
+                                const std::vector<model::WindowBatches>& windows);
+
+// The phase's (or frame's) total from the measured units' values: the units always measured
+// count once, each drawn unit for its stratum. The 95% interval comes from the drawn units'
+// successive differences (their strata lie in issue order, and neighbours are alike: Wolter,
+// Introduction to Variance Estimation, ch. 8), with the finite population correction.
+SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& values);
+
+}  // namespace rtsim

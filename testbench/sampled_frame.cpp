@@ -1,0 +1,67 @@
+#include "testbench/sampled_frame.h"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+namespace rtsim {
+
+SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r) {
+  SampledEstimates e;
+  e.primary_units = unit_cycles(plan, r.primary_windows);
+  e.shadow_units = unit_cycles(plan, r.shadow_windows);
+  std::vector<double> both(e.primary_units.size());
+  for (size_t i = 0; i < both.size(); ++i) both[i] = e.primary_units[i] + e.shadow_units[i];
+  e.primary = estimate_plan(plan, e.primary_units);
+  e.shadow = estimate_plan(plan, e.shadow_units);
+  e.total = estimate_plan(plan, both);
+  return e;
+}
+
+void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResult& ref) {
+  r.cycles_primary = uint64_t(std::llround(e.primary.total));
+  r.cycles_shadow = uint64_t(std::llround(e.shadow.total));
+  r.cycles_total = r.cycles_primary + r.cycles_shadow;
+  r.primary_rays = ref.stats.primary_rays;
+  r.primary_hits = ref.stats.primary_hits;
+  r.reflection_rays = ref.stats.reflection_rays;
+  r.shadow_rays = ref.stats.shadow_rays_traced;
+  for (size_t l = 0; l < ref.stats.per_light.size() && l < r.shadow_generated.size(); ++l) {
+    r.shadow_generated[l] = ref.stats.per_light[l].traced;
+    r.shadow_culled[l] = ref.stats.per_light[l].culled;
+  }
+  r.rgb = ref.rgb;
+}
+
+nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
+                           const SampledEstimates& e) {
+  auto est = [](const SampleEstimate& x) {
+    return nlohmann::json{{"estimate", x.total}, {"ci95", x.ci95}, {"ci95_pct", x.ci95_pct()}};
+  };
+  uint64_t detailed = 0;
+  for (const model::DetailWindow& w : plan.windows) detailed += w.end - w.begin;
+  return {{"fraction", s.fraction},
+          {"unit_rays", s.unit},
+          {"warmup_rays", s.warmup},
+          {"seed", s.seed},
+          {"units", plan.population},
+          {"measured_units", plan.units.size()},
+          {"windows", plan.windows.size()},
+          {"detailed_rays", detailed},
+          {"detailed_share", plan.rays ? double(detailed) / double(plan.rays) : 0.0},
+          {"cycles_primary", est(e.primary)},
+          {"cycles_shadow", est(e.shadow)},
+          {"cycles_total", est(e.total)}};
+}
+
+std::string sample_csv(const SamplePlan& plan, const SampledEstimates& e) {
+  std::string s = "unit,first_ray,weight,certain,primary_cycles,shadow_cycles\n";
+  for (size_t i = 0; i < plan.units.size(); ++i) {
+    const MeasuredUnit& u = plan.units[i];
+    s += fmt::format("{},{},{},{},{},{}\n", u.index, u.index * plan.unit, u.weight,
+                     u.certain ? 1 : 0, e.primary_units[i], e.shadow_units[i]);
+  }
+  return s;
+}
+
+}  // namespace rtsim
