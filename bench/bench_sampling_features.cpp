@@ -4,7 +4,8 @@
 //   bench_sampling_features --config RUN/config.json --out features.csv
 //       [--capacity N] [--fifo-depth N] [--scene-root DIR]
 // The run's config.json gives the scene, its overrides, the resolution, the structure and the
-// hardware, so the frame is the run's. Prints the host time of the preparation and of the pass.
+// hardware, so the frame is the run's (run it where the run ran: scene files are relative to the
+// repository). Prints the host time of the preparation and of the pass.
 #include "testbench/pipeline.h"
 #include "testbench/run_config.h"
 #include "testbench/sampling_features.h"
@@ -31,6 +32,9 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // SystemC; its library wants an sc_main, though this program never starts a simulation.
 extern "C" int sc_main(int, char**) { return 0; }
 
+int features(const RunSources& sources, const FeaturePassOptions& options,
+             const std::string& out_file);
+
 int main(int argc, char** argv) {
   RunSources sources;
   std::string out_file = "features.csv";
@@ -56,6 +60,16 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "--config RUN/config.json is required\n");
     return 2;
   }
+  try {
+    return features(sources, options, out_file);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "bench_sampling_features: error: {}\n", e.what());
+    return 2;
+  }
+}
+
+int features(const RunSources& sources, const FeaturePassOptions& options,
+             const std::string& out_file) {
   const auto t0 = std::chrono::steady_clock::now();
   const RunConfig c = resolve_run_config(sources);
   const PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),

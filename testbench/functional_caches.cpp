@@ -1,5 +1,6 @@
 #include "testbench/functional_caches.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace rtsim {
@@ -64,20 +65,25 @@ FunctionalCaches::FunctionalCaches(const model::AcceleratorConfig& cfg) {
   }
 }
 
-void FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts) {
+int FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts) {
   const size_t type = size_t(a.unit);
   TagArray& l1 = l1_[type][unit];
   TagArray& l2 = l2s_[l2_of_[type][unit]];
   ++counts.reads[type];
-  if (a.bytes == 0) return;
+  int level = 0;
+  if (a.bytes == 0) return level;
   const uint64_t first = a.addr >> line_shift_,
                  last = (uint64_t(a.addr) + a.bytes - 1) >> line_shift_;
   for (uint64_t line = first; line <= last; ++line) {
     ++counts.l1_lines[type];
     if (l1.access(line)) continue;
     ++counts.l1_misses[type];
-    if (!l2.access(line)) ++counts.l2_misses[type];
+    level = std::max(level, 1);
+    if (l2.access(line)) continue;
+    ++counts.l2_misses[type];
+    level = 2;
   }
+  return level;
 }
 
 std::array<uint32_t, kAccessUnits> FunctionalCaches::route(uint32_t t) const {

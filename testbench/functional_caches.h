@@ -60,8 +60,9 @@ class FunctionalCaches {
   explicit FunctionalCaches(const model::AcceleratorConfig& cfg);
 
   // Unit `unit` of type `a.unit` reads the record `a`: each line covering it goes through that
-  // unit's L1, and its L2 on a miss.
-  void read(uint32_t unit, const Access& a, CacheCounts& counts);
+  // unit's L1, and its L2 on a miss. Returns the deepest level a line of it came from: 0 the L1,
+  // 1 the L2, 2 DRAM.
+  int read(uint32_t unit, const Access& a, CacheCounts& counts);
 
   // The units a ray owned by traversal unit `t` visits, by type, as model/accelerator.cpp binds
   // them: LIST t x list / trv, the IST of that LIST unit (j x ist / list), shading t x shading /

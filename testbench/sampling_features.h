@@ -4,17 +4,21 @@
 // (testbench/functional_caches.h) and counted per batch of model::RayGenerator::kBatchRays rays:
 // the auxiliary variables a sampled run's estimator regresses the batches' cycles on.
 //
-// The replay approximates how the machine interleaves its rays:
-// - a ray is dealt, in issue order, to the next traversal unit (round robin, as the generator's
-//   dealer) whose input FIFO has room (`fifo_depth`); the dealer keeps every FIFO full, as it does
-//   when the machine, not the generator, is the bottleneck (one ray a cycle);
-// - a traversal unit walks up to `capacity` rays at once; a walk starts when a slot is free;
-// - in a round every walking ray makes its next read, the units in index order: the rays of a unit
-//   move at one pace whatever their reads cost (no latencies, no misses' waits), and a ray's reads
-//   at LIST, IST and shading come in its walk's order, from the units model/accelerator.cpp binds
-//   to its traversal unit.
-// The ray pool's limit (`ray_pool`) never binds below the traversal units' capacity and FIFOs,
-// which hold the rays that LIST, IST and shading work on; it is not modelled.
+// The replay orders the reads by a rough clock, so that the caches see the rays interleaved about
+// as the machine interleaves them, and the clock itself is a feature (a batch's replay cycles):
+// - the generator deals a ray a cycle, in issue order, to the next traversal unit (round robin)
+//   whose input FIFO (`fifo_depth`) has room; a unit walks `capacity` rays at once;
+// - a ray's steps are its reads grouped as the units make them: a node (TRV), a leaf (LIST's
+//   record and list lines, then IST's tests), the shading unit's two reads; each unit issues one
+//   operation a cycle (LIST a line, IST a test, shading a hit ray every `shading interval`, the
+//   larger of its two reads and its hit record's write over the memory link), and a step ends a
+//   pipeline latency after its last read, whose line comes from the L1, the L2 (the link there
+//   and back and the L2's hit latency) or DRAM (the memory link, tRCD + CL and the burst);
+// - a ray that ends frees its slot for the next ray of its unit's FIFO.
+// Not modelled: MSHRs, cache banks and ports, crossbar and DRAM queues and row misses, the
+// shading unit's write buffer, the ray pool (which never binds below the traversal units'
+// capacity and FIFOs). A ray's LIST, IST and shading units are those model/accelerator.cpp binds
+// to its traversal unit.
 #pragma once
 
 #include "kernels/camera.h"
@@ -31,9 +35,9 @@ namespace rtsim {
 struct BatchFeatures {
   uint64_t first_ray = 0;  // in issue order
   uint32_t rays = 0, hits = 0;
-  // The replay's rounds from the batch's first ray's deal to the next batch's: a clock that
-  // counts every read as one step of its ray.
-  uint64_t rounds = 0;
+  // The replay's cycles from the batch's first ray's deal to the next batch's (the last: to the
+  // last ray's end): its own estimate of the batch's cycles in a full run.
+  uint64_t replay_cycles = 0;
   CacheCounts caches;  // the batch's rays' reads (whenever the replay makes them)
 };
 
@@ -49,8 +53,8 @@ std::vector<BatchFeatures> primary_batch_features(const ReferenceTracer& tracer,
                                                   const model::AcceleratorConfig& cfg,
                                                   const FeaturePassOptions& options = {});
 
-// The batches as CSV: batch, first_ray, rays, hits, rounds, then per unit type (trv, list, ist,
-// shading) its reads, L1 lines looked up, L1 misses and DRAM lines (L2 misses).
+// The batches as CSV: batch, first_ray, rays, hits, replay_cycles, then per unit type (trv, list,
+// ist, shading) its reads, L1 lines looked up, L1 misses and DRAM lines (L2 misses).
 void write_features_csv(std::ostream& out, const std::vector<BatchFeatures>& batches);
 
 }  // namespace rtsim

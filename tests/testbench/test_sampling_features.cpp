@@ -1,9 +1,9 @@
 // The functional pass of a sampled frame (testbench/sampling_features.h) against the model: over a
 // frame of primary rays only (the city without its lights: no shadow phase), the reads of each
 // unit type in the reference tracer's access stream (kernels/access_stream.h) are the reads the
-// model's units made, record for record and line for line. The caches' misses are not compared
-// exactly (the model's depend on the order in which its units interleave rays; the pass only
-// approximates it), only printed and bounded. (One SystemC simulation per executable.)
+// model's units made, record for record and line for line. The caches' misses and the replay's
+// cycles are not compared exactly (the model's depend on its timing, which the pass only
+// approximates), only printed and bounded. (One SystemC simulation per executable.)
 #include "config_loader/scene_file.h"
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
@@ -39,6 +39,20 @@ uint64_t stat(const nlohmann::json& stats, const char* type, const char* group, 
   return uint64_t(stats[type][group][name].get<double>());
 }
 
+TEST(TagArray, EvictsTheLeastRecentlyUsedLineOfItsSet) {
+  TagArray c(4 * 64, 2, 64);  // two sets of two ways
+  EXPECT_EQ(c.sets(), 2u);
+  EXPECT_FALSE(c.access(0));
+  EXPECT_FALSE(c.access(2));  // the same set (even lines)
+  EXPECT_FALSE(c.access(1));  // the other set
+  EXPECT_TRUE(c.access(0));   // 0 is now the most recent of its set
+  EXPECT_FALSE(c.access(4));  // evicts 2
+  EXPECT_TRUE(c.access(0));
+  EXPECT_TRUE(c.access(4));
+  EXPECT_FALSE(c.access(2));
+  EXPECT_TRUE(c.access(1));  // untouched by the other set
+}
+
 TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   const PrimaryOnlyCity city;
@@ -53,14 +67,19 @@ TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
       primary_batch_features(tracer, city.scene.camera, kW, kH, cfg);
   ASSERT_EQ(batches.size(), r.primary_batch_cycles.size());
   CacheCounts c;
-  uint64_t rays = 0, hits = 0;
+  uint64_t rays = 0, hits = 0, replay_cycles = 0;
   for (const BatchFeatures& b : batches) {
     c.add(b.caches);
     rays += b.rays;
     hits += b.hits;
+    replay_cycles += b.replay_cycles;
   }
   EXPECT_EQ(rays, uint64_t(kW * kH));
   EXPECT_EQ(hits, r.primary_hits);
+  // The replay's clock is a rough one: within 30% of the model's cycles here.
+  std::printf("cycles: replay %llu, model %llu\n", (unsigned long long)replay_cycles,
+              (unsigned long long)r.cycles_primary);
+  EXPECT_NEAR(double(replay_cycles), double(r.cycles_primary), 0.3 * r.cycles_primary);
   const auto at = [](const std::array<uint64_t, kAccessUnits>& a, AccessUnit u) {
     return a[size_t(u)];
   };
