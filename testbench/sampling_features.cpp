@@ -49,6 +49,20 @@ struct ReplayTiming {
   uint32_t dram = 0, shading_interval = 2;
 };
 
+// The reads of one step: a ray waits for each line from DRAM in turn (the unit parks it), for
+// lines from the L2 together.
+struct Reads {
+  int level = 0;
+  uint32_t from_dram = 0;
+  void add(int l) {
+    level = std::max(level, l);
+    from_dram += l == 2;
+  }
+  uint64_t cycles(const ReplayTiming& timing, size_t type) const {
+    return timing.read(type, std::min(level, 1)) + uint64_t(from_dram) * timing.dram;
+  }
+};
+
 // One ray a traversal unit walks: its reads and the next one to make.
 struct Walk {
   AccessStream stream;
@@ -228,31 +242,37 @@ class Replay {
     return t + timing_.read(kShading, level) + timing_.latency[kShading];
   }
 
-  // LIST: the leaf's record, then its list a line an operation; when the list is read.
+  // LIST: the leaf's record, then its list a line an operation; when the list is read. A read
+  // from DRAM parks the ray until its line comes (one after the other); the L2's are pipelined.
   uint64_t leaf(Walk& w, uint64_t now) {
     const std::vector<Access>& reads = w.stream.reads;
     uint64_t lines = 0;
-    if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList) {
-      const Access& list = reads[w.next + 1];
-      const uint64_t line = caches_.line_bytes();
-      lines = (uint64_t(list.addr) + list.bytes - 1) / line - list.addr / line + 1;
-    }
+    if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList)
+      lines = lines_of(reads[w.next + 1]);
     const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines);
-    int level = read(w);
-    if (lines > 0) level = std::max(level, read(w));
-    return t + lines + timing_.read(kList, level) + timing_.latency[kList];
+    Reads r;
+    r.add(read(w));
+    if (lines > 0) r.add(read(w));
+    return t + lines + r.cycles(timing_, kList) + timing_.latency[kList];
   }
 
-  // IST: the leaf's tests, one an operation; when the last one completes.
+  // IST: the leaf's tests, one a cycle, and a line of its L1's port a cycle (a triangle across
+  // two lines takes two); when the last one completes.
   uint64_t tests(Walk& w, uint64_t ready) {
     const std::vector<Access>& reads = w.stream.reads;
-    uint64_t n = 0;
-    while (w.next + n < reads.size() && reads[w.next + n].unit == AccessUnit::kIst) ++n;
+    uint64_t n = 0, lines = 0;
+    for (; w.next + n < reads.size() && reads[w.next + n].unit == AccessUnit::kIst; ++n)
+      lines += lines_of(reads[w.next + n]);
     if (n == 0) return ready;
-    const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, n);
-    int level = 0;
-    for (uint64_t k = 0; k < n; ++k) level = std::max(level, read(w));
-    return t + n - 1 + timing_.read(kIst, level) + timing_.latency[kIst];
+    const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines);
+    Reads r;
+    for (uint64_t k = 0; k < n; ++k) r.add(read(w));
+    return t + lines - 1 + r.cycles(timing_, kIst) + timing_.latency[kIst];
+  }
+
+  uint64_t lines_of(const Access& a) const {
+    const uint64_t line = caches_.line_bytes();
+    return a.bytes == 0 ? 0 : (uint64_t(a.addr) + a.bytes - 1) / line - a.addr / line + 1;
   }
 
   // Unit `unit` of type `type` takes `ops` operations from `now` on, one a cycle; when they begin.
