@@ -215,6 +215,7 @@ def estimators(feats, g, depth):
     both = np.column_stack([replay, ist, regressors(feats, g, depth, ["l1_misses"])])
     return [
         ("expansion", "expansion", None),
+        ("ratio: IST reads in flight", "ratio", ist[:, 1:2]),
         ("ratio: replay cycles", "ratio", replay),
         ("GREG: replay cycles", "greg", replay),
         ("GREG: IST reads, own + in flight", "greg", ist),
