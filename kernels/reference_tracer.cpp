@@ -11,6 +11,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <thread>
+#include <type_traits>
 
 namespace rtsim {
 
@@ -23,34 +24,50 @@ ReferenceTracer::ReferenceTracer(const MemoryImage& image)
                                  uint32_t(h_.accel), kAccelNames));
 }
 
-template <bool kAnyHit>
-void ReferenceTracer::test_leaf(const RayWalk& s, TraversalResult& result,
-                                TraversalCounters& c) const {
-  const image::LeafRecord leaf =
-      image::decode_leaf(mem_ + h_.leaves.base + s.leaf * image::kLeafBytes);
+template <bool kAnyHit, class Observer>
+void ReferenceTracer::test_leaf(const RayWalk& s, TraversalResult& result, TraversalCounters& c,
+                                Observer& obs) const {
+  constexpr bool kObserved = !std::is_same_v<Observer, NoAccessObserver>;
+  const uint32_t leaf_addr = h_.leaves.base + s.leaf * image::kLeafBytes;
+  const image::LeafRecord leaf = image::decode_leaf(mem_ + leaf_addr);
+  obs.read(AccessUnit::kList, leaf_addr, image::kLeafBytes);
+  obs.read(AccessUnit::kList, h_.prims.base + leaf.prim_offset * image::kPrimBytes,
+           leaf.prim_count * image::kPrimBytes);
   const Ray r = traversal_leaf_ray(s, result);
   for (uint32_t k = 0; k < leaf.prim_count; ++k) {
     const uint32_t tri =
         image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
-    const image::TriangleRecord t =
-        image::decode_triangle(mem_ + h_.triangles.base + tri * image::kTriangleBytes);
+    const uint32_t tri_addr = h_.triangles.base + tri * image::kTriangleBytes;
+    const image::TriangleRecord t = image::decode_triangle(mem_ + tri_addr);
+    obs.read(AccessUnit::kIst, tri_addr, image::kTriangleBytes);
     ++c.tri_tests;
     float t_hit;
     if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
     traversal_hit(result, s, tri, t_hit);
-    if (kAnyHit) break;
+    if (!kAnyHit) continue;
+    if constexpr (kObserved) {  // IST reads the leaf's other triangles all the same
+      for (uint32_t j = k + 1; j < leaf.prim_count; ++j) {
+        const uint8_t* p = mem_ + h_.prims.base + (leaf.prim_offset + j) * image::kPrimBytes;
+        obs.read(AccessUnit::kIst, h_.triangles.base + image::load_u32(p) * image::kTriangleBytes,
+                 image::kTriangleBytes);
+      }
+    }
+    break;
   }
 }
 
-template <bool kAnyHit>
-bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const {
-  if (is_bvh(h_.accel)) return traverse_bvh<kAnyHit>(ray, hit, c);
+template <bool kAnyHit, class Observer>
+bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c,
+                               Observer& obs) const {
+  if (is_bvh(h_.accel)) return traverse_bvh<kAnyHit>(ray, hit, c, obs);
   TraversalState s;
   TraversalResult result = traversal_result_begin(ray);
   if (!traversal_begin(s, ray, kAnyHit, h_.bounds, abs_eps_)) return false;
   TraversalStep step = TraversalStep::kFetchNode;
   while (step != TraversalStep::kDone) {
-    const KdNode node = image::decode_node(mem_ + h_.nodes.base + s.node * image::kNodeBytes);
+    const uint32_t addr = h_.nodes.base + s.node * image::kNodeBytes;
+    const KdNode node = image::decode_node(mem_ + addr);
+    obs.read(AccessUnit::kTraversal, addr, image::kNodeBytes);
     if (!node.is_leaf())
       ++c.nodes;
     else
@@ -59,15 +76,16 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c) c
     if (step == TraversalStep::kFault)
       throw std::logic_error("kd-tree deeper than the traversal stack");
     if (step != TraversalStep::kLeaf) continue;
-    test_leaf<kAnyHit>(s, result, c);
+    test_leaf<kAnyHit>(s, result, c, obs);
     step = traversal_pop(s, result);
   }
   hit = result.hit;
   return result.found;
 }
 
-template <bool kAnyHit>
-bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& c) const {
+template <bool kAnyHit, class Observer>
+bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& c,
+                                   Observer& obs) const {
   BvhStackEntry stack[kBvhStackEntries];
   BvhTraversalState s;
   TraversalResult result = traversal_result_begin(ray);
@@ -77,14 +95,16 @@ bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& 
   while (step != TraversalStep::kDone) {
     if (step == TraversalStep::kFetchNode) {
       ++c.nodes;
-      const uint8_t* p = mem_ + h_.nodes.base + size_t(s.node) * node_bytes;
+      const uint32_t addr = h_.nodes.base + s.node * node_bytes;
+      const uint8_t* p = mem_ + addr;
+      obs.read(AccessUnit::kTraversal, addr, node_bytes);
       step = bvh_traversal_node(s, result, decode_bvh_node(h_.accel, p));
       if (step == TraversalStep::kFault)
         throw std::logic_error("BVH deeper than the traversal stack");
       continue;
     }
     ++c.leaves;
-    test_leaf<kAnyHit>(s, result, c);
+    test_leaf<kAnyHit>(s, result, c, obs);
     step = bvh_traversal_pop(s, result);
   }
   hit = result.hit;
@@ -93,15 +113,39 @@ bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& 
 
 Hit ReferenceTracer::closest_hit(const Ray& ray, TraversalCounters* counters) const {
   TraversalCounters local;
+  NoAccessObserver none;
   Hit hit;
-  traverse<false>(ray, hit, counters ? *counters : local);
+  traverse<false>(ray, hit, counters ? *counters : local, none);
   return hit;
 }
 
 bool ReferenceTracer::occluded(const Ray& ray, TraversalCounters* counters) const {
   TraversalCounters local;
+  NoAccessObserver none;
   Hit hit;
-  return traverse<true>(ray, hit, counters ? *counters : local);
+  return traverse<true>(ray, hit, counters ? *counters : local, none);
+}
+
+Hit ReferenceTracer::closest_hit(const Ray& ray, AccessStream& out,
+                                 TraversalCounters* counters) const {
+  TraversalCounters local;
+  Hit hit;
+  traverse<false>(ray, hit, counters ? *counters : local, out);
+  if (hit.tri == kNoHit) return hit;
+  // The shading unit: the hit's triangle, then its material.
+  const uint32_t tri_addr = h_.triangles.base + hit.tri * image::kTriangleBytes;
+  out.read(AccessUnit::kShading, tri_addr, image::kTriangleBytes);
+  const uint32_t material = image::decode_triangle(mem_ + tri_addr).material;
+  out.read(AccessUnit::kShading, h_.materials.base + material * image::kMaterialBytes,
+           image::kMaterialBytes);
+  return hit;
+}
+
+bool ReferenceTracer::occluded(const Ray& ray, AccessStream& out,
+                               TraversalCounters* counters) const {
+  TraversalCounters local;
+  Hit hit;
+  return traverse<true>(ray, hit, counters ? *counters : local, out);
 }
 
 bool ReferenceTracer::occluded_by_leaf(const Ray& ray, uint32_t leaf_index) const {

@@ -2,6 +2,7 @@
 // Whatever the SystemC model computes per ray must equal what this computes, bit for bit.
 #pragma once
 
+#include "kernels/access_stream.h"
 #include "kernels/bvh_traversal.h"
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
@@ -76,19 +77,25 @@ class ReferenceTracer {
 
   Hit closest_hit(const Ray& ray, TraversalCounters* counters = nullptr) const;
   bool occluded(const Ray& ray, TraversalCounters* counters = nullptr) const;
+  // The same walks, with the records the accelerator's units read appended to `out` in walk
+  // order (kernels/access_stream.h): a closest-hit ray's shading reads too, when it hits.
+  Hit closest_hit(const Ray& ray, AccessStream& out, TraversalCounters* counters = nullptr) const;
+  bool occluded(const Ray& ray, AccessStream& out, TraversalCounters* counters = nullptr) const;
   // Does one of the leaf's own triangles block the ray? (Diagnoses wrong culls.)
   bool occluded_by_leaf(const Ray& ray, uint32_t leaf) const;
 
   TraceResult trace_frame(const Camera& camera, const TracerOptions& options) const;
 
  private:
-  template <bool kAnyHit>
-  bool traverse(const Ray& ray, Hit& hit, TraversalCounters& c) const;
-  template <bool kAnyHit>
-  bool traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& c) const;
+  // `Observer` is told every record read (NoAccessObserver: nothing, at no cost).
+  template <bool kAnyHit, class Observer>
+  bool traverse(const Ray& ray, Hit& hit, TraversalCounters& c, Observer& obs) const;
+  template <bool kAnyHit, class Observer>
+  bool traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& c, Observer& obs) const;
   // Tests the current leaf's triangles (the walk's leaf and range), as IST does.
-  template <bool kAnyHit>
-  void test_leaf(const RayWalk& walk, TraversalResult& result, TraversalCounters& c) const;
+  template <bool kAnyHit, class Observer>
+  void test_leaf(const RayWalk& walk, TraversalResult& result, TraversalCounters& c,
+                 Observer& obs) const;
 
   const MemoryImage& image_;
   const uint8_t* mem_;

@@ -89,16 +89,6 @@ nlohmann::json reference_check(const TraceResult& ref, const SimulatedFrame& r,
           {"culled_counts_identical", culled_diff == 0}};
 }
 
-std::vector<ConfigOverride> scene_overrides(const std::vector<std::string>& scene_set) {
-  std::vector<ConfigOverride> out;
-  for (const std::string& text : scene_set) {
-    ConfigOverride o = parse_override(text);
-    o.keys.erase(o.keys.begin());  // "scene."
-    out.push_back(std::move(o));
-  }
-  return out;
-}
-
 // Every model statistic's unit and meaning: name,unit,description.
 std::string glossary_csv(const std::map<std::string, model::StatsRegistry::Glossary>& glossary) {
   std::string csv = "name,unit,description\n";

@@ -222,4 +222,14 @@ nlohmann::json run_config_json(const RunConfig& c) {
           {"hw", hw_config_json(c.hw)}, {"run", run_settings_json(c.run)}};
 }
 
+std::vector<ConfigOverride> scene_overrides(const std::vector<std::string>& scene_set) {
+  std::vector<ConfigOverride> out;
+  for (const std::string& text : scene_set) {
+    ConfigOverride o = parse_override(text);
+    o.keys.erase(o.keys.begin());  // "scene."
+    out.push_back(std::move(o));
+  }
+  return out;
+}
+
 }  // namespace rtsim

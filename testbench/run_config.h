@@ -60,6 +60,8 @@ struct RunSources {
 // Resolves and validates; bad input is an InputError naming the file or --set and the key.
 RunConfig resolve_run_config(const RunSources& sources);
 nlohmann::json run_config_json(const RunConfig& c);
+// The scene overrides of `scene_set` ("scene.KEY=VALUE") as prepare_scene takes them (KEY=VALUE).
+std::vector<ConfigOverride> scene_overrides(const std::vector<std::string>& scene_set);
 nlohmann::json run_settings_json(const RunSettings& r);
 
 // --trace-window START:END (cycles, END exclusive; default 0:100000); bad input is an InputError.

@@ -1,0 +1,92 @@
+// The functional pass of a sampled frame (issue 38; testbench/sampling_features.h) over a run's
+// frame: per 64-ray batch of its primary rays in issue order, the units' reads, L1 misses and DRAM
+// lines, for bench/sampling_regression.py to set beside the run's batches.csv. Usage:
+//   bench_sampling_features --config RUN/config.json --out features.csv
+//       [--capacity N] [--fifo-depth N] [--scene-root DIR]
+// The run's config.json gives the scene, its overrides, the resolution, the structure and the
+// hardware, so the frame is the run's (run it where the run ran: scene files are relative to the
+// repository). Prints the host time of the preparation and of the pass.
+#include "testbench/pipeline.h"
+#include "testbench/run_config.h"
+#include "testbench/sampling_features.h"
+
+#include "bench/bench_util.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+
+using namespace rtsim;
+
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+// The pass takes the issue order from the model (model/units/ray_generator.cpp), which links
+// SystemC; its library wants an sc_main, though this program never starts a simulation.
+extern "C" int sc_main(int, char**) { return 0; }
+
+int features(const RunSources& sources, const FeaturePassOptions& options,
+             const std::string& out_file);
+
+int main(int argc, char** argv) {
+  RunSources sources;
+  std::string out_file = "features.csv";
+  FeaturePassOptions options;
+  for (int i = 1; i < argc; ++i) {
+    auto next = [&] { return bench::option_value(argc, argv, i); };
+    if (!std::strcmp(argv[i], "--config"))
+      sources.config_file = next();
+    else if (!std::strcmp(argv[i], "--out"))
+      out_file = next();
+    else if (!std::strcmp(argv[i], "--capacity"))
+      options.capacity = uint32_t(std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--fifo-depth"))
+      options.fifo_depth = uint32_t(std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--scene-root"))
+      sources.scene_root = next();
+    else {
+      fmt::print(stderr, "unknown argument {}\n", argv[i]);
+      return 2;
+    }
+  }
+  if (sources.config_file.empty()) {
+    fmt::print(stderr, "--config RUN/config.json is required\n");
+    return 2;
+  }
+  try {
+    return features(sources, options, out_file);
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "bench_sampling_features: error: {}\n", e.what());
+    return 2;
+  }
+}
+
+int features(const RunSources& sources, const FeaturePassOptions& options,
+             const std::string& out_file) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const RunConfig c = resolve_run_config(sources);
+  const PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
+                                                       c.run.width, c.run.height, c.run.accel});
+  const double prepare = seconds_since(t0);
+  const auto t1 = std::chrono::steady_clock::now();
+  const ReferenceTracer tracer(*p.image);
+  const std::vector<BatchFeatures> batches =
+      primary_batch_features(tracer, p.scene.camera, p.scene.width, p.scene.height, c.hw, options);
+  const double pass = seconds_since(t1);
+  std::ofstream out(out_file);
+  write_features_csv(out, batches);
+  if (!out) {
+    fmt::print(stderr, "cannot write {}\n", out_file);
+    return 1;
+  }
+  fmt::print("{} {}x{}: {} batches; host seconds: {:.2f} preparing the scene, {:.2f} the pass\n",
+             p.scene.name, p.scene.width, p.scene.height, batches.size(), prepare, pass);
+  return 0;
+}

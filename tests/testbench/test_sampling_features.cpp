@@ -1,0 +1,121 @@
+// The functional pass of a sampled frame (testbench/sampling_features.h) against the model: over a
+// frame of primary rays only (the city without its lights: no shadow phase), the reads of each
+// unit type in the reference tracer's access stream (kernels/access_stream.h) are the reads the
+// model's units made, record for record and line for line. The caches' misses and the replay's
+// cycles are not compared exactly (the model's depend on its timing, which the pass only
+// approximates), only printed and bounded. (One SystemC simulation per executable.)
+#include "config_loader/scene_file.h"
+#include "kernels/kdtree.h"
+#include "kernels/memory_image.h"
+#include "model/accelerator.h"
+#include "testbench/sampling_features.h"
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <numeric>
+
+namespace rtsim {
+namespace {
+
+constexpr int kW = 96, kH = 54;
+
+struct PrimaryOnlyCity {
+  PrimaryOnlyCity() {
+    const SceneSetup setup =
+        load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string());
+    scene = setup.scene;
+    scene.lights.clear();
+    tree = build_kdtree(scene.triangles, setup.kdtree);
+    image = std::make_unique<MemoryImage>(scene, tree);
+  }
+  Scene scene;
+  KdTree tree;
+  std::unique_ptr<MemoryImage> image;
+};
+
+uint64_t stat(const nlohmann::json& stats, const char* type, const char* group, const char* name) {
+  return uint64_t(stats[type][group][name].get<double>());
+}
+
+TEST(TagArray, EvictsTheLeastRecentlyUsedLineOfItsSet) {
+  TagArray c(4 * 64, 2, 64);  // two sets of two ways
+  EXPECT_EQ(c.sets(), 2u);
+  EXPECT_FALSE(c.access(0));
+  EXPECT_FALSE(c.access(2));  // the same set (even lines)
+  EXPECT_FALSE(c.access(1));  // the other set
+  EXPECT_TRUE(c.access(0));   // 0 is now the most recent of its set
+  EXPECT_FALSE(c.access(4));  // evicts 2
+  EXPECT_TRUE(c.access(0));
+  EXPECT_TRUE(c.access(4));
+  EXPECT_FALSE(c.access(2));
+  EXPECT_TRUE(c.access(1));  // untouched by the other set
+}
+
+TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
+  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+  const PrimaryOnlyCity city;
+  model::AcceleratorConfig cfg;  // the paper's machine
+  model::Accelerator device("device", cfg, *city.image, model::FrameJob{city.scene.camera, kW, kH});
+  test::simulate();
+  const model::AcceleratorResult r = device.result();
+  ASSERT_EQ(r.shadow_rays, 0u);
+
+  const ReferenceTracer tracer(*city.image);
+  const std::vector<BatchFeatures> batches =
+      primary_batch_features(tracer, city.scene.camera, kW, kH, cfg);
+  ASSERT_EQ(batches.size(), r.primary_batch_cycles.size());
+  CacheCounts c;
+  uint64_t rays = 0, hits = 0, replay_cycles = 0;
+  for (const BatchFeatures& b : batches) {
+    c.add(b.caches);
+    rays += b.rays;
+    hits += b.hits;
+    replay_cycles += b.replay_cycles;
+  }
+  EXPECT_EQ(rays, uint64_t(kW * kH));
+  EXPECT_EQ(hits, r.primary_hits);
+  // The replay's clock is a rough one: within 30% of the model's cycles here.
+  std::printf("cycles: replay %llu, model %llu\n", (unsigned long long)replay_cycles,
+              (unsigned long long)r.cycles_primary);
+  EXPECT_NEAR(double(replay_cycles), double(r.cycles_primary), 0.3 * r.cycles_primary);
+  const auto at = [](const std::array<uint64_t, kAccessUnits>& a, AccessUnit u) {
+    return a[size_t(u)];
+  };
+  const nlohmann::json& s = r.stats;
+  EXPECT_GT(at(c.reads, AccessUnit::kIst), 0u);
+  // TRV: a read per node fetched, leaves included, one line each.
+  EXPECT_EQ(at(c.reads, AccessUnit::kTraversal), stat(s, "trv", "total", "node_fetches"));
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kTraversal), stat(s, "trv", "l1", "accesses"));
+  // LIST: a leaf record and a primitive list per leaf; the lines of both.
+  EXPECT_EQ(at(c.reads, AccessUnit::kList), 2 * stat(s, "list", "total", "leaves"));
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kList), stat(s, "list", "l1", "accesses"));
+  // IST: a triangle per test (across two lines for half of them).
+  EXPECT_EQ(at(c.reads, AccessUnit::kIst), stat(s, "ist", "total", "tests"));
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kIst), stat(s, "ist", "l1", "accesses"));
+  // Shading: the hit's triangle and its material.
+  EXPECT_EQ(at(c.reads, AccessUnit::kShading), 2 * r.primary_hits);
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kShading), stat(s, "shading", "l1", "accesses"));
+
+  // The misses: the model's L1 misses against the pass's (a request the model merges into a
+  // miss in flight is a hit in the pass), and its L2 misses (the shading L1s' on the IST's L2).
+  const char* names[kAccessUnits] = {"trv", "list", "ist", "shading"};
+  for (int u = 0; u < kAccessUnits; ++u) {
+    const uint64_t model_misses = stat(s, names[u], "l1", "misses");
+    std::printf("%s: L1 misses %llu (model: %llu), DRAM lines %llu\n", names[u],
+                (unsigned long long)c.l1_misses[u], (unsigned long long)model_misses,
+                (unsigned long long)c.l2_misses[u]);
+    EXPECT_NEAR(double(c.l1_misses[u]), double(model_misses), 0.2 * model_misses) << names[u];
+  }
+  for (int u = 0; u < 3; ++u) {
+    const uint64_t lines = c.l2_misses[u] + (u == 2 ? c.l2_misses[3] : 0);
+    const uint64_t model_lines = stat(s, names[u], "l2", "misses");
+    std::printf("%s L2: DRAM lines %llu (model: %llu)\n", names[u], (unsigned long long)lines,
+                (unsigned long long)model_lines);
+    EXPECT_NEAR(double(lines), double(model_lines), 0.2 * model_lines) << names[u];
+  }
+}
+
+}  // namespace
+}  // namespace rtsim
