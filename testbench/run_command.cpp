@@ -310,7 +310,9 @@ int run_model(const RunArgs& args) {
     check = reference_check(*ref, r, simulated_pixels(c, p, plan ? &*plan : nullptr), mismatches);
   std::optional<SampledEstimates> estimates;
   if (plan) {
-    estimates = estimate_sampled(*plan, r);
+    const UnitAuxiliaries aux = primary_pass(*plan, ReferenceTracer(*p.image), p.scene.camera,
+                                             p.scene.width, p.scene.height, c.hw);
+    estimates = estimate_sampled(*plan, r, &aux);
     apply_sampled(r, *estimates, *ref);
   }
   rusage usage{};

@@ -6,15 +6,28 @@
 
 namespace rtsim {
 
-SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r) {
+UnitAuxiliaries primary_pass(const SamplePlan& plan, const ReferenceTracer& tracer,
+                             const Camera& camera, int width, int height,
+                             const model::AcceleratorConfig& cfg) {
+  const model::UnitTypeConfig& t = cfg.traversal();
+  const uint32_t in_flight = t.count * (t.capacity + t.fifo_depth) / model::kBatchRays;
+  return primary_auxiliaries(plan, primary_batch_features(tracer, camera, width, height, cfg),
+                             in_flight);
+}
+
+SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r,
+                                  const UnitAuxiliaries* primary_aux) {
   SampledEstimates e;
   e.primary_units = unit_cycles(plan, r.primary_windows);
   e.shadow_units = unit_cycles(plan, r.shadow_windows);
-  std::vector<double> both(e.primary_units.size());
-  for (size_t i = 0; i < both.size(); ++i) both[i] = e.primary_units[i] + e.shadow_units[i];
-  e.primary = estimate_plan(plan, e.primary_units);
+  e.primary = primary_aux ? estimate_greg(plan, e.primary_units, *primary_aux)
+                          : estimate_plan(plan, e.primary_units);
+  if (primary_aux) e.primary_estimator = "regression";
   e.shadow = estimate_plan(plan, e.shadow_units);
-  e.total = estimate_plan(plan, both);
+  e.total.total = e.primary.total + e.shadow.total;
+  e.total.ci95 = e.primary.ci95 + e.shadow.ci95;
+  e.total.population = plan.population;
+  e.total.sampled = e.primary.sampled;
   return e;
 }
 
@@ -41,6 +54,7 @@ nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
   uint64_t detailed = 0;
   for (const model::DetailWindow& w : plan.windows) detailed += w.end - w.begin;
   return {{"fraction", s.fraction},
+          {"estimator", {{"primary", e.primary_estimator}, {"shadow", e.shadow_estimator}}},
           {"unit_rays", s.unit},
           {"warmup_rays", s.warmup},
           {"seed", s.seed},

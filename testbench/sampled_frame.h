@@ -6,6 +6,7 @@
 
 #include "kernels/reference_tracer.h"
 #include "testbench/sample_plan.h"
+#include "testbench/sample_regression.h"
 #include "testbench/simulate.h"
 
 #include <nlohmann/json.hpp>
@@ -17,11 +18,22 @@ namespace rtsim {
 
 struct SampledEstimates {
   std::vector<double> primary_units, shadow_units;  // per measured unit (plan.units)
-  SampleEstimate primary, shadow, total;            // the total from each unit's two phases
+  SampleEstimate primary, shadow, total;
+  const char* primary_estimator = "expansion";  // or "regression"
+  const char* shadow_estimator = "expansion";
 };
 
-// The estimates from the frame the model simulated over `plan.windows`.
-SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r);
+// The functional pass's auxiliaries of the primary phase per unit of `plan` (the frame's primary
+// rays walked by `tracer` on the machine `cfg`).
+UnitAuxiliaries primary_pass(const SamplePlan& plan, const ReferenceTracer& tracer,
+                             const Camera& camera, int width, int height,
+                             const model::AcceleratorConfig& cfg);
+
+// The estimates from the frame the model simulated over `plan.windows`: each phase by the
+// regression on its auxiliaries when given (null: the expansion), the frame as their sum, its
+// interval the sum of theirs (an upper bound whatever the phases' correlation).
+SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r,
+                                  const UnitAuxiliaries* primary_aux = nullptr);
 
 // The frame's figures as a sampled run reports them: the estimated cycles, and the rays, hits,
 // culled rays and pixels of the reference tracer's frame `ref` (traced with the run's settings).

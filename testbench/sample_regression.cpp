@@ -1,0 +1,147 @@
+#include "testbench/sample_regression.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace rtsim {
+
+namespace {
+
+using Matrix = std::vector<std::vector<double>>;
+
+// The inverse of a small symmetric positive definite matrix (Gauss-Jordan, partial pivoting);
+// false when it is singular.
+bool invert(Matrix m, Matrix& inv) {
+  const size_t n = m.size();
+  inv.assign(n, std::vector<double>(n, 0.0));
+  for (size_t i = 0; i < n; ++i) inv[i][i] = 1.0;
+  for (size_t c = 0; c < n; ++c) {
+    size_t p = c;
+    for (size_t r = c + 1; r < n; ++r)
+      if (std::abs(m[r][c]) > std::abs(m[p][c])) p = r;
+    if (std::abs(m[p][c]) < 1e-12) return false;
+    std::swap(m[p], m[c]);
+    std::swap(inv[p], inv[c]);
+    const double d = m[c][c];
+    for (size_t k = 0; k < n; ++k) m[c][k] /= d, inv[c][k] /= d;
+    for (size_t r = 0; r < n; ++r) {
+      if (r == c || m[r][c] == 0.0) continue;
+      const double f = m[r][c];
+      for (size_t k = 0; k < n; ++k) m[r][k] -= f * m[c][k], inv[r][k] -= f * inv[c][k];
+    }
+  }
+  return true;
+}
+
+// Row `u` of the design matrix: 1, then the auxiliaries over their scale (for conditioning).
+std::vector<double> design_row(const UnitAuxiliaries& aux, size_t u,
+                               const std::vector<double>& scale) {
+  std::vector<double> a(aux.features + 1, 1.0);
+  for (size_t j = 0; j < aux.features; ++j) a[j + 1] = aux.at(u, j) / scale[j];
+  return a;
+}
+
+double dot(const std::vector<double>& a, const std::vector<double>& b) {
+  double s = 0;
+  for (size_t i = 0; i < a.size(); ++i) s += a[i] * b[i];
+  return s;
+}
+
+}  // namespace
+
+UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<BatchFeatures>& b,
+                                    uint32_t in_flight) {
+  auto ist = [&](size_t i) { return double(b[i].caches.reads[size_t(AccessUnit::kIst)]); };
+  auto l1 = [&](size_t i) {
+    double s = 0;
+    for (uint64_t m : b[i].caches.l1_misses) s += double(m);
+    return s;
+  };
+  // The batches in flight ahead of batch i: in_flight .. 2 x in_flight - 1 batches earlier.
+  auto ahead = [&](size_t i, auto f) {
+    double s = 0;
+    for (size_t k = std::max<uint32_t>(1, in_flight); k < 2 * std::max<uint32_t>(1, in_flight); ++k)
+      if (i >= k) s += f(i - k);
+    return s;
+  };
+  UnitAuxiliaries aux;
+  aux.features = 5;
+  const size_t per_unit = plan.unit / model::kBatchRays;
+  for (uint64_t u = 0; u < plan.population; ++u) {
+    double row[5] = {0, 0, 0, 0, 0};
+    for (size_t i = u * per_unit; i < std::min(b.size(), (u + 1) * per_unit); ++i) {
+      row[0] += double(b[i].replay_cycles);
+      row[1] += ist(i);
+      row[2] += ahead(i, ist);
+      row[3] += l1(i);
+      row[4] += ahead(i, l1);
+    }
+    aux.x.insert(aux.x.end(), row, row + 5);
+  }
+  return aux;
+}
+
+SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
+                             const UnitAuxiliaries& aux) {
+  if (values.size() != plan.units.size() || aux.units() != plan.population)
+    throw std::invalid_argument("estimate_greg: one value per measured unit, auxiliaries for all");
+  std::vector<size_t> drawn;
+  for (size_t i = 0; i < plan.units.size(); ++i)
+    if (!plan.units[i].certain) drawn.push_back(i);
+  const size_t p = aux.features + 1, n = drawn.size();
+  if (n < p + 3) return estimate_plan(plan, values);
+  std::vector<double> scale(aux.features, 1.0);
+  for (size_t j = 0; j < aux.features; ++j) {
+    double s = 0;
+    for (size_t u = 0; u < aux.units(); ++u) s += std::abs(aux.at(u, j));
+    scale[j] = s > 0 ? s / double(aux.units()) : 1.0;
+  }
+  // Weighted normal equations over the drawn units.
+  Matrix ata(p, std::vector<double>(p, 0.0)), inv;
+  std::vector<double> aty(p, 0.0);
+  for (size_t i : drawn) {
+    const std::vector<double> a = design_row(aux, plan.units[i].index, scale);
+    const double w = double(plan.units[i].weight);
+    for (size_t r = 0; r < p; ++r) {
+      aty[r] += w * a[r] * values[i];
+      for (size_t c = 0; c < p; ++c) ata[r][c] += w * a[r] * a[c];
+    }
+  }
+  if (!invert(ata, inv)) return estimate_plan(plan, values);
+  std::vector<double> beta(p, 0.0);
+  for (size_t r = 0; r < p; ++r) beta[r] = dot(inv[r], aty);
+  SampleEstimate e;
+  e.population = plan.population;
+  e.sampled = values.size();
+  std::vector<bool> measured_certain(plan.population, false);
+  for (size_t i = 0; i < plan.units.size(); ++i)
+    if (plan.units[i].certain) {
+      measured_certain[plan.units[i].index] = true;
+      e.total += values[i];
+    }
+  for (uint64_t u = 0; u < plan.population; ++u)
+    if (!measured_certain[u]) e.total += dot(design_row(aux, u, scale), beta);
+  std::vector<double> residuals;  // weighted, each over 1 - its leverage
+  uint64_t drawn_from = 0;
+  for (size_t i : drawn) {
+    const std::vector<double> a = design_row(aux, plan.units[i].index, scale);
+    const double w = double(plan.units[i].weight);
+    const double r = values[i] - dot(a, beta);
+    e.total += w * r;
+    std::vector<double> inv_a(p);
+    for (size_t k = 0; k < p; ++k) inv_a[k] = dot(inv[k], a);
+    const double leverage = w * dot(a, inv_a);
+    residuals.push_back(w * r / std::max(1.0 - leverage, 0.05));
+    drawn_from += plan.units[i].weight;
+  }
+  double squares = 0;
+  for (size_t h = 1; h < n; ++h)
+    squares += (residuals[h] - residuals[h - 1]) * (residuals[h] - residuals[h - 1]);
+  const double fpc = std::max(0.0, 1.0 - double(n) / double(drawn_from));
+  e.ci95 = t95(n - p) * std::sqrt(double(n) * fpc * squares / (2.0 * double(n - 1)));
+  return e;
+}
+
+}  // namespace rtsim

@@ -1,0 +1,40 @@
+// The regression (GREG) estimator of a sampled frame's phase (issue 38, docs/sampling.md): the
+// functional pass knows auxiliary variables of every unit (testbench/sampling_features.h); the
+// measured units fit the phase's cycles on them, the fit predicts every other unit, and the drawn
+// units' residuals, expanded by their strata, correct the prediction (Cochran, Sampling
+// Techniques, ch. 7; Sarndal et al., Model Assisted Survey Sampling, ch. 6).
+#pragma once
+
+#include "testbench/sample_plan.h"
+#include "testbench/sampling_features.h"
+
+#include <cstddef>
+#include <vector>
+
+namespace rtsim {
+
+// Each unit's auxiliary variables: units x features, row by row.
+struct UnitAuxiliaries {
+  size_t features = 0;
+  std::vector<double> x;
+  size_t units() const { return features ? x.size() / features : 0; }
+  double at(size_t unit, size_t j) const { return x[unit * features + j]; }
+};
+
+// The primary phase's auxiliaries per unit of `plan` from the functional pass's batches: the
+// replay's cycles; IST reads and L1 misses, the unit's own and those of the rays in flight ahead
+// of it (the batches `in_flight` to 2 x `in_flight` batches earlier, `in_flight` being the
+// traversal units' rays over a batch: a batch's cycles are the machine's throughput on them).
+UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<BatchFeatures>& b,
+                                    uint32_t in_flight);
+
+// The phase's total: the always-measured units' cycles, the fit's prediction for the others, and
+// the drawn units' residuals times their strata's sizes. The fit is weighted least squares on
+// the drawn units (an intercept and the auxiliaries); the 95% interval comes from the successive
+// differences of the drawn units' residuals (each over 1 - its leverage, so a unit that steers
+// the fit counts as left out of it), with Student's t for n - p degrees of freedom. With too few
+// drawn units for the fit (n < p + 3) it is the expansion (estimate_plan).
+SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
+                             const UnitAuxiliaries& aux);
+
+}  // namespace rtsim
