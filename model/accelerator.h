@@ -21,6 +21,7 @@
 // a report: the frame ends with STATUS error regs::kBadImage (model/units/image_faults.h).
 #pragma once
 
+#include "kernels/access_stream.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator_config.h"
 #include "model/device/control_registers.h"
@@ -118,6 +119,20 @@ uint32_t record_stride(const AcceleratorConfig& config);
 MemoryLayout memory_layout(const AcceleratorConfig& config, uint64_t image_bytes, int width,
                            int height, uint64_t image_base = 0);
 
+// A sampled frame's functional warming (Accelerator::sample, docs/sampling.md): before a window of
+// primary rays, the host tells the accelerator the records that the rays skipped before it would
+// have read. Each line goes through the L1 of the unit that would have read it and, missing there,
+// that unit's L2, as tags and LRU order with the line's bytes from memory: no time, no statistic.
+class CacheWarmer {
+ public:
+  virtual ~CacheWarmer() = default;
+  // Unit type `unit` read `bytes` at `addr` for a ray dealt to traversal unit `traversal`.
+  virtual void read(AccessUnit unit, uint32_t traversal, uint64_t addr, uint32_t bytes) = 0;
+  virtual uint32_t traversal_units() const = 0;
+};
+// Called before each window of primary rays but the first, with the window's first ray.
+using WarmSource = std::function<void(uint64_t first_ray, CacheWarmer& warmer)>;
+
 // What the memory socket is bound to (docs/systemc-integration.md).
 enum class MemoryTarget {
   kBuiltin,             // the built-in GDDR3, `<top>.dram`
@@ -176,7 +191,8 @@ class Accelerator : public sc_core::sc_module {
   // (model/units/detail_window.h; empty: whole frames again). It needs two phases, records read
   // from memory and no reflections, and windows that fit the frame; anything else is
   // rtsim/config. A host-side control of the simulation, not a register: no hardware samples.
-  void sample(std::vector<DetailWindow> windows);
+  // `warm` (optional) warms the caches before each window (CacheWarmer; the built-in memory only).
+  void sample(std::vector<DetailWindow> windows, WarmSource warm = {});
 
  private:
   struct Netlist;

@@ -115,7 +115,7 @@ void Accelerator::Netlist::check_frame_end() {
   registers->frame_ended(cycles, std::max(calendar.now(), end_edge), error);
 }
 
-void Accelerator::sample(std::vector<DetailWindow> windows) {
+void Accelerator::sample(std::vector<DetailWindow> windows, WarmSource warm) {
   const AcceleratorConfig& config = net_->cfg;
   std::string why;
   if (config.schedule != Schedule::kTwoPhase) why = "a sampled frame runs in two phases";
@@ -124,8 +124,14 @@ void Accelerator::sample(std::vector<DetailWindow> windows) {
         "a sampled frame's culling unit reads the records from memory (records_per_cycle > 0, "
         "write_records)";
   if (config.reflection_depth > 0) why = "a sampled frame has no reflections";
+  if (warm && !net_->dram) why = "functional warming reads the built-in memory";
   if (!why.empty()) report_error(kReportConfig, std::string(name()) + ": sampling: " + why);
   net_->windows = std::move(windows);
+  net_->warm = std::move(warm);
+  Netlist& n = *net_;
+  n.generator->on_window = [&n](uint64_t first_ray) {
+    if (n.warm) n.warm(first_ray, n);
+  };
 }
 
 Accelerator::Accelerator(sc_core::sc_module_name name, const AcceleratorConfig& config,

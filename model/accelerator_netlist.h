@@ -29,7 +29,7 @@
 
 namespace rtsim::model {
 
-struct Accelerator::Netlist : FrameEngine {
+struct Accelerator::Netlist : FrameEngine, CacheWarmer {
   Netlist(Accelerator& top, const AcceleratorConfig& cfg, const SimulationHooks& hooks,
           MemoryTarget memory_target, const MemoryImage* image, uint64_t image_memory_bytes);
 
@@ -42,6 +42,11 @@ struct Accelerator::Netlist : FrameEngine {
   void reset_stats(Tick at);
   // The frame is over once every ray retired and its records' writes are answered.
   void check_frame_end();
+  // CacheWarmer (model/accelerator_warming.cpp).
+  void read(AccessUnit unit, uint32_t traversal, uint64_t addr, uint32_t bytes) override;
+  uint32_t traversal_units() const override { return cfg.traversal().count; }
+  // One line of a record into `cache` and, missing there, into `below` (may be null).
+  void warm_line(Cache& cache, Cache* below, uint64_t addr);
 
   void build_memory(const MemoryImage* image, uint64_t image_memory_bytes,
                     MemoryTarget memory_target);
@@ -116,7 +121,9 @@ struct Accelerator::Netlist : FrameEngine {
   uint64_t frames = 0;  // begun
   uint64_t memory_bytes = 0;
   std::vector<RegisterWrite> preset;  // a frame programmed at construction
-  std::vector<DetailWindow> windows;  // ... and its windows of detail (FrameJob::windows)
+  std::vector<DetailWindow> windows;  // the frames' windows of detail (Accelerator::sample)
+  WarmSource warm;                    // ... and their functional warming
+  std::vector<uint8_t> warm_bytes;    // a line's bytes, read from memory for warming
   bool collected = false;
 };
 

@@ -294,9 +294,12 @@ int run_model(const RunArgs& args) {
       c.run.sample.fraction > 0
           ? std::optional(plan_sample(uint64_t(p.scene.width) * p.scene.height, c.run.sample))
           : std::nullopt;
-  SimulatedFrame r = simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height,
-                                    hooks, double(c.run.time_resolution_ps),
-                                    plan ? plan->windows : std::vector<model::DetailWindow>{});
+  SimulatedFrame r = simulate_frame(
+      c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks,
+      double(c.run.time_resolution_ps), plan ? plan->windows : std::vector<model::DetailWindow>{},
+      plan ? primary_warming(*p.image, p.scene.camera, p.scene.width, p.scene.height, c.hw,
+                             c.run.sample.warming)
+           : model::WarmSource{});
   host.simulate = seconds_since(t_sim);
   progress.finish();
 

@@ -29,6 +29,12 @@ UnitAuxiliaries primary_pass(const SamplePlan& plan, const ReferenceTracer& trac
                              const Camera& camera, int width, int height,
                              const model::AcceleratorConfig& cfg);
 
+// The functional warming of a sampled frame (model::WarmSource): before a window, the reads of the
+// `rays` primary rays issued before it, walked by the reference tracer in issue order, each for
+// the traversal unit the generator would deal it to in turn. `image` must outlive the source.
+model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera, int width,
+                                  int height, const model::AcceleratorConfig& cfg, uint64_t rays);
+
 // The estimates from the frame the model simulated over `plan.windows`: each phase by the
 // regression on its auxiliaries when given (null: the expansion), the frame as their sum, its
 // interval the sum of theirs (an upper bound whatever the phases' correlation).

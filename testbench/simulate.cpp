@@ -85,7 +85,8 @@ void run_simulation() {
 SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image,
                               const Camera& camera, int width, int height,
                               const model::SimulationHooks& hooks, double resolution_ps,
-                              const std::vector<model::DetailWindow>& windows) {
+                              const std::vector<model::DetailWindow>& windows,
+                              const model::WarmSource& warm) {
   // A resolution coarser than 1 ns moves SystemC's default time unit with it: expected here.
   sc_core::sc_report_handler::set_actions(sc_core::SC_ID_DEFAULT_TIME_UNIT_CHANGED_,
                                           sc_core::SC_DO_NOTHING);
@@ -93,7 +94,7 @@ SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const Memo
   SimulatedFrame out;
   try {
     model::Accelerator accelerator("rtsim", config, hooks);
-    if (!windows.empty()) accelerator.sample(windows);
+    if (!windows.empty()) accelerator.sample(windows, warm);
     Host host("host", image,
               model::frame_after_image(image, camera, width, height, config.lvb_culling));
     sc_core::sc_signal<bool> irq("irq");

@@ -23,7 +23,8 @@ struct SimulatedFrame : model::AcceleratorResult {
 SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const MemoryImage& image,
                               const Camera& camera, int width, int height,
                               const model::SimulationHooks& hooks = {}, double resolution_ps = 1,
-                              const std::vector<model::DetailWindow>& windows = {});
+                              const std::vector<model::DetailWindow>& windows = {},
+                              const model::WarmSource& warm = {});
 
 // Runs the simulation until it ends (sc_start), mapping the model's sc_reports as simulate_frame
 // does.

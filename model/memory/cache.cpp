@@ -62,6 +62,26 @@ void Cache::invalidate() {
   std::fill(ways_.begin(), ways_.end(), Way{});
 }
 
+bool Cache::warm(uint64_t line, const uint8_t* bytes) {
+  if (line & (cfg_.line_bytes - 1)) misaligned(line);
+  if (awaiting_ > 0 || !queued_.empty()) return true;  // a window still draining: left as it is
+  const uint32_t base = set_base(line);
+  uint32_t victim = base;
+  for (uint32_t i = base; i < base + cfg_.ways; ++i) {
+    if (ways_[i].tag == line) {
+      ways_[i].lru = ++stamp_;
+      return true;
+    }
+    if (ways_[i].lru < ways_[victim].lru) victim = i;
+  }
+  Way& v = ways_[victim];
+  v.tag = line;
+  v.lru = ++stamp_;
+  v.ready = 0;
+  std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], bytes, cfg_.line_bytes);
+  return false;
+}
+
 void Cache::name_requester(const FillListener* requester, const std::string& type) {
   const auto it = std::find(type_names_.begin(), type_names_.end(), type);
   const uint32_t index = uint32_t(it - type_names_.begin());

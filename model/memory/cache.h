@@ -214,6 +214,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // Drops every line (a device reset or a new frame: the platform may have changed memory). Only
   // while nothing is in flight (rtsim/internal otherwise).
   void invalidate();
+  // Functional warming (a sampled frame's, docs/sampling.md): makes `line_addr` its set's most
+  // recently used line, putting it with `bytes` (the line's, from memory) in the LRU way when it
+  // is absent, as a fill would, but at no time and counting nothing. Only while no miss is in
+  // flight (otherwise nothing changes). Returns whether the line was there.
+  bool warm(uint64_t line_addr, const uint8_t* bytes);
   // Probes without side effects (tests, debugging).
   bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
   size_t queued_requests() const { return queued_.size(); }

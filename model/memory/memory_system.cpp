@@ -70,6 +70,10 @@ void MemorySystem::register_stats(StatsRegistry& r, const sc_core::sc_object& to
   interconnect_->register_stats(r, "memory", span);
 }
 
+Cache* MemorySystem::shared_l2(size_t l2) const {
+  return l2 < shared_.size() && shared_[l2] ? &shared_[l2]->l2 : nullptr;
+}
+
 std::vector<const Cache*> MemorySystem::shared_l2s() const {
   std::vector<const Cache*> l2s;
   for (const auto& g : shared_)

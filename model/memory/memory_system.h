@@ -63,6 +63,8 @@ class MemorySystem {
   MemoryInterconnect& interconnect() { return *interconnect_; }
   // The shared L2s, in the configuration's order.
   std::vector<const Cache*> shared_l2s() const;
+  // Shared L2 `l2` (null when it is a client's private one): functional warming reaches it.
+  Cache* shared_l2(size_t l2) const;
   // Empties the shared L2s (Cache::invalidate); the clients empty their own caches.
   void invalidate();
   // Registers every shared L2 and crossbar and the interconnect under its name relative to `top`;

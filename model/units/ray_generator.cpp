@@ -52,6 +52,7 @@ bool RayGenerator::next_window() {
   const DetailWindow& w = windows_[++window_];
   next_ = w.begin;
   limit_ = std::min(w.end + 1, total_);
+  if (on_window) on_window(w.begin);
   return true;
 }
 

@@ -11,6 +11,7 @@
 #include "model/units/model_context.h"
 #include "model/units/ray_ports.h"
 
+#include <functional>
 #include <vector>
 
 namespace rtsim::model {
@@ -40,6 +41,9 @@ class RayGenerator : public Unit, public PrimaryRays {
   static constexpr uint32_t kBatchRays = model::kBatchRays;
   const std::vector<DetailWindow>& windows() const { return windows_; }
   const std::vector<std::vector<Tick>>& window_starts() const { return starts_; }
+  // Called when a window but the first begins, with its first ray, before it issues (a sampled
+  // frame's functional warming; Accelerator::sample).
+  std::function<void(uint64_t)> on_window;
 
   // PrimaryRays.
   bool finished() const override { return next_ == limit_ && window_ + 1 >= windows_.size(); }
