@@ -238,6 +238,19 @@ void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
   write_json((out / output::kReportJson).string(), report);
 }
 
+// The frame on the model: whole, or a sampled frame's windows with their functional warming.
+SimulatedFrame simulate_run(const RunConfig& c, const PreparedScene& p,
+                            const model::SimulationHooks& hooks, const SamplePlan* plan) {
+  const double resolution = double(c.run.time_resolution_ps);
+  if (!plan)
+    return simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks,
+                          resolution);
+  return simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks,
+                        resolution, plan->windows,
+                        primary_warming(*p.image, p.scene.camera, p.scene.width, p.scene.height,
+                                        c.hw, c.run.sample.warming));
+}
+
 // A sampled run's estimates in report.json, and sample.csv beside it.
 void add_sampled(nlohmann::json& report, const SampleSettings& settings, const SamplePlan& plan,
                  const SampledEstimates& e, const std::filesystem::path& out) {
@@ -294,12 +307,7 @@ int run_model(const RunArgs& args) {
       c.run.sample.fraction > 0
           ? std::optional(plan_sample(uint64_t(p.scene.width) * p.scene.height, c.run.sample))
           : std::nullopt;
-  SimulatedFrame r = simulate_frame(
-      c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks,
-      double(c.run.time_resolution_ps), plan ? plan->windows : std::vector<model::DetailWindow>{},
-      plan ? primary_warming(*p.image, p.scene.camera, p.scene.width, p.scene.height, c.hw,
-                             c.run.sample.warming)
-           : model::WarmSource{});
+  SimulatedFrame r = simulate_run(c, p, hooks, plan ? &*plan : nullptr);
   host.simulate = seconds_since(t_sim);
   progress.finish();
 
