@@ -238,6 +238,13 @@ void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
   write_json((out / output::kReportJson).string(), report);
 }
 
+// The rays a sampled frame's functional warming walks before each window.
+uint64_t warming_rays(const RunConfig& c, int width) {
+  const uint64_t row =
+      uint64_t(width) * uint64_t(c.hw.order == model::RayOrder::kTiles ? c.hw.tile : 1);
+  return uint64_t(std::llround(c.run.sample.warming_rows * double(row)));
+}
+
 // The frame on the model: whole, or a sampled frame's windows with their functional warming.
 SimulatedFrame simulate_run(const RunConfig& c, const PreparedScene& p,
                             const model::SimulationHooks& hooks, const SamplePlan* plan) {
@@ -248,17 +255,17 @@ SimulatedFrame simulate_run(const RunConfig& c, const PreparedScene& p,
   return simulate_frame(c.hw, *p.image, p.scene.camera, p.scene.width, p.scene.height, hooks,
                         resolution, plan->windows,
                         primary_warming(*p.image, p.scene.camera, p.scene.width, p.scene.height,
-                                        c.hw, c.run.sample.warming));
+                                        c.hw, warming_rays(c, p.scene.width)));
 }
 
 // A sampled run's estimates in report.json, and sample.csv beside it.
-void add_sampled(nlohmann::json& report, const SampleSettings& settings, const SamplePlan& plan,
-                 const SampledEstimates& e, const std::filesystem::path& out) {
+void add_sampled(nlohmann::json& report, const RunConfig& c, const SamplePlan& plan,
+                 const SampledEstimates& e, int width, const std::filesystem::path& out) {
   report["sampled"] = true;
   report["cycles_total_ci95"] = e.total.ci95;
   report["cycles_primary_ci95"] = e.primary.ci95;
   report["cycles_shadow_ci95"] = e.shadow.ci95;
-  report["sample"] = sample_json(settings, plan, e);
+  report["sample"] = sample_json(c.run.sample, plan, e, warming_rays(c, width));
   write_file_atomic((out / output::kSampleCsv).string(), sample_csv(plan, e));
 }
 
@@ -339,7 +346,7 @@ int run_model(const RunArgs& args) {
   host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
   nlohmann::json report =
       run_report_json(scene_json(p), structure, config, lvb_json, figures_of(r), check, host);
-  if (plan) add_sampled(report, c.run.sample, *plan, *estimates, out);
+  if (plan) add_sampled(report, c, *plan, *estimates, p.scene.width, out);
   write_run_outputs(out, p, r, plan ? pixel_planes(*ref) : pixel_planes(r), config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());

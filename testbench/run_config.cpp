@@ -58,7 +58,7 @@ void read_sample_settings(YamlMap& m, SampleSettings& s) {
   if (s.unit % model::kBatchRays) m.fail("sample_unit", "expected a multiple of 64 rays");
   s.warmup = m.get_in_range<uint32_t>("sample_warmup", s.warmup, 0, 1u << 24);
   if (s.warmup % model::kBatchRays) m.fail("sample_warmup", "expected a multiple of 64 rays");
-  s.warming = m.get_in_range<uint32_t>("sample_warming", s.warming, 0, 1u << 24);
+  s.warming_rows = m.get_in_range<double>("sample_warming", s.warming_rows, 0.0, 64.0);
   s.seed = m.get<uint64_t>("sample_seed", s.seed);
 }
 
@@ -212,7 +212,7 @@ nlohmann::json run_settings_json(const RunSettings& r) {
     j["sample"] = r.sample.fraction;
     j["sample_unit"] = r.sample.unit;
     j["sample_warmup"] = r.sample.warmup;
-    j["sample_warming"] = r.sample.warming;
+    j["sample_warming"] = r.sample.warming_rows;
     j["sample_seed"] = r.sample.seed;
   }
   return j;

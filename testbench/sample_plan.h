@@ -18,9 +18,9 @@ struct SampleSettings {
   double fraction = 0;     // of the units measured; 0: a full frame (no plan)
   uint32_t unit = 2048;    // rays per unit, a multiple of kBatchRays
   uint32_t warmup = 2048;  // rays simulated in detail before each measured unit, a multiple too
-  // Rays before each window whose reads warm the caches functionally (about a row of 8x8 tiles
-  // at 1920 wide: the rays below reuse its lines; docs/sampling.md); 0: none.
-  uint32_t warming = 16384;
+  // Rows of tiles (width x tile rays each) before each window whose reads warm the caches
+  // functionally: the rays of the next row reuse a row's lines (docs/sampling.md); 0: none.
+  double warming_rows = 1.0;
   uint64_t seed = 1;
 };
 

@@ -75,7 +75,7 @@ void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResu
 }
 
 nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
-                           const SampledEstimates& e) {
+                           const SampledEstimates& e, uint64_t warming_rays) {
   auto est = [](const SampleEstimate& x) {
     return nlohmann::json{{"estimate", x.total}, {"ci95", x.ci95}, {"ci95_pct", x.ci95_pct()}};
   };
@@ -85,7 +85,8 @@ nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
           {"estimator", {{"primary", e.primary_estimator}, {"shadow", e.shadow_estimator}}},
           {"unit_rays", s.unit},
           {"warmup_rays", s.warmup},
-          {"warming_rays", s.warming},
+          {"warming_rows", s.warming_rows},
+          {"warming_rays", warming_rays},
           {"seed", s.seed},
           {"units", plan.population},
           {"measured_units", plan.units.size()},

@@ -47,7 +47,7 @@ void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResu
 
 // report.json's "sample" section: the settings, the plan's size and each estimate's interval.
 nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
-                           const SampledEstimates& e);
+                           const SampledEstimates& e, uint64_t warming_rays);
 
 // sample.csv: unit,first_ray,weight,certain,primary_cycles,shadow_cycles per measured unit.
 std::string sample_csv(const SamplePlan& plan, const SampledEstimates& e);
