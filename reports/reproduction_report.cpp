@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 namespace rtsim::report {
@@ -175,6 +176,31 @@ void table5(std::ostringstream& md, const Setup& c) {
   }
 }
 
+// A sampled run's 95% half-interval of its frame time of `kind` (all, shadow), in ms; 0 for a
+// full run.
+double ms_ci(const json& r, const char* kind) {
+  if (!r.contains("sampled")) return 0;
+  const std::string key = std::string(kind) == "all" ? "cycles_total_ci95" : "cycles_shadow_ci95";
+  return r[key].get<double>() / (r["clock_ghz"].get<double>() * 1e6);
+}
+
+std::string ms_cell(const json& r, const char* kind) {
+  const double ms = r["frame_ms"][kind].get<double>(), ci = ms_ci(r, kind);
+  return ci > 0 ? fmt::format("{:.3f} ± {:.3f}", ms, ci) : fmt::format("{:.3f}", ms);
+}
+
+// The reduction 1 - on / off, with its 95% interval when the runs are sampled: the ratio's
+// relative errors added in quadrature, as if the two estimates were independent (samples at the
+// same units are correlated positively, so this is the wider interval).
+std::string reduction_cell(const json& on_run, const json& off_run, const char* kind) {
+  const double on = on_run["frame_ms"][kind].get<double>();
+  const double off = off_run["frame_ms"][kind].get<double>();
+  const double a = ms_ci(on_run, kind), b = ms_ci(off_run, kind);
+  if ((a == 0 && b == 0) || on <= 0 || off <= 0) return reduction(on, off);
+  const double ratio_ci = on / off * std::hypot(a / on, b / off);
+  return fmt::format("{} ± {:.2f} pt", reduction(on, off), 100 * ratio_ci);
+}
+
 void table6(std::ostringstream& md, const Setup& c) {
   md << "\nTable 6: frame time (ms at 1 GHz) and the reduction against culling off\n\n| rays | "
         "paper on | paper off | paper reduction | ours off |";
@@ -192,7 +218,7 @@ void table6(std::ostringstream& md, const Setup& c) {
               : "- | - | -";
     const json* off = c.run("off");
     const double off_ms = off ? (*off)["frame_ms"][kind].get<double>() : 0;
-    row += off ? fmt::format(" | {:.3f}", off_ms) : " | -";
+    row += off ? " | " + ms_cell(*off, kind) : " | -";
     for (const CulledVariant& cv : kCulledVariants) {
       const json* r = c.run(cv.name);
       if (!r) {
@@ -200,7 +226,8 @@ void table6(std::ostringstream& md, const Setup& c) {
         continue;
       }
       const double on = (*r)["frame_ms"][kind].get<double>();
-      row += fmt::format(" | {:.3f} | {}", on, reduction(on, off_ms));
+      row += " | " + ms_cell(*r, kind) + " | " +
+             (off ? reduction_cell(*r, *off, kind) : reduction(on, off_ms));
     }
     md << row << " |\n";
   }

@@ -66,6 +66,7 @@ struct ReproduceArgs {
   bool bvh = false;  // the BVH study instead (configs/sweeps/bvh-study.yaml)
   int jobs = 1;
   int width = 0, height = 0;  // 0 = the setups' 1920x1080
+  std::string sample;         // run.sample of every run (empty: full runs; docs/sampling.md)
 };
 int run_reproduce(const ReproduceArgs& args);
 

@@ -237,6 +237,9 @@ void add_params_and_reproduce(CLI::App& app, Commands& c) {
   c.reproduce_cmd
       ->add_option("--height", c.reproduce.height, "Image height (default: the paper's 1080)")
       ->check(CLI::Range(1, 16384));
+  c.reproduce_cmd->add_option("--sample", c.reproduce.sample,
+                              "Sampled runs: this fraction of each frame's units in detail, the "
+                              "cycles estimated with 95% intervals (run.sample; docs/sampling.md)");
   c.reproduce_cmd
       ->add_option("--scene-root", c.reproduce.scene_root, "Where the paper's scenes are")
       ->envname("RTSIM_SCENE_ROOT");

@@ -36,6 +36,13 @@ void prepare(const ReproduceArgs& a, std::vector<std::string>& extra) {
   if (!a.scene_root.empty()) setenv("RTSIM_SCENE_ROOT", a.scene_root.c_str(), 1);
   if (a.width) extra.push_back(fmt::format("run.width={}", a.width));
   if (a.height) extra.push_back(fmt::format("run.height={}", a.height));
+  if (!a.sample.empty()) {
+    char* end = nullptr;
+    const double f = std::strtod(a.sample.c_str(), &end);
+    if (end == a.sample.c_str() || *end != '\0' || !(f > 0 && f <= 1))
+      throw InputError("--sample " + a.sample + ": expected a fraction in (0, 1]");
+    extra.push_back("run.sample=" + a.sample);
+  }
 }
 
 std::map<std::string, PaperScene> paper_tables() {
