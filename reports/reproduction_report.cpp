@@ -189,10 +189,15 @@ std::string ms_cell(const json& r, const char* kind) {
   return ci > 0 ? fmt::format("{:.3f} ± {:.3f}", ms, ci) : fmt::format("{:.3f}", ms);
 }
 
-// The reduction 1 - on / off, with its 95% interval when the runs are sampled: the ratio's
-// relative errors added in quadrature, as if the two estimates were independent (samples at the
-// same units are correlated positively, so this is the wider interval).
+// The reduction 1 - on / off, with its 95% interval when the runs are sampled: paired unit by unit
+// when both ran the same plan (the runs' "paired_reduction", reproduce_command.cpp), else the
+// ratio's relative errors added in quadrature, as if the two estimates were independent.
 std::string reduction_cell(const json& on_run, const json& off_run, const char* kind) {
+  if (on_run.contains("paired_reduction") && on_run["paired_reduction"].is_object()) {
+    const json& p = on_run["paired_reduction"][kind];
+    return fmt::format("{:.2f}% ± {:.2f} pt", p["reduction_pct"].get<double>(),
+                       p["ci95_pt"].get<double>());
+  }
   const double on = on_run["frame_ms"][kind].get<double>();
   const double off = off_run["frame_ms"][kind].get<double>();
   const double a = ms_ci(on_run, kind), b = ms_ci(off_run, kind);

@@ -13,14 +13,17 @@
 #include "reports/reproduction_report.h"
 #include "testbench/commands.h"
 #include "testbench/run_config.h"
+#include "testbench/sample_plan.h"
 #include "testbench/sweep.h"
 #include "testbench/sweep_results.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <optional>
 
 namespace fs = std::filesystem;
@@ -55,6 +58,47 @@ bool has(const std::vector<std::string>& v, const std::string& x) {
 
 // ---- rtsim reproduce --------------------------------------------------------------------------
 
+// A sampled run's measured units (sample.csv): the plan's units and each one's cycles per phase.
+struct SampledUnits {
+  std::vector<MeasuredUnit> units;
+  std::vector<double> primary, shadow;
+};
+
+SampledUnits read_sample_csv(const fs::path& file) {
+  SampledUnits s;
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);  // unit,first_ray,weight,certain,primary_cycles,shadow_cycles
+  while (std::getline(in, line)) {
+    unsigned long long unit = 0, first = 0, weight = 0, certain = 0;
+    double p = 0, sh = 0;
+    if (std::sscanf(line.c_str(), "%llu,%llu,%llu,%llu,%lf,%lf", &unit, &first, &weight, &certain,
+                    &p, &sh) != 6)
+      throw std::runtime_error(file.string() + ": not a sample.csv line: " + line);
+    s.units.push_back({unit, weight, certain != 0});
+    s.primary.push_back(p);
+    s.shadow.push_back(sh);
+  }
+  return s;
+}
+
+// Culling's reduction of two sampled runs of the same plan, paired unit by unit (estimate_ratio):
+// {"all": {reduction_pct, ci95_pt}, "shadow": ...}; null when the plans differ.
+nlohmann::json paired_reduction(const fs::path& on_dir, const fs::path& off_dir) {
+  const SampledUnits on = read_sample_csv(on_dir / output::kSampleCsv);
+  const SampledUnits off = read_sample_csv(off_dir / output::kSampleCsv);
+  if (on.units.size() != off.units.size()) return nullptr;
+  for (size_t i = 0; i < on.units.size(); ++i)
+    if (on.units[i].index != off.units[i].index) return nullptr;
+  std::vector<double> on_all(on.primary), off_all(off.primary);
+  for (size_t i = 0; i < on_all.size(); ++i) on_all[i] += on.shadow[i], off_all[i] += off.shadow[i];
+  auto cell = [](const RatioEstimate& r) {
+    return nlohmann::json{{"reduction_pct", 100 * (1 - r.ratio)}, {"ci95_pt", 100 * r.ci95}};
+  };
+  return {{"all", cell(estimate_ratio(on.units, on_all, off_all))},
+          {"shadow", cell(estimate_ratio(on.units, on.shadow, off.shadow))}};
+}
+
 // The finished points' reports by setup, in sweep order, with the pixels each culling variant
 // changed against culling off.
 std::vector<report::ReproductionScene> gather_setups(const SweepSpec& spec,
@@ -83,6 +127,9 @@ std::vector<report::ReproductionScene> gather_setups(const SweepSpec& spec,
     for (const report::CulledVariant& cv : report::kCulledVariants) {
       const std::string var = cv.name;
       if (!s.runs.count(var)) continue;
+      if (s.runs[var].contains("sampled") && s.runs["off"].contains("sampled"))
+        s.runs[var]["paired_reduction"] =
+            paired_reduction(fs::path(out) / s.dirs[var], fs::path(out) / s.dirs["off"]);
       const auto mask = read_npy_u16((fs::path(out) / s.dirs[var] / output::kMaskNpy).string());
       uint64_t differ = 0;
       for (size_t i = 0; i < std::min(off.size(), mask.size()); ++i) differ += off[i] != mask[i];
