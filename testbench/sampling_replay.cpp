@@ -1,0 +1,260 @@
+#include "testbench/sampling_replay.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace rtsim::sampling_detail {
+
+namespace {
+
+// Cycles a packet of `bytes` occupies a link.
+uint32_t transfer_cycles(const model::LinkConfig& link, uint32_t bytes) {
+  const uint32_t w = link.bytes_per_cycle;
+  return w == 0 ? 0 : (bytes + link.header_bytes + w - 1) / w;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+ReplayTiming::ReplayTiming(const model::AcceleratorConfig& cfg) {
+  const model::UnitTypeConfig* types[kAccessUnits] = {&cfg.traversal(), &cfg.list, &cfg.ist,
+                                                      &cfg.shading};
+  const uint32_t line = cfg.traversal().l1.line_bytes;
+  for (size_t t = 0; t < kAccessUnits; ++t) {
+    const model::UnitTypeConfig& u = *types[t];
+    const model::UnitTypeConfig& below = t == kShading ? cfg.ist : u;  // shading: the IST's L2
+    latency[t] = u.latency;
+    l1_hit[t] = u.l1.hit_latency;
+    l2_hit[t] = 2 * below.link.latency + transfer_cycles(below.link, line) + below.l2.hit_latency;
+  }
+  const model::DramConfig d = cfg.memory_dram();
+  const double access =
+      double(d.tRCD + d.CL + d.burst_cycles()) * double(d.tCK_ps) * cfg.clock_ghz / 1000.0;
+  line_flits = std::max<uint32_t>(1, transfer_cycles(cfg.memory_link, line));
+  dram = 2 * cfg.memory_link.latency + transfer_cycles(cfg.memory_link, line) +
+         uint32_t(std::lround(access));
+  const uint32_t write = cfg.write_records ? transfer_cycles(cfg.memory_link, line) : 0;
+  shading_interval = std::max<uint32_t>(2, write);
+}
+
+void Calendar::due(uint64_t now, std::vector<uint32_t>& out) {
+  out.clear();
+  uint32_t list = slots_[now & (kSlots - 1)];
+  slots_[now & (kSlots - 1)] = kNone;
+  while (list != kNone) {
+    const uint32_t walk = list;
+    list = next_[walk];
+    --pending_;
+    if (time_[walk] == now)
+      out.push_back(walk);
+    else
+      add(walk, time_[walk]);
+  }
+}
+
+Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int height,
+               const model::AcceleratorConfig& cfg, const FeaturePassOptions& o)
+    : image_(image),
+      tracer_(image),
+      camera_(camera, width, height),
+      width_(uint32_t(width)),
+      order_(model::issue_order(width, height, cfg.order, cfg.tile)),
+      caches_(cfg),
+      timing_(cfg),
+      fifo_depth_(o.fifo_depth ? o.fifo_depth : cfg.traversal().fifo_depth),
+      culling_(o.culling),
+      prefetch_(std::max<uint32_t>(1, cfg.culling.prefetch)),
+      shadow_offset_(1e-5f * image.header().bounds.diagonal()) {
+  const uint32_t capacity = o.capacity ? o.capacity : cfg.traversal().capacity;
+  units_.resize(caches_.count(AccessUnit::kTraversal));
+  walks_.resize(units_.size() * capacity);
+  calendar_ = Calendar(walks_.size());
+  for (uint32_t t = 0; t < units_.size(); ++t) {
+    routes_.push_back(caches_.route(t));
+    for (uint32_t s = capacity; s-- > 0;) units_[t].idle.push_back(t * capacity + s);
+    for (uint32_t s = 0; s < capacity; ++s) walks_[t * capacity + s].unit = t;
+  }
+  for (size_t type = 0; type < kAccessUnits; ++type)
+    free_[type].assign(caches_.count(AccessUnit(type)), 0);
+  for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
+  const uint64_t n = order_.size();
+  hits_.resize(n);
+  for (std::vector<BatchFeatures>& phase : batches_) {
+    phase.resize((n + kBatchRays - 1) / kBatchRays);
+    for (uint64_t i = 0; i < phase.size(); ++i) phase[i].first_ray = i * kBatchRays;
+  }
+  for (uint64_t i = 0; i < batches_[kPrimary].size(); ++i)
+    batches_[kPrimary][i].rays = uint32_t(std::min(kBatchRays, n - i * kBatchRays));
+}
+
+FrameFeatures Replay::run(bool shadows) {
+  FrameFeatures out;
+  auto t0 = std::chrono::steady_clock::now();
+  uint64_t now = 0;
+  deal(now);
+  drain(now);
+  close_phase(kPrimary, end_);
+  out.primary_seconds = seconds_since(t0);
+  out.primary = std::move(batches_[kPrimary]);
+  if (!shadows || lights_.empty()) return out;
+  t0 = std::chrono::steady_clock::now();
+  phase_ = kShadow;
+  now = end_;
+  begin_scan(now);
+  deal(now);
+  drain(now);
+  close_phase(kShadow, std::max(end_, scan_.free));
+  out.shadow_seconds = seconds_since(t0);
+  out.shadow = std::move(batches_[kShadow]);
+  return out;
+}
+
+void Replay::drain(uint64_t& now) {
+  std::vector<uint32_t> due;
+  for (; !calendar_.empty(); ++now) {
+    // Events at `now` may add more at `now`.
+    for (calendar_.due(now, due); !due.empty(); calendar_.due(now, due)) {
+      for (const uint32_t walk : due) {
+        Walk& w = walks_[walk];
+        if (w.next < w.stream.reads.size()) {
+          calendar_.add(walk, step(w, now));
+        } else if (w.phase == kShadow && !w.retiring) {
+          w.retiring = true;
+          calendar_.add(walk, issue(kShading, routes_[w.unit][kShading], now, 1));
+        } else {
+          end(walk, now);
+        }
+      }
+    }
+  }
+}
+
+void Replay::close_phase(Phase phase, uint64_t end) {
+  std::vector<BatchFeatures>& b = batches_[phase];
+  const std::vector<uint64_t>& starts = starts_[phase];
+  for (size_t i = 0; i < b.size() && i < starts.size(); ++i)
+    b[i].replay_cycles = (i + 1 < starts.size() ? starts[i + 1] : end) - starts[i];
+}
+
+bool Replay::has_rays() const {
+  return phase_ == kPrimary ? next_ray_ < order_.size() : scan_.slot < order_.size();
+}
+
+bool Replay::take(uint64_t now, Queued& q) {
+  if (phase_ == kShadow) return take_shadow(now, q);
+  if (next_ray_ >= order_.size()) return false;
+  const uint64_t t = std::max(now, generator_free_);
+  generator_free_ = t + 1;
+  if (next_ray_ % kBatchRays == 0) starts_[kPrimary].push_back(t);
+  q.ray = next_ray_++;
+  q.dealt = t;
+  q.ready = t + 1;
+  return true;
+}
+
+void Replay::deal(uint64_t now) {
+  const size_t n = units_.size();
+  for (size_t tried = 0; tried < n && has_rays();) {
+    TraversalUnitState& u = units_[next_unit_];
+    next_unit_ = next_unit_ + 1 == n ? 0 : next_unit_ + 1;
+    if (u.idle.empty() && u.fifo.size() >= fifo_depth_) {
+      ++tried;
+      continue;
+    }
+    tried = 0;
+    Queued q;
+    if (!take(now, q)) return;
+    if (u.fifo.empty() && !u.idle.empty()) {
+      const uint32_t walk = u.idle.back();
+      u.idle.pop_back();
+      start(walk, q, q.ready);
+    } else {
+      u.fifo.push_back(q);
+    }
+  }
+}
+
+// The walk of the ray `q` begins at `t`.
+void Replay::start(uint32_t walk, const Queued& q, uint64_t t) {
+  Walk& w = walks_[walk];
+  w.stream.clear();
+  w.next = 0;
+  w.batch = uint32_t(q.ray / kBatchRays);
+  w.phase = phase_;
+  w.retiring = false;
+  if (phase_ == kPrimary) {
+    const uint32_t pixel = order_[q.ray];
+    const Ray r = camera_.ray(int(pixel % width_), int(pixel / width_));
+    hits_[q.ray] = tracer_.closest_hit(r, w.stream);
+    batches_[kPrimary][w.batch].hits += hits_[q.ray].tri != kNoHit;
+  } else {
+    batches_[kShadow][w.batch].occluded += tracer_.occluded(q.shadow, w.stream);
+  }
+  calendar_.add(walk, t);
+}
+
+// The ray of `walk` ends at `t`: its slot takes the next ray of its FIFO, whose room the source
+// fills.
+void Replay::end(uint32_t walk, uint64_t t) {
+  end_ = std::max(end_, t);
+  TraversalUnitState& u = units_[walks_[walk].unit];
+  if (u.fifo.empty()) {
+    u.idle.push_back(walk);
+  } else {
+    const Queued q = u.fifo.front();
+    u.fifo.pop_front();
+    start(walk, q, std::max(t, q.ready));
+  }
+  deal(t);
+}
+
+// The walk's next step at `now`: a node, a leaf (LIST, then IST) or the shading; when it ends.
+uint64_t Replay::step(Walk& w, uint64_t now) {
+  switch (w.stream.reads[w.next].unit) {
+    case AccessUnit::kTraversal: {
+      const uint64_t t = issue(kTrv, w.unit, now, 1);
+      return t + timing_.read(kTrv, read(w)) + timing_.latency[kTrv];
+    }
+    case AccessUnit::kList: return tests(w, leaf(w, now));
+    case AccessUnit::kIst: return tests(w, now);
+    case AccessUnit::kShading: break;
+  }
+  const uint64_t t = issue(kShading, routes_[w.unit][kShading], now, timing_.shading_interval);
+  int level = 0;
+  while (w.next < w.stream.reads.size()) level = std::max(level, read(w));
+  return t + timing_.read(kShading, level) + timing_.latency[kShading];
+}
+
+// LIST: the leaf's record, then its list a line an operation; when the list is read. A read
+// from DRAM parks the ray until its line comes (one after the other); the L2's are pipelined.
+uint64_t Replay::leaf(Walk& w, uint64_t now) {
+  const std::vector<Access>& reads = w.stream.reads;
+  uint64_t lines = 0;
+  if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList)
+    lines = lines_of(reads[w.next + 1]);
+  const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines);
+  Reads r;
+  r.add(read(w));
+  if (lines > 0) r.add(read(w));
+  return t + lines + r.cycles(timing_, kList) + timing_.latency[kList];
+}
+
+// IST: the leaf's tests, one a cycle, and a line of its L1's port a cycle (a triangle across
+// two lines takes two); when the last one completes.
+uint64_t Replay::tests(Walk& w, uint64_t ready) {
+  const std::vector<Access>& reads = w.stream.reads;
+  uint64_t n = 0, lines = 0;
+  for (; w.next + n < reads.size() && reads[w.next + n].unit == AccessUnit::kIst; ++n)
+    lines += lines_of(reads[w.next + n]);
+  if (n == 0) return ready;
+  const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines);
+  Reads r;
+  for (uint64_t k = 0; k < n; ++k) r.add(read(w));
+  return t + lines - 1 + r.cycles(timing_, kIst) + timing_.latency[kIst];
+}
+
+}  // namespace rtsim::sampling_detail
