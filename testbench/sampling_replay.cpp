@@ -30,6 +30,7 @@ ReplayTiming::ReplayTiming(const model::AcceleratorConfig& cfg) {
     latency[t] = u.latency;
     l1_hit[t] = u.l1.hit_latency;
     l2_hit[t] = 2 * below.link.latency + transfer_cycles(below.link, line) + below.l2.hit_latency;
+    shared_fill[t] = u.l1.fill_port == model::FillPort::kShared;
   }
   const model::DramConfig d = cfg.memory_dram();
   const double access =
@@ -212,20 +213,25 @@ void Replay::end(uint32_t walk, uint64_t t) {
   deal(t);
 }
 
-// The walk's next step at `now`: a node, a leaf (LIST, then IST) or the shading; when it ends.
+// The walk's next step at `now`: a node, a leaf (LIST, then IST) or the shading; when it ends. A
+// step's reads are made first (the caches' state does not depend on time), so that the lines its
+// L1 fills take their cycles of the unit's port too (after its own).
 uint64_t Replay::step(Walk& w, uint64_t now) {
+  fills_ = 0;
   switch (w.stream.reads[w.next].unit) {
     case AccessUnit::kTraversal: {
-      const uint64_t t = issue(kTrv, w.unit, now, 1);
-      return t + timing_.read(kTrv, read(w)) + timing_.latency[kTrv];
+      const uint64_t cycles = timing_.read(kTrv, read(w));
+      const uint64_t t = issue(kTrv, w.unit, now, 1 + fills_);
+      return t + cycles + timing_.latency[kTrv];
     }
     case AccessUnit::kList: return tests(w, leaf(w, now));
     case AccessUnit::kIst: return tests(w, now);
     case AccessUnit::kShading: break;
   }
-  const uint64_t t = issue(kShading, routes_[w.unit][kShading], now, timing_.shading_interval);
   int level = 0;
   while (w.next < w.stream.reads.size()) level = std::max(level, read(w));
+  const uint64_t t =
+      issue(kShading, routes_[w.unit][kShading], now, timing_.shading_interval + fills_);
   return t + timing_.read(kShading, level) + timing_.latency[kShading];
 }
 
@@ -236,10 +242,10 @@ uint64_t Replay::leaf(Walk& w, uint64_t now) {
   uint64_t lines = 0;
   if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList)
     lines = lines_of(reads[w.next + 1]);
-  const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines);
   Reads r;
   r.add(read(w));
   if (lines > 0) r.add(read(w));
+  const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines + fills_);
   return t + lines + r.cycles(timing_, kList) + timing_.latency[kList];
 }
 
@@ -251,9 +257,10 @@ uint64_t Replay::tests(Walk& w, uint64_t ready) {
   for (; w.next + n < reads.size() && reads[w.next + n].unit == AccessUnit::kIst; ++n)
     lines += lines_of(reads[w.next + n]);
   if (n == 0) return ready;
-  const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines);
+  fills_ = 0;
   Reads r;
   for (uint64_t k = 0; k < n; ++k) r.add(read(w));
+  const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines + fills_);
   return t + lines - 1 + r.cycles(timing_, kIst) + timing_.latency[kIst];
 }
 

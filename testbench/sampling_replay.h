@@ -34,6 +34,8 @@ struct ReplayTiming {
   uint32_t latency[kAccessUnits] = {}, l1_hit[kAccessUnits] = {}, l2_hit[kAccessUnits] = {};
   uint32_t dram = 0, shading_interval = 2;
   uint32_t line_flits = 1;  // cycles a line takes a port of the memory link
+  // Whether a line filled into a type's L1 takes a cycle of its port (fill_port: shared).
+  bool shared_fill[kAccessUnits] = {};
 };
 
 // The reads of one step: a ray waits for each line from DRAM in turn (the unit parks it), for
@@ -146,10 +148,16 @@ class Replay {
     free = t + ops;
     return t;
   }
-  // The walk's next read, through its unit's caches, counted for its batch.
+  // The walk's next read, through its unit's caches, counted for its batch; the lines filled
+  // into a shared-port L1 are added to `fills_`.
   int read(Walk& w) {
     const Access& a = w.stream.reads[w.next++];
-    return caches_.read(routes_[w.unit][size_t(a.unit)], a, batches_[w.phase][w.batch].caches);
+    CacheCounts& counts = batches_[w.phase][w.batch].caches;
+    const size_t type = size_t(a.unit);
+    const uint64_t before = counts.l1_misses[type];
+    const int level = caches_.read(routes_[w.unit][type], a, counts);
+    if (timing_.shared_fill[type]) fills_ += counts.l1_misses[type] - before;
+    return level;
   }
   // Per-batch replay cycles of a phase from its batches' starts to `end`.
   void close_phase(Phase phase, uint64_t end);
@@ -186,6 +194,7 @@ class Replay {
   std::array<std::vector<uint64_t>, 2> starts_;  // when each batch began
   std::vector<Hit> hits_;                        // the primary rays', by issue index
   uint64_t next_ray_ = 0, generator_free_ = 0, end_ = 0;
+  uint64_t fills_ = 0;  // L1 fills of the current step's reads that take its unit's port
   size_t next_unit_ = 0;
   ScanState scan_;
 };
