@@ -159,23 +159,39 @@ bool Replay::take(uint64_t now, Queued& q) {
 
 void Replay::deal(uint64_t now) {
   const size_t n = units_.size();
-  for (size_t tried = 0; tried < n && has_rays();) {
+  size_t tried = 0;
+  while (tried < n && has_rays()) {
     TraversalUnitState& u = units_[next_unit_];
     next_unit_ = next_unit_ + 1 == n ? 0 : next_unit_ + 1;
-    if (u.idle.empty() && u.fifo.size() >= fifo_depth_) {
+    if (!has_room(u)) {
       ++tried;
       continue;
     }
     tried = 0;
     Queued q;
+    if (!take(now, q)) break;
+    place(u, q);
+  }
+  full_ = tried >= n;
+}
+
+void Replay::deal_to(uint32_t unit, uint64_t now) {
+  TraversalUnitState& u = units_[unit];
+  Queued q;
+  while (has_rays() && has_room(u)) {
     if (!take(now, q)) return;
-    if (u.fifo.empty() && !u.idle.empty()) {
-      const uint32_t walk = u.idle.back();
-      u.idle.pop_back();
-      start(walk, q, q.ready);
-    } else {
-      u.fifo.push_back(q);
-    }
+    place(u, q);
+  }
+  next_unit_ = unit + 1 == units_.size() ? 0 : unit + 1;
+}
+
+void Replay::place(TraversalUnitState& u, const Queued& q) {
+  if (u.fifo.empty() && !u.idle.empty()) {
+    const uint32_t walk = u.idle.back();
+    u.idle.pop_back();
+    start(walk, q, q.ready);
+  } else {
+    u.fifo.push_back(q);
   }
 }
 
@@ -202,7 +218,8 @@ void Replay::start(uint32_t walk, const Queued& q, uint64_t t) {
 // fills.
 void Replay::end(uint32_t walk, uint64_t t) {
   end_ = std::max(end_, t);
-  TraversalUnitState& u = units_[walks_[walk].unit];
+  const uint32_t unit = walks_[walk].unit;
+  TraversalUnitState& u = units_[unit];
   if (u.fifo.empty()) {
     u.idle.push_back(walk);
   } else {
@@ -210,7 +227,10 @@ void Replay::end(uint32_t walk, uint64_t t) {
     u.fifo.pop_front();
     start(walk, q, std::max(t, q.ready));
   }
-  deal(t);
+  if (full_)
+    deal_to(unit, t);
+  else
+    deal(t);
 }
 
 // The walk's next step at `now`: a node, a leaf (LIST, then IST) or the shading; when it ends. A

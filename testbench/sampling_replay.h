@@ -129,6 +129,12 @@ class Replay {
   // The source deals a ray a cycle from `now` on, in turn to the units with room, until none has
   // any; a ray dealt to a unit with a free slot starts a cycle later.
   void deal(uint64_t now);
+  // deal() when every unit but `unit` is full (the round robin finds it alone).
+  void deal_to(uint32_t unit, uint64_t now);
+  bool has_room(const TraversalUnitState& u) const {
+    return !u.idle.empty() || u.fifo.size() < fifo_depth_;
+  }
+  void place(TraversalUnitState& u, const Queued& q);  // a ray dealt to unit u
   bool has_rays() const;
   // The source's next ray, dealt at or after `now`: false when it has none left.
   bool take(uint64_t now, Queued& q);
@@ -196,6 +202,7 @@ class Replay {
   uint64_t next_ray_ = 0, generator_free_ = 0, end_ = 0;
   uint64_t fills_ = 0;  // L1 fills of the current step's reads that take its unit's port
   size_t next_unit_ = 0;
+  bool full_ = false;  // the last deal() found every unit full
   ScanState scan_;
 };
 
