@@ -176,13 +176,14 @@ void Replay::deal(uint64_t now) {
 }
 
 void Replay::deal_to(uint32_t unit, uint64_t now) {
+  if (!has_rays()) return;
+  next_unit_ = unit + 1 == units_.size() ? 0 : unit + 1;  // where deal() would leave it
   TraversalUnitState& u = units_[unit];
   Queued q;
   while (has_rays() && has_room(u)) {
     if (!take(now, q)) return;
     place(u, q);
   }
-  next_unit_ = unit + 1 == units_.size() ? 0 : unit + 1;
 }
 
 void Replay::place(TraversalUnitState& u, const Queued& q) {

@@ -7,6 +7,7 @@
 namespace rtsim::sampling_detail {
 
 void Replay::begin_scan(uint64_t at) {
+  next_unit_ = 0;  // the culling unit's round robin over the traversal units' inputs
   scan_ = ScanState{};
   scan_.free = at;
   scan_.last_request = at;
