@@ -5,7 +5,7 @@ worth.
 
     /usr/bin/python3 bench/sampling_regression.py RUN_DIR:FEATURES_CSV [...] [--draws 40]
         [--seed 1] [--units 1,8,32,64] [--fractions 0.02,0.05,0.1] [--no-r2]
-        [--phases primary,shadow,frame] [--certain 0,1]
+        [--phases primary,shadow,frame] [--certain 0,1] [--sorted]
 
 RUN_DIR holds a full run's batches.csv (phase,batch,first,cycles: the cycles per 64-ray batch of
 the primary phase in issue order and, in two phases, per 64 record slots of the shadow phase; a
@@ -26,7 +26,9 @@ batches of slots in both phases). For each phase and unit size (batches per unit
   largest and rms error, the mean 95% half-interval (successive differences of the sampled
   residuals, each divided by 1 - its leverage; Student's t) and how many intervals held the truth.
   With --certain 1 the first and the last unit are always measured (the pipeline's fill and
-  drain: testbench/sample_plan.h) and the strata cover the units between them.
+  drain: testbench/sample_plan.h) and the strata cover the units between them. With --sorted
+  expansion, the ratio and GREG on the replay's cycles are also measured with strata cut in the
+  order of the units' replay cycles (a unit's stratum holds units of about its replay cycles).
 """
 import argparse
 import csv
@@ -215,15 +217,21 @@ def estimate(y, x, sample, sizes, f, kind):
     return total, sd_variance(w * e_out, f), len(sample) - a.shape[1]
 
 
-def draws(y, x, f, kind, n_draws, rng, certain=False):
+def draws(y, x, f, kind, n_draws, rng, certain=False, key=None):
     """Relative errors, relative half-intervals and whether each held the truth. `certain`: the
-    first and the last unit are always measured, the strata cover the others."""
+    first and the last unit are always measured, the strata cover the others. `key`: the strata
+    are cut in the order of the units' key (an auxiliary), not in issue order."""
     truth = y.sum()
     known = 0.0
     if certain:
         known = y[0] + y[-1]
         y = y[1:-1]
         x = None if x is None else x[1:-1]
+        key = None if key is None else key[1:-1]
+    if key is not None:
+        order = np.argsort(key, kind="stable")
+        y = y[order]
+        x = None if x is None else x[order]
     starts, sizes = strata(len(y), f)
     errs, halves, held = [], [], 0
     for _ in range(n_draws):
@@ -295,6 +303,23 @@ def print_r2(name, phase, cycles, feats, depth, units):
             print(f"| {g} x 64 | {feat} | {own_s} | {best_s} | {many:.3f} (L={lags[-1]}) |")
 
 
+SORTED = ("expansion", "ratio: replay cycles", "GREG: replay cycles")
+
+
+def with_sorted(ests, feats, g, sorted_too):
+    """The estimators in issue-order strata and, with `sorted_too`, the SORTED ones again in
+    strata cut in the order of the units' replay cycles."""
+    out = [(label, kind, x, None) for label, kind, x in ests]
+    if sorted_too:
+        key = to_units(feats["replay_cycles"], g)
+        out += [
+            (label + " [strata by replay]", kind, x, key)
+            for label, kind, x in ests
+            if label in SORTED
+        ]
+    return out
+
+
 def print_estimates(name, phase, cycles, feats, depth, args):
     print(f"\n## {name}, {phase}: estimates over {args.draws} draws\n")
     print(
@@ -307,11 +332,13 @@ def print_estimates(name, phase, cycles, feats, depth, args):
         for f in args.fractions:
             for certain in args.certain:
                 n = len(strata(len(y) - 2 * certain, f)[0]) + 2 * certain
-                for label, kind, x in estimators(phase, feats, g, depth):
+                for label, kind, x, key in with_sorted(
+                    estimators(phase, feats, g, depth), feats, g, args.sorted
+                ):
                     if x is not None and kind == "greg" and n < 5 * (x.shape[1] + 1):
                         continue  # too few sampled units for so many coefficients
                     rng = np.random.default_rng(args.seed)
-                    worst, rms, half, held = draws(y, x, f, kind, args.draws, rng, certain)
+                    worst, rms, half, held = draws(y, x, f, kind, args.draws, rng, certain, key)
                     print(
                         f"| {g} x 64 | {f:.0%} | {'yes' if certain else 'no'} | {n} | {label} "
                         f"| {worst:.2%} | {rms:.2%} | {half:.2%} | {held}/{args.draws} |"
@@ -330,6 +357,9 @@ def main():
     p.add_argument("--phases", default="primary,shadow,frame")
     p.add_argument("--certain", default="0", help="0, 1 or 0,1: first and last unit measured")
     p.add_argument("--no-r2", action="store_true", help="only the estimates")
+    p.add_argument(
+        "--sorted", action="store_true", help="also strata cut in order of the replay cycles"
+    )
     args = p.parse_args()
     args.units = [int(u) for u in args.units.split(",")]
     args.fractions = [float(f) for f in args.fractions.split(",")]
