@@ -64,6 +64,9 @@ struct FeaturePassOptions {
   // fifo_depth of the traversal units' section).
   uint32_t capacity = 0, fifo_depth = 0;
   bool culling = true;  // the shadow phase's LVB culling (run.lvb)
+  // The shadow phase on one batch of record slots in `shadow_stride` alone (the others' records
+  // are passed over in no time and emit nothing): a cheaper, sparser auxiliary. 1: every batch.
+  uint32_t shadow_stride = 1;
 };
 
 // Both phases' batches, and the pass's host seconds in each.

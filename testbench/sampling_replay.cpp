@@ -68,6 +68,7 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
       timing_(cfg),
       fifo_depth_(o.fifo_depth ? o.fifo_depth : cfg.traversal().fifo_depth),
       culling_(o.culling),
+      shadow_stride_(std::max<uint32_t>(1, o.shadow_stride)),
       prefetch_(std::max<uint32_t>(1, cfg.culling.prefetch)),
       shadow_offset_(1e-5f * image.header().bounds.diagonal()) {
   const uint32_t capacity = o.capacity ? o.capacity : cfg.traversal().capacity;

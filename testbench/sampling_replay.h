@@ -187,6 +187,7 @@ class Replay {
   ReplayTiming timing_;
   size_t fifo_depth_;
   bool culling_;
+  uint32_t shadow_stride_;
   uint32_t prefetch_;
   float shadow_offset_;
   std::vector<image::LightRecord> lights_;

@@ -37,6 +37,12 @@ void Replay::leave(uint64_t t) {
 
 bool Replay::take_record() {
   ScanState& s = scan_;
+  if ((s.slot / kBatchRays) % shadow_stride_ != 0) {  // a batch passed over
+    if (s.slot % kBatchRays == 0) starts_[kShadow].push_back(s.free);
+    scan_batch().hits += hits_[s.slot].tri != kNoHit;
+    leave(s.free);
+    return false;
+  }
   const uint64_t t = std::max(s.free, record_arrival());
   if (s.slot % kBatchRays == 0) starts_[kShadow].push_back(t);
   const Hit& hit = hits_[s.slot];
