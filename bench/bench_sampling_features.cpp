@@ -4,7 +4,8 @@
 // emitted and culled, and the replay's cycles, for bench/sampling_regression.py to set beside the
 // run's batches.csv. Usage:
 //   bench_sampling_features --config RUN/config.json --out features.csv
-//       [--capacity N] [--fifo-depth N] [--shadow-stride K] [--scene-root DIR]
+//       [--capacity N] [--fifo-depth N] [--shadow-stride K] [--trace-ahead]
+//       [--scene-root DIR]
 // The run's config.json gives the scene, its overrides, the resolution, the structure and the
 // hardware, so the frame is the run's (run it where the run ran: scene files are relative to the
 // repository). The LVB words are computed as the run computed them (run.lvb, its LVB settings).
@@ -52,6 +53,8 @@ int main(int argc, char** argv) {
       options.capacity = uint32_t(std::atoi(next()));
     else if (!std::strcmp(argv[i], "--fifo-depth"))
       options.fifo_depth = uint32_t(std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--trace-ahead"))
+      options.trace_ahead = true;
     else if (!std::strcmp(argv[i], "--shadow-stride"))
       options.shadow_stride = uint32_t(std::atoi(next()));
     else if (!std::strcmp(argv[i], "--scene-root"))

@@ -67,6 +67,8 @@ struct FeaturePassOptions {
   // The shadow phase on one batch of record slots in `shadow_stride` alone (the others' records
   // are passed over in no time and emit nothing): a cheaper, sparser auxiliary. 1: every batch.
   uint32_t shadow_stride = 1;
+  // The walks traced ahead on a thread of their own (the same features, less wall time).
+  bool trace_ahead = false;
 };
 
 // Both phases' batches, and the pass's host seconds in each.

@@ -60,17 +60,17 @@ void Calendar::due(uint64_t now, std::vector<uint32_t>& out) {
 Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int height,
                const model::AcceleratorConfig& cfg, const FeaturePassOptions& o)
     : image_(image),
-      tracer_(image),
-      camera_(camera, width, height),
-      width_(uint32_t(width)),
+      camera_(camera),
+      width_(width),
+      height_(height),
       order_(model::issue_order(width, height, cfg.order, cfg.tile)),
+      trace_ahead_(o.trace_ahead),
       caches_(cfg),
       timing_(cfg),
       fifo_depth_(o.fifo_depth ? o.fifo_depth : cfg.traversal().fifo_depth),
       culling_(o.culling),
       shadow_stride_(std::max<uint32_t>(1, o.shadow_stride)),
-      prefetch_(std::max<uint32_t>(1, cfg.culling.prefetch)),
-      shadow_offset_(1e-5f * image.header().bounds.diagonal()) {
+      prefetch_(std::max<uint32_t>(1, cfg.culling.prefetch)) {
   const uint32_t capacity = o.capacity ? o.capacity : cfg.traversal().capacity;
   units_.resize(caches_.count(AccessUnit::kTraversal));
   walks_.resize(units_.size() * capacity);
@@ -96,13 +96,17 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
 FrameFeatures Replay::run(bool shadows) {
   FrameFeatures out;
   auto t0 = std::chrono::steady_clock::now();
+  shadows = shadows && !lights_.empty();
+  // The walks, with the shadow rays the scan will emit when there is a shadow phase.
+  traced_ = std::make_unique<Walks>(image_, camera_, width_, height_, order_, culling_, shadows,
+                                    shadow_stride_, trace_ahead_);
   uint64_t now = 0;
   deal(now);
   drain(now);
   close_phase(kPrimary, end_);
   out.primary_seconds = seconds_since(t0);
   out.primary = std::move(batches_[kPrimary]);
-  if (!shadows || lights_.empty()) return out;
+  if (!shadows) return out;
   t0 = std::chrono::steady_clock::now();
   phase_ = kShadow;
   now = end_;
@@ -155,6 +159,10 @@ bool Replay::take(uint64_t now, Queued& q) {
   q.ray = next_ray_++;
   q.dealt = t;
   q.ready = t + 1;
+  TracedRay& r = traced_->next();
+  hits_[q.ray] = r.hit;
+  batches_[kPrimary][q.ray / kBatchRays].hits += r.hit.tri != kNoHit;
+  q.stream = std::move(r.stream);
   return true;
 }
 
@@ -187,32 +195,24 @@ void Replay::deal_to(uint32_t unit, uint64_t now) {
   }
 }
 
-void Replay::place(TraversalUnitState& u, const Queued& q) {
+void Replay::place(TraversalUnitState& u, Queued& q) {
   if (u.fifo.empty() && !u.idle.empty()) {
     const uint32_t walk = u.idle.back();
     u.idle.pop_back();
     start(walk, q, q.ready);
   } else {
-    u.fifo.push_back(q);
+    u.fifo.push_back(std::move(q));
   }
 }
 
 // The walk of the ray `q` begins at `t`.
-void Replay::start(uint32_t walk, const Queued& q, uint64_t t) {
+void Replay::start(uint32_t walk, Queued& q, uint64_t t) {
   Walk& w = walks_[walk];
-  w.stream.clear();
+  std::swap(w.stream, q.stream);
   w.next = 0;
   w.batch = uint32_t(q.ray / kBatchRays);
   w.phase = phase_;
   w.retiring = false;
-  if (phase_ == kPrimary) {
-    const uint32_t pixel = order_[q.ray];
-    const Ray r = camera_.ray(int(pixel % width_), int(pixel / width_));
-    hits_[q.ray] = tracer_.closest_hit(r, w.stream);
-    batches_[kPrimary][w.batch].hits += hits_[q.ray].tri != kNoHit;
-  } else {
-    batches_[kShadow][w.batch].occluded += tracer_.occluded(q.shadow, w.stream);
-  }
   calendar_.add(walk, t);
 }
 
@@ -225,7 +225,7 @@ void Replay::end(uint32_t walk, uint64_t t) {
   if (u.fifo.empty()) {
     u.idle.push_back(walk);
   } else {
-    const Queued q = u.fifo.front();
+    Queued q = std::move(u.fifo.front());
     u.fifo.pop_front();
     start(walk, q, std::max(t, q.ready));
   }

@@ -11,10 +11,12 @@
 #include "model/units/ray_generator.h"
 #include "testbench/functional_caches.h"
 #include "testbench/sampling_features.h"
+#include "testbench/sampling_walks.h"
 
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <vector>
 
 namespace rtsim::sampling_detail {
@@ -64,10 +66,10 @@ struct Walk {
 
 // A ray dealt to a traversal unit.
 struct Queued {
-  uint64_t ray = 0;    // primary: by issue index; shadow: its record slot
-  uint64_t dealt = 0;  // when the generator (the culling unit) dealt it
-  uint64_t ready = 0;  // when it may start
-  Ray shadow;          // a shadow ray's
+  uint64_t ray = 0;     // primary: by issue index; shadow: its record slot
+  uint64_t dealt = 0;   // when the generator (the culling unit) dealt it
+  uint64_t ready = 0;   // when it may start
+  AccessStream stream;  // its walk's reads (Walks)
 };
 
 struct TraversalUnitState {
@@ -111,8 +113,7 @@ struct ScanState {
   uint64_t free = 0;     // the unit's next free cycle
   bool latched = false;  // the current light's record is in ...
   uint64_t light_ready = 0;
-  SurfacePoint surface;  // the record's hit
-  uint32_t lvb = 0, pixel = 0;
+  uint32_t lvb = 0;                             // the record's hit leaf's LVB word
   uint64_t last_request = 0, last_arrival = 0;  // the record reads
   std::vector<uint64_t> left;  // when the cursor left each of the last `prefetch` slots
 };
@@ -134,11 +135,11 @@ class Replay {
   bool has_room(const TraversalUnitState& u) const {
     return !u.idle.empty() || u.fifo.size() < fifo_depth_;
   }
-  void place(TraversalUnitState& u, const Queued& q);  // a ray dealt to unit u
+  void place(TraversalUnitState& u, Queued& q);  // a ray dealt to unit u (its stream taken)
   bool has_rays() const;
   // The source's next ray, dealt at or after `now`: false when it has none left.
   bool take(uint64_t now, Queued& q);
-  void start(uint32_t walk, const Queued& q, uint64_t t);
+  void start(uint32_t walk, Queued& q, uint64_t t);  // takes q's stream
   void end(uint32_t walk, uint64_t t);
   uint64_t step(Walk& w, uint64_t now);
   uint64_t leaf(Walk& w, uint64_t now);
@@ -179,17 +180,17 @@ class Replay {
   BatchFeatures& scan_batch() { return batches_[kShadow][scan_.slot / kBatchRays]; }
 
   const MemoryImage& image_;
-  ReferenceTracer tracer_;
-  PinholeCamera camera_;
-  uint32_t width_;
+  const Camera camera_;
+  int width_, height_;
   std::vector<uint32_t> order_;
+  bool trace_ahead_;
+  std::unique_ptr<Walks> traced_;  // the rays' walks, in the order they are taken
   FunctionalCaches caches_;
   ReplayTiming timing_;
   size_t fifo_depth_;
   bool culling_;
   uint32_t shadow_stride_;
   uint32_t prefetch_;
-  float shadow_offset_;
   std::vector<image::LightRecord> lights_;
   std::vector<TraversalUnitState> units_;
   std::vector<Walk> walks_;

@@ -1,7 +1,6 @@
 // The shadow phase's source of rays in the functional pass's replay: the culling unit's scan over
 // the record slots, as model/units/shadow_culling_unit.cpp makes it in two phases with the records
 // read from memory (testbench/sampling_features.h says what the replay keeps of its timing).
-#include "kernels/light_samples.h"
 #include "testbench/sampling_replay.h"
 
 namespace rtsim::sampling_detail {
@@ -51,11 +50,7 @@ bool Replay::take_record() {
     return false;
   }
   ++scan_batch().hits;
-  s.pixel = order_[s.slot];
-  const Ray primary = camera_.ray(int(s.pixel % width_), int(s.pixel / width_));
-  const image::TriangleRecord tri = image_.triangle(hit.tri);
-  s.surface = surface_point(primary, hit.t, tri.v0, tri.v1, tri.v2);
-  s.lvb = image_.leaf(hit.leaf).lvb;
+  s.lvb = image_.leaf(hit.leaf).lvb;  // the ray itself is built with its walk (Walks)
   s.open = true;
   s.taken = s.free = t;
   s.light = s.sample = 0;
@@ -110,8 +105,9 @@ bool Replay::take_shadow(uint64_t now, Queued& q) {
   q.ray = s.slot;
   q.dealt = t;
   q.ready = std::max(t + 1, s.light_ready);
-  q.shadow = shadow_ray(s.surface, light_sample_point(light, s.pixel, 0, s.light, s.sample),
-                        shadow_offset_);
+  TracedRay& r = traced_->next();  // the walk of this (slot, light, sample)
+  q.stream = std::move(r.stream);
+  scan_batch().occluded += r.occluded;
   ++scan_batch().rays;
   s.free = t + 1;
   if (++s.sample == light.samples) {

@@ -3,7 +3,8 @@
 // culling unit's, per light in all; the reads of TRV, LIST and IST over both phases are the
 // model's units', record for record and line for line; it has as many shadow batches as the
 // model. The caches' misses and the replay's cycles are only printed and bounded (the pass
-// approximates the model's timing). (One SystemC simulation per executable.)
+// approximates the model's timing). The walks traced ahead on a thread give the same features.
+// (One SystemC simulation per executable.)
 #include "model/accelerator.h"
 #include "testbench/pipeline.h"
 #include "testbench/sampling_features.h"
@@ -75,6 +76,29 @@ TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
               (unsigned long long)at(c.l1_lines, AccessUnit::kShading),
               (unsigned long long)shading);
   EXPECT_NEAR(double(at(c.l1_lines, AccessUnit::kShading)), double(shading), 0.02 * shading);
+}
+
+// The walks traced ahead on a thread of their own give the same features, batch for batch.
+TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
+  PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
+                                  {"", {}, kW, kH, Accel::kKdTree});
+  const model::AcceleratorConfig cfg;
+  RunSettings run;
+  run.lvb = false;  // every shadow ray traced
+  FeaturePassOptions ahead;
+  ahead.trace_ahead = true;
+  const FrameFeatures a = run_batch_features(p, cfg, run),
+                      b = run_batch_features(p, cfg, run, ahead);
+  ASSERT_EQ(a.primary.size(), b.primary.size());
+  ASSERT_EQ(a.shadow.size(), b.shadow.size());
+  ASSERT_FALSE(a.shadow.empty());
+  const auto same = [](const BatchFeatures& x, const BatchFeatures& y) {
+    return x.rays == y.rays && x.hits == y.hits && x.occluded == y.occluded &&
+           x.replay_cycles == y.replay_cycles && x.caches.l1_misses == y.caches.l1_misses &&
+           x.caches.l2_misses == y.caches.l2_misses && x.caches.reads == y.caches.reads;
+  };
+  for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], b.primary[i])) << i;
+  for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], b.shadow[i])) << i;
 }
 
 }  // namespace
