@@ -209,6 +209,7 @@ void Replay::place(TraversalUnitState& u, Queued& q) {
 void Replay::start(uint32_t walk, Queued& q, uint64_t t) {
   Walk& w = walks_[walk];
   std::swap(w.stream, q.stream);
+  traced_->recycle(q.stream);  // the walk's last stream: its buffer is reused
   w.next = 0;
   w.batch = uint32_t(q.ray / kBatchRays);
   w.phase = phase_;

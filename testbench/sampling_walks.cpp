@@ -79,6 +79,10 @@ bool Walks::produce(std::vector<TracedRay>& out) {
   size_t n = 0;
   for (; n < kChunk; ++n) {
     TracedRay& r = out[n];
+    if (r.stream.reads.capacity() == 0 && !spare_.empty()) {
+      r.stream.reads = std::move(spare_.back());
+      spare_.pop_back();
+    }
     r.stream.clear();
     if (primary_ < order_.size()) {
       const uint32_t pixel = order_[primary_];

@@ -37,6 +37,10 @@ class Walks {
   Walks& operator=(const Walks&) = delete;
   // The next walk (the caller may take its stream): valid until the next call.
   TracedRay& next();
+  // A stream the caller is done with: its buffer serves a later walk (tracing in this thread).
+  void recycle(AccessStream& s) {
+    if (!threaded_ && s.reads.capacity() > 0) spare_.push_back(std::move(s.reads));
+  }
 
  private:
   static constexpr size_t kChunk = 512, kChunksAhead = 8;
@@ -64,6 +68,7 @@ class Walks {
   // The consumer's chunk, and the chunks traced ahead (threaded).
   std::vector<TracedRay> current_;
   size_t at_ = 0;
+  std::vector<std::vector<Access>> spare_;  // recycled buffers
   bool threaded_;
   std::mutex mutex_;
   std::condition_variable changed_;
