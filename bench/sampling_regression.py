@@ -49,6 +49,7 @@ R2_FEATURES = (
     "hits",
     "rays",
     "culled",
+    "l2_floor",
     "replay_cycles",
 )
 # Student's t, 0.975 quantile, for 1..30 degrees of freedom (1.96 beyond)
@@ -74,10 +75,23 @@ def read_phases(path):
     }
 
 
-def derive(feats):
+def derive(feats, hw):
     feats["leaves"] = feats["list_reads"] / 2
     for what in ("l1_misses", "dram_lines", "l1_lines"):
         feats[what] = sum(feats[t + "_" + what] for t in TYPES)
+    # The cycles the L2s' banks take to send the L1 misses' lines back (a line's flits a bank),
+    # the busiest L2's: a floor under a batch's cycles that the replay does not model.
+    trv = "bvh" if hw.get("structure") == "bvh" else "trv"
+    floors = []
+    for section, misses in (
+        (trv, feats["trv_l1_misses"]),
+        ("list", feats["list_l1_misses"]),
+        ("ist", feats["ist_l1_misses"] + feats["shading_l1_misses"]),
+    ):
+        link = hw[section]["link"]
+        flits = math.ceil((64 + link["header_bytes"]) / max(1, link["bytes_per_cycle"]))
+        floors.append(misses * flits / hw[section]["l2"]["banks"])
+    feats["l2_floor"] = np.maximum.reduce(floors)
     return feats
 
 
@@ -98,7 +112,7 @@ def load(run_dir, features_csv):
             raise SystemExit(f"{run_dir}: batches.csv does not add up to cycles_{phase}")
         if phase not in feats or len(feats[phase]["batch"]) != len(cycles):
             raise SystemExit(f"{features_csv}: not the run's {len(cycles)} {phase} batches")
-        f = derive(feats[phase])
+        f = derive(feats[phase], hw)
         rays_per_batch = max(1.0, float(f["rays"].mean()))
         out[phase] = (cycles, max(1, round(in_flight / rays_per_batch)), f)
     if "shadow" in out:
@@ -269,6 +283,11 @@ def estimators(phase, feats, g, depth):
         ("GREG: replay cycles", "greg", replay),
         ("GREG: IST reads, own + in flight", "greg", ist),
         ("GREG: replay + IST reads + L1 misses", "greg", both),
+        (
+            "GREG: replay + L2 floor",
+            "greg",
+            np.column_stack([replay, to_units(feats["l2_floor"], g)]),
+        ),
     ]
     if phase == "shadow":
         rays = to_units(feats["rays"], g)[:, None]
@@ -288,6 +307,11 @@ def frame_estimators(feats, g):
         ("GREG: replay cycles", "greg", rp + rs),
         ("GREG: each phase's replay cycles", "greg", np.column_stack([rp, rs])),
         ("GREG: each phase's replay + IST reads", "greg", np.column_stack([rp, rs] + ist)),
+        (
+            "GREG: replay + L2 floor",
+            "greg",
+            np.column_stack([rp + rs, to_units(feats["l2_floor"], g)]),
+        ),
     ]
 
 
