@@ -1,11 +1,15 @@
 // The functional pass of a sampled frame (issue 38; testbench/sampling_features.h) over a run's
-// frame: per 64-ray batch of its primary rays in issue order, the units' reads, L1 misses and DRAM
-// lines, for bench/sampling_regression.py to set beside the run's batches.csv. Usage:
+// frame: per 64-ray batch of its primary rays in issue order and, in two phases, per batch of 64
+// record slots of its shadow phase, the units' reads, L1 misses and DRAM lines, the shadow rays
+// emitted and culled, and the replay's cycles, for bench/sampling_regression.py to set beside the
+// run's batches.csv. Usage:
 //   bench_sampling_features --config RUN/config.json --out features.csv
-//       [--capacity N] [--fifo-depth N] [--scene-root DIR]
+//       [--capacity N] [--fifo-depth N] [--shadow-stride K] [--trace-ahead]
+//       [--scene-root DIR]
 // The run's config.json gives the scene, its overrides, the resolution, the structure and the
 // hardware, so the frame is the run's (run it where the run ran: scene files are relative to the
-// repository). Prints the host time of the preparation and of the pass.
+// repository). The LVB words are computed as the run computed them (run.lvb, its LVB settings).
+// Prints the host time of the preparation, the LVB and each phase of the pass.
 #include "testbench/pipeline.h"
 #include "testbench/run_config.h"
 #include "testbench/sampling_features.h"
@@ -49,6 +53,10 @@ int main(int argc, char** argv) {
       options.capacity = uint32_t(std::atoi(next()));
     else if (!std::strcmp(argv[i], "--fifo-depth"))
       options.fifo_depth = uint32_t(std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--trace-ahead"))
+      options.trace_ahead = true;
+    else if (!std::strcmp(argv[i], "--shadow-stride"))
+      options.shadow_stride = uint32_t(std::atoi(next()));
     else if (!std::strcmp(argv[i], "--scene-root"))
       sources.scene_root = next();
     else {
@@ -72,21 +80,27 @@ int features(const RunSources& sources, const FeaturePassOptions& options,
              const std::string& out_file) {
   const auto t0 = std::chrono::steady_clock::now();
   const RunConfig c = resolve_run_config(sources);
-  const PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
-                                                       c.run.width, c.run.height, c.run.accel});
+  PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
+                                                 c.run.width, c.run.height, c.run.accel});
   const double prepare = seconds_since(t0);
   const auto t1 = std::chrono::steady_clock::now();
-  const ReferenceTracer tracer(*p.image);
-  const std::vector<BatchFeatures> batches =
-      primary_batch_features(tracer, p.scene.camera, p.scene.width, p.scene.height, c.hw, options);
-  const double pass = seconds_since(t1);
+  if (c.run.lvb) {
+    LvbParams lp = c.run.lvb_params;
+    const LvbResult lvb = compute_scene_lvb(p, lp);
+    for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
+  }
+  const double lvb = seconds_since(t1);
+  const FrameFeatures f = run_batch_features(p, c.hw, c.run, options);
   std::ofstream out(out_file);
-  write_features_csv(out, batches);
+  write_features_csv(out, f);
   if (!out) {
     fmt::print(stderr, "cannot write {}\n", out_file);
     return 1;
   }
-  fmt::print("{} {}x{}: {} batches; host seconds: {:.2f} preparing the scene, {:.2f} the pass\n",
-             p.scene.name, p.scene.width, p.scene.height, batches.size(), prepare, pass);
+  fmt::print(
+      "{} {}x{}: {} primary and {} shadow batches; host seconds: {:.2f} preparing the scene, "
+      "{:.2f} the LVB, {:.2f} the pass's primary phase, {:.2f} its shadow phase\n",
+      p.scene.name, p.scene.width, p.scene.height, f.primary.size(), f.shadow.size(), prepare, lvb,
+      f.primary_seconds, f.shadow_seconds);
   return 0;
 }

@@ -1,14 +1,19 @@
 #!/usr/bin/env python3
 """Sampled frames (issue 38): how well the functional pass's per-batch features predict a full
-run's per-batch cycles, and what a sampled estimate of the primary phase built on them is worth.
+run's per-batch cycles, and what a sampled estimate of a phase, or of the frame, built on them is
+worth.
 
     /usr/bin/python3 bench/sampling_regression.py RUN_DIR:FEATURES_CSV [...] [--draws 40]
         [--seed 1] [--units 1,8,32,64] [--fractions 0.02,0.05,0.1] [--no-r2]
+        [--phases primary,shadow,frame] [--certain 0,1] [--sorted]
 
-RUN_DIR holds a full run's batches.csv (cycles per 64-ray batch of the primary phase in issue
-order), report.json and config.json; FEATURES_CSV is bench_sampling_features' output for the same
-frame (testbench/sampling_features.h: reads, L1 misses and DRAM lines by unit type, hits, and the
-replay's own cycles). For each unit size (batches per unit) it prints:
+RUN_DIR holds a full run's batches.csv (phase,batch,first,cycles: the cycles per 64-ray batch of
+the primary phase in issue order and, in two phases, per 64 record slots of the shadow phase; a
+file without the phase column is the primary phase's alone), report.json and config.json;
+FEATURES_CSV is bench_sampling_features' output for the same frame (testbench/sampling_features.h:
+reads, L1 misses and DRAM lines by unit type, hits, shadow rays emitted and culled, and the
+replay's own cycles, per phase). "frame" is a unit's primary and shadow cycles together (the same
+batches of slots in both phases). For each phase and unit size (batches per unit) it prints:
 - R^2 of the units' cycles on each feature: the unit's own (lag 0), the best single lag, and a
   least-squares fit on lags 0..L (in-sample); then on every feature with lags 0..L together.
   L covers the rays in flight twice: a batch's cycles are the machine's throughput while it
@@ -20,6 +25,10 @@ replay's own cycles). For each unit size (batches per unit) it prints:
   on features of the unit itself and summed over the rays in flight ahead of it. For each: the
   largest and rms error, the mean 95% half-interval (successive differences of the sampled
   residuals, each divided by 1 - its leverage; Student's t) and how many intervals held the truth.
+  With --certain 1 the first and the last unit are always measured (the pipeline's fill and
+  drain: testbench/sample_plan.h) and the strata cover the units between them. With --sorted
+  expansion, the ratio and GREG on the replay's cycles are also measured with strata cut in the
+  order of the units' replay cycles (a unit's stratum holds units of about its replay cycles).
 """
 import argparse
 import csv
@@ -38,6 +47,9 @@ R2_FEATURES = (
     "ist_l1_misses",
     "dram_lines",
     "hits",
+    "rays",
+    "culled",
+    "l2_floor",
     "replay_cycles",
 )
 # Student's t, 0.975 quantile, for 1..30 degrees of freedom (1.96 beyond)
@@ -50,33 +62,65 @@ def t975(df):
     return T975[df - 1] if 1 <= df <= len(T975) else 1.96
 
 
-def read_csv_columns(path):
+def read_phases(path):
+    """The CSV's columns by phase (rows without a phase column are the primary phase's)."""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    by_phase = {}
+    for r in rows:
+        by_phase.setdefault(r.get("phase", "primary"), []).append(r)
+    return {
+        ph: {k: np.array([float(r[k]) for r in rs]) for k in rs[0] if k != "phase"}
+        for ph, rs in by_phase.items()
+    }
+
+
+def derive(feats, hw):
+    feats["leaves"] = feats["list_reads"] / 2
+    for what in ("l1_misses", "dram_lines", "l1_lines"):
+        feats[what] = sum(feats[t + "_" + what] for t in TYPES)
+    # The cycles the L2s' banks take to send the L1 misses' lines back (a line's flits a bank),
+    # the busiest L2's: a floor under a batch's cycles that the replay does not model.
+    trv = "bvh" if hw.get("structure") == "bvh" else "trv"
+    floors = []
+    for section, misses in (
+        (trv, feats["trv_l1_misses"]),
+        ("list", feats["list_l1_misses"]),
+        ("ist", feats["ist_l1_misses"] + feats["shading_l1_misses"]),
+    ):
+        link = hw[section]["link"]
+        flits = math.ceil((64 + link["header_bytes"]) / max(1, link["bytes_per_cycle"]))
+        floors.append(misses * flits / hw[section]["l2"]["banks"])
+    feats["l2_floor"] = np.maximum.reduce(floors)
+    return feats
 
 
 def load(run_dir, features_csv):
-    """The run's batch cycles, its in-flight depth in batches, and the features by name."""
-    cycles = read_csv_columns(os.path.join(run_dir, "batches.csv"))["cycles"]
+    """Per phase (and "frame"): the run's batch cycles, the rays in flight in batches, and the
+    features by name."""
+    runs = read_phases(os.path.join(run_dir, "batches.csv"))
     with open(os.path.join(run_dir, "report.json")) as f:
         report = json.load(f)
-    if int(cycles.sum()) != report["cycles_primary"]:
-        raise SystemExit(f"{run_dir}: batches.csv does not add up to cycles_primary")
     with open(os.path.join(run_dir, "config.json")) as f:
         hw = json.load(f)["hw"]
     trv = hw["bvh"] if hw.get("structure") == "bvh" else hw["trv"]
     in_flight = trv["count"] * (trv["capacity"] + trv["fifo_depth"])
-    feats = read_csv_columns(features_csv)
-    if len(feats["batch"]) != len(cycles):
-        raise SystemExit(
-            f"{features_csv}: {len(feats['batch'])} batches, the run has {len(cycles)}"
-        )
-    feats["leaves"] = feats["list_reads"] / 2
-    feats["l1_misses"] = sum(feats[t + "_l1_misses"] for t in TYPES)
-    feats["dram_lines"] = sum(feats[t + "_dram_lines"] for t in TYPES)
-    feats["l1_lines"] = sum(feats[t + "_l1_lines"] for t in TYPES)
-    return cycles, max(1, round(in_flight / 64)), feats
+    feats = read_phases(features_csv)
+    out = {}
+    for phase, cycles in ((ph, runs[ph]["cycles"]) for ph in runs):
+        if int(cycles.sum()) != report["cycles_" + phase]:
+            raise SystemExit(f"{run_dir}: batches.csv does not add up to cycles_{phase}")
+        if phase not in feats or len(feats[phase]["batch"]) != len(cycles):
+            raise SystemExit(f"{features_csv}: not the run's {len(cycles)} {phase} batches")
+        f = derive(feats[phase], hw)
+        rays_per_batch = max(1.0, float(f["rays"].mean()))
+        out[phase] = (cycles, max(1, round(in_flight / rays_per_batch)), f)
+    if "shadow" in out:
+        (cp, dp, fp), (cs, ds, fs) = out["primary"], out["shadow"]
+        both = {k: fp[k] + fs[k] for k in fp if k in fs}
+        both["phases"] = (fp, dp, fs, ds)
+        out["frame"] = (cp + cs, max(dp, ds), both)
+    return out
 
 
 def shifted(x, lag):
@@ -187,14 +231,27 @@ def estimate(y, x, sample, sizes, f, kind):
     return total, sd_variance(w * e_out, f), len(sample) - a.shape[1]
 
 
-def draws(y, x, f, kind, n_draws, rng):
-    """Relative errors, relative half-intervals and whether each held the truth."""
+def draws(y, x, f, kind, n_draws, rng, certain=False, key=None):
+    """Relative errors, relative half-intervals and whether each held the truth. `certain`: the
+    first and the last unit are always measured, the strata cover the others. `key`: the strata
+    are cut in the order of the units' key (an auxiliary), not in issue order."""
     truth = y.sum()
+    known = 0.0
+    if certain:
+        known = y[0] + y[-1]
+        y = y[1:-1]
+        x = None if x is None else x[1:-1]
+        key = None if key is None else key[1:-1]
+    if key is not None:
+        order = np.argsort(key, kind="stable")
+        y = y[order]
+        x = None if x is None else x[order]
     starts, sizes = strata(len(y), f)
     errs, halves, held = [], [], 0
     for _ in range(n_draws):
         sample = starts + (rng.random(len(starts)) * sizes).astype(int)
         total, var, df = estimate(y, x, sample, sizes, f, kind)
+        total += known
         half = t975(max(1, df)) * math.sqrt(max(var, 0.0))
         errs.append((total - truth) / truth)
         halves.append(half / truth)
@@ -208,23 +265,58 @@ def draws(y, x, f, kind, n_draws, rng):
     )
 
 
-def estimators(feats, g, depth):
+def own_and_ahead(feats, g, depth, name):
+    return regressors(feats, g, depth, [name])
+
+
+def estimators(phase, feats, g, depth):
     """The estimators compared: (label, kind, regressor matrix or None)."""
+    if phase == "frame":
+        return frame_estimators(feats, g)
     replay = to_units(feats["replay_cycles"], g)[:, None]
-    ist = regressors(feats, g, depth, ["ist_reads"])
-    both = np.column_stack([replay, ist, regressors(feats, g, depth, ["l1_misses"])])
-    return [
+    ist = own_and_ahead(feats, g, depth, "ist_reads")
+    both = np.column_stack([replay, ist, own_and_ahead(feats, g, depth, "l1_misses")])
+    out = [
         ("expansion", "expansion", None),
         ("ratio: IST reads in flight", "ratio", ist[:, 1:2]),
         ("ratio: replay cycles", "ratio", replay),
         ("GREG: replay cycles", "greg", replay),
         ("GREG: IST reads, own + in flight", "greg", ist),
         ("GREG: replay + IST reads + L1 misses", "greg", both),
+        (
+            "GREG: replay + L2 floor",
+            "greg",
+            np.column_stack([replay, to_units(feats["l2_floor"], g)]),
+        ),
+    ]
+    if phase == "shadow":
+        rays = to_units(feats["rays"], g)[:, None]
+        out.append(("GREG: replay + shadow rays", "greg", np.column_stack([replay, rays])))
+    return out
+
+
+def frame_estimators(feats, g):
+    """The frame's: on each phase's replay cycles, and its IST reads (own + in flight)."""
+    fp, dp, fs, ds = feats["phases"]
+    rp = to_units(fp["replay_cycles"], g)[:, None]
+    rs = to_units(fs["replay_cycles"], g)[:, None]
+    ist = [own_and_ahead(fp, g, dp, "ist_reads"), own_and_ahead(fs, g, ds, "ist_reads")]
+    return [
+        ("expansion", "expansion", None),
+        ("ratio: replay cycles", "ratio", rp + rs),
+        ("GREG: replay cycles", "greg", rp + rs),
+        ("GREG: each phase's replay cycles", "greg", np.column_stack([rp, rs])),
+        ("GREG: each phase's replay + IST reads", "greg", np.column_stack([rp, rs] + ist)),
+        (
+            "GREG: replay + L2 floor",
+            "greg",
+            np.column_stack([rp + rs, to_units(feats["l2_floor"], g)]),
+        ),
     ]
 
 
-def print_r2(name, cycles, feats, depth, units):
-    print(f"\n## {name}: R^2 of unit cycles (in flight: {depth} batches)\n")
+def print_r2(name, phase, cycles, feats, depth, units):
+    print(f"\n## {name}, {phase}: R^2 of unit cycles (in flight: {depth} batches)\n")
     print("| unit | feature | own unit | best lag (units) | lags 0..L |")
     print("|---|---|---|---|---|")
     for g in units:
@@ -235,23 +327,46 @@ def print_r2(name, cycles, feats, depth, units):
             print(f"| {g} x 64 | {feat} | {own_s} | {best_s} | {many:.3f} (L={lags[-1]}) |")
 
 
-def print_estimates(name, cycles, feats, depth, args):
-    print(f"\n## {name}: primary-phase estimates over {args.draws} draws\n")
-    print("| unit | fraction | n | estimator | largest error | rms error | mean 95% half | held |")
-    print("|---|---|---|---|---|---|---|---|")
+SORTED = ("expansion", "ratio: replay cycles", "GREG: replay cycles")
+
+
+def with_sorted(ests, feats, g, sorted_too):
+    """The estimators in issue-order strata and, with `sorted_too`, the SORTED ones again in
+    strata cut in the order of the units' replay cycles."""
+    out = [(label, kind, x, None) for label, kind, x in ests]
+    if sorted_too:
+        key = to_units(feats["replay_cycles"], g)
+        out += [
+            (label + " [strata by replay]", kind, x, key)
+            for label, kind, x in ests
+            if label in SORTED
+        ]
+    return out
+
+
+def print_estimates(name, phase, cycles, feats, depth, args):
+    print(f"\n## {name}, {phase}: estimates over {args.draws} draws\n")
+    print(
+        "| unit | fraction | certain | n | estimator | largest error | rms error "
+        "| mean 95% half | held |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
     for g in args.units:
         y = to_units(cycles, g)
         for f in args.fractions:
-            n = len(strata(len(y), f)[0])
-            for label, kind, x in estimators(feats, g, depth):
-                if x is not None and kind == "greg" and n < 5 * (x.shape[1] + 1):
-                    continue  # too few sampled units for so many coefficients
-                rng = np.random.default_rng(args.seed)
-                worst, rms, half, held = draws(y, x, f, kind, args.draws, rng)
-                print(
-                    f"| {g} x 64 | {f:.0%} | {n} | {label} | {worst:.2%} | {rms:.2%} | "
-                    f"{half:.2%} | {held}/{args.draws} |"
-                )
+            for certain in args.certain:
+                n = len(strata(len(y) - 2 * certain, f)[0]) + 2 * certain
+                for label, kind, x, key in with_sorted(
+                    estimators(phase, feats, g, depth), feats, g, args.sorted
+                ):
+                    if x is not None and kind == "greg" and n < 5 * (x.shape[1] + 1):
+                        continue  # too few sampled units for so many coefficients
+                    rng = np.random.default_rng(args.seed)
+                    worst, rms, half, held = draws(y, x, f, kind, args.draws, rng, certain, key)
+                    print(
+                        f"| {g} x 64 | {f:.0%} | {'yes' if certain else 'no'} | {n} | {label} "
+                        f"| {worst:.2%} | {rms:.2%} | {half:.2%} | {held}/{args.draws} |"
+                    )
 
 
 def main():
@@ -263,19 +378,30 @@ def main():
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--units", default="1,8,32,64")
     p.add_argument("--fractions", default="0.02,0.05,0.1")
+    p.add_argument("--phases", default="primary,shadow,frame")
+    p.add_argument("--certain", default="0", help="0, 1 or 0,1: first and last unit measured")
     p.add_argument("--no-r2", action="store_true", help="only the estimates")
+    p.add_argument(
+        "--sorted", action="store_true", help="also strata cut in order of the replay cycles"
+    )
     args = p.parse_args()
     args.units = [int(u) for u in args.units.split(",")]
     args.fractions = [float(f) for f in args.fractions.split(",")]
+    args.certain = [bool(int(c)) for c in args.certain.split(",")]
     for pair in args.pairs:
         run_dir, features_csv = pair.split(":")
-        cycles, depth, feats = load(run_dir, features_csv)
+        phases = load(run_dir, features_csv)
         name = os.path.basename(os.path.normpath(run_dir))
-        cv = cycles.std() / cycles.mean()
-        print(f"\n# {name}: {len(cycles)} batches, {int(cycles.sum())} cycles, CV {cv:.2f}")
-        if not args.no_r2:
-            print_r2(name, cycles, feats, depth, args.units)
-        print_estimates(name, cycles, feats, depth, args)
+        for phase in (ph for ph in args.phases.split(",") if ph in phases):
+            cycles, depth, feats = phases[phase]
+            cv = cycles.std() / cycles.mean()
+            print(
+                f"\n# {name}, {phase}: {len(cycles)} batches, {int(cycles.sum())} cycles, "
+                f"CV {cv:.2f}"
+            )
+            if not args.no_r2:
+                print_r2(name, phase, cycles, feats, depth, args.units)
+            print_estimates(name, phase, cycles, feats, depth, args)
 
 
 if __name__ == "__main__":

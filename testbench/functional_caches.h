@@ -18,14 +18,16 @@
 namespace rtsim {
 
 // A set-associative cache's tags with LRU replacement; sets are indexed by the line number's low
-// bits, as model/memory/cache.h does.
+// bits, as model/memory/cache.h does. Line numbers of 32-bit addresses fit in 32 bits: the tags
+// are half the size, and the pass's tag arrays stay in the host's nearer caches.
 class TagArray {
  public:
   TagArray(uint32_t size_bytes, uint32_t ways, uint32_t line_bytes);
   // Looks up line number `line` (address / line bytes); a miss puts it in its set's LRU way.
   // True on a hit.
-  bool access(uint64_t line) {
-    uint64_t* set = &tags_[(line & set_mask_) * ways_];
+  bool access(uint64_t line64) {
+    const uint32_t line = uint32_t(line64);
+    uint32_t* set = &tags_[(line & set_mask_) * ways_];
     if (set[0] == line) return true;  // the MRU way: most hits
     uint32_t w = 1;
     while (w < ways_ && set[w] != line) ++w;
@@ -39,10 +41,10 @@ class TagArray {
   uint32_t ways() const { return ways_; }
 
  private:
-  static constexpr uint64_t kEmpty = ~uint64_t(0);
+  static constexpr uint32_t kEmpty = ~uint32_t(0);
   uint32_t ways_;
-  uint64_t set_mask_;
-  std::vector<uint64_t> tags_;  // set x ways + way, each set from its MRU way to its LRU way
+  uint32_t set_mask_;
+  std::vector<uint32_t> tags_;  // set x ways + way, each set from its MRU way to its LRU way
 };
 
 // What a stream of reads did to the caches, by the type of unit that read.

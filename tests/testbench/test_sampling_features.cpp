@@ -62,9 +62,8 @@ TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
   const model::AcceleratorResult r = device.result();
   ASSERT_EQ(r.shadow_rays, 0u);
 
-  const ReferenceTracer tracer(*city.image);
   const std::vector<BatchFeatures> batches =
-      primary_batch_features(tracer, city.scene.camera, kW, kH, cfg);
+      primary_batch_features(*city.image, city.scene.camera, kW, kH, cfg);
   ASSERT_EQ(batches.size(), r.primary_batch_cycles.size());
   CacheCounts c;
   uint64_t rays = 0, hits = 0, replay_cycles = 0;

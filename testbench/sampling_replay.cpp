@@ -1,0 +1,290 @@
+#include "testbench/sampling_replay.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace rtsim::sampling_detail {
+
+namespace {
+
+// Cycles a packet of `bytes` occupies a link.
+uint32_t transfer_cycles(const model::LinkConfig& link, uint32_t bytes) {
+  const uint32_t w = link.bytes_per_cycle;
+  return w == 0 ? 0 : (bytes + link.header_bytes + w - 1) / w;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+ReplayTiming::ReplayTiming(const model::AcceleratorConfig& cfg) {
+  const model::UnitTypeConfig* types[kAccessUnits] = {&cfg.traversal(), &cfg.list, &cfg.ist,
+                                                      &cfg.shading};
+  const uint32_t line = cfg.traversal().l1.line_bytes;
+  for (size_t t = 0; t < kAccessUnits; ++t) {
+    const model::UnitTypeConfig& u = *types[t];
+    const model::UnitTypeConfig& below = t == kShading ? cfg.ist : u;  // shading: the IST's L2
+    latency[t] = u.latency;
+    l1_hit[t] = u.l1.hit_latency;
+    l2_hit[t] = 2 * below.link.latency + transfer_cycles(below.link, line) + below.l2.hit_latency;
+    shared_fill[t] = u.l1.fill_port == model::FillPort::kShared;
+  }
+  const model::DramConfig d = cfg.memory_dram();
+  const double access =
+      double(d.tRCD + d.CL + d.burst_cycles()) * double(d.tCK_ps) * cfg.clock_ghz / 1000.0;
+  line_flits = std::max<uint32_t>(1, transfer_cycles(cfg.memory_link, line));
+  dram = 2 * cfg.memory_link.latency + transfer_cycles(cfg.memory_link, line) +
+         uint32_t(std::lround(access));
+  const uint32_t write = cfg.write_records ? transfer_cycles(cfg.memory_link, line) : 0;
+  shading_interval = std::max<uint32_t>(2, write);
+}
+
+void Calendar::due(uint64_t now, std::vector<uint32_t>& out) {
+  out.clear();
+  uint32_t list = slots_[now & (kSlots - 1)];
+  slots_[now & (kSlots - 1)] = kNone;
+  while (list != kNone) {
+    const uint32_t walk = list;
+    list = next_[walk];
+    --pending_;
+    if (time_[walk] == now)
+      out.push_back(walk);
+    else
+      add(walk, time_[walk]);
+  }
+}
+
+Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int height,
+               const model::AcceleratorConfig& cfg, const FeaturePassOptions& o)
+    : image_(image),
+      camera_(camera),
+      width_(width),
+      height_(height),
+      order_(model::issue_order(width, height, cfg.order, cfg.tile)),
+      trace_ahead_(o.trace_ahead),
+      caches_(cfg),
+      timing_(cfg),
+      fifo_depth_(o.fifo_depth ? o.fifo_depth : cfg.traversal().fifo_depth),
+      culling_(o.culling),
+      shadow_stride_(std::max<uint32_t>(1, o.shadow_stride)),
+      prefetch_(std::max<uint32_t>(1, cfg.culling.prefetch)) {
+  const uint32_t capacity = o.capacity ? o.capacity : cfg.traversal().capacity;
+  units_.resize(caches_.count(AccessUnit::kTraversal));
+  walks_.resize(units_.size() * capacity);
+  calendar_ = Calendar(walks_.size());
+  for (uint32_t t = 0; t < units_.size(); ++t) {
+    routes_.push_back(caches_.route(t));
+    for (uint32_t s = capacity; s-- > 0;) units_[t].idle.push_back(t * capacity + s);
+    for (uint32_t s = 0; s < capacity; ++s) walks_[t * capacity + s].unit = t;
+  }
+  for (size_t type = 0; type < kAccessUnits; ++type)
+    free_[type].assign(caches_.count(AccessUnit(type)), 0);
+  for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
+  const uint64_t n = order_.size();
+  hits_.resize(n);
+  for (std::vector<BatchFeatures>& phase : batches_) {
+    phase.resize((n + kBatchRays - 1) / kBatchRays);
+    for (uint64_t i = 0; i < phase.size(); ++i) phase[i].first_ray = i * kBatchRays;
+  }
+  for (uint64_t i = 0; i < batches_[kPrimary].size(); ++i)
+    batches_[kPrimary][i].rays = uint32_t(std::min(kBatchRays, n - i * kBatchRays));
+}
+
+FrameFeatures Replay::run(bool shadows) {
+  FrameFeatures out;
+  auto t0 = std::chrono::steady_clock::now();
+  shadows = shadows && !lights_.empty();
+  // The walks, with the shadow rays the scan will emit when there is a shadow phase.
+  traced_ = std::make_unique<Walks>(image_, camera_, width_, height_, order_, culling_, shadows,
+                                    shadow_stride_, trace_ahead_);
+  uint64_t now = 0;
+  deal(now);
+  drain(now);
+  close_phase(kPrimary, end_);
+  out.primary_seconds = seconds_since(t0);
+  out.primary = std::move(batches_[kPrimary]);
+  if (!shadows) return out;
+  t0 = std::chrono::steady_clock::now();
+  phase_ = kShadow;
+  now = end_;
+  begin_scan(now);
+  deal(now);
+  drain(now);
+  close_phase(kShadow, std::max(end_, scan_.free));
+  out.shadow_seconds = seconds_since(t0);
+  out.shadow = std::move(batches_[kShadow]);
+  return out;
+}
+
+void Replay::drain(uint64_t& now) {
+  std::vector<uint32_t> due;
+  for (; !calendar_.empty(); ++now) {
+    // Events at `now` may add more at `now`.
+    for (calendar_.due(now, due); !due.empty(); calendar_.due(now, due)) {
+      for (const uint32_t walk : due) {
+        Walk& w = walks_[walk];
+        if (w.next < w.stream.reads.size()) {
+          calendar_.add(walk, step(w, now));
+        } else if (w.phase == kShadow && !w.retiring) {
+          w.retiring = true;
+          calendar_.add(walk, issue(kShading, routes_[w.unit][kShading], now, 1));
+        } else {
+          end(walk, now);
+        }
+      }
+    }
+  }
+}
+
+void Replay::close_phase(Phase phase, uint64_t end) {
+  std::vector<BatchFeatures>& b = batches_[phase];
+  const std::vector<uint64_t>& starts = starts_[phase];
+  for (size_t i = 0; i < b.size() && i < starts.size(); ++i)
+    b[i].replay_cycles = (i + 1 < starts.size() ? starts[i + 1] : end) - starts[i];
+}
+
+bool Replay::has_rays() const {
+  return phase_ == kPrimary ? next_ray_ < order_.size() : scan_.slot < order_.size();
+}
+
+bool Replay::take(uint64_t now, Queued& q) {
+  if (phase_ == kShadow) return take_shadow(now, q);
+  if (next_ray_ >= order_.size()) return false;
+  const uint64_t t = std::max(now, generator_free_);
+  generator_free_ = t + 1;
+  if (next_ray_ % kBatchRays == 0) starts_[kPrimary].push_back(t);
+  q.ray = next_ray_++;
+  q.dealt = t;
+  q.ready = t + 1;
+  TracedRay& r = traced_->next();
+  hits_[q.ray] = r.hit;
+  batches_[kPrimary][q.ray / kBatchRays].hits += r.hit.tri != kNoHit;
+  q.stream = std::move(r.stream);
+  return true;
+}
+
+void Replay::deal(uint64_t now) {
+  const size_t n = units_.size();
+  size_t tried = 0;
+  while (tried < n && has_rays()) {
+    TraversalUnitState& u = units_[next_unit_];
+    next_unit_ = next_unit_ + 1 == n ? 0 : next_unit_ + 1;
+    if (!has_room(u)) {
+      ++tried;
+      continue;
+    }
+    tried = 0;
+    Queued q;
+    if (!take(now, q)) break;
+    place(u, q);
+  }
+  full_ = tried >= n;
+}
+
+void Replay::deal_to(uint32_t unit, uint64_t now) {
+  if (!has_rays()) return;
+  next_unit_ = unit + 1 == units_.size() ? 0 : unit + 1;  // where deal() would leave it
+  TraversalUnitState& u = units_[unit];
+  Queued q;
+  while (has_rays() && has_room(u)) {
+    if (!take(now, q)) return;
+    place(u, q);
+  }
+}
+
+void Replay::place(TraversalUnitState& u, Queued& q) {
+  if (u.fifo.empty() && !u.idle.empty()) {
+    const uint32_t walk = u.idle.back();
+    u.idle.pop_back();
+    start(walk, q, q.ready);
+  } else {
+    u.fifo.push_back(std::move(q));
+  }
+}
+
+// The walk of the ray `q` begins at `t`.
+void Replay::start(uint32_t walk, Queued& q, uint64_t t) {
+  Walk& w = walks_[walk];
+  std::swap(w.stream, q.stream);
+  traced_->recycle(q.stream);  // the walk's last stream: its buffer is reused
+  w.next = 0;
+  w.batch = uint32_t(q.ray / kBatchRays);
+  w.phase = phase_;
+  w.retiring = false;
+  calendar_.add(walk, t);
+}
+
+// The ray of `walk` ends at `t`: its slot takes the next ray of its FIFO, whose room the source
+// fills.
+void Replay::end(uint32_t walk, uint64_t t) {
+  end_ = std::max(end_, t);
+  const uint32_t unit = walks_[walk].unit;
+  TraversalUnitState& u = units_[unit];
+  if (u.fifo.empty()) {
+    u.idle.push_back(walk);
+  } else {
+    Queued q = std::move(u.fifo.front());
+    u.fifo.pop_front();
+    start(walk, q, std::max(t, q.ready));
+  }
+  if (full_)
+    deal_to(unit, t);
+  else
+    deal(t);
+}
+
+// The walk's next step at `now`: a node, a leaf (LIST, then IST) or the shading; when it ends. A
+// step's reads are made first (the caches' state does not depend on time), so that the lines its
+// L1 fills take their cycles of the unit's port too (after its own).
+uint64_t Replay::step(Walk& w, uint64_t now) {
+  fills_ = 0;
+  switch (w.stream.reads[w.next].unit) {
+    case AccessUnit::kTraversal: {
+      const uint64_t cycles = timing_.read(kTrv, read(w));
+      const uint64_t t = issue(kTrv, w.unit, now, 1 + fills_);
+      return t + cycles + timing_.latency[kTrv];
+    }
+    case AccessUnit::kList: return tests(w, leaf(w, now));
+    case AccessUnit::kIst: return tests(w, now);
+    case AccessUnit::kShading: break;
+  }
+  int level = 0;
+  while (w.next < w.stream.reads.size()) level = std::max(level, read(w));
+  const uint64_t t =
+      issue(kShading, routes_[w.unit][kShading], now, timing_.shading_interval + fills_);
+  return t + timing_.read(kShading, level) + timing_.latency[kShading];
+}
+
+// LIST: the leaf's record, then its list a line an operation; when the list is read. A read
+// from DRAM parks the ray until its line comes (one after the other); the L2's are pipelined.
+uint64_t Replay::leaf(Walk& w, uint64_t now) {
+  const std::vector<Access>& reads = w.stream.reads;
+  uint64_t lines = 0;
+  if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList)
+    lines = lines_of(reads[w.next + 1]);
+  Reads r;
+  r.add(read(w));
+  if (lines > 0) r.add(read(w));
+  const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines + fills_);
+  return t + lines + r.cycles(timing_, kList) + timing_.latency[kList];
+}
+
+// IST: the leaf's tests, one a cycle, and a line of its L1's port a cycle (a triangle across
+// two lines takes two); when the last one completes.
+uint64_t Replay::tests(Walk& w, uint64_t ready) {
+  const std::vector<Access>& reads = w.stream.reads;
+  uint64_t n = 0, lines = 0;
+  for (; w.next + n < reads.size() && reads[w.next + n].unit == AccessUnit::kIst; ++n)
+    lines += lines_of(reads[w.next + n]);
+  if (n == 0) return ready;
+  fills_ = 0;
+  Reads r;
+  for (uint64_t k = 0; k < n; ++k) r.add(read(w));
+  const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines + fills_);
+  return t + lines - 1 + r.cycles(timing_, kIst) + timing_.latency[kIst];
+}
+
+}  // namespace rtsim::sampling_detail

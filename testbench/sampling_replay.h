@@ -1,0 +1,211 @@
+// The functional pass's replay (testbench/sampling_features.h says what it models), shared by its
+// two files and by nothing else: sampling_replay.cpp runs the rays through the units on the rough
+// clock and deals the primary rays; sampling_scan.cpp is the shadow phase's source of rays, the
+// culling unit's scan over the record slots.
+#pragma once
+
+#include "kernels/camera.h"
+#include "kernels/memory_image.h"
+#include "kernels/reference_tracer.h"
+#include "model/accelerator_config.h"
+#include "model/units/ray_generator.h"
+#include "testbench/functional_caches.h"
+#include "testbench/sampling_features.h"
+#include "testbench/sampling_walks.h"
+
+#include <array>
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <vector>
+
+namespace rtsim::sampling_detail {
+
+constexpr size_t kTrv = size_t(AccessUnit::kTraversal), kList = size_t(AccessUnit::kList),
+                 kIst = size_t(AccessUnit::kIst), kShading = size_t(AccessUnit::kShading);
+constexpr uint64_t kBatchRays = model::RayGenerator::kBatchRays;
+enum Phase : uint8_t { kPrimary, kShadow };
+
+// The replay's clock, in the accelerator's cycles, from the hardware file.
+struct ReplayTiming {
+  explicit ReplayTiming(const model::AcceleratorConfig& cfg);
+  // A read of unit type `type` whose deepest line came from `level` (FunctionalCaches::read).
+  uint64_t read(size_t type, int level) const {
+    return l1_hit[type] + (level >= 1 ? l2_hit[type] : 0) + (level >= 2 ? dram : 0);
+  }
+  uint32_t latency[kAccessUnits] = {}, l1_hit[kAccessUnits] = {}, l2_hit[kAccessUnits] = {};
+  uint32_t dram = 0, shading_interval = 2;
+  uint32_t line_flits = 1;  // cycles a line takes a port of the memory link
+  // Whether a line filled into a type's L1 takes a cycle of its port (fill_port: shared).
+  bool shared_fill[kAccessUnits] = {};
+};
+
+// The reads of one step: a ray waits for each line from DRAM in turn (the unit parks it), for
+// lines from the L2 together.
+struct Reads {
+  int level = 0;
+  uint32_t from_dram = 0;
+  void add(int l) {
+    level = std::max(level, l);
+    from_dram += l == 2;
+  }
+  uint64_t cycles(const ReplayTiming& timing, size_t type) const {
+    return timing.read(type, std::min(level, 1)) + uint64_t(from_dram) * timing.dram;
+  }
+};
+
+// One ray a traversal unit walks: its reads and the next one to make.
+struct Walk {
+  AccessStream stream;
+  size_t next = 0;
+  uint32_t batch = 0;
+  uint32_t unit = 0;  // its traversal unit
+  Phase phase = kPrimary;
+  bool retiring = false;  // a shadow ray past its reads: its shading unit's issue slot
+};
+
+// A ray dealt to a traversal unit.
+struct Queued {
+  uint64_t ray = 0;     // primary: by issue index; shadow: its record slot
+  uint64_t dealt = 0;   // when the generator (the culling unit) dealt it
+  uint64_t ready = 0;   // when it may start
+  AccessStream stream;  // its walk's reads (Walks)
+};
+
+struct TraversalUnitState {
+  std::vector<uint32_t> idle;  // its free slots (walk indices)
+  std::deque<Queued> fifo;
+};
+
+// The walks' next events (a step due, or after its last read its end), one at most a walk: a
+// calendar of kSlots cycles, each a list through the walks (an event kSlots cycles or more ahead
+// waits in its slot's list for its turn).
+class Calendar {
+ public:
+  static constexpr uint32_t kNone = ~uint32_t(0);
+  explicit Calendar(size_t walks = 0)
+      : next_(walks, kNone), time_(walks, 0), slots_(kSlots, kNone) {}
+  void add(uint32_t walk, uint64_t time) {
+    uint32_t& head = slots_[time & (kSlots - 1)];
+    time_[walk] = time;
+    next_[walk] = head;
+    head = walk;
+    ++pending_;
+  }
+  // The walks due at `now`, taken out of the calendar (empty when none is left at `now`).
+  void due(uint64_t now, std::vector<uint32_t>& out);
+  bool empty() const { return pending_ == 0; }
+
+ private:
+  static constexpr uint64_t kSlots = 4096;
+  std::vector<uint32_t> next_;
+  std::vector<uint64_t> time_;
+  std::vector<uint32_t> slots_;
+  size_t pending_ = 0;
+};
+
+// The culling unit's scan over the record slots (two phases, records read from memory).
+struct ScanState {
+  uint64_t slot = 0;  // the record slot at the cursor
+  uint32_t light = 0, sample = 0;
+  bool open = false;     // the cursor's record is taken ...
+  uint64_t taken = 0;    // ... at this cycle
+  uint64_t free = 0;     // the unit's next free cycle
+  bool latched = false;  // the current light's record is in ...
+  uint64_t light_ready = 0;
+  uint32_t lvb = 0;                             // the record's hit leaf's LVB word
+  uint64_t last_request = 0, last_arrival = 0;  // the record reads
+  std::vector<uint64_t> left;  // when the cursor left each of the last `prefetch` slots
+};
+
+class Replay {
+ public:
+  Replay(const MemoryImage& image, const Camera& camera, int width, int height,
+         const model::AcceleratorConfig& cfg, const FeaturePassOptions& o);
+  FrameFeatures run(bool shadows);
+
+ private:
+  // Runs the calendar from `now` until no walk is left; `now` ends past the last event.
+  void drain(uint64_t& now);
+  // The source deals a ray a cycle from `now` on, in turn to the units with room, until none has
+  // any; a ray dealt to a unit with a free slot starts a cycle later.
+  void deal(uint64_t now);
+  // deal() when every unit but `unit` is full (the round robin finds it alone).
+  void deal_to(uint32_t unit, uint64_t now);
+  bool has_room(const TraversalUnitState& u) const {
+    return !u.idle.empty() || u.fifo.size() < fifo_depth_;
+  }
+  void place(TraversalUnitState& u, Queued& q);  // a ray dealt to unit u (its stream taken)
+  bool has_rays() const;
+  // The source's next ray, dealt at or after `now`: false when it has none left.
+  bool take(uint64_t now, Queued& q);
+  void start(uint32_t walk, Queued& q, uint64_t t);  // takes q's stream
+  void end(uint32_t walk, uint64_t t);
+  uint64_t step(Walk& w, uint64_t now);
+  uint64_t leaf(Walk& w, uint64_t now);
+  uint64_t tests(Walk& w, uint64_t ready);
+  uint64_t lines_of(const Access& a) const {
+    const uint64_t line = caches_.line_bytes();
+    return a.bytes == 0 ? 0 : (uint64_t(a.addr) + a.bytes - 1) / line - a.addr / line + 1;
+  }
+  // Unit `unit` of type `type` takes `ops` operations from `now` on, one a cycle; when they begin.
+  uint64_t issue(size_t type, uint32_t unit, uint64_t now, uint64_t ops) {
+    uint64_t& free = free_[type][unit];
+    const uint64_t t = std::max(now, free);
+    free = t + ops;
+    return t;
+  }
+  // The walk's next read, through its unit's caches, counted for its batch; the lines filled
+  // into a shared-port L1 are added to `fills_`.
+  int read(Walk& w) {
+    const Access& a = w.stream.reads[w.next++];
+    CacheCounts& counts = batches_[w.phase][w.batch].caches;
+    const size_t type = size_t(a.unit);
+    const uint64_t before = counts.l1_misses[type];
+    const int level = caches_.read(routes_[w.unit][type], a, counts);
+    if (timing_.shared_fill[type]) fills_ += counts.l1_misses[type] - before;
+    return level;
+  }
+  // Per-batch replay cycles of a phase from its batches' starts to `end`.
+  void close_phase(Phase phase, uint64_t end);
+
+  // The shadow phase's scan (sampling_scan.cpp).
+  void begin_scan(uint64_t at);
+  bool take_shadow(uint64_t now, Queued& q);
+  bool find_emission();  // moves the cursor to the next (hit, light, sample) to emit
+  bool take_record();    // the record at the cursor: false when it has no ray to emit
+  void leave(uint64_t t);
+  uint64_t record_arrival();  // when the cursor's record is in
+  uint64_t read_light();      // reads the current light's records; when they are in
+  BatchFeatures& scan_batch() { return batches_[kShadow][scan_.slot / kBatchRays]; }
+
+  const MemoryImage& image_;
+  const Camera camera_;
+  int width_, height_;
+  std::vector<uint32_t> order_;
+  bool trace_ahead_;
+  std::unique_ptr<Walks> traced_;  // the rays' walks, in the order they are taken
+  FunctionalCaches caches_;
+  ReplayTiming timing_;
+  size_t fifo_depth_;
+  bool culling_;
+  uint32_t shadow_stride_;
+  uint32_t prefetch_;
+  std::vector<image::LightRecord> lights_;
+  std::vector<TraversalUnitState> units_;
+  std::vector<Walk> walks_;
+  std::vector<std::array<uint32_t, kAccessUnits>> routes_;
+  std::array<std::vector<uint64_t>, kAccessUnits> free_;  // each unit's next free issue cycle
+  Calendar calendar_;
+  Phase phase_ = kPrimary;
+  std::array<std::vector<BatchFeatures>, 2> batches_;
+  std::array<std::vector<uint64_t>, 2> starts_;  // when each batch began
+  std::vector<Hit> hits_;                        // the primary rays', by issue index
+  uint64_t next_ray_ = 0, generator_free_ = 0, end_ = 0;
+  uint64_t fills_ = 0;  // L1 fills of the current step's reads that take its unit's port
+  size_t next_unit_ = 0;
+  bool full_ = false;  // the last deal() found every unit full
+  ScanState scan_;
+};
+
+}  // namespace rtsim::sampling_detail

@@ -1,0 +1,80 @@
+// The functional pass's walks (testbench/sampling_features.h), traced by the reference tracer in
+// the order the replay takes its rays: the primary rays in issue order, then the shadow rays in
+// the culling unit's scan order (record slot, light, sample; lights whose LVB bit is 0 culled).
+// Neither order depends on the replay's clock, so the walks can be traced ahead, on a thread of
+// their own, while the replay runs the caches and the clock on another: the same walks in the
+// same order either way. Shared by the pass's files and by nothing else.
+#pragma once
+
+#include "kernels/camera.h"
+#include "kernels/memory_image.h"
+#include "kernels/reference_tracer.h"
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace rtsim::sampling_detail {
+
+struct TracedRay {
+  AccessStream stream;    // the records its walk reads
+  Hit hit;                // a primary ray's
+  bool occluded = false;  // a shadow ray's
+};
+
+class Walks {
+ public:
+  // `order`: the primary rays' pixels in issue order; `shadows`: the shadow rays follow.
+  // `stride`: the shadow rays of one batch of record slots in `stride` (FeaturePassOptions).
+  Walks(const MemoryImage& image, const Camera& camera, int width, int height,
+        const std::vector<uint32_t>& order, bool culling, bool shadows, uint32_t stride,
+        bool threaded);
+  ~Walks();
+  Walks(const Walks&) = delete;
+  Walks& operator=(const Walks&) = delete;
+  // The next walk (the caller may take its stream): valid until the next call.
+  TracedRay& next();
+  // A stream the caller is done with: its buffer serves a later walk (tracing in this thread).
+  void recycle(AccessStream& s) {
+    if (!threaded_ && s.reads.capacity() > 0) spare_.push_back(std::move(s.reads));
+  }
+
+ private:
+  static constexpr size_t kChunk = 512, kChunksAhead = 8;
+  // Traces up to kChunk walks in order into `out`; false when there are none left.
+  bool produce(std::vector<TracedRay>& out);
+  bool produce_shadow(TracedRay& r);  // the next shadow ray's walk: false at the scan's end
+  void run_thread();
+
+  const MemoryImage& image_;
+  ReferenceTracer tracer_;
+  PinholeCamera camera_;
+  uint32_t width_;
+  const std::vector<uint32_t>& order_;
+  bool culling_, shadows_;
+  uint32_t stride_;
+  float offset_;
+  std::vector<image::LightRecord> lights_;
+  // The producer's place: primary ray `primary_`, then record slot `slot_`, `light_`, `sample_`.
+  uint64_t primary_ = 0, slot_ = 0;
+  uint32_t light_ = 0, sample_ = 0;
+  std::vector<Hit> hits_;  // the primary rays', by issue index
+  SurfacePoint surface_;   // the slot's hit
+  uint32_t pixel_ = 0, lvb_ = 0;
+  bool slot_open_ = false;
+  // The consumer's chunk, and the chunks traced ahead (threaded).
+  std::vector<TracedRay> current_;
+  size_t at_ = 0;
+  std::vector<std::vector<Access>> spare_;  // recycled buffers
+  bool threaded_;
+  std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<std::vector<TracedRay>> ready_;
+  bool finished_ = false, stop_ = false;
+  std::thread thread_;
+};
+
+}  // namespace rtsim::sampling_detail

@@ -1,0 +1,105 @@
+// The functional pass's shadow phase (testbench/sampling_features.h) against the model over the
+// city with its lights and LVB culling, two phases: the shadow rays it emits and culls are the
+// culling unit's, per light in all; the reads of TRV, LIST and IST over both phases are the
+// model's units', record for record and line for line; it has as many shadow batches as the
+// model. The caches' misses and the replay's cycles are only printed and bounded (the pass
+// approximates the model's timing). The walks traced ahead on a thread give the same features.
+// (One SystemC simulation per executable.)
+#include "model/accelerator.h"
+#include "testbench/pipeline.h"
+#include "testbench/sampling_features.h"
+#include "tests/test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <numeric>
+
+namespace rtsim {
+namespace {
+
+constexpr int kW = 96, kH = 54;
+
+uint64_t stat(const nlohmann::json& stats, const char* type, const char* group, const char* name) {
+  return uint64_t(stats[type][group][name].get<double>());
+}
+
+TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
+  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+  PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
+                                  {"", {}, kW, kH, Accel::kKdTree});
+  LvbParams lp;
+  const LvbResult lvb = compute_scene_lvb(p, lp);
+  for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
+  model::AcceleratorConfig cfg;  // the paper's machine: two phases, records from memory
+  model::Accelerator device("device", cfg, *p.image, model::FrameJob{p.scene.camera, kW, kH});
+  test::simulate();
+  const model::AcceleratorResult r = device.result();
+  ASSERT_GT(r.shadow_rays, 0u);
+
+  RunSettings run;
+  run.lvb = true;
+  const FrameFeatures f = run_batch_features(p, cfg, run);
+  ASSERT_EQ(f.primary.size(), r.primary_batch_cycles.size());
+  ASSERT_EQ(f.shadow.size(), r.shadow_batch_cycles.size());
+  uint64_t emitted = 0, culled = 0, hits = 0, replay = 0;
+  CacheCounts c;
+  for (const BatchFeatures& b : f.primary) c.add(b.caches);
+  for (const BatchFeatures& b : f.shadow) {
+    c.add(b.caches);
+    emitted += b.rays;
+    culled += b.culled;
+    hits += b.hits;
+    replay += b.replay_cycles;
+  }
+  EXPECT_EQ(emitted, r.shadow_rays);
+  EXPECT_EQ(culled, std::accumulate(r.shadow_culled.begin(), r.shadow_culled.end(), uint64_t(0)));
+  EXPECT_EQ(hits, r.primary_hits);
+  EXPECT_GT(culled, 0u);
+  std::printf("shadow cycles: replay %llu, model %llu\n", (unsigned long long)replay,
+              (unsigned long long)r.cycles_shadow);
+  EXPECT_NEAR(double(replay), double(r.cycles_shadow), 0.35 * r.cycles_shadow);
+  const nlohmann::json& s = r.stats;
+  const auto at = [](const std::array<uint64_t, kAccessUnits>& a, AccessUnit u) {
+    return a[size_t(u)];
+  };
+  EXPECT_EQ(at(c.reads, AccessUnit::kTraversal), stat(s, "trv", "total", "node_fetches"));
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kTraversal), stat(s, "trv", "l1", "accesses"));
+  EXPECT_EQ(at(c.reads, AccessUnit::kList), 2 * stat(s, "list", "total", "leaves"));
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kList), stat(s, "list", "l1", "accesses"));
+  EXPECT_EQ(at(c.reads, AccessUnit::kIst), stat(s, "ist", "total", "tests"));
+  EXPECT_EQ(at(c.l1_lines, AccessUnit::kIst), stat(s, "ist", "l1", "accesses"));
+  // Shading's L1: the hits' triangles and materials, and the culling unit's light reads (the
+  // model reads a light's record again after a miss fills it: a few more).
+  const uint64_t shading = stat(s, "shading", "l1", "accesses");
+  std::printf("shading L1 lines: pass %llu, model %llu\n",
+              (unsigned long long)at(c.l1_lines, AccessUnit::kShading),
+              (unsigned long long)shading);
+  EXPECT_NEAR(double(at(c.l1_lines, AccessUnit::kShading)), double(shading), 0.02 * shading);
+}
+
+// The walks traced ahead on a thread of their own give the same features, batch for batch.
+TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
+  PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
+                                  {"", {}, kW, kH, Accel::kKdTree});
+  const model::AcceleratorConfig cfg;
+  RunSettings run;
+  run.lvb = false;  // every shadow ray traced
+  FeaturePassOptions ahead;
+  ahead.trace_ahead = true;
+  const FrameFeatures a = run_batch_features(p, cfg, run),
+                      b = run_batch_features(p, cfg, run, ahead);
+  ASSERT_EQ(a.primary.size(), b.primary.size());
+  ASSERT_EQ(a.shadow.size(), b.shadow.size());
+  ASSERT_FALSE(a.shadow.empty());
+  const auto same = [](const BatchFeatures& x, const BatchFeatures& y) {
+    return x.rays == y.rays && x.hits == y.hits && x.occluded == y.occluded &&
+           x.replay_cycles == y.replay_cycles && x.caches.l1_misses == y.caches.l1_misses &&
+           x.caches.l2_misses == y.caches.l2_misses && x.caches.reads == y.caches.reads;
+  };
+  for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], b.primary[i])) << i;
+  for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], b.shadow[i])) << i;
+}
+
+}  // namespace
+}  // namespace rtsim
