@@ -13,7 +13,7 @@
 #include "reports/reproduction_report.h"
 #include "testbench/commands.h"
 #include "testbench/run_config.h"
-#include "testbench/sample_plan.h"
+#include "testbench/sample_regression.h"
 #include "testbench/sweep.h"
 #include "testbench/sweep_results.h"
 
@@ -58,9 +58,10 @@ bool has(const std::vector<std::string>& v, const std::string& x) {
 
 // ---- rtsim reproduce --------------------------------------------------------------------------
 
-// A sampled run's measured units (sample.csv): the plan's units and each one's cycles per phase.
+// A sampled run's measured units (sample.csv): the plan's units, and each one's weighted
+// residual per phase (sampled_frame.h).
 struct SampledUnits {
-  std::vector<MeasuredUnit> units;
+  SamplePlan plan;
   std::vector<double> primary, shadow;
 };
 
@@ -68,35 +69,44 @@ SampledUnits read_sample_csv(const fs::path& file) {
   SampledUnits s;
   std::ifstream in(file);
   std::string line;
-  std::getline(in, line);  // unit,first_ray,weight,certain,primary_cycles,shadow_cycles
+  std::getline(in, line);  // unit,first_ray,weight,certain,primary_cycles,shadow_cycles,...
   while (std::getline(in, line)) {
     unsigned long long unit = 0, first = 0, weight = 0, certain = 0;
-    double p = 0, sh = 0;
-    if (std::sscanf(line.c_str(), "%llu,%llu,%llu,%llu,%lf,%lf", &unit, &first, &weight, &certain,
-                    &p, &sh) != 6)
+    double pc = 0, sc = 0, pr = 0, sr = 0;
+    if (std::sscanf(line.c_str(), "%llu,%llu,%llu,%llu,%lf,%lf,%lf,%lf", &unit, &first, &weight,
+                    &certain, &pc, &sc, &pr, &sr) != 8)
       throw std::runtime_error(file.string() + ": not a sample.csv line: " + line);
-    s.units.push_back({unit, weight, certain != 0});
-    s.primary.push_back(p);
-    s.shadow.push_back(sh);
+    s.plan.units.push_back({unit, weight, certain != 0});
+    s.primary.push_back(pr);
+    s.shadow.push_back(sr);
   }
   return s;
 }
 
-// Culling's reduction of two sampled runs of the same plan, paired unit by unit (estimate_ratio):
-// {"all": {reduction_pct, ci95_pt}, "shadow": ...}; null when the plans differ.
-nlohmann::json paired_reduction(const fs::path& on_dir, const fs::path& off_dir) {
+// Culling's reduction 1 - R of two sampled runs of the same plan, R the ratio of their estimated
+// totals, with the 95% interval of R from the units' paired residuals (the on run's less R times
+// the off run's: Cochran, ch. 6): {"all": {reduction_pct, ci95_pt}, "shadow": ...}; null when
+// the plans differ.
+nlohmann::json paired_reduction(const nlohmann::json& on_run, const fs::path& on_dir,
+                                const nlohmann::json& off_run, const fs::path& off_dir) {
   const SampledUnits on = read_sample_csv(on_dir / output::kSampleCsv);
   const SampledUnits off = read_sample_csv(off_dir / output::kSampleCsv);
-  if (on.units.size() != off.units.size()) return nullptr;
-  for (size_t i = 0; i < on.units.size(); ++i)
-    if (on.units[i].index != off.units[i].index) return nullptr;
-  std::vector<double> on_all(on.primary), off_all(off.primary);
-  for (size_t i = 0; i < on_all.size(); ++i) on_all[i] += on.shadow[i], off_all[i] += off.shadow[i];
-  auto cell = [](const RatioEstimate& r) {
+  if (on.plan.units.size() != off.plan.units.size()) return nullptr;
+  for (size_t i = 0; i < on.plan.units.size(); ++i)
+    if (on.plan.units[i].index != off.plan.units[i].index) return nullptr;
+  auto cell = [&](const char* key, bool with_primary) {
+    std::vector<double> a, b;  // the drawn units' residuals of each run
+    for (size_t i = 0; i < on.plan.units.size(); ++i) {
+      if (on.plan.units[i].certain) continue;
+      a.push_back(on.shadow[i] + (with_primary ? on.primary[i] : 0));
+      b.push_back(off.shadow[i] + (with_primary ? off.primary[i] : 0));
+    }
+    const uint64_t dof = a.size() > 6 ? a.size() - 6 : 0;  // the primary fit's parameters
+    const RatioEstimate r =
+        paired_ratio(on.plan, on_run[key].get<double>(), off_run[key].get<double>(), a, b, dof);
     return nlohmann::json{{"reduction_pct", 100 * (1 - r.ratio)}, {"ci95_pt", 100 * r.ci95}};
   };
-  return {{"all", cell(estimate_ratio(on.units, on_all, off_all))},
-          {"shadow", cell(estimate_ratio(on.units, on.shadow, off.shadow))}};
+  return {{"all", cell("cycles_total", true)}, {"shadow", cell("cycles_shadow", false)}};
 }
 
 // The finished points' reports by setup, in sweep order, with the pixels each culling variant
@@ -128,8 +138,8 @@ std::vector<report::ReproductionScene> gather_setups(const SweepSpec& spec,
       const std::string var = cv.name;
       if (!s.runs.count(var)) continue;
       if (s.runs[var].contains("sampled") && s.runs["off"].contains("sampled"))
-        s.runs[var]["paired_reduction"] =
-            paired_reduction(fs::path(out) / s.dirs[var], fs::path(out) / s.dirs["off"]);
+        s.runs[var]["paired_reduction"] = paired_reduction(
+            s.runs[var], fs::path(out) / s.dirs[var], s.runs["off"], fs::path(out) / s.dirs["off"]);
       const auto mask = read_npy_u16((fs::path(out) / s.dirs[var] / output::kMaskNpy).string());
       uint64_t differ = 0;
       for (size_t i = 0; i < std::min(off.size(), mask.size()); ++i) differ += off[i] != mask[i];

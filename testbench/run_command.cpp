@@ -327,9 +327,10 @@ int run_model(const RunArgs& args) {
   if (c.run.check)
     check = reference_check(*ref, r, simulated_pixels(c, p, plan ? &*plan : nullptr), mismatches);
   std::optional<SampledEstimates> estimates;
+  double pass_seconds = 0;
   if (plan) {
-    const UnitAuxiliaries aux = primary_pass(*plan, ReferenceTracer(*p.image), p.scene.camera,
-                                             p.scene.width, p.scene.height, c.hw);
+    const SampledAuxiliaries aux = functional_pass(*plan, p, c);
+    pass_seconds = aux.seconds;
     estimates = estimate_sampled(*plan, r, &aux);
     apply_sampled(r, *estimates, *ref);
   }
@@ -346,7 +347,10 @@ int run_model(const RunArgs& args) {
   host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
   nlohmann::json report =
       run_report_json(scene_json(p), structure, config, lvb_json, figures_of(r), check, host);
-  if (plan) add_sampled(report, c, *plan, *estimates, p.scene.width, out);
+  if (plan) {
+    add_sampled(report, c, *plan, *estimates, p.scene.width, out);
+    report["host"]["seconds"]["functional_pass"] = pass_seconds;
+  }
   write_run_outputs(out, p, r, plan ? pixel_planes(*ref) : pixel_planes(r), config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());

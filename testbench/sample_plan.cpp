@@ -72,35 +72,8 @@ std::vector<double> unit_cycles(const SamplePlan& plan,
   return out;
 }
 
-RatioEstimate estimate_ratio(const std::vector<MeasuredUnit>& units, const std::vector<double>& y,
-                             const std::vector<double>& x) {
-  if (y.size() != units.size() || x.size() != units.size())
-    throw std::invalid_argument("estimate_ratio: one value per measured unit");
-  double ty = 0, tx = 0;
-  for (size_t i = 0; i < units.size(); ++i) {
-    ty += double(units[i].weight) * y[i];
-    tx += double(units[i].weight) * x[i];
-  }
-  RatioEstimate r;
-  if (tx <= 0) return r;
-  r.ratio = ty / tx;
-  std::vector<double> e;  // the drawn units' weighted residuals
-  uint64_t drawn_from = 0;
-  for (size_t i = 0; i < units.size(); ++i) {
-    if (units[i].certain) continue;
-    e.push_back(double(units[i].weight) * (y[i] - r.ratio * x[i]));
-    drawn_from += units[i].weight;
-  }
-  const size_t n = e.size();
-  if (n < 2 || drawn_from == n) return r;
-  double squares = 0;
-  for (size_t h = 1; h < n; ++h) squares += (e[h] - e[h - 1]) * (e[h] - e[h - 1]);
-  const double fpc = 1.0 - double(n) / double(drawn_from);
-  r.ci95 = t95(n - 1) * std::sqrt(double(n) * fpc * squares / (2.0 * double(n - 1))) / tx;
-  return r;
-}
-
-SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& values) {
+SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& values,
+                             std::vector<double>* residuals) {
   if (values.size() != plan.units.size())
     throw std::invalid_argument("estimate_plan: one value per measured unit");
   SampleEstimate e;
@@ -116,6 +89,7 @@ SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& 
     drawn_from += u.weight;
   }
   const uint64_t n = drawn.size();
+  if (residuals) *residuals = drawn;
   if (n == 0 || drawn_from == n) return e;  // every unit measured: the total itself
   if (n == 1) {
     e.ci95 = std::numeric_limits<double>::infinity();

@@ -49,17 +49,9 @@ std::vector<double> unit_cycles(const SamplePlan& plan,
 // count once, each drawn unit for its stratum. The 95% interval comes from the drawn units'
 // successive differences (their strata lie in issue order, and neighbours are alike: Wolter,
 // Introduction to Variance Estimation, ch. 8), with the finite population correction.
-SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& values);
-
-// The ratio of two totals measured at the same units (a frame with culling on over the same frame
-// with it off, both sampled with the same plan): the weighted sums' ratio R, and its 95% interval
-// from the drawn units' residuals y - R x (Cochran, Sampling Techniques, ch. 6), by successive
-// differences. Paired units cancel what the two frames share: the interval is that of the ratio,
-// far narrower than two independent intervals would give.
-struct RatioEstimate {
-  double ratio = 0, ci95 = 0;
-};
-RatioEstimate estimate_ratio(const std::vector<MeasuredUnit>& units, const std::vector<double>& y,
-                             const std::vector<double>& x);
+// `residuals` (optional) gets what the interval comes from: each drawn unit's value times its
+// weight (sample_regression.h's sum_interval takes them).
+SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& values,
+                             std::vector<double>* residuals = nullptr);
 
 }  // namespace rtsim

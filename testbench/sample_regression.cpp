@@ -84,14 +84,14 @@ UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<Ba
 }
 
 SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
-                             const UnitAuxiliaries& aux) {
+                             const UnitAuxiliaries& aux, std::vector<double>* residuals_out) {
   if (values.size() != plan.units.size() || aux.units() != plan.population)
     throw std::invalid_argument("estimate_greg: one value per measured unit, auxiliaries for all");
   std::vector<size_t> drawn;
   for (size_t i = 0; i < plan.units.size(); ++i)
     if (!plan.units[i].certain) drawn.push_back(i);
   const size_t p = aux.features + 1, n = drawn.size();
-  if (n < p + 3) return estimate_plan(plan, values);
+  if (n < p + 3) return estimate_plan(plan, values, residuals_out);
   std::vector<double> scale(aux.features, 1.0);
   for (size_t j = 0; j < aux.features; ++j) {
     double s = 0;
@@ -109,7 +109,7 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
       for (size_t c = 0; c < p; ++c) ata[r][c] += w * a[r] * a[c];
     }
   }
-  if (!invert(ata, inv)) return estimate_plan(plan, values);
+  if (!invert(ata, inv)) return estimate_plan(plan, values, residuals_out);
   std::vector<double> beta(p, 0.0);
   for (size_t r = 0; r < p; ++r) beta[r] = dot(inv[r], aty);
   SampleEstimate e;
@@ -124,7 +124,6 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
   for (uint64_t u = 0; u < plan.population; ++u)
     if (!measured_certain[u]) e.total += dot(design_row(aux, u, scale), beta);
   std::vector<double> residuals;  // weighted, each over 1 - its leverage
-  uint64_t drawn_from = 0;
   for (size_t i : drawn) {
     const std::vector<double> a = design_row(aux, plan.units[i].index, scale);
     const double w = double(plan.units[i].weight);
@@ -134,14 +133,48 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
     for (size_t k = 0; k < p; ++k) inv_a[k] = dot(inv[k], a);
     const double leverage = w * dot(a, inv_a);
     residuals.push_back(w * r / std::max(1.0 - leverage, 0.05));
-    drawn_from += plan.units[i].weight;
   }
+  e.ci95 = sum_interval(plan, residuals, n - p);
+  if (residuals_out) *residuals_out = std::move(residuals);
+  return e;
+}
+
+double sum_interval(const SamplePlan& plan, const std::vector<double>& residuals, uint64_t dof) {
+  uint64_t drawn_from = 0;
+  for (const MeasuredUnit& u : plan.units) drawn_from += u.certain ? 0 : u.weight;
+  const size_t n = residuals.size();
+  if (n < 2 || dof == 0) return n == drawn_from ? 0.0 : std::numeric_limits<double>::infinity();
   double squares = 0;
   for (size_t h = 1; h < n; ++h)
     squares += (residuals[h] - residuals[h - 1]) * (residuals[h] - residuals[h - 1]);
   const double fpc = std::max(0.0, 1.0 - double(n) / double(drawn_from));
-  e.ci95 = t95(n - p) * std::sqrt(double(n) * fpc * squares / (2.0 * double(n - 1)));
-  return e;
+  return t95(dof) * std::sqrt(double(n) * fpc * squares / (2.0 * double(n - 1)));
+}
+
+RatioEstimate paired_ratio(const SamplePlan& plan, double on, double off,
+                           const std::vector<double>& on_residuals,
+                           const std::vector<double>& off_residuals, uint64_t dof) {
+  RatioEstimate r;
+  if (off <= 0 || on_residuals.size() != off_residuals.size()) return r;
+  r.ratio = on / off;
+  std::vector<double> d(on_residuals.size());
+  for (size_t i = 0; i < d.size(); ++i) d[i] = on_residuals[i] - r.ratio * off_residuals[i];
+  r.ci95 = sum_interval(plan, d, dof) / off;
+  return r;
+}
+
+UnitAuxiliaries unit_sums(const SamplePlan& plan, const std::vector<BatchFeatures>& b,
+                          uint64_t (*figure)(const BatchFeatures&)) {
+  UnitAuxiliaries aux;
+  aux.features = 1;
+  const size_t per_unit = plan.unit / model::kBatchRays;
+  for (uint64_t u = 0; u < plan.population; ++u) {
+    double sum = 0;
+    for (size_t i = u * per_unit; i < std::min(b.size(), (u + 1) * per_unit); ++i)
+      sum += double(figure(b[i]));
+    aux.x.push_back(sum);
+  }
+  return aux;
 }
 
 }  // namespace rtsim

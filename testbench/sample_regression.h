@@ -34,7 +34,28 @@ UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<Ba
 // differences of the drawn units' residuals (each over 1 - its leverage, so a unit that steers
 // the fit counts as left out of it), with Student's t for n - p degrees of freedom. With too few
 // drawn units for the fit (n < p + 3) it is the expansion (estimate_plan).
+// `residuals` (optional) gets the drawn units' weighted residuals the interval comes from, so
+// that two phases' estimates can be added with the interval of their sum (sum_interval).
 SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
-                             const UnitAuxiliaries& aux);
+                             const UnitAuxiliaries& aux, std::vector<double>* residuals = nullptr);
+
+// Each unit's sum of a per-batch figure (the shadow phase's replay cycles, say), as an auxiliary.
+UnitAuxiliaries unit_sums(const SamplePlan& plan, const std::vector<BatchFeatures>& b,
+                          uint64_t (*figure)(const BatchFeatures&));
+
+// The 95% half-interval of a total whose drawn units' weighted residuals are `residuals` (one per
+// drawn unit of `plan`, in order), by successive differences, with `dof` degrees of freedom.
+double sum_interval(const SamplePlan& plan, const std::vector<double>& residuals, uint64_t dof);
+
+// The ratio of two totals estimated at the same units (a frame with culling on over the same
+// frame with it off, both sampled with one plan), R = on / off, and its 95% interval from the
+// paired residuals on - R x off of the drawn units (Cochran, Sampling Techniques, ch. 6): what the
+// two frames share cancels, so the interval is far narrower than two independent ones give.
+struct RatioEstimate {
+  double ratio = 0, ci95 = 0;
+};
+RatioEstimate paired_ratio(const SamplePlan& plan, double on, double off,
+                           const std::vector<double>& on_residuals,
+                           const std::vector<double>& off_residuals, uint64_t dof);
 
 }  // namespace rtsim

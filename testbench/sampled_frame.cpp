@@ -6,13 +6,16 @@
 
 namespace rtsim {
 
-UnitAuxiliaries primary_pass(const SamplePlan& plan, const ReferenceTracer& tracer,
-                             const Camera& camera, int width, int height,
-                             const model::AcceleratorConfig& cfg) {
-  const model::UnitTypeConfig& t = cfg.traversal();
+SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
+                                   const RunConfig& c) {
+  const FrameFeatures f = run_batch_features(p, c.hw, c.run);
+  const model::UnitTypeConfig& t = c.hw.traversal();
   const uint32_t in_flight = t.count * (t.capacity + t.fifo_depth) / model::kBatchRays;
-  return primary_auxiliaries(plan, primary_batch_features(tracer, camera, width, height, cfg),
-                             in_flight);
+  SampledAuxiliaries aux;
+  aux.primary = primary_auxiliaries(plan, f.primary, in_flight);
+  aux.shadow = unit_sums(plan, f.shadow, [](const BatchFeatures& b) { return b.replay_cycles; });
+  aux.seconds = f.primary_seconds + f.shadow_seconds;
+  return aux;
 }
 
 model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera, int width,
@@ -43,19 +46,46 @@ model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera
   };
 }
 
+namespace {
+
+// The drawn units' residuals in the order of the plan's measured units (0 for those always
+// measured).
+std::vector<double> by_unit(const SamplePlan& plan, const std::vector<double>& drawn) {
+  std::vector<double> out(plan.units.size(), 0.0);
+  size_t k = 0;
+  for (size_t i = 0; i < plan.units.size() && k < drawn.size(); ++i)
+    if (!plan.units[i].certain) out[i] = drawn[k++];
+  return out;
+}
+
+}  // namespace
+
 SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r,
-                                  const UnitAuxiliaries* primary_aux) {
+                                  const SampledAuxiliaries* aux) {
   SampledEstimates e;
   e.primary_units = unit_cycles(plan, r.primary_windows);
   e.shadow_units = unit_cycles(plan, r.shadow_windows);
-  e.primary = primary_aux ? estimate_greg(plan, e.primary_units, *primary_aux)
-                          : estimate_plan(plan, e.primary_units);
-  if (primary_aux) e.primary_estimator = "regression";
-  e.shadow = estimate_plan(plan, e.shadow_units);
+  std::vector<double> rp, rs;
+  const bool regression = aux && aux->shadow.units() == plan.population;
+  if (regression) {
+    e.primary = estimate_greg(plan, e.primary_units, aux->primary, &rp);
+    e.shadow = estimate_greg(plan, e.shadow_units, aux->shadow, &rs);
+    e.primary_estimator = e.shadow_estimator = "regression";
+  } else {
+    e.primary = estimate_plan(plan, e.primary_units, &rp);
+    e.shadow = estimate_plan(plan, e.shadow_units, &rs);
+  }
+  e.total = e.primary;
   e.total.total = e.primary.total + e.shadow.total;
-  e.total.ci95 = e.primary.ci95 + e.shadow.ci95;
-  e.total.population = plan.population;
-  e.total.sampled = e.primary.sampled;
+  e.primary_residuals = by_unit(plan, rp);
+  e.shadow_residuals = by_unit(plan, rs);
+  if (!rp.empty() && rp.size() == rs.size()) {
+    for (size_t i = 0; i < rp.size(); ++i) rp[i] += rs[i];
+    const uint64_t p = regression ? aux->primary.features + 1 : 1;
+    e.total.ci95 = rp.size() > p ? sum_interval(plan, rp, rp.size() - p) : e.total.ci95;
+  } else {  // a phase fell back to the expansion: the upper bound
+    e.total.ci95 = e.primary.ci95 + e.shadow.ci95;
+  }
   return e;
 }
 
@@ -99,11 +129,14 @@ nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
 }
 
 std::string sample_csv(const SamplePlan& plan, const SampledEstimates& e) {
-  std::string s = "unit,first_ray,weight,certain,primary_cycles,shadow_cycles\n";
+  std::string s =
+      "unit,first_ray,weight,certain,primary_cycles,shadow_cycles,primary_residual,"
+      "shadow_residual\n";
   for (size_t i = 0; i < plan.units.size(); ++i) {
     const MeasuredUnit& u = plan.units[i];
-    s += fmt::format("{},{},{},{},{},{}\n", u.index, u.index * plan.unit, u.weight,
-                     u.certain ? 1 : 0, e.primary_units[i], e.shadow_units[i]);
+    s += fmt::format("{},{},{},{},{},{},{},{}\n", u.index, u.index * plan.unit, u.weight,
+                     u.certain ? 1 : 0, e.primary_units[i], e.shadow_units[i],
+                     e.primary_residuals[i], e.shadow_residuals[i]);
   }
   return s;
 }

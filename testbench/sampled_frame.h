@@ -5,6 +5,8 @@
 #pragma once
 
 #include "kernels/reference_tracer.h"
+#include "testbench/pipeline.h"
+#include "testbench/run_config.h"
 #include "testbench/sample_plan.h"
 #include "testbench/sample_regression.h"
 #include "testbench/simulate.h"
@@ -21,13 +23,20 @@ struct SampledEstimates {
   SampleEstimate primary, shadow, total;
   const char* primary_estimator = "expansion";  // or "regression"
   const char* shadow_estimator = "expansion";
+  // Per measured unit, each phase's weighted residual its interval comes from (0 for a unit
+  // always measured): two runs of the same plan pair them (culling's reduction).
+  std::vector<double> primary_residuals, shadow_residuals;
 };
 
-// The functional pass's auxiliaries of the primary phase per unit of `plan` (the frame's primary
-// rays walked by `tracer` on the machine `cfg`).
-UnitAuxiliaries primary_pass(const SamplePlan& plan, const ReferenceTracer& tracer,
-                             const Camera& camera, int width, int height,
-                             const model::AcceleratorConfig& cfg);
+// The functional pass's auxiliaries per unit of `plan`, each phase's (testbench/
+// sampling_features.h): the primary phase's replay cycles, IST reads and L1 misses (own and in
+// flight); the shadow phase's replay cycles. And the pass's host time.
+struct SampledAuxiliaries {
+  UnitAuxiliaries primary, shadow;
+  double seconds = 0;
+};
+SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
+                                   const RunConfig& c);
 
 // The functional warming of a sampled frame (model::WarmSource): before a window, the reads of the
 // `rays` primary rays issued before it, walked by the reference tracer in issue order, each for
@@ -36,10 +45,10 @@ model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera
                                   int height, const model::AcceleratorConfig& cfg, uint64_t rays);
 
 // The estimates from the frame the model simulated over `plan.windows`: each phase by the
-// regression on its auxiliaries when given (null: the expansion), the frame as their sum, its
-// interval the sum of theirs (an upper bound whatever the phases' correlation).
+// regression on its auxiliaries when given (null: the expansion), the frame as their sum, with
+// the interval of the sum (from each drawn unit's residuals of both phases together).
 SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r,
-                                  const UnitAuxiliaries* primary_aux = nullptr);
+                                  const SampledAuxiliaries* aux = nullptr);
 
 // The frame's figures as a sampled run reports them: the estimated cycles, and the rays, hits,
 // culled rays and pixels of the reference tracer's frame `ref` (traced with the run's settings).
@@ -49,7 +58,8 @@ void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResu
 nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
                            const SampledEstimates& e, uint64_t warming_rays);
 
-// sample.csv: unit,first_ray,weight,certain,primary_cycles,shadow_cycles per measured unit.
+// sample.csv: unit,first_ray,weight,certain,primary_cycles,shadow_cycles,primary_residual,
+// shadow_residual per measured unit.
 std::string sample_csv(const SamplePlan& plan, const SampledEstimates& e);
 
 }  // namespace rtsim

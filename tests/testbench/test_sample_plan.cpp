@@ -123,7 +123,10 @@ TEST(SampleRatio, PairedUnitsGiveTheRatioWithANarrowIntervalThatHoldsIt) {
     const double truth = std::accumulate(on.begin(), on.end(), 0.0) /
                          std::accumulate(off.y.begin(), off.y.end(), 0.0);
     const SamplePlan plan = plan_sample(1000 * 64, settings(0.05, 64, 0, t + 1));
-    const RatioEstimate r = estimate_ratio(plan.units, measured(plan, on), measured(plan, off.y));
+    std::vector<double> a, b;
+    const double t_on = estimate_plan(plan, measured(plan, on), &a).total;
+    const double t_off = estimate_plan(plan, measured(plan, off.y), &b).total;
+    const RatioEstimate r = paired_ratio(plan, t_on, t_off, a, b, a.size() - 1);
     held += std::abs(r.ratio - truth) <= r.ci95;
     width += r.ci95;
   }
