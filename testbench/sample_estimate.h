@@ -14,6 +14,7 @@ struct SampleEstimate {
   double total = 0;  // the estimate: population x the sample's mean
   double ci95 = 0;   // half-width of its 95% confidence interval (0 when every unit was taken)
   uint64_t population = 0, sampled = 0;
+  uint64_t parameters = 1;  // fitted from the sample: the mean, or a regression's coefficients
   // The interval as a share of the estimate, in percent.
   double ci95_pct() const { return total > 0 ? 100.0 * ci95 / total : 0.0; }
 };

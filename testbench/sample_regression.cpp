@@ -134,6 +134,7 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
     const double leverage = w * dot(a, inv_a);
     residuals.push_back(w * r / std::max(1.0 - leverage, 0.05));
   }
+  e.parameters = p;
   e.ci95 = sum_interval(plan, residuals, n - p);
   if (residuals_out) *residuals_out = std::move(residuals);
   return e;

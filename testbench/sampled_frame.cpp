@@ -70,7 +70,9 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
   if (regression) {
     e.primary = estimate_greg(plan, e.primary_units, aux->primary, &rp);
     e.shadow = estimate_greg(plan, e.shadow_units, aux->shadow, &rs);
-    e.primary_estimator = e.shadow_estimator = "regression";
+    // Too few drawn units for a fit: the expansion (one parameter, the mean).
+    e.primary_estimator = e.primary.parameters > 1 ? "regression" : "expansion";
+    e.shadow_estimator = e.shadow.parameters > 1 ? "regression" : "expansion";
   } else {
     e.primary = estimate_plan(plan, e.primary_units, &rp);
     e.shadow = estimate_plan(plan, e.shadow_units, &rs);
@@ -79,11 +81,11 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
   e.total.total = e.primary.total + e.shadow.total;
   e.primary_residuals = by_unit(plan, rp);
   e.shadow_residuals = by_unit(plan, rs);
-  if (!rp.empty() && rp.size() == rs.size()) {
+  const uint64_t p = std::max(e.primary.parameters, e.shadow.parameters);
+  if (!rp.empty() && rp.size() == rs.size() && rp.size() > p) {
     for (size_t i = 0; i < rp.size(); ++i) rp[i] += rs[i];
-    const uint64_t p = regression ? aux->primary.features + 1 : 1;
-    e.total.ci95 = rp.size() > p ? sum_interval(plan, rp, rp.size() - p) : e.total.ci95;
-  } else {  // a phase fell back to the expansion: the upper bound
+    e.total.ci95 = sum_interval(plan, rp, rp.size() - p);
+  } else {  // too few drawn units to pair the phases' residuals: the upper bound
     e.total.ci95 = e.primary.ci95 + e.shadow.ci95;
   }
   return e;

@@ -166,7 +166,8 @@ void read_metrics_and_reports(YamlMap& top, SweepSpec& s) {
       if (!is_sweep_metric(m))
         top.fail("metrics", fmt::format("'{}': expected a metric name (configs/README.md) or a "
                                         "dotted path into report.json (cycles_*, frame_ms.*, "
-                                        "rays.*, per_light.*, lvb.*, kdtree.*, scene.*, stats.*)",
+                                        "rays.*, per_light.*, lvb.*, kdtree.*, scene.*, stats.*, "
+                                        "sample.*)",
                                         m));
   } else {
     s.metrics = kDefaultSweepMetrics;

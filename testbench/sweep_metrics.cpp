@@ -104,10 +104,12 @@ bool is_sweep_metric(const std::string& name) {
   }();
   if (std::find(named.begin(), named.end(), name) != named.end()) return true;
   const std::string head = name.substr(0, name.find('.'));
-  for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz"})
+  // A sampled run's estimates carry their 95% half-intervals (docs/sampling.md).
+  for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz",
+                          "cycles_total_ci95", "cycles_primary_ci95", "cycles_shadow_ci95"})
     if (name == key) return true;
   for (const char* key :
-       {"frame_ms", "rays", "per_light", "lvb", "kdtree", "bvh", "scene", "stats"})
+       {"frame_ms", "rays", "per_light", "lvb", "kdtree", "bvh", "scene", "stats", "sample"})
     if (head == key && name.size() > head.size() + 1) return true;
   return false;
 }

@@ -2,6 +2,8 @@
 // run reports every cycle figure with its interval; bad sample settings are input errors.
 #include "tests/testbench/cli_util.h"
 
+#include <sstream>
+
 namespace rtsim::cli_test {
 namespace {
 
@@ -57,6 +59,35 @@ TEST(CliSample, FractionOneIsTheFullRunAndASampleCarriesItsIntervals) {
       dir / "again",
       "--width 128 --height 72 --sample 0.2 --set run.sample_unit=512 --set run.sample_warmup=512");
   EXPECT_EQ(without_host(again), without_host(s));
+  fs::remove_all(dir);
+}
+
+TEST(CliSample, ASampledSweepListsEachEstimateWithItsInterval) {
+  const fs::path dir = test::temp_dir("cli_sample_sweep");
+  write(dir / "sweep.yaml",
+        "name: sampled\nscenes: [" + kCity + "]\nhw: " + kHw +
+            "\nset: {scene.resolution: [128, 72], run.sample: 0.2, run.sample_unit: 512, "
+            "run.sample_warmup: 512}\naxes:\n  hw.trv.l1.size_kb: [4, 16]\nmetrics: "
+            "[cycles_total, cycles_total_ci95, sample.cycles_total.ci95_pct]\n");
+  const RunResult r = run("sweep " + (dir / "sweep.yaml").string() + " --out " +
+                          (dir / "out").string() + " --no-plots");
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::istringstream csv(slurp(dir / "out" / "results.csv"));
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_NE(header.find("cycles_total_ci95"), std::string::npos) << header;
+  // The column's place: count the commas before it in the header.
+  const auto column =
+      std::count(header.begin(), header.begin() + long(header.find("ci95_pct")), ',');
+  int rows = 0;
+  while (std::getline(csv, row)) {
+    ++rows;
+    std::istringstream fields(row);
+    std::string field;
+    for (long k = 0; k <= column; ++k) std::getline(fields, field, ',');
+    EXPECT_GT(std::stod(field), 0.0) << row;  // an interval, not null
+  }
+  EXPECT_EQ(rows, 2);
   fs::remove_all(dir);
 }
 
