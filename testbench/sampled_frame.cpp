@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rtsim {
@@ -92,8 +93,9 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
 }
 
 void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResult& ref) {
-  r.cycles_primary = uint64_t(std::llround(e.primary.total));
-  r.cycles_shadow = uint64_t(std::llround(e.shadow.total));
+  // A regression's total could come out negative on a degenerate sample: no time is 0 cycles.
+  r.cycles_primary = uint64_t(std::llround(std::max(0.0, e.primary.total)));
+  r.cycles_shadow = uint64_t(std::llround(std::max(0.0, e.shadow.total)));
   r.cycles_total = r.cycles_primary + r.cycles_shadow;
   r.primary_rays = ref.stats.primary_rays;
   r.primary_hits = ref.stats.primary_hits;

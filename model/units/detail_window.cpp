@@ -1,5 +1,7 @@
 #include "model/units/detail_window.h"
 
+#include <algorithm>
+
 namespace rtsim::model {
 
 std::string check_windows(const std::vector<DetailWindow>& windows, uint64_t total) {
@@ -25,7 +27,9 @@ WindowBatches window_batches(const Clock& clock, const DetailWindow& window, uin
   const size_t batches = (window.end - window.begin + kBatchRays - 1) / kBatchRays;
   out.cycles.reserve(batches);
   for (size_t b = 0; b < batches && b < starts.size(); ++b) {
-    const Tick next = b + 1 < starts.size() ? starts[b + 1] : last_end;
+    // The scan may reach its last batch after the last retirement (records with no ray to emit):
+    // that batch then takes no time.
+    const Tick next = std::max(b + 1 < starts.size() ? starts[b + 1] : last_end, starts[b]);
     if (b + 1 == starts.size() && window.end < total) break;  // never reached the next batch
     out.cycles.push_back(clock.to_cycles(clock.edge_at_or_after(next)) -
                          clock.to_cycles(starts[b]));

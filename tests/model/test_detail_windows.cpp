@@ -94,6 +94,16 @@ TEST(DetailWindows, WindowsOffBatchesOrOutOfOrderAreRefused) {
     EXPECT_NE(check_windows(bad, 3000), "") << bad[0].begin << " " << bad[0].end;
 }
 
+TEST(DetailWindows, ABatchTheScanReachesAfterTheLastRetirementTakesNoTime) {
+  // Two batches of a window that ends the phase; the scan reached the second at 5 ns, after the
+  // last retirement at 3 ns (its records hold no ray to emit).
+  const Clock clock(1.0);
+  const WindowBatches w = window_batches(clock, {0, 128}, 128, {0, 5000}, 3000);
+  ASSERT_EQ(w.cycles.size(), 2u);
+  EXPECT_EQ(w.cycles[0], 5u);
+  EXPECT_EQ(w.cycles[1], 0u);
+}
+
 TEST(DetailWindows, ASampledFrameWithReflectionsIsAConfigError) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
   const test::CityFrame city(kW, kH);
