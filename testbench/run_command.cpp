@@ -286,6 +286,28 @@ void print_summary(const RunConfig& c, const PreparedScene& p, const SimulatedFr
       sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out, plots ? ", plots" : "");
 }
 
+// --check's line: a sampled frame's compares the pixels its windows simulated.
+void print_check(const nlohmann::json& check) {
+  if (!check.contains("image_identical")) {
+    fmt::print("reference check: {} of the {} pixels simulated differ\n",
+               check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>());
+    return;
+  }
+  fmt::print("reference check: {} of {} pixels differ, image {}, culled counts {}\n",
+             check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>(),
+             check["image_identical"].get<bool>() ? "identical" : "DIFFERENT",
+             check["culled_counts_identical"].get<bool>() ? "identical" : "DIFFERENT");
+}
+
+// A sampled figure never goes without its interval.
+void print_sampled(const SimulatedFrame& r, const SamplePlan& plan, const SampledEstimates& e) {
+  fmt::print(
+      "  sampled: {} cycles ± {:.0f} ({:.2f}%, 95%), shadow phase ± {:.0f}; {} of {} units of {} "
+      "rays in detail (sample.csv)\n",
+      r.cycles_total, e.total.ci95, e.total.ci95_pct(), e.shadow.ci95, plan.units.size(),
+      plan.population, plan.unit);
+}
+
 }  // namespace
 
 int run_model(const RunArgs& args) {
@@ -356,16 +378,10 @@ int run_model(const RunArgs& args) {
   if (c.run.plots) plots_note = make_plots("run", out.string());
   if (!args.quiet)
     print_summary(c, p, r, host.simulate, out.string(), c.run.plots && plots_note.empty());
+  if (!args.quiet && plan) print_sampled(r, *plan, *estimates);
   if (!plots_note.empty())
     fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
-  if (c.run.check && plan)
-    fmt::print("reference check: {} of the {} pixels simulated differ\n",
-               check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>());
-  else if (c.run.check)
-    fmt::print("reference check: {} of {} pixels differ, image {}, culled counts {}\n",
-               check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>(),
-               check["image_identical"].get<bool>() ? "identical" : "DIFFERENT",
-               check["culled_counts_identical"].get<bool>() ? "identical" : "DIFFERENT");
+  if (c.run.check) print_check(check);
   return mismatches ? 1 : 0;
 }
 
