@@ -10,6 +10,7 @@
 #include "model/accelerator.h"
 #include "testbench/sampling_features.h"
 #include "tests/test_util.h"
+#include "tests/testbench/sampling_counts.h"
 
 #include <gtest/gtest.h>
 
@@ -35,9 +36,7 @@ struct PrimaryOnlyCity {
   std::unique_ptr<MemoryImage> image;
 };
 
-uint64_t stat(const nlohmann::json& stats, const char* type, const char* group, const char* name) {
-  return uint64_t(stats[type][group][name].get<double>());
-}
+using test::stat;
 
 TEST(TagArray, EvictsTheLeastRecentlyUsedLineOfItsSet) {
   TagArray c(4 * 64, 2, 64);  // two sets of two ways
@@ -79,20 +78,10 @@ TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
   std::printf("cycles: replay %llu, model %llu\n", (unsigned long long)replay_cycles,
               (unsigned long long)r.cycles_primary);
   EXPECT_NEAR(double(replay_cycles), double(r.cycles_primary), 0.3 * r.cycles_primary);
-  const auto at = [](const std::array<uint64_t, kAccessUnits>& a, AccessUnit u) {
-    return a[size_t(u)];
-  };
+  const auto at = test::count;
   const nlohmann::json& s = r.stats;
   EXPECT_GT(at(c.reads, AccessUnit::kIst), 0u);
-  // TRV: a read per node fetched, leaves included, one line each.
-  EXPECT_EQ(at(c.reads, AccessUnit::kTraversal), stat(s, "trv", "total", "node_fetches"));
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kTraversal), stat(s, "trv", "l1", "accesses"));
-  // LIST: a leaf record and a primitive list per leaf; the lines of both.
-  EXPECT_EQ(at(c.reads, AccessUnit::kList), 2 * stat(s, "list", "total", "leaves"));
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kList), stat(s, "list", "l1", "accesses"));
-  // IST: a triangle per test (across two lines for half of them).
-  EXPECT_EQ(at(c.reads, AccessUnit::kIst), stat(s, "ist", "total", "tests"));
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kIst), stat(s, "ist", "l1", "accesses"));
+  test::expect_walk_reads(c, s);
   // Shading: the hit's triangle and its material.
   EXPECT_EQ(at(c.reads, AccessUnit::kShading), 2 * r.primary_hits);
   EXPECT_EQ(at(c.l1_lines, AccessUnit::kShading), stat(s, "shading", "l1", "accesses"));

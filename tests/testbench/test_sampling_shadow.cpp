@@ -9,6 +9,7 @@
 #include "testbench/pipeline.h"
 #include "testbench/sampling_features.h"
 #include "tests/test_util.h"
+#include "tests/testbench/sampling_counts.h"
 
 #include <gtest/gtest.h>
 
@@ -19,10 +20,6 @@ namespace rtsim {
 namespace {
 
 constexpr int kW = 96, kH = 54;
-
-uint64_t stat(const nlohmann::json& stats, const char* type, const char* group, const char* name) {
-  return uint64_t(stats[type][group][name].get<double>());
-}
 
 TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
   sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
@@ -60,18 +57,11 @@ TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
               (unsigned long long)r.cycles_shadow);
   EXPECT_NEAR(double(replay), double(r.cycles_shadow), 0.35 * r.cycles_shadow);
   const nlohmann::json& s = r.stats;
-  const auto at = [](const std::array<uint64_t, kAccessUnits>& a, AccessUnit u) {
-    return a[size_t(u)];
-  };
-  EXPECT_EQ(at(c.reads, AccessUnit::kTraversal), stat(s, "trv", "total", "node_fetches"));
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kTraversal), stat(s, "trv", "l1", "accesses"));
-  EXPECT_EQ(at(c.reads, AccessUnit::kList), 2 * stat(s, "list", "total", "leaves"));
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kList), stat(s, "list", "l1", "accesses"));
-  EXPECT_EQ(at(c.reads, AccessUnit::kIst), stat(s, "ist", "total", "tests"));
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kIst), stat(s, "ist", "l1", "accesses"));
+  const auto at = test::count;
+  test::expect_walk_reads(c, s);
   // Shading's L1: the hits' triangles and materials, and the culling unit's light reads (the
   // model reads a light's record again after a miss fills it: a few more).
-  const uint64_t shading = stat(s, "shading", "l1", "accesses");
+  const uint64_t shading = test::stat(s, "shading", "l1", "accesses");
   std::printf("shading L1 lines: pass %llu, model %llu\n",
               (unsigned long long)at(c.l1_lines, AccessUnit::kShading),
               (unsigned long long)shading);
