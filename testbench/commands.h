@@ -54,6 +54,9 @@ struct RunArgs {
   std::string trace_file, mem_trace_file, trace_window;
 };
 int run_model(const RunArgs& args);
+// rtsim run with run.sample_grow: each attempt a sampled run in a child process
+// (testbench/sample_grow_command.cpp); `config` is the run's config.json.
+int run_grown(const RunArgs& args, const RunConfig& c, const nlohmann::json& config);
 
 // rtsim reproduce: the paper's experiments as one sweep, and a report beside the paper's tables.
 // With `ablation`, the contention ablation instead (configs/sweeps/ablation.yaml into OUT/ablation,

@@ -21,6 +21,7 @@
 #include <sys/resource.h>
 #include <chrono>
 #include <filesystem>
+#include <future>
 #include <optional>
 
 namespace rtsim {
@@ -259,14 +260,15 @@ SimulatedFrame simulate_run(const RunConfig& c, const PreparedScene& p,
 }
 
 // A sampled run's estimates in report.json, and sample.csv beside it.
-void add_sampled(nlohmann::json& report, const RunConfig& c, const SamplePlan& plan,
-                 const SampledEstimates& e, int width, const std::filesystem::path& out) {
+void add_sampled(nlohmann::json& report, const RunConfig& c, const SampledRun& s, int width,
+                 const std::filesystem::path& out) {
+  const SampledEstimates& e = s.estimates;
   report["sampled"] = true;
   report["cycles_total_ci95"] = e.total.ci95;
   report["cycles_primary_ci95"] = e.primary.ci95;
   report["cycles_shadow_ci95"] = e.shadow.ci95;
-  report["sample"] = sample_json(c.run.sample, plan, e, warming_rays(c, width));
-  write_file_atomic((out / output::kSampleCsv).string(), sample_csv(plan, e));
+  report["sample"] = sample_json(s, warming_rays(c, width));
+  write_file_atomic((out / output::kSampleCsv).string(), sample_csv(s.plan, e));
 }
 
 void print_summary(const RunConfig& c, const PreparedScene& p, const SimulatedFrame& r,
@@ -300,7 +302,9 @@ void print_check(const nlohmann::json& check) {
 }
 
 // A sampled figure never goes without its interval.
-void print_sampled(const SimulatedFrame& r, const SamplePlan& plan, const SampledEstimates& e) {
+void print_sampled(const SimulatedFrame& r, const SampledRun& s) {
+  const SamplePlan& plan = s.plan;
+  const SampledEstimates& e = s.estimates;
   fmt::print(
       "  sampled: {} cycles ± {:.0f} ({:.2f}%, 95%), shadow phase ± {:.0f}; {} of {} units of {} "
       "rays in detail (sample.csv)\n",
@@ -308,11 +312,47 @@ void print_sampled(const SimulatedFrame& r, const SamplePlan& plan, const Sample
       plan.population, plan.unit);
 }
 
+// A frame whose interval is wider than run.sample_target_pct says so, and what would meet it.
+void warn_target(const SampledRun& s) {
+  if (s.target_met()) return;
+  fmt::print(stderr,
+             "rtsim: warning: run.sample_target_pct: the frame's 95% interval is {:.2f}%, wider "
+             "than the target {:g}% at a fraction of {:g}; a fraction of about {:g} would meet it "
+             "(run.sample_grow: true runs it)\n",
+             s.estimates.total.ci95_pct(), s.settings.target_pct, s.settings.fraction,
+             s.fraction_needed());
+}
+
+// The model's frame: whole, or sampled (with the reference tracer's frame, which a sampled frame
+// reports its pixels and counts from, traced while the functional pass runs).
+struct ModelFrame {
+  SimulatedFrame frame;
+  std::optional<SampledRun> sampled;
+  std::optional<TraceResult> ref;
+};
+ModelFrame simulate_model_frame(const RunConfig& c, const PreparedScene& p,
+                                const model::SimulationHooks& hooks, RunHost& host) {
+  ModelFrame m;
+  const auto t0 = std::chrono::steady_clock::now();
+  if (c.run.sample.fraction == 0) {
+    m.frame = simulate_run(c, p, hooks, nullptr);
+    host.simulate = seconds_since(t0);
+    return m;
+  }
+  m.sampled = run_sampled(
+      c.run.sample, p, c, [&](const SamplePlan& plan) { return simulate_run(c, p, hooks, &plan); },
+      [&] { m.ref = reference_frame(p, c.run); });
+  m.frame = std::move(m.sampled->frame);
+  host.simulate = m.sampled->simulate_seconds;
+  return m;
+}
+
 }  // namespace
 
 int run_model(const RunArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   RunConfig c = resolve_run_config(args.sources);
+  if (c.run.sample.grow) return run_grown(args, c, run_config_json(c));
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
   // ran.
@@ -330,32 +370,18 @@ int run_model(const RunArgs& args) {
   ProgressLine progress(p.scene.name, !args.quiet);
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
   hooks.tlm_checks = c.run.tlm_checks;
-  const auto t_sim = std::chrono::steady_clock::now();
   doing.emplace("simulating the frame");
-  const std::optional<SamplePlan> plan =
-      c.run.sample.fraction > 0
-          ? std::optional(plan_sample(uint64_t(p.scene.width) * p.scene.height, c.run.sample))
-          : std::nullopt;
-  SimulatedFrame r = simulate_run(c, p, hooks, plan ? &*plan : nullptr);
-  host.simulate = seconds_since(t_sim);
+  ModelFrame m = simulate_model_frame(c, p, hooks, host);
   progress.finish();
 
   doing.emplace("checking the frame and writing the outputs");
-  // A sampled frame's pixels and counts are the reference tracer's (sampled_frame.h).
-  std::optional<TraceResult> ref;
-  if (plan || c.run.check) ref = reference_frame(p, c.run);
+  const SamplePlan* plan = m.sampled ? &m.sampled->plan : nullptr;
+  SimulatedFrame& r = m.frame;
+  if (c.run.check && !m.ref) m.ref = reference_frame(p, c.run);
   nlohmann::json check = nullptr;
   uint64_t mismatches = 0;
-  if (c.run.check)
-    check = reference_check(*ref, r, simulated_pixels(c, p, plan ? &*plan : nullptr), mismatches);
-  std::optional<SampledEstimates> estimates;
-  double pass_seconds = 0;
-  if (plan) {
-    const SampledAuxiliaries aux = functional_pass(*plan, p, c);
-    pass_seconds = aux.seconds;
-    estimates = estimate_sampled(*plan, r, &aux);
-    apply_sampled(r, *estimates, *ref);
-  }
+  if (c.run.check) check = reference_check(*m.ref, r, simulated_pixels(c, p, plan), mismatches);
+  if (m.sampled) apply_sampled(r, m.sampled->estimates, *m.ref);
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   nlohmann::json structure = structure_json(p);
@@ -369,16 +395,17 @@ int run_model(const RunArgs& args) {
   host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
   nlohmann::json report =
       run_report_json(scene_json(p), structure, config, lvb_json, figures_of(r), check, host);
-  if (plan) {
-    add_sampled(report, c, *plan, *estimates, p.scene.width, out);
-    report["host"]["seconds"]["functional_pass"] = pass_seconds;
+  if (m.sampled) {
+    add_sampled(report, c, *m.sampled, p.scene.width, out);
+    report["host"]["seconds"]["functional_pass"] = m.sampled->pass_seconds;
   }
-  write_run_outputs(out, p, r, plan ? pixel_planes(*ref) : pixel_planes(r), config, report);
+  write_run_outputs(out, p, r, m.sampled ? pixel_planes(*m.ref) : pixel_planes(r), config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());
   if (!args.quiet)
     print_summary(c, p, r, host.simulate, out.string(), c.run.plots && plots_note.empty());
-  if (!args.quiet && plan) print_sampled(r, *plan, *estimates);
+  if (!args.quiet && m.sampled) print_sampled(r, *m.sampled);
+  if (m.sampled) warn_target(*m.sampled);
   if (!plots_note.empty())
     fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
   if (c.run.check) print_check(check);

@@ -60,6 +60,11 @@ void read_sample_settings(YamlMap& m, SampleSettings& s) {
   if (s.warmup % model::kBatchRays) m.fail("sample_warmup", "expected a multiple of 64 rays");
   s.warming_rows = m.get_in_range<double>("sample_warming", s.warming_rows, 0.0, 64.0);
   s.seed = m.get<uint64_t>("sample_seed", s.seed);
+  s.target_pct = m.get_in_range<double>("sample_target_pct", s.target_pct, 0.0, 100.0);
+  s.grow = m.get<bool>("sample_grow", s.grow);
+  if (s.fraction == 0 && (s.target_pct > 0 || s.grow))
+    m.fail(s.grow ? "sample_grow" : "sample_target_pct", "needs a sampled frame (run.sample)");
+  if (s.grow && s.target_pct == 0) m.fail("sample_grow", "needs run.sample_target_pct");
 }
 
 RunSettings read_run_settings(YamlMap m) {
@@ -214,6 +219,8 @@ nlohmann::json run_settings_json(const RunSettings& r) {
     j["sample_warmup"] = r.sample.warmup;
     j["sample_warming"] = r.sample.warming_rows;
     j["sample_seed"] = r.sample.seed;
+    if (r.sample.target_pct > 0) j["sample_target_pct"] = r.sample.target_pct;
+    if (r.sample.grow) j["sample_grow"] = true;
   }
   return j;
 }

@@ -22,6 +22,11 @@ struct SampleSettings {
   // functionally: the rays of the next row reuse a row's lines (docs/sampling.md); 0: none.
   double warming_rows = 1.0;
   uint64_t seed = 1;
+  // The frame's 95% half-interval asked for, in % of its cycles; 0: none. A wider interval is
+  // reported (and warned about); with `grow`, the frame runs again with the fraction the interval
+  // asks for, up to kSampleAttempts times in all (testbench/sampled_frame.h).
+  double target_pct = 0;
+  bool grow = false;
 };
 
 struct MeasuredUnit {

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <future>
 
 namespace rtsim {
 
@@ -92,6 +94,38 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
   return e;
 }
 
+double fraction_for_target(double fraction, double ci95_pct, double target_pct) {
+  const double wanted = fraction * std::pow(ci95_pct / target_pct, 2) * 1.1;
+  const long k = std::lround(1.0 / fraction);
+  const long k_wanted = std::min(k - 1, std::lround(std::floor(1.0 / std::min(1.0, wanted))));
+  return k_wanted <= 1 ? 1.0 : 1.0 / double(k_wanted);
+}
+
+double SampledRun::fraction_needed() const {
+  return target_met() ? 0.0
+                      : fraction_for_target(settings.fraction, estimates.total.ci95_pct(),
+                                            settings.target_pct);
+}
+
+SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
+                       const WindowSimulation& simulate,
+                       const std::function<void()>& while_passing) {
+  SampledRun run;
+  run.settings = settings;
+  run.plan = plan_sample(uint64_t(p.scene.width) * p.scene.height, settings);
+  std::future<SampledAuxiliaries> pass =
+      std::async(std::launch::async, [&run, &p, &c] { return functional_pass(run.plan, p, c); });
+  const auto t0 = std::chrono::steady_clock::now();
+  run.frame = simulate(run.plan);
+  run.simulate_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (while_passing) while_passing();
+  const SampledAuxiliaries aux = pass.get();
+  run.pass_seconds = aux.seconds;
+  run.estimates = estimate_sampled(run.plan, run.frame, &aux);
+  return run;
+}
+
 void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResult& ref) {
   // A regression's total could come out negative on a degenerate sample: no time is 0 cycles.
   r.cycles_primary = uint64_t(std::llround(std::max(0.0, e.primary.total)));
@@ -108,28 +142,37 @@ void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResu
   r.rgb = ref.rgb;
 }
 
-nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
-                           const SampledEstimates& e, uint64_t warming_rays) {
+nlohmann::json sample_json(const SampledRun& run, uint64_t warming_rays) {
+  const SampleSettings& s = run.settings;
+  const SamplePlan& plan = run.plan;
+  const SampledEstimates& e = run.estimates;
   auto est = [](const SampleEstimate& x) {
     return nlohmann::json{{"estimate", x.total}, {"ci95", x.ci95}, {"ci95_pct", x.ci95_pct()}};
   };
   uint64_t detailed = 0;
   for (const model::DetailWindow& w : plan.windows) detailed += w.end - w.begin;
-  return {{"fraction", s.fraction},
-          {"estimator", {{"primary", e.primary_estimator}, {"shadow", e.shadow_estimator}}},
-          {"unit_rays", s.unit},
-          {"warmup_rays", s.warmup},
-          {"warming_rows", s.warming_rows},
-          {"warming_rays", warming_rays},
-          {"seed", s.seed},
-          {"units", plan.population},
-          {"measured_units", plan.units.size()},
-          {"windows", plan.windows.size()},
-          {"detailed_rays", detailed},
-          {"detailed_share", plan.rays ? double(detailed) / double(plan.rays) : 0.0},
-          {"cycles_primary", est(e.primary)},
-          {"cycles_shadow", est(e.shadow)},
-          {"cycles_total", est(e.total)}};
+  nlohmann::json j = {
+      {"fraction", s.fraction},
+      {"estimator", {{"primary", e.primary_estimator}, {"shadow", e.shadow_estimator}}},
+      {"unit_rays", s.unit},
+      {"warmup_rays", s.warmup},
+      {"warming_rows", s.warming_rows},
+      {"warming_rays", warming_rays},
+      {"seed", s.seed},
+      {"units", plan.population},
+      {"measured_units", plan.units.size()},
+      {"windows", plan.windows.size()},
+      {"detailed_rays", detailed},
+      {"detailed_share", plan.rays ? double(detailed) / double(plan.rays) : 0.0},
+      {"cycles_primary", est(e.primary)},
+      {"cycles_shadow", est(e.shadow)},
+      {"cycles_total", est(e.total)}};
+  if (s.target_pct > 0) {
+    j["target_pct"] = s.target_pct;
+    j["target_met"] = run.target_met();
+    if (!run.target_met()) j["fraction_needed"] = run.fraction_needed();
+  }
+  return j;
 }
 
 std::string sample_csv(const SamplePlan& plan, const SampledEstimates& e) {

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -50,13 +51,40 @@ model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera
 SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& r,
                                   const SampledAuxiliaries* aux = nullptr);
 
+// A sampled frame: its plan's windows simulated on the model (`simulate`) while the functional
+// pass runs on a second thread (the two only read the prepared scene), then the estimates.
+// `while_passing` (optional) runs on the calling thread after the simulation, before it waits for
+// the pass. One per process: SystemC elaborates once (run.sample_grow's further attempts run as
+// child processes, testbench/run_command.cpp).
+struct SampledRun {
+  SampleSettings settings;
+  SamplePlan plan;
+  SimulatedFrame frame;
+  SampledEstimates estimates;
+  double simulate_seconds = 0, pass_seconds = 0;
+  bool target_met() const {
+    return settings.target_pct == 0 || estimates.total.ci95_pct() <= settings.target_pct;
+  }
+  // The fraction the interval asks for to meet the target (fraction_for_target); 0 when met.
+  double fraction_needed() const;
+};
+// run.sample_grow's attempts at most, the first included.
+inline constexpr int kSampleAttempts = 4;
+using WindowSimulation = std::function<SimulatedFrame(const SamplePlan&)>;
+SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
+                       const WindowSimulation& simulate,
+                       const std::function<void()>& while_passing = {});
+
+// The fraction a frame sampled at `fraction` with a 95% half-interval of `ci95_pct` % needs for
+// `target_pct` %, with a tenth to spare, in (fraction, 1]: a stratum at least one unit smaller.
+double fraction_for_target(double fraction, double ci95_pct, double target_pct);
+
 // The frame's figures as a sampled run reports them: the estimated cycles, and the rays, hits,
 // culled rays and pixels of the reference tracer's frame `ref` (traced with the run's settings).
 void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResult& ref);
 
 // report.json's "sample" section: the settings, the plan's size and each estimate's interval.
-nlohmann::json sample_json(const SampleSettings& s, const SamplePlan& plan,
-                           const SampledEstimates& e, uint64_t warming_rays);
+nlohmann::json sample_json(const SampledRun& s, uint64_t warming_rays);
 
 // sample.csv: unit,first_ray,weight,certain,primary_cycles,shadow_cycles,primary_residual,
 // shadow_residual per measured unit.

@@ -1,0 +1,84 @@
+// run.sample_target_pct and run.sample_grow (docs/sampling.md): a sampled frame whose interval is
+// wider than the target says so and what fraction would meet it; with grow it runs again at that
+// fraction (each attempt a child process) until the target is met.
+#include "testbench/sampled_frame.h"
+#include "tests/testbench/cli_util.h"
+
+namespace rtsim::cli_test {
+namespace {
+
+const std::string kCity = (test::source_dir() / "configs/scenes/city.yaml").string();
+const std::string kHw = (test::source_dir() / "configs/hw/tni-paper.yaml").string();
+// The city at 320x180 in 113 units of 512 rays: a tenth measures 14 of them.
+const std::string kSmall =
+    "--width 320 --height 180 --set run.sample_unit=512 --set run.sample_warmup=512 ";
+
+RunResult run_city(const fs::path& out, const std::string& extra) {
+  return run("run " + kCity + " --hw " + kHw + " --no-plots --out " + out.string() + " " + kSmall +
+             extra);
+}
+
+TEST(SampleTarget, TheFractionForATargetGrowsAsTheIntervalsSquare) {
+  // Twice the interval asks for four times the units (a tenth to spare), in whole strata.
+  EXPECT_DOUBLE_EQ(fraction_for_target(0.05, 4.0, 2.0), 1.0 / 4);
+  EXPECT_DOUBLE_EQ(fraction_for_target(0.1, 10.0, 5.0), 1.0 / 2);
+  // Always more than before: a stratum at least one unit smaller.
+  EXPECT_DOUBLE_EQ(fraction_for_target(0.1, 2.01, 2.0), 1.0 / 9);
+  // Beyond every unit: the whole frame.
+  EXPECT_DOUBLE_EQ(fraction_for_target(0.2, 20.0, 1.0), 1.0);
+}
+
+TEST(SampleTarget, AnUnmetTargetIsReportedAndGrowMeetsIt) {
+  const fs::path dir = test::temp_dir("cli_sample_target");
+  // A 1% target that a tenth of the units does not reach: a warning naming the key and the
+  // fraction that would, and the same estimate as without a target.
+  const RunResult plain = run_city(dir / "plain", "--sample 0.1 --quiet");
+  ASSERT_EQ(plain.code, 0) << plain.err;
+  const RunResult unmet =
+      run_city(dir / "unmet", "--sample 0.1 --quiet --set run.sample_target_pct=1");
+  ASSERT_EQ(unmet.code, 0) << unmet.err;
+  EXPECT_NE(unmet.err.find("run.sample_target_pct"), std::string::npos) << unmet.err;
+  const nlohmann::json u = nlohmann::json::parse(slurp(dir / "unmet" / "report.json"));
+  const nlohmann::json p = nlohmann::json::parse(slurp(dir / "plain" / "report.json"));
+  EXPECT_EQ(u["cycles_total"], p["cycles_total"]);
+  EXPECT_EQ(u["sample"]["target_met"], false);
+  EXPECT_GT(u["sample"]["cycles_total"]["ci95_pct"].get<double>(), 1.0);
+  EXPECT_GT(u["sample"]["fraction_needed"].get<double>(), 0.1);
+  EXPECT_FALSE(p["sample"].contains("target_met"));
+
+  // With grow, a 5% target: the run goes on until its interval is within it, and lists each
+  // attempt; config.json keeps the settings as asked.
+  const RunResult grown = run_city(
+      dir / "grown", "--sample 0.1 --set run.sample_target_pct=5 --set run.sample_grow=true");
+  ASSERT_EQ(grown.code, 0) << grown.err;
+  EXPECT_NE(grown.out.find("grown over"), std::string::npos) << grown.out;
+  const nlohmann::json g = nlohmann::json::parse(slurp(dir / "grown" / "report.json"));
+  const nlohmann::json& attempts = g["sample"]["attempts"];
+  ASSERT_GE(attempts.size(), 2u);
+  EXPECT_EQ(attempts[0]["ci95_pct"], u["sample"]["cycles_total"]["ci95_pct"]);
+  for (size_t k = 1; k < attempts.size(); ++k)
+    EXPECT_GT(attempts[k]["fraction"].get<double>(), attempts[k - 1]["fraction"].get<double>());
+  EXPECT_EQ(g["sample"]["target_met"], true);
+  EXPECT_LE(g["sample"]["cycles_total"]["ci95_pct"].get<double>(), 5.0);
+  EXPECT_EQ(g["sample"]["fraction"], attempts.back()["fraction"]);
+  const nlohmann::json config = nlohmann::json::parse(slurp(dir / "grown" / "config.json"));
+  EXPECT_EQ(config["run"]["sample"], 0.1);
+  EXPECT_EQ(config["run"]["sample_grow"], true);
+  EXPECT_FALSE(fs::exists(dir / "grown" / ".sample-attempts"));
+  EXPECT_TRUE(fs::exists(dir / "grown" / "sample.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(SampleTarget, BadTargetsAreNamed) {
+  const std::string base = "run " + kCity + " --hw " + kHw + " --quiet --out /tmp/rtsim_bad ";
+  expect_input_error(base + "--set run.sample_target_pct=2", {"sample_target_pct", "run.sample"});
+  expect_input_error(base + "--sample 0.1 --set run.sample_target_pct=-1",
+                     {"sample_target_pct", "[0, 100]"});
+  expect_input_error(base + "--sample 0.1 --set run.sample_grow=true",
+                     {"sample_grow", "sample_target_pct"});
+  expect_input_error(base + "--sample 0.1 --set run.sample_grow=maybe",
+                     {"sample_grow", "expected"});
+}
+
+}  // namespace
+}  // namespace rtsim::cli_test
