@@ -284,3 +284,90 @@ def integration_table(run_dir):
             f"build/platform_example {scene}",
         )
     return "\n".join(out)
+
+
+# docs/sampling.md's validation (issue 38): the paper's runs in full (RUN/full) and sampled with
+# several seeds (RUN/s1, RUN/s2, ...), each a `rtsim reproduce` directory with the same points.
+def point_reports(reproduce_dir):
+    out = {}
+    points = os.path.join(reproduce_dir, "points")
+    for p in sorted(os.listdir(points)):
+        path = os.path.join(points, p, "report.json")
+        if not os.path.exists(path):
+            continue
+        with open(path) as f:
+            r = json.load(f)
+        with open(os.path.join(points, p, "row.json")) as f:
+            variant = json.load(f).get("variant", "")
+        out[(r["scene"]["name"], variant)] = r
+    return out
+
+
+def sampled_cell(full, s, key):
+    """The error of sampled report `s`'s `key` against the full run's, in %, and whether its 95%
+    interval holds the full figure."""
+    truth, est, ci = float(full[key]), float(s[key]), float(s[key + "_ci95"])
+    return 100 * (est / truth - 1), 100 * ci / truth, abs(est - truth) <= ci
+
+
+def sampling_table(run_dir):
+    full = point_reports(os.path.join(run_dir, "full"))
+    seeds = sorted(d for d in os.listdir(run_dir) if re.fullmatch(r"s\d+", d))
+    sampled = {s: point_reports(os.path.join(run_dir, s)) for s in seeds}
+    head = ["setup", "full run (cycles)"] + [f"seed {s[1:]}: error / interval" for s in seeds]
+    head += ["speedup (median)"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    errors, missed, held, speedups = [], [], {"total": 0, "primary": 0, "shadow": 0}, []
+    for key, f in full.items():
+        cells = [f"{key[0]}, {key[1]}", fmt_int(f["cycles_total"])]
+        ups = []
+        for s in seeds:
+            r = sampled[s].get(key)
+            if r is None:
+                cells.append("-")
+                continue
+            err, ci, ok = sampled_cell(f, r, "cycles_total")
+            errors.append(abs(err))
+            for phase in held:
+                held[phase] += sampled_cell(f, r, f"cycles_{phase}")[2]
+            if not ok:
+                missed.append(f"{key[0]}, {key[1]}, seed {s[1:]}")
+            cells.append(f"{err:+.2f}% / {ci:.2f}%" + ("" if ok else " (missed)"))
+            ups.append(f["host"]["seconds"]["total"] / r["host"]["seconds"]["total"])
+        speedups += ups
+        cells.append(f"{median(ups):.1f}x" if ups else "-")
+        out.append("| " + " | ".join(cells) + " |")
+    n = len(errors)
+    out += [
+        "",
+        f"{n} sampled frames: the largest error {max(errors):.2f}%, "
+        f"{sum(e <= 2 for e in errors)} of {n} within 2%; the 95% interval held the full run's "
+        f"frame in {held['total']} of {n}"
+        + (f" (missed: {'; '.join(missed)})" if missed else "")
+        + f", its primary phase in {held['primary']}, its shadow phase in {held['shadow']}; "
+        f"host time {median(speedups):.1f}x less (median; from {min(speedups):.1f}x to "
+        f"{max(speedups):.1f}x).",
+    ]
+    out += [
+        "",
+        "Culling's frame-time reduction (1 - on / off), full run and each seed's error in "
+        "points:",
+        "",
+        "| setup | full run | " + " | ".join(f"seed {s[1:]}" for s in seeds) + " |",
+        "|" + "---|" * (2 + len(seeds)),
+    ]
+    for (scene, variant), f in full.items():
+        off = full.get((scene, "off"))
+        if variant == "off" or off is None:
+            continue
+        red = 100 * (1 - f["cycles_total"] / off["cycles_total"])
+        cells = [f"{scene}, {variant}", f"{red:.2f}%"]
+        for s in seeds:
+            on_s, off_s = sampled[s].get((scene, variant)), sampled[s].get((scene, "off"))
+            if on_s is None or off_s is None:
+                cells.append("-")
+                continue
+            r = 100 * (1 - on_s["cycles_total"] / off_s["cycles_total"])
+            cells.append(f"{r - red:+.2f} pt")
+        out.append("| " + " | ".join(cells) + " |")
+    return "\n".join(out) + "\n"

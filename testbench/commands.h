@@ -68,8 +68,9 @@ struct ReproduceArgs {
   bool ablation = false;
   bool bvh = false;  // the BVH study instead (configs/sweeps/bvh-study.yaml)
   int jobs = 1;
-  int width = 0, height = 0;  // 0 = the setups' 1920x1080
-  std::string sample;         // run.sample of every run (empty: full runs; docs/sampling.md)
+  int width = 0, height = 0;     // 0 = the setups' 1920x1080
+  std::string sample;            // run.sample of every run (empty: full runs; docs/sampling.md)
+  std::vector<std::string> set;  // --set PATH=VALUE overrides of every run (run.sample_seed=2)
 };
 int run_reproduce(const ReproduceArgs& args);
 

@@ -241,6 +241,12 @@ void add_params_and_reproduce(CLI::App& app, Commands& c) {
                               "Sampled runs: this fraction of each frame's units in detail, the "
                               "cycles estimated with 95% intervals (run.sample; docs/sampling.md)");
   c.reproduce_cmd
+      ->add_option("--set", c.reproduce.set,
+                   "Override a key of every run: hw.PATH=VALUE, scene.PATH=VALUE or "
+                   "run.PATH=VALUE (run.sample_seed=2)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  c.reproduce_cmd
       ->add_option("--scene-root", c.reproduce.scene_root, "Where the paper's scenes are")
       ->envname("RTSIM_SCENE_ROOT");
   c.reproduce_cmd->add_flag(

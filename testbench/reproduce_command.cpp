@@ -46,6 +46,7 @@ void prepare(const ReproduceArgs& a, std::vector<std::string>& extra) {
       throw InputError("--sample " + a.sample + ": expected a fraction in (0, 1]");
     extra.push_back("run.sample=" + a.sample);
   }
+  for (const std::string& o : a.set) extra.push_back(o);
 }
 
 std::map<std::string, PaperScene> paper_tables() {

@@ -5,6 +5,7 @@ markers, the rest untouched), and that every block the script knows is in its do
 generated block in docs/ belongs to a study."""
 
 import csv
+import json
 import importlib.util
 import os
 import re
@@ -166,6 +167,38 @@ with tempfile.TemporaryDirectory() as tmp:
         "1,000, 2,000 |",
     ]:
         check(cells in table, f"integration cells {cells}:\n{table}")
+
+# The sampling validation: a full reproduce and two sampled ones of two setups.
+with tempfile.TemporaryDirectory() as tmp:
+
+    def point(sub, k, variant, total, ci, seconds):
+        d = os.path.join(tmp, sub, "points", f"p{k:04}")
+        os.makedirs(d)
+        r = {"scene": {"name": "kitchen"}, "host": {"seconds": {"total": seconds}}}
+        for phase, share in (("total", 1.0), ("primary", 0.25), ("shadow", 0.75)):
+            r[f"cycles_{phase}"] = total * share
+            r[f"cycles_{phase}_ci95"] = ci * share
+        with open(os.path.join(d, "report.json"), "w") as f:
+            json.dump(r, f)
+        with open(os.path.join(d, "row.json"), "w") as f:
+            json.dump({"variant": variant}, f)
+
+    point("full", 0, "off", 1000, 0, 80)
+    point("full", 1, "exact", 900, 0, 80)
+    point("s1", 0, "off", 1010, 20, 10)  # +1%, held
+    point("s1", 1, "exact", 930, 20, 10)  # +3.3%, missed
+    point("s2", 0, "off", 990, 20, 8)
+    point("s2", 1, "exact", 900, 20, 8)
+    table = refresh.sampling_table(tmp)
+    for cells in [
+        "| kitchen, off | 1,000 | +1.00% / 2.00% | -1.00% / 2.00% | 9.0x |",
+        "| kitchen, exact | 900 | +3.33% / 2.22% (missed) | +0.00% / 2.22% | 9.0x |",
+        "4 sampled frames: the largest error 3.33%, 3 of 4 within 2%; the 95% interval held the "
+        "full run's frame in 3 of 4 (missed: kitchen, exact, seed 1), its primary phase in 3, its "
+        "shadow phase in 3; host time 9.0x less (median; from 8.0x to 10.0x).",
+        "| kitchen, exact | 10.00% | -2.08 pt | -0.91 pt |",  # 1 - 930 / 1010, 1 - 900 / 990
+    ]:
+        check(cells in table, f"sampling cells {cells}:\n{table}")
 
 ids = {s.id for s in refresh.STUDIES}
 for s in refresh.STUDIES:
