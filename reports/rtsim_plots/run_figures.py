@@ -82,10 +82,18 @@ PHASES = (("cycles_primary", "primary"), ("cycles_shadow", "shadow"), ("cycles_t
 
 def parse_sample(rep):
     """A sampled run's estimates, {key: (cycles, 95% half-interval)} per phase and the frame, with
-    its fraction; None for a full run."""
+    its fraction; None for a full run. The interval is None when the run has none (null: too few
+    units drawn to estimate one)."""
     if field(rep, "sampled", False) is not True:
         return None
-    out = {k: (number(rep, k), number(rep, k + "_ci95")) for k, _ in PHASES}
+
+    def ci(k):
+        v = field(rep, k + "_ci95")
+        if v is not None and not is_number(v):
+            raise InputError(f"{REPORT_JSON}: field '{k}_ci95' is not a number or null")
+        return None if v is None else float(v)
+
+    out = {k: (number(rep, k), ci(k)) for k, _ in PHASES}
     out["fraction"] = number(rep, "sample.fraction")
     return out
 
@@ -137,6 +145,10 @@ def parse_report(rep):
     if sample is None:
         title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
         title += f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""
+    elif sample["cycles_total"][1] is None:  # an estimate whose interval could not be had
+        title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
+        title += f" = {cycles / (ghz * 1e6):.4g} ms" if ghz > 0 else ""
+        title += f" ({SAMPLED_NOTE} unknown: too few units drawn)"
     else:  # an estimate: never without its interval
         ci = sample["cycles_total"][1]
         title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} ± "
@@ -387,11 +399,12 @@ def plot_sample(r, units, path, written):
     fig, axes = plt.subplots(1, 2 if units else 1, figsize=(12 if units else 6, 4.8), squeeze=False)
     ax = axes[0][0]
     x = np.arange(len(PHASES))
-    est, ci = [s[k][0] for k, _ in PHASES], [s[k][1] for k, _ in PHASES]
+    est, known = [s[k][0] for k, _ in PHASES], [s[k][1] for k, _ in PHASES]
+    ci = [e or 0 for e in known]  # an unknown interval (too few units drawn) says so in its label
     ax.bar(x, est, 0.6, yerr=ci, capsize=6, color="tab:blue", label=f"estimate ({SAMPLED_NOTE})")
-    for xi, v, e in zip(x, est, ci):
+    for xi, v, e, k in zip(x, est, ci, known):
         ax.annotate(
-            f"{v:,.0f}\n± {e:,.0f}",
+            f"{v:,.0f}\n± {e:,.0f}" if k is not None else f"{v:,.0f}\n± ? (too few units)",
             (xi, v + e),
             xytext=(0, 3),
             textcoords="offset points",

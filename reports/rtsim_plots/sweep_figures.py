@@ -137,10 +137,13 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
             x = float(row[axis]) if numeric else keys.index(json.dumps(row[axis], sort_keys=True))
             series[combo][1].setdefault(x, []).append((v, interval(row, metric)))
     shown = list(series.values())[:MAX_SERIES]
-    # Error bars when a point shown was sampled (and every point has its interval).
-    sampled = any(row.get("sampled") is True and row.get(metric) is not None for row in rows)
-    sampled = sampled and all(
-        ci is not None for _, points in shown for p in points.values() for _, ci in p
+    # Error bars when a point shown was sampled and the metric has intervals; a sampled point
+    # without one (too few units drawn for an interval) gets none, and the title says so.
+    sampled = INTERVALS.get(metric) is not None and any(
+        row.get("sampled") is True and row.get(metric) is not None for row in rows
+    )
+    unknown = sampled and any(
+        ci is None for _, points in shown for p in points.values() for _, ci in p
     )
 
     fig, ax = plt.subplots(figsize=(9, 5), layout="constrained")
@@ -153,7 +156,9 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
         # mean's interval is the root of the intervals' squares over their number.
         ys = [sum(v for v, _ in points[x]) / len(points[x]) for x in xs]
         if sampled:
-            errs = [math.sqrt(sum(ci**2 for _, ci in points[x])) / len(points[x]) for x in xs]
+            errs = [
+                math.sqrt(sum((ci or 0) ** 2 for _, ci in points[x])) / len(points[x]) for x in xs
+            ]
             ax.errorbar(xs, ys, yerr=errs, marker="o", capsize=3, label=label or metric)
         else:
             ax.plot(xs, ys, marker="o", label=label or metric)
@@ -186,6 +191,7 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
     title = f"{metric} vs {axis}\n{title_extra}"
     if sampled:
         title += f"\nerror bars: {SAMPLED_NOTE}"
+        title += " (unknown for some points: too few units drawn)" if unknown else ""
     if len(series) > MAX_SERIES:
         title += f" — first {MAX_SERIES} of {len(series)} series shown"
     ax.set_title(title, fontsize=10)

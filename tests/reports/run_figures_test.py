@@ -236,6 +236,17 @@ class RunFigures(fc.FigureTest):
             self.assertIn(want, text, name)
             self.assertIn("(sampled, 95% interval)", text, name)
 
+    def test_a_sampled_run_without_an_interval_says_so(self):
+        rep, _ = self.write_sampled_run()
+        for k in ("cycles_primary", "cycles_shadow", "cycles_total"):
+            rep[k + "_ci95"] = None  # too few units drawn for an interval
+        self.write_json("report.json", rep)
+        figures = self.draw(run_figures.run)
+        title = figures["plot_culling.png"].axes[0].get_title()
+        self.assertIn(f"{rep['cycles_total']:,} cycles", title)
+        self.assertIn("(sampled, 95% interval unknown: too few units drawn)", title)
+        self.assertIn("± ? (too few units)", fc.texts(figures["plot_sample.png"].axes[0])[0])
+
     def test_a_full_run_has_no_sample_figure_and_no_interval(self):
         self.write_run()
         figures = self.draw(run_figures.run)
