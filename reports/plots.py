@@ -22,10 +22,19 @@ run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
   plot_time_breakdown.png   busy / stalled / idle as % of the unit cycles per unit type (summed over
                             units).
   plot_cache_hit_rates.png  hit rate per unit type and cache level, and the DRAM row-hit rate.
+  plot_sample.png           a sampled run only (report.json's sampled: true): the primary phase's,
+                            the shadow phase's and the frame's cycles, each estimate with its 95%
+                            interval as an error bar, and each measured unit's cycles per phase by
+                            its first ray (DIR/sample.csv, when present).
+A sampled run's figures give the frame's estimate with its interval in their titles
+("N ± H cycles ... (sampled, 95% interval)"); a full run's are as they were.
 
 sweep DIR reads DIR/results.json (schema rtsim-sweep/1) and writes DIR/plots/<metric>_vs_<axis>.png
 for every metric and every axis with at least 2 distinct values (the scene counts as an axis when
-there are several); the sweep lists them in DIR/plots/index.md (reports/sweep_index.h).
+there are several); the sweep lists them in DIR/plots/index.md (reports/sweep_index.h). A metric
+with an interval (cycles_total, cycles_primary, cycles_shadow, frame_ms_all, frame_ms_shadow) of
+sampled rows (sampled: true, with the interval column <metric>_ci95) is drawn with its 95% interval
+as error bars and "sampled, 95% interval" in the title.
 
 reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written by
 `rtsim reproduce`) and writes:
@@ -37,12 +46,16 @@ reproduce DIR reads DIR/reproduction.json (schema rtsim-reproduction/1, written 
   reproduce_time.png        per scene, the frame-time reduction with culling ((off - on) / off) for
                             all rays and for the shadow rays, paper vs ours; the absolute times are
                             in the captions only.
-A scene without the paper's figures, or without one of our runs, shows n/a in those places.
+A scene without the paper's figures, or without one of our runs, shows n/a in those places. Sampled
+runs (reproduction.json's frame_ms_*_ci95 and reduction.*.ci95_pt) get error bars on our reductions
+and their times' intervals in the captions.
 
 area DIR reads the results.json of a sweep with the axes scene.lights.area_from_points.samples and
 run.lvb (configs/sweeps/area-lights.yaml) and writes:
   plots/area_reduction.png         per scene and sample count, the frame-time reduction of culling
-                                   on against off ((off - on) / off), one line per scene.
+                                   on against off ((off - on) / off), one line per scene; with
+                                   sampled rows, error bars from cycles_total_ci95 (the two runs'
+                                   relative errors in quadrature, as if independent).
 The sweep writes the tables, area_lights.md, itself (reports/area_report.cpp).
 
 animate DIR reads DIR/frames.csv and DIR/host.csv (written by `rtsim animate`) and writes, over the

@@ -189,21 +189,40 @@ std::string ms_cell(const json& r, const char* kind) {
   return ci > 0 ? fmt::format("{:.3f} ± {:.3f}", ms, ci) : fmt::format("{:.3f}", ms);
 }
 
-// The reduction 1 - on / off, with its 95% interval when the runs are sampled: paired unit by unit
+// The reduction 1 - on / off with its 95% interval when the runs are sampled: paired unit by unit
 // when both ran the same plan (the runs' "paired_reduction", reproduce_command.cpp), else the
 // ratio's relative errors added in quadrature, as if the two estimates were independent.
-std::string reduction_cell(const json& on_run, const json& off_run, const char* kind) {
+// {reduction_pct, ci95_pt, paired}; null for full runs.
+json reduction_interval(const json& on_run, const json& off_run, const char* kind) {
   if (on_run.contains("paired_reduction") && on_run["paired_reduction"].is_object()) {
     const json& p = on_run["paired_reduction"][kind];
-    return fmt::format("{:.2f}% ± {:.2f} pt", p["reduction_pct"].get<double>(),
-                       p["ci95_pt"].get<double>());
+    return {{"reduction_pct", p["reduction_pct"]}, {"ci95_pt", p["ci95_pt"]}, {"paired", true}};
   }
   const double on = on_run["frame_ms"][kind].get<double>();
   const double off = off_run["frame_ms"][kind].get<double>();
   const double a = ms_ci(on_run, kind), b = ms_ci(off_run, kind);
-  if ((a == 0 && b == 0) || on <= 0 || off <= 0) return reduction(on, off);
+  if ((a == 0 && b == 0) || on <= 0 || off <= 0) return nullptr;
   const double ratio_ci = on / off * std::hypot(a / on, b / off);
-  return fmt::format("{} ± {:.2f} pt", reduction(on, off), 100 * ratio_ci);
+  return {{"reduction_pct", 100 * (1 - on / off)}, {"ci95_pt", 100 * ratio_ci}, {"paired", false}};
+}
+
+std::string reduction_cell(const json& on_run, const json& off_run, const char* kind) {
+  const json i = reduction_interval(on_run, off_run, kind);
+  const double on = on_run["frame_ms"][kind].get<double>();
+  const double off = off_run["frame_ms"][kind].get<double>();
+  if (i.is_null()) return reduction(on, off);
+  if (i["paired"].get<bool>())
+    return fmt::format("{:.2f}% ± {:.2f} pt", i["reduction_pct"].get<double>(),
+                       i["ci95_pt"].get<double>());
+  return fmt::format("{} ± {:.2f} pt", reduction(on, off), i["ci95_pt"].get<double>());
+}
+
+// A sampled run's frame times' 95% half-intervals (ms), for reproduction.json; a full run's JSON
+// has none, as before.
+void add_ms_intervals(json& o, const json& r) {
+  if (!r.contains("sampled")) return;
+  o["frame_ms_all_ci95"] = ms_ci(r, "all");
+  o["frame_ms_shadow_ci95"] = ms_ci(r, "shadow");
 }
 
 void table6(std::ostringstream& md, const Setup& c) {
@@ -269,6 +288,10 @@ json culled_variant(std::ostringstream& md, const Setup& c, const CulledVariant&
     o["nonempty_leaves"].push_back(e["nonempty_leaves"]);
   }
   o["leaves"] = r["kdtree"]["leaves"];  // all leaves, empty included: the paper's denominator
+  add_ms_intervals(o, r);
+  if (const json* off = c.run("off"))
+    for (const char* kind : {"all", "shadow"})
+      if (json i = reduction_interval(r, *off, kind); !i.is_null()) o["reduction"][kind] = i;
   const auto d = c.s.mask_differs.find(var);
   if (c.run("off") && d != c.s.mask_differs.end()) {
     const char* why = var == "exact" ? ""
@@ -303,9 +326,11 @@ json setup_section(std::ostringstream& md, const Setup& c) {
   table6(md, c);
   for (const CulledVariant& cv : kCulledVariants)
     if (c.run(cv.name)) js["ours"][cv.name] = culled_variant(md, c, cv);
-  if (const json* off = c.run("off"))
+  if (const json* off = c.run("off")) {
     js["ours"]["off"] = {{"frame_ms_all", (*off)["frame_ms"]["all"]},
                          {"frame_ms_shadow", (*off)["frame_ms"]["shadow"]}};
+    add_ms_intervals(js["ours"]["off"], *off);
+  }
   md << "\nFigures of each run: ";
   for (const auto& [var, dir] : c.s.dirs) md << fmt::format("[{}]({}/report.md) ", var, dir);
   md << "(each with render.png, culled.png and plot_*.png).\n\n";

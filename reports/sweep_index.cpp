@@ -26,6 +26,32 @@ std::string sanitize(const std::string& name) {
   return out;
 }
 
+// Sampled points (results.json's `sampled_columns`, testbench/sweep_metrics.h): how many, at which
+// fractions, and where their intervals are; "" for a sweep of full runs.
+std::string sampled_note(const json& results) {
+  if (!results.contains("sampled_columns")) return "";
+  const json rows = results.value("rows", json::array());
+  size_t sampled = 0;
+  std::set<std::string> fractions;
+  for (const json& row : rows)
+    if (row.is_object() && row.value("sampled", false) == true) {
+      ++sampled;
+      const json f = row.value("sample.fraction", json());
+      fractions.insert(f.is_number() ? fmt::format("{:g}", f.get<double>()) : f.dump());
+    }
+  std::string list;
+  for (const std::string& f : fractions) list += (list.empty() ? "" : ", ") + f;
+  std::string columns;
+  for (const json& c : results["sampled_columns"])
+    columns += fmt::format("{}`{}`", columns.empty() ? "" : ", ",
+                           c.is_string() ? c.get<std::string>() : c.dump());
+  return fmt::format(
+      "\n{} of the {} points were sampled (fraction {}): their cycles and frame times are "
+      "estimates, drawn with their 95% intervals as error bars (sampled, 95% interval). "
+      "results.csv and results.json give the intervals (half-widths) in {}.\n",
+      sampled, rows.size(), list, columns);
+}
+
 }  // namespace
 
 std::vector<std::string> sweep_figure_files(const json& results) {
@@ -49,7 +75,7 @@ std::string sweep_plots_index(const json& results) {
   const std::vector<std::string> files = sweep_figure_files(results);
   for (const std::string& f : files) md += fmt::format("- [{}]({})\n", f, f);
   if (files.empty()) md += "No axis has two or more values yet: nothing to plot.\n";
-  return md;
+  return md + sampled_note(results);
 }
 
 }  // namespace rtsim::report

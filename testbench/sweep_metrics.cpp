@@ -30,6 +30,12 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
   };
   if (name == "frame_ms_all") return json_number(r, "frame_ms.all");
   if (name == "frame_ms_shadow") return json_number(r, "frame_ms.shadow");
+  // A sampled run's frame times' 95% half-intervals, in ms (NaN for a full run: it has none).
+  if (name == "frame_ms_all_ci95" || name == "frame_ms_shadow_ci95") {
+    const double ghz = json_number(r, "clock_ghz");
+    const char* cycles = name == "frame_ms_all_ci95" ? "cycles_total_ci95" : "cycles_shadow_ci95";
+    return ghz > 0 ? json_number(r, cycles) / (ghz * 1e6) : kNaN;
+  }
   if (name == "rays_primary") return json_number(r, "rays.primary");
   if (name == "rays_shadow") return json_number(r, "rays.shadow");
   if (name == "shadow_culled") return sum("per_light", "culled");
@@ -78,15 +84,14 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
 
 bool is_sweep_metric(const std::string& name) {
   static const std::vector<std::string> named = [] {
-    std::vector<std::string> v{"frame_ms_all",          "frame_ms_shadow",
-                               "rays_primary",          "rays_shadow",
-                               "shadow_culled",         "shadow_culled_rate",
-                               "leaves_culled_rate",    "dram_row_hit_rate",
-                               "dram_bandwidth_gbps",   "dram_reads",
-                               "traversal_busy",        "traversal_l1_hit_rate",
-                               "traversal_l2_hit_rate", "nodes_per_ray",
-                               "leaves_per_ray",        "tests_per_ray",
-                               "dram_bytes_per_ray"};
+    std::vector<std::string> v{
+        "frame_ms_all",         "frame_ms_shadow",       "frame_ms_all_ci95",
+        "frame_ms_shadow_ci95", "rays_primary",          "rays_shadow",
+        "shadow_culled",        "shadow_culled_rate",    "leaves_culled_rate",
+        "dram_row_hit_rate",    "dram_bandwidth_gbps",   "dram_reads",
+        "traversal_busy",       "traversal_l1_hit_rate", "traversal_l2_hit_rate",
+        "nodes_per_ray",        "leaves_per_ray",        "tests_per_ray",
+        "dram_bytes_per_ray"};
     // The model's unit types and caches, whatever the configuration (a kd-tree or a BVH machine).
     for (const model::Structure s : {model::Structure::kKdTree, model::Structure::kBvh}) {
       model::AcceleratorConfig cfg;

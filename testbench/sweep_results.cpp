@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -199,17 +200,45 @@ bool sweep_point_done(const std::string& dir, const SweepPoint& p) {
   return sweep_row_problem(dir, p).empty();
 }
 
+namespace {
+
+// A metric's value in a row: null when the report has none; counts stay integers.
+nlohmann::json row_value(double v) {
+  if (std::isnan(v)) return nullptr;
+  if (v == std::floor(v) && std::fabs(v) < 9e15) return int64_t(v);
+  return v;
+}
+
+bool is_listed(const std::vector<std::string>& names, const std::string& name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// The sampled points' columns the sweep file did not list as metrics (kSampledSweepColumns, and
+// `sampled` first); none when no row in `rows` was sampled, so a sweep of full runs keeps its
+// results as they were.
+std::vector<std::string> sampled_columns(const SweepSpec& s, const nlohmann::json& rows) {
+  const bool any = std::any_of(rows.begin(), rows.end(), [](const nlohmann::json& r) {
+    return r.is_object() && r.value("sampled", false) == true;
+  });
+  if (!any) return {};
+  std::vector<std::string> cols{"sampled"};
+  for (const std::string& c : kSampledSweepColumns)
+    if (!is_listed(s.metrics, c)) cols.push_back(c);
+  return cols;
+}
+
+}  // namespace
+
+// A sampled point's row also carries each estimate's interval and the fraction, listed or not:
+// a sampled figure never goes without its interval (docs/sampling.md).
 nlohmann::json sweep_row(const SweepSpec& s, const SweepPoint& p, const nlohmann::json& report) {
   nlohmann::json row = {{"point", p.index}, {"id", p.id}, {"scene", report["scene"]["name"]}};
   for (const std::string& c : s.columns) row[c] = p.values[c];
-  for (const std::string& m : s.metrics) {
-    const double v = sweep_metric(m, report);
-    if (std::isnan(v)) row[m] = nullptr;
-    // Counts stay integers
-    else if (v == std::floor(v) && std::fabs(v) < 9e15)
-      row[m] = int64_t(v);
-    else
-      row[m] = v;
+  for (const std::string& m : s.metrics) row[m] = row_value(sweep_metric(m, report));
+  if (report.value("sampled", false) == true) {
+    row["sampled"] = true;
+    for (const std::string& c : kSampledSweepColumns)
+      if (!row.contains(c)) row[c] = row_value(sweep_metric(c, report));
   }
   return row;
 }
@@ -244,16 +273,25 @@ std::string failure_cell(const nlohmann::json& f) {
 // a reader of results.csv sees what is missing and why (a rerun of the command retries it).
 size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
   nlohmann::json rows = nlohmann::json::array(), failed = nlohmann::json::array();
+  // Each point's row, or null for a point without a usable one.
+  std::vector<nlohmann::json> read(s.points.size());
+  for (size_t k = 0; k < s.points.size(); ++k)
+    if (sweep_row_problem(dir, s.points[k]).empty())
+      read[k] = read_json(sweep_row_file(dir, s.points[k]));
+  const std::vector<std::string> sampled = sampled_columns(s, nlohmann::json(read));
   std::vector<std::string> header{"point", "id", "scene"};
   header.insert(header.end(), s.columns.begin(), s.columns.end());
   header.insert(header.end(), s.metrics.begin(), s.metrics.end());
+  header.insert(header.end(), sampled.begin(), sampled.end());
   header.push_back("failure");
   std::string csv;
   for (size_t i = 0; i < header.size(); ++i) csv += (i ? "," : "") + header[i];
   csv += "\n";
-  for (const SweepPoint& p : s.points) {
+  for (size_t k = 0; k < s.points.size(); ++k) {
+    const SweepPoint& p = s.points[k];
     nlohmann::json row;
-    if (const std::string problem = sweep_row_problem(dir, p); !problem.empty()) {
+    if (read[k].is_null()) {
+      const std::string problem = sweep_row_problem(dir, p);
       if (fs::exists(sweep_failure_file(dir, p)))
         failed.push_back(read_json(sweep_failure_file(dir, p)));
       else if (problem != "no row")
@@ -265,7 +303,7 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
       row = {{"point", p.index}, {"id", p.id}, {"failure", failure_cell(f)}};
       for (const std::string& c : s.columns) row[c] = p.values[c];
     } else {
-      row = read_json(sweep_row_file(dir, p));
+      row = read[k];
       rows.push_back(row);
     }
     for (size_t i = 0; i < header.size(); ++i)
@@ -273,13 +311,11 @@ size_t write_sweep_results(const SweepSpec& s, const std::string& dir) {
     csv += "\n";
   }
   write_file_atomic((fs::path(dir) / output::kResultsCsv).string(), csv);
-  write_json((fs::path(dir) / output::kResultsJson).string(), {{"schema", kResultsSchema},
-                                                               {"name", s.name},
-                                                               {"axes", s.columns},
-                                                               {"metrics", s.metrics},
-                                                               {"points", s.points.size()},
-                                                               {"rows", rows},
-                                                               {"failed", failed}});
+  nlohmann::json results = {
+      {"schema", kResultsSchema},  {"name", s.name}, {"axes", s.columns}, {"metrics", s.metrics},
+      {"points", s.points.size()}, {"rows", rows},   {"failed", failed}};
+  if (!sampled.empty()) results["sampled_columns"] = sampled;  // only then: full runs' unchanged
+  write_json((fs::path(dir) / output::kResultsJson).string(), results);
   return rows.size();
 }
 

@@ -3,6 +3,7 @@ defines them for the C++ side; tests/reports/plot_files_test.py checks that the 
 
 REPORT_JSON = "report.json"
 CULLED_NPY = "culled.npy"
+SAMPLE_CSV = "sample.csv"
 RESULTS_JSON = "results.json"
 REPRODUCTION_JSON = "reproduction.json"
 FRAMES_CSV = "frames.csv"

@@ -45,6 +45,24 @@ def reduction_pct(on, off):
     return 100.0 * (off - on) / off if off > 0 else None
 
 
+def ms_intervals(run, where):
+    """A sampled run's frame times' 95% half-intervals [all, shadow] in ms; None for a full run."""
+    if "frame_ms_all_ci95" not in run:
+        return None
+    return [number(run, f"frame_ms_{k}_ci95", where) for k in ("all", "shadow")]
+
+
+def sampled_intervals(s, key, run, where):
+    """A sampled culling run's intervals: its frame times' (ms) and its reductions' (points of
+    %); none for a full run."""
+    s["ms_ci"][key] = ms_intervals(run, where)
+    red = field(run, "reduction", None, where=where)
+    if red is not None:
+        s["time_ci"][key] = [
+            number(red, f"{k}.ci95_pt", where) if k in red else None for k in ("all", "shadow")
+        ]
+
+
 def parse_reproduction(rep):
     """Per scene, the percentages both figures need, checked up front so bad input writes no
     file."""
@@ -61,6 +79,7 @@ def parse_reproduction(rep):
         if not isinstance(name, str) or not isinstance(title, str):
             raise InputError(f"{w}: fields 'name' and 'title' must be strings")
         s = dict(title=title, rays={}, leaves={}, time={}, ms={}, pixels={}, missing=[])
+        s.update(time_ci={}, ms_ci={})  # ours, sampled: the 95% half-intervals
         paper = field(sc, "paper", None, where=w)
         if paper is None:
             s["missing"].append("the paper's figures")
@@ -83,6 +102,7 @@ def parse_reproduction(rep):
             raise InputError(f"{w}: field 'ours' is not an object")
         off = ours.get("off")
         if off is not None:
+            s["ms_ci"]["off"] = ms_intervals(off, f"{w}.ours.off")
             off = [number(off, f"frame_ms_{k}", f"{w}.ours.off") for k in ("all", "shadow")]
         else:
             s["missing"].append("our culling-off run")
@@ -108,6 +128,7 @@ def parse_reproduction(rep):
             on = [number(o, f"frame_ms_{k}", wo) for k in ("all", "shadow")]
             s["ms"][key] = on
             s["time"][key] = [reduction_pct(a, b) for a, b in zip(on, off)] if off else [None, None]
+            sampled_intervals(s, key, o, wo)
             px = o.get("pixels_shadow_differs_from_off")
             if px is not None:
                 if not is_number(px):
@@ -130,10 +151,10 @@ def fmt_pct(v):
     return f"{v:.2f}" if abs(v) < 1 else f"{v:.1f}"
 
 
-def value_labels(ax, xs, values, fmt, rotation=0, fontsize=8):
+def value_labels(ax, xs, values, fmt, rotation=0, fontsize=8, errs=None):
     """Value at the end of each bar, offset in points so it works on any scale; "n/a" where unknown
-    (None)."""
-    for x, v in zip(xs, values):
+    (None). With errs (error bars' half-lengths), beyond the bar's error bar."""
+    for x, v, e in zip(xs, values, errs or [0] * len(values)):
         if v is None:
             ax.annotate(
                 "n/a",
@@ -150,7 +171,7 @@ def value_labels(ax, xs, values, fmt, rotation=0, fontsize=8):
             down = v < 0
             ax.annotate(
                 fmt(v),
-                (x, v),
+                (x, v - (e or 0) if down else v + (e or 0)),
                 xytext=(0, -2 if down else 2),
                 textcoords="offset points",
                 ha="center",
@@ -301,11 +322,20 @@ def ms_caption(s):
             f"{p['shadow_on']:.2f} ms"
         )
     off = s["ms"]["off"]
+
+    def ms(v, ci, i):  # a sampled run's time with its interval
+        return f"{v[i]:.3f}" + (f" ± {ci[i]:.3f}" if ci else "")
+
     for key, label, _ in SOURCES[1:]:
-        on = s["ms"].get(key)
+        on, on_ci, off_ci = s["ms"].get(key), s["ms_ci"].get(key), s["ms_ci"].get("off")
         if on:
-            pairs = [f"{off[i]:.3f} → {on[i]:.3f}" if off else f"? → {on[i]:.3f}" for i in range(2)]
-            lines.append(f"{label}: all {pairs[0]}, shadow {pairs[1]} ms")
+            pairs = [
+                f"{ms(off, off_ci, i)} → {ms(on, on_ci, i)}" if off else f"? → {ms(on, on_ci, i)}"
+                for i in range(2)
+            ]
+            # With intervals a line would run into the next panel: all and shadow on two.
+            sep = ",\n    " if on_ci or off_ci else ", "
+            lines.append(f"{label}: all {pairs[0]}{sep}shadow {pairs[1]} ms")
     return "frame time, culling off → on:\n" + "\n".join(lines) if lines else "no frame times"
 
 
@@ -315,10 +345,17 @@ def plot_reproduce_time(scenes, path, written):
     fig = plt.figure(
         figsize=(max(REPRO_MIN_WIDTH, 5.2 * ncols + 0.4), nrows * 5.4 + 1.5), layout="constrained"
     )
+    sampled = any(s["time_ci"] for s in scenes)
     fig.suptitle(
         "Frame-time reduction with LVB culling, (off − on) / off\n"
         "absolute times differ (the paper's simulator and ours model the hardware differently),\n"
         "so the reductions are compared"
+        + (
+            "\nerror bars on ours: sampled, 95% interval (paired unit by unit where both runs "
+            "share the plan)"
+            if sampled
+            else ""
+        )
     )
     if not n:
         nothing_to_plot(fig)
@@ -332,8 +369,16 @@ def plot_reproduce_time(scenes, path, written):
         for j, (key, _, colour) in enumerate(SOURCES):
             vals = s["time"].get(key, [None, None])
             xs = x + bar_offset(j)
-            ax.bar(xs, [v or 0 for v in vals], BAR, color=colour)
-            value_labels(ax, xs, vals, lambda v: fmt_pct(v) + " %")
+            errs = s["time_ci"].get(key)
+            if errs is None:  # the paper's, or a full run's: exact
+                ax.bar(xs, [v or 0 for v in vals], BAR, color=colour)
+                value_labels(ax, xs, vals, lambda v: fmt_pct(v) + " %")
+            else:  # an estimate: with its 95% interval
+                errs = [e or 0 for e in errs]
+                ax.bar(xs, [v or 0 for v in vals], BAR, color=colour, yerr=errs, capsize=3)
+                value_labels(ax, xs, vals, lambda v: fmt_pct(v) + " %", errs=errs)
+                vals_all += [v + e for v, e in zip(vals, errs) if v is not None]
+                vals_all += [v - e for v, e in zip(vals, errs) if v is not None]
             vals_all += [v for v in vals if v is not None]
         lo, hi = min([0.0] + vals_all), max([0.0] + vals_all)
         span = max(hi - lo, 1.0)

@@ -1,5 +1,6 @@
 """Figures of one run directory: culled.png and plot_*.png (plots.py run)."""
 
+import csv
 import math
 import os
 
@@ -20,7 +21,7 @@ from rtsim_plots.common import (
     plt,
     save,
 )
-from rtsim_plots.files import CULLED_NPY, REPORT_JSON
+from rtsim_plots.files import CULLED_NPY, REPORT_JSON, SAMPLE_CSV
 
 
 def report_list(rep, name, keys):
@@ -75,6 +76,28 @@ def parse_caches(rep, stats):
     return caches, dram
 
 
+SAMPLED_NOTE = "sampled, 95% interval"
+PHASES = (("cycles_primary", "primary"), ("cycles_shadow", "shadow"), ("cycles_total", "frame"))
+
+
+def parse_sample(rep):
+    """A sampled run's estimates, {key: (cycles, 95% half-interval)} per phase and the frame, with
+    its fraction; None for a full run. The interval is None when the run has none (null: too few
+    units drawn to estimate one)."""
+    if field(rep, "sampled", False) is not True:
+        return None
+
+    def ci(k):
+        v = field(rep, k + "_ci95")
+        if v is not None and not is_number(v):
+            raise InputError(f"{REPORT_JSON}: field '{k}_ci95' is not a number or null")
+        return None if v is None else float(v)
+
+    out = {k: (number(rep, k), ci(k)) for k, _ in PHASES}
+    out["fraction"] = number(rep, "sample.fraction")
+    return out
+
+
 def parse_report(rep):
     """Everything the run figures need, checked up front so bad input writes no file."""
     if not isinstance(rep, dict):
@@ -118,11 +141,24 @@ def parse_report(rep):
     units = parse_units(rep, stats)
     caches, dram = parse_caches(rep, stats)
 
-    title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles" + (
-        f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""
-    )
+    sample = parse_sample(rep)
+    if sample is None:
+        title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
+        title += f" = {cycles / (ghz * 1e6):.4g} ms at {ghz:g} GHz" if ghz > 0 else ""
+    elif sample["cycles_total"][1] is None:  # an estimate whose interval could not be had
+        title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} cycles"
+        title += f" = {cycles / (ghz * 1e6):.4g} ms" if ghz > 0 else ""
+        title += f" ({SAMPLED_NOTE} unknown: too few units drawn)"
+    else:  # an estimate: never without its interval
+        ci = sample["cycles_total"][1]
+        title = f"{name} {res[0]}×{res[1]}, LVB {'on' if lvb_on else 'off'}: {cycles:,.0f} ± "
+        title += f"{ci:,.0f} cycles"
+        title += f" = {cycles / (ghz * 1e6):.4g} ± {ci / (ghz * 1e6):.2g} ms" if ghz > 0 else ""
+        title += f" ({SAMPLED_NOTE})"
     return dict(
         title=title,
+        sample=sample,
+        ghz=ghz,
         width=res[0],
         height=res[1],
         lvb_on=lvb_on,
@@ -314,7 +350,8 @@ def plot_time_breakdown(r, path, written):
     ax.set_xlim(0, 100)
     ax.set_xlabel("share of unit cycles (%), summed over the units of a type")
     ax.legend(loc="lower center", bbox_to_anchor=(0.5, 1.0), ncol=3, fontsize=9, frameon=False)
-    fig.suptitle(f"{r['title']}\nunit time breakdown", fontsize=10)
+    windows = " (the sampled frame's detailed windows)" if r["sample"] else ""
+    fig.suptitle(f"{r['title']}\nunit time breakdown{windows}", fontsize=10)
     save(fig, path, written)
 
 
@@ -342,12 +379,71 @@ def plot_cache_hit_rates(r, path, written):
     save(fig, path, written)
 
 
+def load_units(path):
+    """sample.csv: per measured unit, (first ray, primary cycles, shadow cycles)."""
+    try:
+        with open(path, encoding="utf-8", newline="") as f:
+            rows = list(csv.DictReader(f))
+        return [
+            (float(u["first_ray"]), float(u["primary_cycles"]), float(u["shadow_cycles"]))
+            for u in rows
+        ]
+    except (KeyError, TypeError, ValueError) as e:
+        raise InputError(f"{path}: not a sample.csv ({e})") from None
+
+
+def plot_sample(r, units, path, written):
+    """A sampled run: each phase's estimate with its 95% interval as error bars, and each measured
+    unit's cycles by its first ray (sample.csv), the sample the estimates come from."""
+    s = r["sample"]
+    fig, axes = plt.subplots(1, 2 if units else 1, figsize=(12 if units else 6, 4.8), squeeze=False)
+    ax = axes[0][0]
+    x = np.arange(len(PHASES))
+    est, known = [s[k][0] for k, _ in PHASES], [s[k][1] for k, _ in PHASES]
+    ci = [e or 0 for e in known]  # an unknown interval (too few units drawn) says so in its label
+    ax.bar(x, est, 0.6, yerr=ci, capsize=6, color="tab:blue", label=f"estimate ({SAMPLED_NOTE})")
+    for xi, v, e, k in zip(x, est, ci, known):
+        ax.annotate(
+            f"{v:,.0f}\n± {e:,.0f}" if k is not None else f"{v:,.0f}\n± ? (too few units)",
+            (xi, v + e),
+            xytext=(0, 3),
+            textcoords="offset points",
+            ha="center",
+            va="bottom",
+            fontsize=8,
+        )
+    ax.set_xticks(x, [label for _, label in PHASES])
+    ax.set_ylabel("cycles")
+    ax.set_ylim(0, 1.25 * max(v + e for v, e in zip(est, ci)) or 1)
+    ax.legend(loc="upper left", fontsize=9, frameon=False)
+    ax.grid(axis="y", alpha=0.3)
+    ax.set_title(f"cycles per phase, {100 * s['fraction']:g} % of the frame's units", fontsize=10)
+    if units:
+        ax = axes[0][1]
+        for k, (label, colour) in enumerate((("primary", "tab:orange"), ("shadow", "tab:green"))):
+            ax.plot([u[0] for u in units], [u[1 + k] for u in units], "o", ms=3, color=colour)
+            ax.lines[-1].set_label(label)
+        ax.set_xlabel("the unit's first ray (issue order)")
+        ax.set_ylabel("cycles of the unit")
+        ax.legend(fontsize=9, frameon=False)
+        ax.grid(alpha=0.3)
+        ax.set_title(f"the {len(units)} measured units (sample.csv)", fontsize=10)
+    fig.suptitle(f"{r['title']}\nthe sampled frame", fontsize=10)
+    fig.tight_layout()
+    save(fig, path, written)
+
+
 def run(folder, written):
     r = load_parsed(folder, REPORT_JSON, parse_report)
     npy = os.path.join(folder, CULLED_NPY)
     culled = load_culled(npy, r) if os.path.exists(npy) else None
+    units, csv_path = [], os.path.join(folder, SAMPLE_CSV)
+    if r["sample"] is not None and os.path.exists(csv_path):
+        units = load_units(csv_path)  # read up front: bad input writes no figure
     if culled is not None:
         plot_culled(culled, r, os.path.join(folder, "culled.png"), written)
     plot_culling(r, os.path.join(folder, "plot_culling.png"), written)
     plot_time_breakdown(r, os.path.join(folder, "plot_time_breakdown.png"), written)
     plot_cache_hit_rates(r, os.path.join(folder, "plot_cache_hit_rates.png"), written)
+    if r["sample"] is not None:
+        plot_sample(r, units, os.path.join(folder, "plot_sample.png"), written)

@@ -20,6 +20,32 @@ from rtsim_plots.common import (
 from rtsim_plots.files import RESULTS_JSON
 
 
+# A sampled point's row carries each estimate's 95% half-interval (testbench/sweep_metrics.h):
+# the metric's column of intervals.
+INTERVALS = {
+    "cycles_total": "cycles_total_ci95",
+    "cycles_primary": "cycles_primary_ci95",
+    "cycles_shadow": "cycles_shadow_ci95",
+    "frame_ms_all": "frame_ms_all_ci95",
+    "frame_ms_shadow": "frame_ms_shadow_ci95",
+    "frame_ms.all": "frame_ms_all_ci95",
+    "frame_ms.shadow": "frame_ms_shadow_ci95",
+}
+SAMPLED_NOTE = "sampled, 95% interval"
+
+
+def interval(row, metric):
+    """The 95% half-interval of a sampled row's estimate of metric; 0 for a full run's (exact)
+    figure; None when the metric has no interval or a sampled row lacks it."""
+    key = INTERVALS.get(metric)
+    if key is None:
+        return None
+    if row.get("sampled") is not True:
+        return 0.0
+    v = row.get(key)
+    return float(v) if is_number(v) else None
+
+
 def fmt_value(v):
     if isinstance(v, float):
         return f"{v:g}"
@@ -99,7 +125,8 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
     pow2 = numeric and all(v > 0 and math.log2(v) == round(math.log2(v)) for v in values)
     keys = [json.dumps(v, sort_keys=True) for v in values]
 
-    # One series per combination of the other varying axes, in first-seen order.
+    # One series per combination of the other varying axes, in first-seen order; each point its
+    # values and their intervals.
     series = {}
     for row in rows:
         combo = tuple(json.dumps(row.get(b), sort_keys=True) for b in others)
@@ -108,19 +135,34 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
         v = row.get(metric)
         if v is not None:
             x = float(row[axis]) if numeric else keys.index(json.dumps(row[axis], sort_keys=True))
-            series[combo][1].setdefault(x, []).append(v)
+            series[combo][1].setdefault(x, []).append((v, interval(row, metric)))
     shown = list(series.values())[:MAX_SERIES]
+    # Error bars when a point shown was sampled and the metric has intervals; a sampled point
+    # without one (too few units drawn for an interval) gets none, and the title says so.
+    sampled = INTERVALS.get(metric) is not None and any(
+        row.get("sampled") is True and row.get(metric) is not None for row in rows
+    )
+    unknown = sampled and any(
+        ci is None for _, points in shown for p in points.values() for _, ci in p
+    )
 
     fig, ax = plt.subplots(figsize=(9, 5), layout="constrained")
     plotted = 0
     for label, points in shown:
         xs = sorted(points)
-        if xs:
-            # Repeated points (same x and combination) are averaged.
-            ax.plot(
-                xs, [sum(points[x]) / len(points[x]) for x in xs], marker="o", label=label or metric
-            )
-            plotted += 1
+        if not xs:
+            continue
+        # Repeated points (same x and combination) are averaged, and so are their estimates: the
+        # mean's interval is the root of the intervals' squares over their number.
+        ys = [sum(v for v, _ in points[x]) / len(points[x]) for x in xs]
+        if sampled:
+            errs = [
+                math.sqrt(sum((ci or 0) ** 2 for _, ci in points[x])) / len(points[x]) for x in xs
+            ]
+            ax.errorbar(xs, ys, yerr=errs, marker="o", capsize=3, label=label or metric)
+        else:
+            ax.plot(xs, ys, marker="o", label=label or metric)
+        plotted += 1
     if not plotted:
         ax.text(
             0.5,
@@ -147,6 +189,9 @@ def plot_metric(rows, metric, axis, values, others, title_extra, path, written):
     if plotted and others:
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, title="series")
     title = f"{metric} vs {axis}\n{title_extra}"
+    if sampled:
+        title += f"\nerror bars: {SAMPLED_NOTE}"
+        title += " (unknown for some points: too few units drawn)" if unknown else ""
     if len(series) > MAX_SERIES:
         title += f" — first {MAX_SERIES} of {len(series)} series shown"
     ax.set_title(title, fontsize=10)

@@ -92,6 +92,42 @@ class AreaFigure(fc.FigureTest):
         ax = self.draw_rows(rows)
         self.assertNumbers(fc.series(ax)["robots"][0], [1, 16], "robots: samples with both runs")
 
+    def test_sampled_rows_draw_each_reduction_with_its_interval(self):
+        rows = sweep_rows(random.Random(47))
+        for r in rows:
+            r.update(sampled=True, cycles_total_ci95=0.01 * r["cycles_total"])
+        ax = self.draw_rows_sampled(rows)
+        cycles = {(r["scene"], r[SAMPLES], r["run.lvb"]): r["cycles_total"] for r in rows}
+        bars = [c for c in ax.containers if not isinstance(c, fc.BarContainer)]
+        self.assertEqual(sorted(b.get_label() for b in bars), sorted(SCENES))
+        for bar in bars:
+            scene = bar.get_label()
+            off = [cycles[(scene, n, False)] for n in COUNTS]
+            on = [cycles[(scene, n, True)] for n in COUNTS]
+            red = [100.0 * (a - b) / a for a, b in zip(off, on)]
+            # 1 % on each: the ratio's relative error is 1 % times the root of 2.
+            ci = [100.0 * b / a * 0.01 * 2**0.5 for a, b in zip(off, on)]
+            lows, highs = fc.error_bars(bar)
+            self.assertNumbers(lows, [r - c for r, c in zip(red, ci)], scene)
+            self.assertNumbers(highs, [r + c for r, c in zip(red, ci)], scene)
+        self.assertIn("sampled, 95% interval", ax.get_title())
+
+    def draw_rows_sampled(self, rows):
+        self.write_json(
+            "results.json",
+            {
+                "schema": "rtsim-sweep/1",
+                "name": "area",
+                "axes": [SAMPLES, "run.lvb"],
+                "metrics": ["cycles_total"],
+                "points": len(rows),
+                "rows": rows,
+                "failed": [],
+                "sampled_columns": ["sampled", "cycles_total_ci95"],
+            },
+        )
+        return self.draw(area_figures.area)["plots/area_reduction.png"].axes[0]
+
 
 if __name__ == "__main__":
     fc.main()

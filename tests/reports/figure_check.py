@@ -17,6 +17,7 @@ import unittest
 SRC = os.path.abspath(sys.argv[1] if len(sys.argv) > 1 else os.path.join(__file__, "../../.."))
 sys.path.insert(0, os.path.join(SRC, "reports"))
 common = importlib.import_module("rtsim_plots.common")
+BarContainer = importlib.import_module("matplotlib.container").BarContainer
 
 
 def module(name):
@@ -31,6 +32,14 @@ def main():
 def bars(ax):
     """The bar containers of ax (one per ax.bar or ax.barh call, in drawing order)."""
     return list(ax.containers)
+
+
+def error_bars(container):
+    """The lower and upper ends of the vertical error bars of an ErrorbarContainer (ax.errorbar, or
+    a bar container's .errorbar), in drawing order."""
+    _, _, (bars, *_) = container.lines
+    segments = bars.get_segments()
+    return [float(s[0][1]) for s in segments], [float(s[1][1]) for s in segments]
 
 
 def heights(container):

@@ -114,7 +114,7 @@ class ReproduceFigures(fc.FigureTest):
     def bars_by_source(self, ax, colours):
         """legend label -> bar heights of the source drawn in that colour."""
         out = {}
-        for container in fc.bars(ax):
+        for container in (c for c in fc.bars(ax) if isinstance(c, fc.BarContainer)):
             colour = tuple(container.patches[0].get_facecolor())
             [label] = [k for k, c in colours.items() if c == colour]
             out[label] = fc.heights(container)
@@ -163,6 +163,37 @@ class ReproduceFigures(fc.FigureTest):
             self.assertEqual(fc.xticks(ax), ["all rays", "shadow rays"])
             self.assertTrue(ax.get_title().startswith(scene["title"]), ax.get_title())
         self.assertEqual(main.axes[0].get_ylabel(), "frame-time reduction (%)")
+
+    def test_sampled_runs_draw_each_reduction_with_its_interval(self):
+        for scene in self.rep["scenes"]:
+            for var, run in scene["ours"].items():
+                run["frame_ms_all_ci95"], run["frame_ms_shadow_ci95"] = 0.01, 0.02
+                if var != "off":  # as reproduction.json gives them: in points of %
+                    run["reduction"] = {
+                        k: {"reduction_pct": 0, "ci95_pt": ci, "paired": True}
+                        for k, ci in (("all", 0.5), ("shadow", 1.5))
+                    }
+        self.write_json("reproduction.json", self.rep)
+        fig = self.draw(reproduce_figures.reproduce)["reproduce_time.png"]
+        self.assertIn("error bars on ours: sampled, 95% interval", " ".join(fc.texts(fig)))
+        top, main = fig.subfigs
+        colours = fc.legend(top)
+        for ax, scene in zip(main.axes, self.rep["scenes"]):
+            want = reductions(scene)
+            drawn = 0
+            for bar in (c for c in fc.bars(ax) if isinstance(c, fc.BarContainer)):
+                [label] = [
+                    k for k, c in colours.items() if c == tuple(bar.patches[0].get_facecolor())
+                ]
+                if label == PAPER or label not in want:  # exact, or not run: no error bar
+                    self.assertIsNone(bar.errorbar, label)
+                    continue
+                lows, highs = fc.error_bars(bar.errorbar)
+                self.assertNumbers(lows, [want[label][0] - 0.5, want[label][1] - 1.5], label)
+                self.assertNumbers(highs, [want[label][0] + 0.5, want[label][1] + 1.5], label)
+                drawn += 1
+            self.assertEqual(drawn, len(scene["ours"]) - 1, scene["name"])
+            self.assertIn(" ± 0.010 → ", ax.get_xlabel())  # the times with theirs
 
 
 if __name__ == "__main__":

@@ -188,6 +188,74 @@ class RunFigures(fc.FigureTest):
             ]
             np.testing.assert_allclose(panel.images[0].get_array(), want, rtol=1e-6)
 
+    def write_sampled_run(self):
+        """A sampled run: estimates with their intervals, and sample.csv's measured units."""
+        rep, _ = self.write_run()
+        primary, shadow = self.rng.randrange(10**5, 10**7), self.rng.randrange(10**5, 10**7)
+        rep.update(sampled=True, cycles_primary=primary, cycles_shadow=shadow)
+        rep["cycles_total"] = primary + shadow
+        for k in ("cycles_primary", "cycles_shadow", "cycles_total"):
+            rep[k + "_ci95"] = self.rng.uniform(0.001, 0.05) * rep[k]
+        rep["sample"] = {"fraction": 0.05}
+        self.write_json("report.json", rep)
+        units = [
+            {"unit": u, "first_ray": 512 * u, "weight": 20, "certain": int(u == 0)}
+            for u in (0, 7, 31)
+        ]
+        for u in units:
+            u["primary_cycles"] = self.rng.randrange(1000, 9000)
+            u["shadow_cycles"] = self.rng.randrange(1000, 9000)
+        self.write_csv("sample.csv", list(units[0]), units)
+        return rep, units
+
+    def test_a_sampled_run_draws_each_estimate_with_its_interval(self):
+        rep, units = self.write_sampled_run()
+        figures = self.draw(run_figures.run)
+        fig = figures["plot_sample.png"]
+        ax = fig.axes[0]
+        (bar,) = [c for c in fc.bars(ax) if isinstance(c, fc.BarContainer)]
+        keys = ("cycles_primary", "cycles_shadow", "cycles_total")
+        self.assertNumbers(fc.heights(bar), [rep[k] for k in keys], "estimates")
+        self.assertIsNotNone(bar.errorbar, "no error bars")
+        # Each bar's error bar spans the estimate's 95% interval.
+        lows, highs = fc.error_bars(bar.errorbar)
+        self.assertNumbers(lows, [rep[k] - rep[k + "_ci95"] for k in keys], "interval lows")
+        self.assertNumbers(highs, [rep[k] + rep[k + "_ci95"] for k in keys], "interval highs")
+        self.assertEqual(fc.xticks(ax), ["primary", "shadow", "frame"])
+        self.assertIn("sampled, 95% interval", bar.get_label())
+        # The measured units, by their first rays.
+        got = fc.series(fig.axes[1])
+        self.assertNumbers(got["primary"][0], [u["first_ray"] for u in units])
+        self.assertNumbers(got["primary"][1], [u["primary_cycles"] for u in units])
+        self.assertNumbers(got["shadow"][1], [u["shadow_cycles"] for u in units])
+        # Every figure's title gives the frame's estimate with its interval, and says so.
+        ci = rep["cycles_total_ci95"]
+        want = f"{rep['cycles_total']:,} ± {ci:,.0f} cycles"
+        for name in ("plot_culling.png", "plot_time_breakdown.png", "plot_sample.png"):
+            text = " ".join(fc.texts(figures[name]) + [a.get_title() for a in figures[name].axes])
+            self.assertIn(want, text, name)
+            self.assertIn("(sampled, 95% interval)", text, name)
+
+    def test_a_sampled_run_without_an_interval_says_so(self):
+        rep, _ = self.write_sampled_run()
+        for k in ("cycles_primary", "cycles_shadow", "cycles_total"):
+            rep[k + "_ci95"] = None  # too few units drawn for an interval
+        self.write_json("report.json", rep)
+        figures = self.draw(run_figures.run)
+        title = figures["plot_culling.png"].axes[0].get_title()
+        self.assertIn(f"{rep['cycles_total']:,} cycles", title)
+        self.assertIn("(sampled, 95% interval unknown: too few units drawn)", title)
+        self.assertIn("± ? (too few units)", fc.texts(figures["plot_sample.png"].axes[0])[0])
+
+    def test_a_full_run_has_no_sample_figure_and_no_interval(self):
+        self.write_run()
+        figures = self.draw(run_figures.run)
+        self.assertNotIn("plot_sample.png", figures)
+        for name, fig in figures.items():
+            text = " ".join(fc.texts(fig) + [a.get_title() for a in fig.axes])
+            self.assertNotIn("±", text, name)
+            self.assertNotIn("sampled", text, name)
+
 
 if __name__ == "__main__":
     fc.main()

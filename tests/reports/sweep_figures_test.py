@@ -119,6 +119,38 @@ class SweepFigures(fc.FigureTest):
         self.assertEqual(fc.series(empty), {})
         self.assertIn("no values yet", fc.texts(empty))
 
+    def test_sampled_rows_draw_each_estimate_with_its_interval(self):
+        rows = self.write_rows()
+        for i, row in enumerate(rows):
+            row.update(sampled=True, cycles_total_ci95=1000.0 * (i + 1))
+        self.write_json("results.json", results(rows, [SIZE, LVB]))
+        figures = self.draw(sweep_figures.sweep)
+        ax = figures[f"plots/cycles_total_vs_{SIZE}.png"].axes[0]
+        self.assertIn("error bars: sampled, 95% interval", ax.get_title())
+        want = expected_lines(rows, "cycles_total", SIZE, LVB)
+        bars = {c.get_label(): c for c in ax.containers}
+        self.assertEqual(sorted(bars), sorted(want))
+        for label, (xs, ys) in want.items():
+            # The mean of repeated points has the root of the squares over their number.
+            cis = []
+            for x in xs:
+                at = [r for r in rows if r[SIZE] == x and f"{LVB}={r[LVB]}" == label]
+                cis.append(sum(r["cycles_total_ci95"] ** 2 for r in at) ** 0.5 / len(at))
+            lows, highs = fc.error_bars(bars[label])
+            self.assertNumbers(lows, [y - c for y, c in zip(ys, cis)], f"{label}: lows")
+            self.assertNumbers(highs, [y + c for y, c in zip(ys, cis)], f"{label}: highs")
+        # A metric without an interval (a rate) is drawn as before.
+        rate = figures[f"plots/trv_l1_hit_rate_vs_{SIZE}.png"].axes[0]
+        self.assertEqual(rate.containers, [])
+        self.assertNotIn("sampled", rate.get_title())
+
+    def test_full_rows_draw_no_error_bars(self):
+        self.write_rows()
+        figures = self.draw(sweep_figures.sweep)
+        for name, fig in figures.items():
+            self.assertEqual(fig.axes[0].containers, [], name)
+            self.assertNotIn("sampled", fig.axes[0].get_title(), name)
+
 
 if __name__ == "__main__":
     fc.main()

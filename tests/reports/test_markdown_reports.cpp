@@ -165,5 +165,28 @@ TEST(Reports, SweepPlotsIndexListsEveryMetricAgainstEveryVaryingAxis) {
             "# Sweep tiny: plots\n\nNo axis has two or more values yet: nothing to plot.\n");
 }
 
+// A sweep with sampled points: the index says which and where their intervals are; without
+// `sampled_columns` (full runs) it is the list alone, as above.
+TEST(Reports, SweepPlotsIndexSaysWhereASampledSweepsIntervalsAre) {
+  json results = {
+      {"name", "s"},
+      {"axes", {"run.lvb"}},
+      {"metrics", {"cycles_total"}},
+      {"sampled_columns", {"sampled", "sample.fraction", "cycles_total_ci95"}},
+      {"rows",
+       {{{"scene", "a"}, {"run.lvb", true}, {"sampled", true}, {"sample.fraction", 0.05}},
+        {{"scene", "a"}, {"run.lvb", false}}}}};
+  EXPECT_EQ(sweep_plots_index(results),
+            "# Sweep s: plots\n\n"
+            "- [cycles_total_vs_run.lvb.png](cycles_total_vs_run.lvb.png)\n"
+            "\n1 of the 2 points were sampled (fraction 0.05): their cycles and frame times are "
+            "estimates, drawn with their 95% intervals as error bars (sampled, 95% interval). "
+            "results.csv and results.json give the intervals (half-widths) in `sampled`, "
+            "`sample.fraction`, `cycles_total_ci95`.\n");
+  results.erase("sampled_columns");
+  EXPECT_EQ(sweep_plots_index(results),
+            "# Sweep s: plots\n\n- [cycles_total_vs_run.lvb.png](cycles_total_vs_run.lvb.png)\n");
+}
+
 }  // namespace
 }  // namespace rtsim::report

@@ -2,7 +2,9 @@
 // run reports every cycle figure with its interval; bad sample settings are input errors.
 #include "tests/testbench/cli_util.h"
 
+#include <map>
 #include <sstream>
+#include <vector>
 
 namespace rtsim::cli_test {
 namespace {
@@ -88,6 +90,78 @@ TEST(CliSample, ASampledSweepListsEachEstimateWithItsInterval) {
     EXPECT_GT(std::stod(field), 0.0) << row;  // an interval, not null
   }
   EXPECT_EQ(rows, 2);
+  fs::remove_all(dir);
+}
+
+// The header of a results.csv, and its rows, by column.
+std::vector<std::map<std::string, std::string>> csv_rows(const std::string& text,
+                                                         std::string* header) {
+  std::istringstream csv(text);
+  std::getline(csv, *header);
+  std::vector<std::string> names;
+  std::istringstream h(*header);
+  for (std::string n; std::getline(h, n, ',');) names.push_back(n);
+  std::vector<std::map<std::string, std::string>> rows;
+  for (std::string line; std::getline(csv, line);) {
+    std::istringstream fields(line);
+    auto& row = rows.emplace_back();
+    for (const std::string& n : names) std::getline(fields, row[n], ',');
+  }
+  return rows;
+}
+
+// A sampled sweep's results carry each estimate's interval and the fraction though its file lists
+// none of them; a sweep of full runs has no such column (its results as before the intervals).
+TEST(CliSample, ASampledSweepCarriesItsIntervalsUnaskedAFullOneDoesNot) {
+  const fs::path dir = test::temp_dir("cli_sample_sweep_unasked");
+  const std::string base = "name: unasked\nscenes: [" + kCity + "]\nhw: " + kHw +
+                           "\naxes:\n  hw.trv.l1.size_kb: [4, 16]\nmetrics: [cycles_total, "
+                           "frame_ms_all]\nset: {scene.resolution: [128, 72]";
+  write(dir / "sampled.yaml", base +
+                                  ", run.sample: 0.2, run.sample_unit: 512, "
+                                  "run.sample_warmup: 512}\n");
+  write(dir / "full.yaml", base + "}\n");
+  for (const char* name : {"sampled", "full"}) {
+    const RunResult r = run("sweep " + (dir / (std::string(name) + ".yaml")).string() + " --out " +
+                            (dir / name).string());
+    ASSERT_EQ(r.code, 0) << r.err;
+  }
+  std::string header;
+  const auto rows = csv_rows(slurp(dir / "sampled" / "results.csv"), &header);
+  EXPECT_EQ(header,
+            "point,id,scene,hw.trv.l1.size_kb,cycles_total,frame_ms_all,sampled,sample.fraction,"
+            "cycles_total_ci95,cycles_primary_ci95,cycles_shadow_ci95,frame_ms_all_ci95,"
+            "frame_ms_shadow_ci95,failure");
+  ASSERT_EQ(rows.size(), 2u);
+  const nlohmann::json results = nlohmann::json::parse(slurp(dir / "sampled" / "results.json"));
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const auto& row = rows[i];
+    const nlohmann::json& js = results["rows"][i];
+    const nlohmann::json report = nlohmann::json::parse(
+        slurp(dir / "sampled" / "points" / js["id"].get<std::string>() / "report.json"));
+    EXPECT_EQ(row.at("sampled"), "true");
+    EXPECT_EQ(std::stod(row.at("sample.fraction")), 0.2);
+    for (const char* k : {"cycles_total_ci95", "cycles_primary_ci95", "cycles_shadow_ci95"}) {
+      EXPECT_GT(std::stod(row.at(k)), 0.0) << k;
+      EXPECT_EQ(js[k].get<double>(), report[k].get<double>()) << k;
+    }
+    EXPECT_DOUBLE_EQ(
+        js["frame_ms_all_ci95"].get<double>(),
+        report["cycles_total_ci95"].get<double>() / (report["clock_ghz"].get<double>() * 1e6));
+  }
+  EXPECT_EQ(results["sampled_columns"].size(), 7u);
+  // The figure of an estimate draws its interval, and the index says where they are.
+  EXPECT_TRUE(fs::exists(dir / "sampled" / "plots" / "cycles_total_vs_hw.trv.l1.size_kb.png"));
+  EXPECT_NE(slurp(dir / "sampled" / "plots" / "index.md").find("2 of the 2 points were sampled"),
+            std::string::npos);
+
+  const auto full = csv_rows(slurp(dir / "full" / "results.csv"), &header);
+  EXPECT_EQ(header, "point,id,scene,hw.trv.l1.size_kb,cycles_total,frame_ms_all,failure");
+  EXPECT_EQ(full.size(), 2u);
+  const std::string full_json = slurp(dir / "full" / "results.json");
+  EXPECT_EQ(full_json.find("sampled"), std::string::npos);
+  EXPECT_EQ(full_json.find("ci95"), std::string::npos);
+  EXPECT_EQ(slurp(dir / "full" / "plots" / "index.md").find("sampled"), std::string::npos);
   fs::remove_all(dir);
 }
 
