@@ -178,15 +178,25 @@ void table5(std::ostringstream& md, const Setup& c) {
 
 // A sampled run's 95% half-interval of its frame time of `kind` (all, shadow), in ms; 0 for a
 // full run.
+// A sampled figure's interval, NaN where it is unknown (null: too few units drawn for one).
+double interval(const json& v) { return v.is_number() ? v.get<double>() : std::nan(""); }
+
+// "± x" with `digits` decimals, "± ?" for an unknown interval (too few units: no degrees of
+// freedom).
+std::string plus_minus(double ci, int digits) {
+  return !std::isfinite(ci) ? "± ?" : fmt::format("± {:.{}f}", ci, digits);
+}
+
 double ms_ci(const json& r, const char* kind) {
   if (!r.contains("sampled")) return 0;
   const std::string key = std::string(kind) == "all" ? "cycles_total_ci95" : "cycles_shadow_ci95";
-  return r[key].get<double>() / (r["clock_ghz"].get<double>() * 1e6);
+  return interval(r[key]) / (r["clock_ghz"].get<double>() * 1e6);
 }
 
 std::string ms_cell(const json& r, const char* kind) {
   const double ms = r["frame_ms"][kind].get<double>(), ci = ms_ci(r, kind);
-  return ci > 0 ? fmt::format("{:.3f} ± {:.3f}", ms, ci) : fmt::format("{:.3f}", ms);
+  return ci > 0 || !std::isfinite(ci) ? fmt::format("{:.3f} {}", ms, plus_minus(ci, 3))
+                                      : fmt::format("{:.3f}", ms);
 }
 
 // The reduction 1 - on / off with its 95% interval when the runs are sampled: paired unit by unit
@@ -211,10 +221,10 @@ std::string reduction_cell(const json& on_run, const json& off_run, const char* 
   const double on = on_run["frame_ms"][kind].get<double>();
   const double off = off_run["frame_ms"][kind].get<double>();
   if (i.is_null()) return reduction(on, off);
+  const double ci = interval(i["ci95_pt"]);
   if (i["paired"].get<bool>())
-    return fmt::format("{:.2f}% ± {:.2f} pt", i["reduction_pct"].get<double>(),
-                       i["ci95_pt"].get<double>());
-  return fmt::format("{} ± {:.2f} pt", reduction(on, off), i["ci95_pt"].get<double>());
+    return fmt::format("{:.2f}% {} pt", i["reduction_pct"].get<double>(), plus_minus(ci, 2));
+  return fmt::format("{} {} pt", reduction(on, off), plus_minus(ci, 2));
 }
 
 // A sampled run's frame times' 95% half-intervals (ms), for reproduction.json; a full run's JSON
