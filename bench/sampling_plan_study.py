@@ -2,16 +2,18 @@
 """A sampled run's estimator on a full run's true unit cycles (docs/sampling.md): the plan of
 testbench/sample_plan.cpp (first and last unit always measured, one unit drawn per stratum of
 round(1/F) units) and the estimators of testbench/sample_regression.cpp (GREG on the functional
-pass's features, the frame's interval from both phases' residuals by successive differences),
-over many seeds, as if every drawn unit were measured exactly: the bound that the estimator puts
-on a sampled run, whatever its warming.
+pass's features; the 95% interval from the delete-one jackknife of each phase's total, the frame's
+from the sums of both phases' replicates, with Satterthwaite's degrees of freedom), over many
+seeds, as if every drawn unit were measured exactly: the bound that the estimator puts on a
+sampled run, whatever its warming. Beside the run's estimator, the variants it was chosen from.
 
   bench_sampling_features --config RUN/config.json --out features.csv
   /usr/bin/python3 bench/sampling_plan_study.py RUN features.csv [--fraction 0.05] [--seeds 200]
+      [--variants 'all'|'run'|'NAME;...']
 
-RUN: a full run's directory (batches.csv with the phase column). Prints, per estimator, the
-largest, rms and 95th-percentile error of the frame's cycles, the mean 95% half-interval and how
-many intervals held the truth.
+RUN: a full run's directory (batches.csv with the phase column). Prints, per variant and phase
+(primary, shadow, frame), the largest, rms and 95th-percentile error, the mean 95% half-interval
+and how many intervals held the truth.
 """
 import argparse
 import csv
@@ -23,6 +25,36 @@ T975 += [2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2
 T975 += [2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
 UNIT = 32  # batches of 64 rays: run.sample_unit 2,048
 IN_FLIGHT = 12  # batches: the traversal units' rays (24 x (16 + 16)) over 64
+RUNS = [0, 1, 2, 3, 4]  # the run's primary auxiliaries: replay, IST reads and L1 misses (+ ahead)
+
+# name: primary columns (None: expansion), fit ("ols", "huber", "inverse": weights 1/replay),
+# interval ("sd", "hc2", "pairs", "jk", "jk-satt3", "jk-satt", "model"), strata ("issue", "sorted").
+VARIANTS = {
+    "expansion": (None, "ols", "sd", "issue"),
+    "successive differences (the run's before)": (RUNS, "ols", "sd", "issue"),
+    "successive differences, primary on replay": ([0], "ols", "sd", "issue"),
+    "successive differences, primary on replay and IST reads": ([0, 1, 2], "ols", "sd", "issue"),
+    "successive differences of e / sqrt(1 - h) (HC2)": (RUNS, "ols", "hc2", "issue"),
+    "collapsed strata pairs, t for n / 2": (RUNS, "ols", "pairs", "issue"),
+    "jackknife, t for n - p": (RUNS, "ols", "jk", "issue"),
+    "jackknife, primary on replay": ([0], "ols", "jk", "issue"),
+    "jackknife, Satterthwaite's degrees of freedom (the run's)": (RUNS, "ols", "jk-satt3", "issue"),
+    "jackknife, Satterthwaite's degrees of freedom, d^4 plug-in": (RUNS, "ols", "jk-satt", "issue"),
+    "Huber-weighted fit, successive differences": (RUNS, "huber", "sd", "issue"),
+    "fit weighted 1 / replay, jackknife": (RUNS, "inverse", "jk", "issue"),
+    "larger of successive differences and e^2 ratio-estimated on replay": (
+        RUNS,
+        "ols",
+        "model",
+        "issue",
+    ),
+    "strata sorted by replay (a plan change), successive differences": (
+        RUNS,
+        "ols",
+        "sd",
+        "sorted",
+    ),
+}
 
 
 def t95(dof):
@@ -62,35 +94,146 @@ def load(run, features):
     return units(y["primary"]), units(y["shadow"]), xp, xs
 
 
-def plan(n_units, fraction, seed):
+def plan(n_units, fraction, seed, order=None):
+    """(unit, weight, certain) as testbench/sample_plan.cpp, the strata over `order` if given."""
     k = max(1, round(1 / fraction))
     rng = np.random.default_rng(seed)
-    out, first = [(0, 1, True)], 1
-    while first + 1 < n_units:
-        size = min(k, n_units - 1 - first)
-        out.append((first + int(rng.integers(size)), size, False))
+    inner = np.arange(1, n_units - 1) if order is None else order
+    out, first = [(0, 1, True)], 0
+    while first < len(inner):
+        size = min(k, len(inner) - first)
+        out.append((int(inner[first + int(rng.integers(size))]), size, False))
         first += k
     return out + [(n_units - 1, 1, True)]
 
 
-def greg(y, x, sample, cols):
-    """The total and the drawn units' weighted residuals (each over 1 - its leverage)."""
+def solve(ad, y, w):
+    m = ad.T @ (w[:, None] * ad)
+    try:
+        return np.linalg.solve(m, ad.T @ (w * y)), m
+    except np.linalg.LinAlgError:
+        return None, m
+
+
+def fit(y, ad, w, how, x0):
+    """The coefficients and the fit's weights per drawn unit (OLS, Huber's or 1 / replay)."""
+    u = 1.0 / np.maximum(x0, 1.0) if how == "inverse" else np.ones(len(y))
+    beta, m = solve(ad, y, w * u)
+    for _ in range(20 if how == "huber" else 0):  # IRLS, Huber's k = 1.345 times the MAD's scale
+        e = y - ad @ beta
+        s = 1.4826 * np.median(np.abs(e - np.median(e))) + 1e-9
+        z = np.abs(e) / (1.345 * s)
+        u = np.where(z <= 1, 1.0, 1.0 / np.maximum(z, 1e-12))
+        beta, m = solve(ad, y, w * u)
+    return beta, m, u
+
+
+def greg(y, x, sample, cols, how="ols", jackknife=False):
+    """testbench/sample_regression.cpp's estimate_greg: the total, the drawn units' weighted
+    residuals over 1 - their leverage, their leverages, and (jackknife) their replicates' deviations
+    (estimate_plan's for the expansion, cols None)."""
     cert = [i for i, _, c in sample if c]
     idx = np.array([i for i, _, c in sample if not c])
     w = np.array([float(s) for _, s, c in sample if not c])
+    big_w = w.sum()
     if cols is None:
-        return y[cert].sum() + np.sum(w * y[idx]), w * y[idx], 1
+        t = np.sum(w * y[idx])
+        dev = big_w / (big_w - w) * (t - w * y[idx]) - t
+        return y[cert].sum() + t, w * y[idx], np.zeros(len(idx)), dev, 1
     a = np.column_stack([np.ones(len(y)), x[:, cols]])
     a = a / np.abs(a).mean(axis=0)
     ad = a[idx]
-    m = ad.T @ (w[:, None] * ad)
-    beta = np.linalg.solve(m, ad.T @ (w * y[idx]))
     rest = np.ones(len(y), bool)
     rest[cert] = False
+    rest_sum = a[rest].sum(axis=0)
+    beta, m, u = fit(y[idx], ad, w, how, x[idx, 0])
+    full = rest_sum @ beta + np.sum(w * (y[idx] - ad @ beta))
     e = y[idx] - ad @ beta
-    total = y[cert].sum() + (a[rest] @ beta).sum() + np.sum(w * e)
-    lev = w * np.einsum("ij,jk,ik->i", ad, np.linalg.inv(m), ad)
-    return total, w * e / np.maximum(1 - lev, 0.05), a.shape[1]
+    lev = w * u * np.einsum("ij,jk,ik->i", ad, np.linalg.inv(m), ad)
+    dev = np.zeros(len(idx))
+    for i in range(len(idx) if jackknife else 0):
+        wi = w * big_w / (big_w - w[i])
+        wi[i] = 0.0
+        bi = fit(y[idx], ad, wi, how, x[idx, 0])[0]
+        bi = beta if bi is None else bi
+        dev[i] = rest_sum @ bi + np.sum(wi * (y[idx] - ad @ bi)) - full
+    return y[cert].sum() + full, w * e / np.maximum(1 - lev, 0.05), lev, dev, a.shape[1]
+
+
+def half_interval(kind, r, dof, fpc, v_model=None):
+    """The 95% half-interval of a total from its drawn units' residuals or deviations `r`."""
+    n = len(r)
+    if kind in ("sd", "hc2", "model"):
+        v = fpc * n * np.sum(np.diff(r) ** 2) / (2 * (n - 1))
+        return t95(dof) * np.sqrt(max(v, v_model) if kind == "model" else v)
+    if kind == "pairs":  # strata collapsed in pairs; an odd one out with its left neighbour
+        m = n // 2
+        v = np.sum((r[0 : 2 * m : 2] - r[1 : 2 * m : 2]) ** 2)
+        v += (r[-1] - r[-2]) ** 2 / 2 if n % 2 else 0
+        return t95(m) * np.sqrt(fpc * v)
+    d = r - r.mean()  # the jackknife
+    if kind.startswith("jk-satt"):  # Satterthwaite's degrees of freedom of a sum of squares
+        c = 3.0 if kind == "jk-satt3" else 1.0  # the run's: E d^4 = 3 (E d^2)^2 for a normal d
+        dof = int(max(1, min(dof, c * np.sum(d**2) ** 2 / max(np.sum(d**4), 1e-300))))
+    return t95(dof) * np.sqrt(fpc * (n - 1) / n * np.sum(d**2))
+
+
+def model_variance(r, sample, x0):
+    """The population's sum of squared unit residuals, ratio-estimated on the replay's cycles
+    (known for every unit), times k - 1: the stratified design's variance if a unit's residual
+    variance grew with its replay cycles."""
+    idx = np.array([i for i, _, c in sample if not c])
+    w = np.array([float(s) for _, s, c in sample if not c])
+    rest = np.ones(len(x0), bool)
+    rest[[i for i, _, c in sample if c]] = False
+    k = w.sum() / len(w)
+    v = np.maximum(x0, 1.0)
+    return (k - 1) * v[rest].sum() * np.sum(w * (r / w) ** 2) / np.sum(w * v[idx])
+
+
+def one_draw(data, variant, fraction, seed):
+    """Each phase's and the frame's (estimate, 95% half-interval) for one seed's sample."""
+    yp, ys, xp, xs = data
+    cols, how, kind, strata = variant
+    order = None
+    if strata == "sorted":
+        key = xp[1:-1, 0] + xs[1:-1, 0]
+        order = 1 + np.argsort(key, kind="stable")
+    sample = plan(len(yp), fraction, seed, order)
+    jk = kind.startswith("jk")
+    tp, rp, hp, dp, p = greg(yp, xp, sample, cols, how, jk)
+    ts, rs, hs, ds, q = greg(ys, xs, sample, None if cols is None else [0], how, jk)
+    w = np.array([float(s) for _, s, c in sample if not c])
+    n = len(w)
+    fpc = 1 - n / w.sum()
+    if kind == "hc2":  # e / sqrt(1 - h) instead of e / (1 - h)
+        rp = rp * np.sqrt(np.maximum(1 - hp, 0.05))
+        rs = rs * np.sqrt(np.maximum(1 - hs, 0.05))
+    if jk or cols is None:
+        rp, rs = (dp, ds) if jk else (rp, rs)
+    out = {}
+    for ph, t, r, dof, x0 in (
+        ("primary", tp, rp, n - p, xp[:, 0]),
+        ("shadow", ts, rs, n - q, xs[:, 0]),
+        ("frame", tp + ts, rp + rs, n - max(p, q), xp[:, 0] + xs[:, 0]),
+    ):
+        vm = model_variance(r, sample, x0) if kind == "model" else None
+        out[ph] = (t, half_interval(kind, r, dof, fpc, vm))
+    return out
+
+
+def study(data, variant, fraction, seeds):
+    """Per phase: the relative errors, the relative half-intervals and the intervals that held."""
+    yp, ys = data[0], data[1]
+    truth = {"primary": yp.sum(), "shadow": ys.sum(), "frame": yp.sum() + ys.sum()}
+    res = {ph: ([], [], 0) for ph in truth}
+    for seed in range(1, seeds + 1):
+        for ph, (t, h) in one_draw(data, variant, fraction, seed).items():
+            errs, halves, held = res[ph]
+            errs.append(abs(t - truth[ph]) / truth[ph])
+            halves.append(h / truth[ph])
+            res[ph] = (errs, halves, held + (abs(t - truth[ph]) <= h))
+    return res
 
 
 def main():
@@ -99,36 +242,26 @@ def main():
     ap.add_argument("features")
     ap.add_argument("--fraction", type=float, default=0.05)
     ap.add_argument("--seeds", type=int, default=200)
+    ap.add_argument("--variants", default="all", help="all, run, or names joined by ';'")
     a = ap.parse_args()
-    yp, ys, xp, xs = load(a.run, a.features)
-    truth = (yp + ys).sum()
-    estimators = [
-        ("expansion", None, None),
-        ("GREG: replay", [0], [0]),
-        ("GREG: replay, IST reads, L1 misses (the run's)", [0, 1, 2, 3, 4], [0]),
-    ]
-    print(f"{a.run}: {len(yp)} units, fraction {a.fraction}, {a.seeds} seeds")
-    print("| estimator | largest | rms | 95th percentile | mean 95% interval | held |")
-    print("|---|---|---|---|---|---|")
-    for name, cp, cs in estimators:
-        errs, halves, held = [], [], 0
-        for seed in range(1, a.seeds + 1):
-            sample = plan(len(yp), a.fraction, seed)
-            tp, rp, p = greg(yp, xp, sample, cp)
-            ts, rs, _ = greg(ys, xs, sample, cs)
-            n = len(rp)
-            fpc = 1 - n / sum(s for _, s, c in sample if not c)
-            r = rp + rs
-            half = t95(n - p) * np.sqrt(n * fpc * np.sum(np.diff(r) ** 2) / (2 * (n - 1)))
-            errs.append(abs(tp + ts - truth) / truth)
-            halves.append(half / truth)
-            held += abs(tp + ts - truth) <= half
-        e = np.array(errs)
-        print(
-            f"| {name} | {100 * e.max():.2f}% | {100 * np.sqrt(np.mean(e**2)):.2f}% | "
-            f"{100 * np.percentile(e, 95):.2f}% | {100 * np.mean(halves):.2f}% | "
-            f"{held} of {a.seeds} |"
-        )
+    data = load(a.run, a.features)
+    names = list(VARIANTS)
+    if a.variants == "run":
+        names = ["expansion", "jackknife, Satterthwaite's degrees of freedom (the run's)"]
+    elif a.variants != "all":
+        names = a.variants.split(";")
+    print(f"{a.run}: {len(data[0])} units, fraction {a.fraction}, {a.seeds} seeds")
+    print("| variant | phase | largest | rms | 95th percentile | mean 95% interval | held |")
+    print("|---|---|---|---|---|---|---|")
+    for name in names:
+        for ph, (errs, halves, held) in study(data, VARIANTS[name], a.fraction, a.seeds).items():
+            e = np.array(errs)
+            print(
+                f"| {name} | {ph} | {100 * e.max():.2f}% | {100 * np.sqrt(np.mean(e**2)):.2f}% | "
+                f"{100 * np.percentile(e, 95):.2f}% | {100 * np.mean(halves):.2f}% | "
+                f"{held} of {a.seeds} |",
+                flush=True,
+            )
 
 
 if __name__ == "__main__":

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <random>
 #include <stdexcept>
 
@@ -89,7 +90,16 @@ SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& 
     drawn_from += u.weight;
   }
   const uint64_t n = drawn.size();
-  if (residuals) *residuals = drawn;
+  if (residuals) {  // each drawn unit's delete-one jackknife deviation (sample_regression.h)
+    const double sum = std::accumulate(drawn.begin(), drawn.end(), 0.0), all = double(drawn_from);
+    residuals->clear();
+    for (size_t i = 0, k = 0; i < values.size(); ++i) {
+      if (plan.units[i].certain) continue;
+      const double w = double(plan.units[i].weight);
+      residuals->push_back(n > 1 ? all / (all - w) * (sum - drawn[k]) - sum : 0.0);
+      ++k;
+    }
+  }
   if (n == 0 || drawn_from == n) return e;  // every unit measured: the total itself
   if (n == 1) {
     e.ci95 = std::numeric_limits<double>::infinity();

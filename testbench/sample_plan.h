@@ -54,8 +54,9 @@ std::vector<double> unit_cycles(const SamplePlan& plan,
 // count once, each drawn unit for its stratum. The 95% interval comes from the drawn units'
 // successive differences (their strata lie in issue order, and neighbours are alike: Wolter,
 // Introduction to Variance Estimation, ch. 8), with the finite population correction.
-// `residuals` (optional) gets what the interval comes from: each drawn unit's value times its
-// weight (sample_regression.h's sum_interval takes them).
+// `residuals` (optional) gets each drawn unit's delete-one jackknife deviation of the total (the
+// unit left out, the other drawn units' weights scaled up to stand for the same units), which
+// sample_regression.h's sum_interval takes to add two estimates' intervals.
 SampleEstimate estimate_plan(const SamplePlan& plan, const std::vector<double>& values,
                              std::vector<double>* residuals = nullptr);
 

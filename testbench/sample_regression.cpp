@@ -83,14 +83,46 @@ UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<Ba
   return aux;
 }
 
+namespace {
+
+// The weighted least-squares fit of the drawn units' values `y` on their design rows with weights
+// `w` (0 leaves a unit out): the coefficients, false when the normal equations are singular.
+bool fit(const std::vector<std::vector<double>>& rows, const std::vector<double>& y,
+         const std::vector<double>& w, std::vector<double>& beta) {
+  const size_t p = rows.empty() ? 0 : rows[0].size();
+  Matrix ata(p, std::vector<double>(p, 0.0)), inv;
+  std::vector<double> aty(p, 0.0);
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t r = 0; r < p; ++r) {
+      aty[r] += w[i] * rows[i][r] * y[i];
+      for (size_t c = 0; c < p; ++c) ata[r][c] += w[i] * rows[i][r] * rows[i][c];
+    }
+  if (!invert(ata, inv)) return false;
+  beta.assign(p, 0.0);
+  for (size_t r = 0; r < p; ++r) beta[r] = dot(inv[r], aty);
+  return true;
+}
+
+// The GREG total of the units not measured with certainty for the coefficients `beta`: the fit's
+// prediction of them all (`rest`: their design rows summed) plus the drawn units' weighted
+// residuals.
+double greg_total(const std::vector<double>& rest, const std::vector<std::vector<double>>& rows,
+                  const std::vector<double>& y, const std::vector<double>& w,
+                  const std::vector<double>& beta) {
+  double t = dot(rest, beta);
+  for (size_t i = 0; i < rows.size(); ++i) t += w[i] * (y[i] - dot(rows[i], beta));
+  return t;
+}
+
+}  // namespace
+
 SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
                              const UnitAuxiliaries& aux, std::vector<double>* residuals_out) {
   if (values.size() != plan.units.size() || aux.units() != plan.population)
     throw std::invalid_argument("estimate_greg: one value per measured unit, auxiliaries for all");
-  std::vector<size_t> drawn;
-  for (size_t i = 0; i < plan.units.size(); ++i)
-    if (!plan.units[i].certain) drawn.push_back(i);
-  const size_t p = aux.features + 1, n = drawn.size();
+  const size_t p = aux.features + 1;
+  size_t n = 0;
+  for (const MeasuredUnit& u : plan.units) n += u.certain ? 0 : 1;
   if (n < p + 3) return estimate_plan(plan, values, residuals_out);
   std::vector<double> scale(aux.features, 1.0);
   for (size_t j = 0; j < aux.features; ++j) {
@@ -98,58 +130,68 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
     for (size_t u = 0; u < aux.units(); ++u) s += std::abs(aux.at(u, j));
     scale[j] = s > 0 ? s / double(aux.units()) : 1.0;
   }
-  // Weighted normal equations over the drawn units.
-  Matrix ata(p, std::vector<double>(p, 0.0)), inv;
-  std::vector<double> aty(p, 0.0);
-  for (size_t i : drawn) {
-    const std::vector<double> a = design_row(aux, plan.units[i].index, scale);
-    const double w = double(plan.units[i].weight);
-    for (size_t r = 0; r < p; ++r) {
-      aty[r] += w * a[r] * values[i];
-      for (size_t c = 0; c < p; ++c) ata[r][c] += w * a[r] * a[c];
-    }
-  }
-  if (!invert(ata, inv)) return estimate_plan(plan, values, residuals_out);
-  std::vector<double> beta(p, 0.0);
-  for (size_t r = 0; r < p; ++r) beta[r] = dot(inv[r], aty);
   SampleEstimate e;
   e.population = plan.population;
   e.sampled = values.size();
-  std::vector<bool> measured_certain(plan.population, false);
-  for (size_t i = 0; i < plan.units.size(); ++i)
-    if (plan.units[i].certain) {
-      measured_certain[plan.units[i].index] = true;
+  std::vector<bool> certain(plan.population, false);
+  std::vector<std::vector<double>> rows;  // the drawn units' design rows, values and weights
+  std::vector<double> y, w, rest(p, 0.0);
+  double drawn_weight = 0;
+  for (size_t i = 0; i < plan.units.size(); ++i) {
+    const MeasuredUnit& u = plan.units[i];
+    if (u.certain) {
+      certain[u.index] = true;
       e.total += values[i];
+      continue;
     }
+    rows.push_back(design_row(aux, u.index, scale));
+    y.push_back(values[i]);
+    w.push_back(double(u.weight));
+    drawn_weight += double(u.weight);
+  }
   for (uint64_t u = 0; u < plan.population; ++u)
-    if (!measured_certain[u]) e.total += dot(design_row(aux, u, scale), beta);
-  std::vector<double> residuals;  // weighted, each over 1 - its leverage
-  for (size_t i : drawn) {
-    const std::vector<double> a = design_row(aux, plan.units[i].index, scale);
-    const double w = double(plan.units[i].weight);
-    const double r = values[i] - dot(a, beta);
-    e.total += w * r;
-    std::vector<double> inv_a(p);
-    for (size_t k = 0; k < p; ++k) inv_a[k] = dot(inv[k], a);
-    const double leverage = w * dot(a, inv_a);
-    residuals.push_back(w * r / std::max(1.0 - leverage, 0.05));
+    if (!certain[u]) {
+      const std::vector<double> a = design_row(aux, u, scale);
+      for (size_t k = 0; k < p; ++k) rest[k] += a[k];
+    }
+  std::vector<double> beta;
+  if (!fit(rows, y, w, beta)) return estimate_plan(plan, values, residuals_out);
+  const double full = greg_total(rest, rows, y, w, beta);
+  e.total += full;
+  // The delete-one jackknife: each drawn unit left out, the others' weights scaled up to stand for
+  // the same units, the fit done again. A unit that steers the fit moves its replicate far.
+  std::vector<double> deviations(n);
+  for (size_t i = 0; i < n; ++i) {
+    std::vector<double> wi(w), bi;
+    for (double& x : wi) x *= drawn_weight / (drawn_weight - w[i]);
+    wi[i] = 0;
+    deviations[i] = (fit(rows, y, wi, bi) ? greg_total(rest, rows, y, wi, bi)
+                                          : greg_total(rest, rows, y, wi, beta)) -
+                    full;
   }
   e.parameters = p;
-  e.ci95 = sum_interval(plan, residuals, n - p);
-  if (residuals_out) *residuals_out = std::move(residuals);
+  e.ci95 = sum_interval(plan, deviations, n - p);
+  if (residuals_out) *residuals_out = std::move(deviations);
   return e;
 }
 
-double sum_interval(const SamplePlan& plan, const std::vector<double>& residuals, uint64_t dof) {
+double sum_interval(const SamplePlan& plan, const std::vector<double>& deviations, uint64_t dof) {
   uint64_t drawn_from = 0;
   for (const MeasuredUnit& u : plan.units) drawn_from += u.certain ? 0 : u.weight;
-  const size_t n = residuals.size();
+  const size_t n = deviations.size();
   if (n < 2 || dof == 0) return n == drawn_from ? 0.0 : std::numeric_limits<double>::infinity();
-  double squares = 0;
-  for (size_t h = 1; h < n; ++h)
-    squares += (residuals[h] - residuals[h - 1]) * (residuals[h] - residuals[h - 1]);
+  double mean = 0, squares = 0, fourths = 0;
+  for (double d : deviations) mean += d / double(n);
+  for (double d : deviations) {
+    squares += (d - mean) * (d - mean);
+    fourths += (d - mean) * (d - mean) * (d - mean) * (d - mean);
+  }
+  // Satterthwaite's degrees of freedom of a sum of squares whose terms differ: (sum a)^2 / sum
+  // a^2 with a = d^2, each a^2 taken as d^4 / 3 (a normal d's fourth moment), so that alike
+  // deviations keep `dof` and a few large ones (the units on the geometry) leave fewer.
+  if (fourths > 0) dof = std::min<uint64_t>(dof, uint64_t(3.0 * squares * squares / fourths));
   const double fpc = std::max(0.0, 1.0 - double(n) / double(drawn_from));
-  return t95(dof) * std::sqrt(double(n) * fpc * squares / (2.0 * double(n - 1)));
+  return t95(std::max<uint64_t>(dof, 1)) * std::sqrt(fpc * double(n - 1) / double(n) * squares);
 }
 
 RatioEstimate paired_ratio(const SamplePlan& plan, double on, double off,

@@ -30,12 +30,16 @@ UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<Ba
 
 // The phase's total: the always-measured units' cycles, the fit's prediction for the others, and
 // the drawn units' residuals times their strata's sizes. The fit is weighted least squares on
-// the drawn units (an intercept and the auxiliaries); the 95% interval comes from the successive
-// differences of the drawn units' residuals (each over 1 - its leverage, so a unit that steers
-// the fit counts as left out of it), with Student's t for n - p degrees of freedom. With too few
-// drawn units for the fit (n < p + 3) it is the expansion (estimate_plan).
-// `residuals` (optional) gets the drawn units' weighted residuals the interval comes from, so
-// that two phases' estimates can be added with the interval of their sum (sum_interval).
+// the drawn units (an intercept and the auxiliaries). The 95% interval is the delete-one
+// jackknife's: each drawn unit left out in turn, the others' weights scaled up to stand for the
+// same units, the fit done again; the variance is (n - 1) / n times the replicates' squared
+// deviations, times the finite population correction, with Student's t for at most n - p degrees
+// of freedom (fewer where a few deviations dominate: sum_interval). A unit that steers the fit
+// moves its replicate far, so the interval knows it (the residuals' successive differences did not:
+// docs/sampling.md). With too few drawn units for the fit (n < p + 3) it is the expansion
+// (estimate_plan). `residuals` (optional) gets each drawn unit's replicate less the total, its
+// jackknife deviation, so that two phases' estimates can be added with the interval of their sum
+// (sum_interval: the deviations of a sum are the sums of the deviations).
 SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
                              const UnitAuxiliaries& aux, std::vector<double>* residuals = nullptr);
 
@@ -43,14 +47,18 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
 UnitAuxiliaries unit_sums(const SamplePlan& plan, const std::vector<BatchFeatures>& b,
                           uint64_t (*figure)(const BatchFeatures&));
 
-// The 95% half-interval of a total whose drawn units' weighted residuals are `residuals` (one per
-// drawn unit of `plan`, in order), by successive differences, with `dof` degrees of freedom.
-double sum_interval(const SamplePlan& plan, const std::vector<double>& residuals, uint64_t dof);
+// The 95% half-interval of a total whose drawn units' jackknife deviations are `deviations` (one
+// per drawn unit of `plan`, in order; estimate_greg's and estimate_plan's `residuals`, or their
+// sums over phases), with Student's t for the smaller of `dof` and Satterthwaite's degrees of
+// freedom of the deviations' sum of squares, 3 (sum d^2)^2 / sum d^4 (d centred): n for alike
+// normal deviations, fewer as a few large ones dominate (a heavy-tailed frame's units).
+double sum_interval(const SamplePlan& plan, const std::vector<double>& deviations, uint64_t dof);
 
 // The ratio of two totals estimated at the same units (a frame with culling on over the same
 // frame with it off, both sampled with one plan), R = on / off, and its 95% interval from the
-// paired residuals on - R x off of the drawn units (Cochran, Sampling Techniques, ch. 6): what the
-// two frames share cancels, so the interval is far narrower than two independent ones give.
+// paired deviations on - R x off of the drawn units (the linearized jackknife of R; Cochran,
+// Sampling Techniques, ch. 6): what the two frames share cancels, so the interval is far narrower
+// than two independent ones give.
 struct RatioEstimate {
   double ratio = 0, ci95 = 0;
 };
