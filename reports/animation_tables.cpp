@@ -97,10 +97,26 @@ std::string row(double t, const AnimationFrame& f, size_t lights) {
 
 }  // namespace
 
+// Sampled frames (rtsim animate --sample): each run's 95% half-interval of its cycles, in columns
+// after the others, so that a full animation's frames.csv is as it was.
+bool any_sampled(const std::map<double, AnimationFrame>& frames) {
+  for (const auto& [t, f] : frames)
+    for (const json* r : {&f.off, &f.on})
+      if (!r->is_null() && r->value("sampled", false)) return true;
+  return false;
+}
+
 std::string frames_csv(const std::map<double, AnimationFrame>& frames) {
   const size_t lights = lights_of(frames);
+  const bool sampled = any_sampled(frames);
   std::string csv = header(lights);
-  for (const auto& [t, f] : frames) csv += row(t, f, lights);
+  if (sampled) csv.insert(csv.size() - 1, ",cycles_off_ci95,cycles_on_ci95");
+  for (const auto& [t, f] : frames) {
+    csv += row(t, f, lights);
+    if (sampled)
+      csv.insert(csv.size() - 1, "," + number(f.off, ptr("/cycles_total_ci95")) + "," +
+                                     number(f.on, ptr("/cycles_total_ci95")));
+  }
   return csv;
 }
 

@@ -17,6 +17,7 @@ struct AnimationFrame {
   nlohmann::json on, off;
 };
 
+// With sampled frames, cycles_off_ci95 and cycles_on_ci95 (95% half-intervals) end each row.
 std::string frames_csv(const std::map<double, AnimationFrame>& frames);
 std::string host_csv(const std::map<double, AnimationFrame>& frames);
 // Markdown: a row per frame, then the medians. Builder cycles count one LVB test (region or pair)

@@ -62,6 +62,7 @@ std::string sweep_yaml(const AnimateArgs& a, const std::vector<double>& times) {
   if (a.width > 0) set.push_back(fmt::format("run.width: {}", a.width));
   if (a.height > 0) set.push_back(fmt::format("run.height: {}", a.height));
   if (!a.accel.empty()) set.push_back(fmt::format("run.accel: {}", a.accel));
+  if (!a.sample.empty()) set.push_back("run.sample: " + checked_sample_option(a.sample));
   if (!set.empty()) y += fmt::format("set: {{{}}}\n", fmt::join(set, ", "));
   y += "axes:\n  scene.time: [";
   for (size_t i = 0; i < times.size(); ++i) y += fmt::format("{}{:.9g}", i ? ", " : "", times[i]);

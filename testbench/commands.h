@@ -42,6 +42,7 @@ struct AnimateArgs {
   std::string accel;         // the acceleration structure (run.accel); empty: the run's default
   int width = 0, height = 0, jobs = 1;
   int check_every = 0;  // the reference check on frames 0, K, 2K, ... (0: none)
+  std::string sample;   // run.sample of every frame (empty: full frames; docs/sampling.md)
 };
 int run_animate(const AnimateArgs& args);
 // --times START:END:STEP, END included; an empty or decreasing range is an InputError.
@@ -73,5 +74,9 @@ struct ReproduceArgs {
   std::vector<std::string> set;  // --set PATH=VALUE overrides of every run (run.sample_seed=2)
 };
 int run_reproduce(const ReproduceArgs& args);
+
+// --sample F of reproduce and animate: F itself when it is a fraction in (0, 1], else an
+// InputError naming the option.
+std::string checked_sample_option(const std::string& text);
 
 }  // namespace rtsim

@@ -209,6 +209,10 @@ void add_animate(CLI::App& app, Commands& c) {
   c.animate_cmd->add_option("--height", c.animate.height, "Image height")
       ->check(CLI::Range(1, 16384));
   c.animate_cmd->add_option("--jobs", c.animate.jobs, "Frames at once")->check(CLI::Range(1, 1024));
+  c.animate_cmd->add_option(
+      "--sample", c.animate.sample,
+      "Sampled frames: this fraction of each frame's units in detail, the cycles "
+      "estimated with 95% intervals (run.sample; docs/sampling.md)");
   add_accel_option(c.animate_cmd, [&c](const std::string& v) { c.animate.accel = v; });
   c.animate_cmd
       ->add_option("--check-every", c.animate.check_every,

@@ -30,6 +30,14 @@ namespace fs = std::filesystem;
 
 namespace rtsim {
 
+std::string checked_sample_option(const std::string& text) {
+  char* end = nullptr;
+  const double f = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || !(f > 0 && f <= 1))
+    throw InputError("--sample " + text + ": expected a fraction in (0, 1]");
+  return text;
+}
+
 namespace {
 
 using report::PaperScene;
@@ -39,13 +47,7 @@ void prepare(const ReproduceArgs& a, std::vector<std::string>& extra) {
   if (!a.scene_root.empty()) setenv("RTSIM_SCENE_ROOT", a.scene_root.c_str(), 1);
   if (a.width) extra.push_back(fmt::format("run.width={}", a.width));
   if (a.height) extra.push_back(fmt::format("run.height={}", a.height));
-  if (!a.sample.empty()) {
-    char* end = nullptr;
-    const double f = std::strtod(a.sample.c_str(), &end);
-    if (end == a.sample.c_str() || *end != '\0' || !(f > 0 && f <= 1))
-      throw InputError("--sample " + a.sample + ": expected a fraction in (0, 1]");
-    extra.push_back("run.sample=" + a.sample);
-  }
+  if (!a.sample.empty()) extra.push_back("run.sample=" + checked_sample_option(a.sample));
   for (const std::string& o : a.set) extra.push_back(o);
 }
 

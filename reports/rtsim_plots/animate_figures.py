@@ -53,15 +53,31 @@ def animate(folder, written):
     os.makedirs(out, exist_ok=True)
 
     fig, ax = plt.subplots(figsize=(7, 4))
+    sampled = "cycles_on_ci95" in rows[0]  # rtsim animate --sample: estimates with intervals
     for key, label, colour in (
         ("cycles_off", "culling off", "tab:gray"),
         ("cycles_on", "culling on", "tab:blue"),
     ):
-        ax.plot(t, series(rows, key), marker="o", ms=3, label=label, color=colour)
+        if sampled:
+            ax.errorbar(
+                t,
+                series(rows, key),
+                yerr=series(rows, key + "_ci95"),
+                marker="o",
+                ms=3,
+                capsize=2,
+                label=label,
+                color=colour,
+            )
+        else:
+            ax.plot(t, series(rows, key), marker="o", ms=3, label=label, color=colour)
     ax.set_ylabel("cycles per frame")
     ax.set_ylim(bottom=0)
     ax.legend()
-    time_axis(ax, "Simulated cycles per frame")
+    time_axis(
+        ax,
+        "Simulated cycles per frame" + (" (sampled, error bars: 95% interval)" if sampled else ""),
+    )
     save(fig, os.path.join(out, "animate_cycles.png"), written)
 
     fig, ax = plt.subplots(figsize=(7, 4))

@@ -118,5 +118,31 @@ class AnimateFigures(fc.FigureTest):
         self.assertEqual(work_ax.get_ylabel(), "count per frame")
 
 
+class SampledAnimateFigures(fc.FigureTest):
+    """rtsim animate --sample: frames.csv ends each row with the runs' 95% half-intervals, and the
+    cycles figure draws them as error bars."""
+
+    def setUp(self):
+        super().setUp()
+        rng = random.Random(48)
+        self.rows = [frame(rng, t) for t in TIMES]
+        for r in self.rows:
+            r["cycles_off_ci95"] = rng.randrange(1, 10**4)
+            r["cycles_on_ci95"] = rng.randrange(1, 10**4)
+        self.write_csv("frames.csv", FRAMES + ["cycles_off_ci95", "cycles_on_ci95"], self.rows)
+        self.write_csv("host.csv", HOST, [{"time": t} for t in TIMES])
+        self.figures = self.draw(animate_figures.animate)
+
+    def test_cycles_carry_their_intervals(self):
+        ax = self.figures["plots/animate_cycles.png"].axes[0]
+        bars = {c.get_label(): fc.error_bars(c) for c in ax.containers}
+        self.assertEqual(sorted(bars), ["culling off", "culling on"])
+        for label, key in (("culling off", "cycles_off"), ("culling on", "cycles_on")):
+            low, high = bars[label]
+            self.assertNumbers(low, [r[key] - r[key + "_ci95"] for r in self.rows], label)
+            self.assertNumbers(high, [r[key] + r[key + "_ci95"] for r in self.rows], label)
+        self.assertIn("sampled", ax.get_title())
+
+
 if __name__ == "__main__":
     fc.main()

@@ -1,8 +1,11 @@
-// run.sample_target_pct and run.sample_grow (docs/sampling.md): a sampled frame whose interval is
-// wider than the target says so and what fraction would meet it; with grow it runs again at that
-// fraction (each attempt a child process) until the target is met.
+// Sampling beyond one run (docs/sampling.md): run.sample_target_pct and run.sample_grow (a sampled
+// frame whose interval is wider than the target says so and what fraction would meet it; with
+// grow it runs again at that fraction, each attempt a child process, until the target is met), and
+// rtsim animate --sample (each frame sampled, frames.csv with the intervals).
 #include "testbench/sampled_frame.h"
 #include "tests/testbench/cli_util.h"
+
+#include <sstream>
 
 namespace rtsim::cli_test {
 namespace {
@@ -78,6 +81,33 @@ TEST(SampleTarget, BadTargetsAreNamed) {
                      {"sample_grow", "sample_target_pct"});
   expect_input_error(base + "--sample 0.1 --set run.sample_grow=maybe",
                      {"sample_grow", "expected"});
+}
+
+// rtsim animate --sample: each frame a sampled run, frames.csv ending its rows with the runs'
+// intervals; a fraction outside (0, 1] is an input error.
+TEST(SampleAnimate, EachFrameCarriesItsInterval) {
+  RTSIM_REQUIRE_SHARED_SCENES();
+  const fs::path out = test::temp_dir("cli_sample_animate");
+  const std::string animate = "animate " +
+                              (test::source_dir() / "configs/scenes/robots.yaml").string() +
+                              " --hw " + kHw + " --times 0:1:1 --width 320 --height 180 ";
+  const RunResult r = run(animate + "--lvb both --jobs 2 --sample 0.25 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string csv = slurp(out / "frames.csv");
+  const std::string head = csv.substr(0, csv.find('\n'));
+  EXPECT_EQ(head.substr(head.size() - 31), ",cycles_off_ci95,cycles_on_ci95") << head;
+  std::istringstream lines(csv.substr(head.size() + 1));
+  int rows = 0;
+  for (std::string line; std::getline(lines, line); ++rows) {
+    const size_t on = line.rfind(','), off = line.rfind(',', on - 1);
+    EXPECT_GT(std::stod(line.substr(off + 1, on - off - 1)), 0.0) << line;
+    EXPECT_GT(std::stod(line.substr(on + 1)), 0.0) << line;
+  }
+  EXPECT_EQ(rows, 2);
+  const nlohmann::json frame = nlohmann::json::parse(slurp(out / "points/p0000/report.json"));
+  EXPECT_EQ(frame["sample"]["fraction"], 0.25);
+  expect_input_error(animate + "--sample 0 --out " + out.string(), {"--sample 0", "(0, 1]"});
+  fs::remove_all(out);
 }
 
 }  // namespace
