@@ -1,7 +1,6 @@
-// Estimates of a frame's figures from a sample of its units of work (issue 38, docs/sampling.md):
-// which units a systematic sample takes, and the total it estimates with a 95% confidence
-// interval from the sample's own variance, as SMARTS does (Wunderlich et al., ISCA 2003: a
-// systematic sample treated as a simple random one, with the finite population correction).
+// A sampled frame's estimate of a total (issue 38, docs/sampling.md) with its 95% confidence
+// interval, and Student's t for it. The plan (sample_plan.h) and the regression
+// (sample_regression.h) compute them.
 #pragma once
 
 #include <cstdint>
@@ -18,16 +17,6 @@ struct SampleEstimate {
   // The interval as a share of the estimate, in percent.
   double ci95_pct() const { return total > 0 ? 100.0 * ci95 / total : 0.0; }
 };
-
-// The units a systematic sample of `fraction` (in (0, 1]) takes out of `population`: every k-th
-// from `start` (k = round(1 / fraction), start taken modulo k), so the sample spreads over the
-// whole frame in issue order. Throws std::invalid_argument for a fraction outside (0, 1].
-std::vector<uint64_t> systematic_sample(uint64_t population, double fraction, uint64_t start);
-
-// The estimate from the values of the sampled units (at least one). With two or more the interval
-// uses Student's t for n - 1 degrees of freedom (z = 1.96 from 30 on); with one it is unknown
-// (infinite) unless that unit is the whole population.
-SampleEstimate estimate_total(const std::vector<double>& values, uint64_t population);
 
 // The two-sided 95% quantile of Student's t with `df` degrees of freedom (df >= 1).
 double t95(uint64_t df);
