@@ -5,11 +5,15 @@ round(1/F) units) and the estimators of testbench/sample_regression.cpp (GREG on
 pass's features; the 95% interval from the delete-one jackknife of each phase's total, the frame's
 from the sums of both phases' replicates, with Satterthwaite's degrees of freedom), over many
 seeds, as if every drawn unit were measured exactly: the bound that the estimator puts on a
-sampled run, whatever its warming. Beside the run's estimator, the variants it was chosen from.
+sampled run, whatever its warming. Beside the run's estimator, the variants it was chosen from,
+and plans with a take-all stratum: the m units ranked highest by an auxiliary known before the
+simulation always measured (exactly, as the first and last are), the rest of the same budget of
+measured units drawn one a stratum over the other units, in strata of equal size or of equal
+N_h S_h of the auxiliary (Neyman's allocation with one draw a stratum).
 
   bench_sampling_features --config RUN/config.json --out features.csv
   /usr/bin/python3 bench/sampling_plan_study.py RUN features.csv [--fraction 0.05] [--seeds 200]
-      [--variants 'all'|'run'|'NAME;...']
+      [--variants 'all'|'run'|'take-all'|'NAME;...']
 
 RUN: a full run's directory (batches.csv with the phase column). Prints, per variant and phase
 (primary, shadow, frame), the largest, rms and 95th-percentile error, the mean 95% half-interval
@@ -28,7 +32,8 @@ IN_FLIGHT = 12  # batches: the traversal units' rays (24 x (16 + 16)) over 64
 RUNS = [0, 1, 2, 3, 4]  # the run's primary auxiliaries: replay, IST reads and L1 misses (+ ahead)
 
 # name: primary columns (None: expansion), fit ("ols", "huber", "inverse": weights 1/replay),
-# interval ("sd", "hc2", "pairs", "jk", "jk-satt3", "jk-satt", "model"), strata ("issue", "sorted").
+# interval ("sd", "hc2", "pairs", "jk", "jk-satt3", "jk-satt", "model"), strata ("issue", "sorted",
+# or ("take-all", ranking, m, allocation): see TAKE_ALL).
 VARIANTS = {
     "expansion": (None, "ols", "sd", "issue"),
     "successive differences (the run's before)": (RUNS, "ols", "sd", "issue"),
@@ -55,6 +60,40 @@ VARIANTS = {
         "sorted",
     ),
 }
+
+
+# The rankings of a take-all stratum, cheapest first: (a) known from a primary walk and the LVB
+# bits, (b) the functional pass's primary phase, (c) the whole pass (before the simulation).
+RANKINGS = {
+    "(a) shadow rays": "shadow_rays",
+    "(a) primary hits": "hits",
+    "(a) shadow rays + hits": "rays_hits",
+    "(b) primary replay": "primary_replay",
+    "(a)x(b) primary replay x (1 + shadow rays / unit)": "primary_replay_rays",
+    "(c) both replays": "replay",
+    "(c') both replays, shadow on 1 batch in 4": "replay_stride4",
+    "(c') both replays, shadow on 1 batch in 8": "replay_stride8",
+}
+THE_RUN = (RUNS, "ols", "jk-satt3", "issue")  # the run's estimator and plan
+TAKE_ALL = {"current plan (baseline)": THE_RUN}
+for _rank, _key in RANKINGS.items():
+    for _m in (
+        (5, 10, 20)
+        if _key in ("shadow_rays", "hits", "rays_hits", "primary_replay", "replay")
+        else ()
+    ):
+        TAKE_ALL[f"take-all {_m}, {_rank}"] = THE_RUN[:3] + (("take-all", _key, _m, "equal"),)
+for _rank, _key in RANKINGS.items():
+    if _key != "hits":
+        TAKE_ALL[f"Neyman strata, {_rank}"] = THE_RUN[:3] + (("take-all", _key, 0, "neyman"),)
+        TAKE_ALL[f"take-all 10 + Neyman strata, {_rank}"] = THE_RUN[:3] + (
+            ("take-all", _key, 10, "neyman"),
+        )
+for _rank, _key in RANKINGS.items():
+    if _key not in ("hits", "rays_hits"):
+        TAKE_ALL[f"strata of equal totals, {_rank}"] = THE_RUN[:3] + (
+            ("take-all", _key, 0, "total"),
+        )
 
 
 def t95(dof):
@@ -91,19 +130,83 @@ def load(run, features):
         + [units(l1), units(ahead(l1))]
     )
     xs = units(feat["shadow"]["replay_cycles"])[:, None]
-    return units(y["primary"]), units(y["shadow"]), xp, xs
+    rays, hits = units(feat["shadow"]["rays"]), units(p["hits"])
+    keys = {  # the rankings of a take-all stratum (RANKINGS), per unit
+        "shadow_rays": rays,
+        "hits": hits,
+        "rays_hits": rays / max(rays.mean(), 1.0) + hits / max(hits.mean(), 1.0),
+        "primary_replay": xp[:, 0],
+        "primary_replay_rays": xp[:, 0] * (1 + rays / (UNIT * 64)),
+        "replay": xp[:, 0] + xs[:, 0],
+    }
+    for k in (4, 8):  # a pass with shadow_stride k, approximated: its batches of the full pass's
+        every = feat["shadow"]["replay_cycles"] * (np.arange(len(feat["shadow"]["rays"])) % k == 0)
+        keys[f"replay_stride{k}"] = xp[:, 0] + k * units(every)
+    return units(y["primary"]), units(y["shadow"]), xp, xs, keys
 
 
-def plan(n_units, fraction, seed, order=None):
-    """(unit, weight, certain) as testbench/sample_plan.cpp, the strata over `order` if given."""
+def strata_of(n_units, fraction, order=None):
+    """testbench/sample_plan.cpp's strata: k = round(1 / F) consecutive units of `order` (the
+    units between the first and the last in issue order if not given)."""
     k = max(1, round(1 / fraction))
-    rng = np.random.default_rng(seed)
     inner = np.arange(1, n_units - 1) if order is None else order
-    out, first = [(0, 1, True)], 0
-    while first < len(inner):
-        size = min(k, len(inner) - first)
-        out.append((int(inner[first + int(rng.integers(size))]), size, False))
-        first += k
+    return [inner[first : first + k] for first in range(0, len(inner), k)]
+
+
+def cut_strata(key, rest, count, allocation):
+    """`count` strata of consecutive units of `rest` (issue order) with about equal N_h S_h of
+    `key` ("neyman": Neyman's allocation n_h ~ N_h S_h with one draw a stratum) or equal sums of
+    it ("total": n_h ~ the stratum's total, for residuals that grow with the auxiliary): the
+    greedy cut at the bisected bound, the largest strata halved if it leaves fewer."""
+    v = key[rest].astype(float)
+    c1, c2 = np.concatenate([[0.0], np.cumsum(v)]), np.concatenate([[0.0], np.cumsum(v * v)])
+
+    def measure(first, last):  # of units first .. last - 1
+        n, s1 = last - first, c1[last] - c1[first]
+        if allocation == "total":
+            return s1
+        return n * np.sqrt(max(0.0, (c2[last] - c2[first]) / n - (s1 / n) ** 2))
+
+    def cut(bound):
+        out, first = [], 0
+        for last in range(1, len(v) + 1):
+            if last == len(v) or measure(first, last + 1) > bound:
+                out.append((first, last))
+                first = last
+        return out
+
+    lo, hi = 0.0, measure(0, len(v)) + 1.0
+    for _ in range(60):
+        mid = (lo + hi) / 2
+        lo, hi = (mid, hi) if len(cut(mid)) > count else (lo, mid)
+    out = cut(hi)
+    while len(out) < count:
+        i = max(range(len(out)), key=lambda j: out[j][1] - out[j][0])
+        a, b = out[i]
+        out[i : i + 1] = [(a, (a + b) // 2), ((a + b) // 2, b)]
+    return [rest[a:b] for a, b in out]
+
+
+def take_all_strata(n_units, fraction, key, m, allocation):
+    """The always-measured units (the first, the last and the m others ranked highest by `key`)
+    and the strata of the rest: as many as the current plan draws less m (the same number of
+    measured units), of equal size or by Neyman's allocation."""
+    inner = np.arange(1, n_units - 1)
+    top = inner[np.argsort(-key[inner], kind="stable")[:m]]
+    rest = np.setdiff1d(inner, top)
+    count = len(strata_of(n_units, fraction)) - m
+    if allocation in ("neyman", "total"):
+        return sorted(top), cut_strata(key, rest, count, allocation)
+    return sorted(top), np.array_split(rest, count)
+
+
+def plan(n_units, seed, strata, certain=()):
+    """(unit, weight, certain) as testbench/sample_plan.cpp: the first and the last unit and
+    `certain` always measured, one unit drawn at random from each stratum."""
+    rng = np.random.default_rng(seed)
+    out = [(0, 1, True)] + [(int(u), 1, True) for u in certain]
+    for s in strata:
+        out.append((int(s[int(rng.integers(len(s)))]), len(s), False))
     return out + [(n_units - 1, 1, True)]
 
 
@@ -191,15 +294,24 @@ def model_variance(r, sample, x0):
     return (k - 1) * v[rest].sum() * np.sum(w * (r / w) ** 2) / np.sum(w * v[idx])
 
 
-def one_draw(data, variant, fraction, seed):
-    """Each phase's and the frame's (estimate, 95% half-interval) for one seed's sample."""
-    yp, ys, xp, xs = data
-    cols, how, kind, strata = variant
-    order = None
+def design(data, strata, fraction):
+    """A variant's plan: the units always measured beside the first and last, and the strata."""
+    yp, xp, xs, keys = data[0], data[2], data[3], data[4]
     if strata == "sorted":
         key = xp[1:-1, 0] + xs[1:-1, 0]
-        order = 1 + np.argsort(key, kind="stable")
-    sample = plan(len(yp), fraction, seed, order)
+        return (), strata_of(len(yp), fraction, 1 + np.argsort(key, kind="stable"))
+    if strata == "issue":
+        return (), strata_of(len(yp), fraction)
+    _, key, m, allocation = strata
+    return take_all_strata(len(yp), fraction, keys[key], m, allocation)
+
+
+def one_draw(data, variant, fraction, seed, plan_design=None):
+    """Each phase's and the frame's (estimate, 95% half-interval) for one seed's sample."""
+    yp, ys, xp, xs = data[:4]
+    cols, how, kind, strata = variant
+    certain, cells = plan_design or design(data, strata, fraction)
+    sample = plan(len(yp), seed, cells, certain)
     jk = kind.startswith("jk")
     tp, rp, hp, dp, p = greg(yp, xp, sample, cols, how, jk)
     ts, rs, hs, ds, q = greg(ys, xs, sample, None if cols is None else [0], how, jk)
@@ -227,8 +339,9 @@ def study(data, variant, fraction, seeds):
     yp, ys = data[0], data[1]
     truth = {"primary": yp.sum(), "shadow": ys.sum(), "frame": yp.sum() + ys.sum()}
     res = {ph: ([], [], 0) for ph in truth}
+    plan_design = design(data, variant[3], fraction)
     for seed in range(1, seeds + 1):
-        for ph, (t, h) in one_draw(data, variant, fraction, seed).items():
+        for ph, (t, h) in one_draw(data, variant, fraction, seed, plan_design).items():
             errs, halves, held = res[ph]
             errs.append(abs(t - truth[ph]) / truth[ph])
             halves.append(h / truth[ph])
@@ -242,19 +355,22 @@ def main():
     ap.add_argument("features")
     ap.add_argument("--fraction", type=float, default=0.05)
     ap.add_argument("--seeds", type=int, default=200)
-    ap.add_argument("--variants", default="all", help="all, run, or names joined by ';'")
+    ap.add_argument("--variants", default="all", help="all, run, take-all or names joined by ';'")
     a = ap.parse_args()
     data = load(a.run, a.features)
+    variants = {**VARIANTS, **TAKE_ALL}
     names = list(VARIANTS)
     if a.variants == "run":
         names = ["expansion", "jackknife, Satterthwaite's degrees of freedom (the run's)"]
+    elif a.variants == "take-all":
+        names = list(TAKE_ALL)
     elif a.variants != "all":
         names = a.variants.split(";")
     print(f"{a.run}: {len(data[0])} units, fraction {a.fraction}, {a.seeds} seeds")
     print("| variant | phase | largest | rms | 95th percentile | mean 95% interval | held |")
     print("|---|---|---|---|---|---|---|")
     for name in names:
-        for ph, (errs, halves, held) in study(data, VARIANTS[name], a.fraction, a.seeds).items():
+        for ph, (errs, halves, held) in study(data, variants[name], a.fraction, a.seeds).items():
             e = np.array(errs)
             print(
                 f"| {name} | {ph} | {100 * e.max():.2f}% | {100 * np.sqrt(np.mean(e**2)):.2f}% | "
