@@ -29,7 +29,50 @@ std::vector<model::DetailWindow> windows_of(const SamplePlan& p, uint64_t warmup
 
 }  // namespace
 
-SamplePlan plan_sample(uint64_t rays, const SampleSettings& s) {
+std::vector<std::pair<uint64_t, uint64_t>> neyman_strata(const std::vector<double>& aux,
+                                                         uint64_t first, uint64_t end,
+                                                         uint64_t count) {
+  std::vector<std::pair<uint64_t, uint64_t>> out;
+  if (end <= first || count == 0) return out;
+  // Prefix sums of the values and their squares: N_h x S_h of any run of units in O(1).
+  std::vector<double> c1(end - first + 1, 0.0), c2(end - first + 1, 0.0);
+  for (uint64_t i = first; i < end; ++i) {
+    c1[i - first + 1] = c1[i - first] + aux[i];
+    c2[i - first + 1] = c2[i - first] + aux[i] * aux[i];
+  }
+  const auto measure = [&](uint64_t a, uint64_t b) {  // units first + a .. first + b - 1
+    const double n = double(b - a), s1 = c1[b] - c1[a];
+    return n * std::sqrt(std::max(0.0, (c2[b] - c2[a]) / n - (s1 / n) * (s1 / n)));
+  };
+  const uint64_t n = end - first;
+  const auto cut = [&](double bound) {
+    std::vector<std::pair<uint64_t, uint64_t>> strata;
+    for (uint64_t a = 0, b = 1; b <= n; ++b)
+      if (b == n || measure(a, b + 1) > bound) {
+        strata.push_back({first + a, first + b});
+        a = b;
+      }
+    return strata;
+  };
+  double lo = 0, hi = measure(0, n) + 1.0;
+  for (int i = 0; i < 60; ++i) {
+    const double mid = (lo + hi) / 2;
+    (cut(mid).size() > count ? lo : hi) = mid;
+  }
+  out = cut(hi);
+  while (out.size() < count && out.size() < n) {
+    const auto widest = std::max_element(out.begin(), out.end(), [](const auto& x, const auto& y) {
+      return x.second - x.first < y.second - y.first;
+    });
+    const uint64_t a = widest->first, b = widest->second, mid = (a + b) / 2;
+    *widest = {a, mid};
+    out.insert(widest + 1, {mid, b});
+  }
+  return out;
+}
+
+SamplePlan plan_sample(uint64_t rays, const SampleSettings& s,
+                       const std::vector<double>& auxiliary) {
   if (!(s.fraction > 0 && s.fraction <= 1) || s.unit == 0 || s.unit % model::kBatchRays ||
       s.warmup % model::kBatchRays)
     throw std::invalid_argument("plan_sample: settings out of range");
@@ -43,10 +86,17 @@ SamplePlan plan_sample(uint64_t rays, const SampleSettings& s) {
   } else {
     std::mt19937_64 rng(s.seed);
     p.units.push_back({0, 1, true});
-    for (uint64_t first = 1; first + 1 < p.population; first += k) {
-      const uint64_t size = std::min(k, p.population - 1 - first);
-      p.units.push_back({first + rng() % size, size, false});
+    std::vector<std::pair<uint64_t, uint64_t>> strata;
+    if (s.strata == SampleStrata::kNeyman) {
+      if (auxiliary.size() != p.population)
+        throw std::invalid_argument("plan_sample: Neyman strata need an auxiliary per unit");
+      strata = neyman_strata(auxiliary, 1, p.population - 1, (p.population - 2 + k - 1) / k);
+    } else {
+      for (uint64_t first = 1; first + 1 < p.population; first += k)
+        strata.push_back({first, std::min(first + k, p.population - 1)});
     }
+    for (const auto& [first, end] : strata)
+      p.units.push_back({first + rng() % (end - first), end - first, false});
     p.units.push_back({p.population - 1, 1, true});
   }
   p.windows = windows_of(p, s.warmup);

@@ -10,9 +10,16 @@
 #include "testbench/sample_estimate.h"
 
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace rtsim {
+
+// How the units between the first and the last are cut into strata (one unit drawn from each):
+// k = round(1 / fraction) consecutive units each, or as many strata of consecutive units cut by
+// Neyman's allocation on an auxiliary known before the simulation (each stratum about the same
+// N_h x S_h of it: strata are small where units differ much, large where they are alike).
+enum class SampleStrata { kIssue, kNeyman };
 
 struct SampleSettings {
   double fraction = 0;     // of the units measured; 0: a full frame (no plan)
@@ -27,6 +34,7 @@ struct SampleSettings {
   // asks for, up to kSampleAttempts times in all (testbench/sampled_frame.h).
   double target_pct = 0;
   bool grow = false;
+  SampleStrata strata = SampleStrata::kIssue;
 };
 
 struct MeasuredUnit {
@@ -42,8 +50,17 @@ struct SamplePlan {
   std::vector<model::DetailWindow> windows;
 };
 
-// The plan for a frame of `rays` primary rays (settings already validated).
-SamplePlan plan_sample(uint64_t rays, const SampleSettings& settings);
+// The plan for a frame of `rays` primary rays (settings already validated). Neyman strata need
+// `auxiliary`, one value per unit of the frame (a sampled run's: both phases' replay cycles).
+SamplePlan plan_sample(uint64_t rays, const SampleSettings& settings,
+                       const std::vector<double>& auxiliary = {});
+
+// `count` strata of consecutive units [first, end) with about equal N_h x S_h of `aux` (by unit of
+// the frame): the greedy cut at the smallest bound that gives at most `count`, the largest
+// stratum halved while there are fewer. Each stratum as [begin, end).
+std::vector<std::pair<uint64_t, uint64_t>> neyman_strata(const std::vector<double>& aux,
+                                                         uint64_t first, uint64_t end,
+                                                         uint64_t count);
 
 // Each measured unit's cycles in one phase, from the windows' batches (AcceleratorResult::
 // primary_windows or shadow_windows): the sum of its batches.

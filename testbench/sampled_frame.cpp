@@ -9,9 +9,8 @@
 
 namespace rtsim {
 
-SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
-                                   const RunConfig& c) {
-  const FrameFeatures f = run_batch_features(p, c.hw, c.run);
+SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f,
+                                  const RunConfig& c) {
   const model::UnitTypeConfig& t = c.hw.traversal();
   const uint32_t in_flight = t.count * (t.capacity + t.fifo_depth) / model::kBatchRays;
   SampledAuxiliaries aux;
@@ -20,6 +19,53 @@ SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& 
   aux.seconds = f.primary_seconds + f.shadow_seconds;
   return aux;
 }
+
+SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
+                                   const RunConfig& c) {
+  return auxiliaries_of(plan, run_batch_features(p, c.hw, c.run), c);
+}
+
+namespace {
+
+// Each unit's replay cycles of both phases: what Neyman's strata balance.
+std::vector<double> both_replays(uint64_t rays, uint32_t unit, const FrameFeatures& f) {
+  SamplePlan units;
+  units.unit = unit;
+  units.population = (rays + unit - 1) / unit;
+  const auto replay = [](const BatchFeatures& b) { return b.replay_cycles; };
+  std::vector<double> out = unit_sums(units, f.primary, replay).x;
+  const std::vector<double> shadow = unit_sums(units, f.shadow, replay).x;
+  for (size_t u = 0; u < out.size() && u < shadow.size(); ++u) out[u] += shadow[u];
+  return out;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// Neyman's strata need the pass's replay cycles before the plan: the pass first, then the
+// simulation, with `while_passing` (the reference tracer's frame) on the second thread.
+SampledRun run_neyman(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
+                      const WindowSimulation& simulate,
+                      const std::function<void()>& while_passing) {
+  SampledRun run;
+  run.settings = settings;
+  const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
+  const FrameFeatures f = run_batch_features(p, c.hw, c.run);
+  run.plan = plan_sample(rays, settings, both_replays(rays, settings.unit, f));
+  std::future<void> beside;
+  if (while_passing) beside = std::async(std::launch::async, while_passing);
+  const auto t0 = std::chrono::steady_clock::now();
+  run.frame = simulate(run.plan);
+  run.simulate_seconds = seconds_since(t0);
+  if (beside.valid()) beside.get();
+  const SampledAuxiliaries aux = auxiliaries_of(run.plan, f, c);
+  run.pass_seconds = aux.seconds;
+  run.estimates = estimate_sampled(run.plan, run.frame, &aux);
+  return run;
+}
+
+}  // namespace
 
 model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera, int width,
                                   int height, const model::AcceleratorConfig& cfg, uint64_t rays) {
@@ -110,6 +156,8 @@ double SampledRun::fraction_needed() const {
 SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
                        const WindowSimulation& simulate,
                        const std::function<void()>& while_passing) {
+  if (settings.strata == SampleStrata::kNeyman)
+    return run_neyman(settings, p, c, simulate, while_passing);
   SampledRun run;
   run.settings = settings;
   run.plan = plan_sample(uint64_t(p.scene.width) * p.scene.height, settings);
@@ -117,8 +165,7 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
       std::async(std::launch::async, [&run, &p, &c] { return functional_pass(run.plan, p, c); });
   const auto t0 = std::chrono::steady_clock::now();
   run.frame = simulate(run.plan);
-  run.simulate_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  run.simulate_seconds = seconds_since(t0);
   if (while_passing) while_passing();
   const SampledAuxiliaries aux = pass.get();
   run.pass_seconds = aux.seconds;
@@ -159,6 +206,7 @@ nlohmann::json sample_json(const SampledRun& run, uint64_t warming_rays) {
       {"warming_rows", s.warming_rows},
       {"warming_rays", warming_rays},
       {"seed", s.seed},
+      {"strata", s.strata == SampleStrata::kNeyman ? "neyman" : "issue"},
       {"units", plan.population},
       {"measured_units", plan.units.size()},
       {"windows", plan.windows.size()},

@@ -38,6 +38,9 @@ struct SampledAuxiliaries {
 };
 SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
                                    const RunConfig& c);
+// The same from the pass's features `f` (run_batch_features).
+SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f,
+                                  const RunConfig& c);
 
 // The functional warming of a sampled frame (model::WarmSource): before a window, the reads of the
 // `rays` primary rays issued before it, walked by the reference tracer in issue order, each for
@@ -54,8 +57,10 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
 // A sampled frame: its plan's windows simulated on the model (`simulate`) while the functional
 // pass runs on a second thread (the two only read the prepared scene), then the estimates.
 // `while_passing` (optional) runs on the calling thread after the simulation, before it waits for
-// the pass. One per process: SystemC elaborates once (run.sample_grow's further attempts run as
-// child processes, testbench/run_command.cpp).
+// the pass. With Neyman's strata (run.sample_strata) the pass comes first, as the plan needs it,
+// and `while_passing` runs on the second thread beside the simulation. One per process: SystemC
+// elaborates once (run.sample_grow's further attempts run as child processes,
+// testbench/run_command.cpp).
 struct SampledRun {
   SampleSettings settings;
   SamplePlan plan;

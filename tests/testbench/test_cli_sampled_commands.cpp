@@ -5,6 +5,7 @@
 #include "testbench/sampled_frame.h"
 #include "tests/testbench/cli_util.h"
 
+#include <set>
 #include <sstream>
 
 namespace rtsim::cli_test {
@@ -81,6 +82,32 @@ TEST(SampleTarget, BadTargetsAreNamed) {
                      {"sample_grow", "sample_target_pct"});
   expect_input_error(base + "--sample 0.1 --set run.sample_grow=maybe",
                      {"sample_grow", "expected"});
+  expect_input_error(base + "--sample 0.1 --set run.sample_strata=sorted",
+                     {"sample_strata", "'issue' or 'neyman'"});
+}
+
+// run.sample_strata: neyman: the plan's strata cut on the functional pass's replay cycles (the
+// pass first), unequal, their weights covering the frame's units.
+TEST(SampleTarget, NeymanStrataCoverTheFrame) {
+  const fs::path dir = test::temp_dir("cli_sample_neyman");
+  const RunResult r = run_city(dir / "n", "--sample 0.2 --quiet --set run.sample_strata=neyman");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(dir / "n" / "report.json"));
+  EXPECT_EQ(j["sample"]["strata"], "neyman");
+  std::istringstream csv(slurp(dir / "n" / "sample.csv"));
+  std::string line;
+  std::getline(csv, line);  // header
+  uint64_t weights = 0;
+  std::set<uint64_t> sizes;
+  while (std::getline(csv, line)) {
+    const size_t a = line.find(','), b = line.find(',', a + 1), c = line.find(',', b + 1);
+    const uint64_t w = std::stoull(line.substr(b + 1, c - b - 1));
+    weights += w;
+    if (line.substr(c + 1, 1) == "0") sizes.insert(w);
+  }
+  EXPECT_EQ(weights, j["sample"]["units"].get<uint64_t>());
+  EXPECT_GT(sizes.size(), 1u) << "strata of unequal sizes";
+  fs::remove_all(dir);
 }
 
 // rtsim animate --sample: each frame a sampled run, frames.csv ending its rows with the runs'

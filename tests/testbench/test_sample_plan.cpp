@@ -76,6 +76,43 @@ std::vector<double> measured(const SamplePlan& plan, const std::vector<double>& 
   return v;
 }
 
+// Neyman's strata (run.sample_strata: neyman): consecutive, covering the units between the
+// first and the last, as many as the issue-order plan's, small where the auxiliary varies and
+// large where it is calm.
+TEST(SamplePlan, NeymanStrataAreSmallWhereTheAuxiliaryVaries) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> calm(1000.0, 10.0), busy(5000.0, 2000.0);
+  std::vector<double> aux(402);
+  for (size_t u = 0; u < aux.size(); ++u) aux[u] = u < 201 ? calm(rng) : busy(rng);
+  const auto strata = neyman_strata(aux, 1, 401, 20);
+  ASSERT_EQ(strata.size(), 20u);
+  EXPECT_EQ(strata.front().first, 1u);
+  EXPECT_EQ(strata.back().second, 401u);
+  uint64_t calm_strata = 0;
+  for (size_t i = 0; i < strata.size(); ++i) {
+    EXPECT_LT(strata[i].first, strata[i].second);
+    if (i > 0) {
+      EXPECT_EQ(strata[i].first, strata[i - 1].second);
+    }
+    calm_strata += strata[i].second <= 201;
+  }
+  // N_h S_h balanced: the calm half's spread is 200 times smaller, so it takes few strata.
+  EXPECT_LE(calm_strata, 2u);
+
+  SampleSettings s = settings(0.05, 1024, 1024, 3);
+  s.strata = SampleStrata::kNeyman;
+  const uint64_t rays = 402ull * 1024;
+  EXPECT_THROW(plan_sample(rays, s), std::invalid_argument);  // no auxiliary
+  const SamplePlan p = plan_sample(rays, s, aux);
+  EXPECT_EQ(p.units.size(), plan_sample(rays, settings(0.05, 1024, 1024, 3)).units.size());
+  uint64_t weights = 0;
+  for (const MeasuredUnit& u : p.units) weights += u.weight;
+  EXPECT_EQ(weights, p.population);
+  EXPECT_TRUE(p.units.front().certain && p.units.back().certain);
+  const SamplePlan again = plan_sample(rays, s, aux);
+  for (size_t i = 0; i < p.units.size(); ++i) EXPECT_EQ(p.units[i].index, again.units[i].index);
+}
+
 TEST(SampleRegression, ExactWithEveryUnitOrOnAPopulationItsAuxiliariesExplain) {
   const Population pop = population(640, 0, 1);
   const double truth = std::accumulate(pop.y.begin(), pop.y.end(), 0.0);
