@@ -310,9 +310,25 @@ def sampled_cell(full, s, key):
     return 100 * (est / truth - 1), 100 * ci / truth, abs(est - truth) <= ci
 
 
+# The sampled runs' directories by plan: sK (run.sample_strata: issue), nK (neyman); K the seed.
+SAMPLING_PLANS = [
+    ("s", "Strata in issue order (`run.sample_strata: issue`, the default)"),
+    ("n", "Neyman's strata (`run.sample_strata: neyman`)"),
+]
+
+
 def sampling_table(run_dir):
     full = point_reports(os.path.join(run_dir, "full"))
-    seeds = sorted(d for d in os.listdir(run_dir) if re.fullmatch(r"s\d+", d))
+    out = []
+    for prefix, title in SAMPLING_PLANS:
+        seeds = sorted(d for d in os.listdir(run_dir) if re.fullmatch(prefix + r"\d+", d))
+        if seeds:
+            out += ["" if out else None, f"{title}:", ""]
+            out += sampling_plan_rows(run_dir, full, seeds)
+    return "\n".join(x for x in out if x is not None) + "\n"
+
+
+def sampling_plan_rows(run_dir, full, seeds):
     sampled = {s: point_reports(os.path.join(run_dir, s)) for s in seeds}
     head = ["setup", "full run (cycles)"] + [f"seed {s[1:]}: error / interval" for s in seeds]
     head += ["speedup (median)"]
@@ -370,4 +386,4 @@ def sampling_table(run_dir):
             r = 100 * (1 - on_s["cycles_total"] / off_s["cycles_total"])
             cells.append(f"{r - red:+.2f} pt")
         out.append("| " + " | ".join(cells) + " |")
-    return "\n".join(out) + "\n"
+    return out

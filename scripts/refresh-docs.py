@@ -147,6 +147,14 @@ STUDIES = [
         + [
             (f"s{k}", ["reproduce", "--sample", "0.05", "--set", f"run.sample_seed={k}"])
             for k in (1, 2, 3)
+        ]
+        + [
+            (
+                f"n{k}",
+                ["reproduce", "--sample", "0.05", "--set", f"run.sample_seed={k}"]
+                + ["--set", "run.sample_strata=neyman"],
+            )
+            for k in (1, 2, 3)
         ],
         jobs=1,
     ),
