@@ -21,7 +21,6 @@
 #include <sys/resource.h>
 #include <chrono>
 #include <filesystem>
-#include <future>
 #include <optional>
 
 namespace rtsim {

@@ -3,6 +3,7 @@
 // elaborates once per process, so each attempt is a sampled run of its own in a child process,
 // in OUT/.sample-attempts/K; the first that meets the target, or the last of kSampleAttempts,
 // becomes the run's output, its report.json listing every attempt.
+#include "common/error.h"
 #include "reports/output_files.h"
 #include "reports/plots.h"
 #include "testbench/commands.h"
@@ -51,6 +52,14 @@ nlohmann::json run_attempt(const fs::path& config, const fs::path& dir, double f
   // Exit 1 is --check's verdict on a frame that ran: its report stands.
   const bool ran =
       WIFEXITED(status) && (WEXITSTATUS(status) == 0 || (check && WEXITSTATUS(status) == 1));
+  // Bad input is the child's to name (exit 2): its message is ours.
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 2) {
+    std::string message = slurp(log);
+    const std::string prefix = "rtsim: error: ";
+    if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+    while (!message.empty() && message.back() == '\n') message.pop_back();
+    throw InputError(message);
+  }
   if (!ran || !fs::exists(dir / "report.json"))
     throw std::runtime_error(
         fmt::format("run.sample_grow: the attempt at a fraction of {} ended "
