@@ -74,6 +74,14 @@ int run_grown(const RunArgs& args, const RunConfig& c, const nlohmann::json& con
   const fs::path out(args.out), work = out / ".sample-attempts";
   fs::remove_all(work);
   fs::create_directories(work);
+  // The attempts' directory goes whatever happens (a failed attempt's log is in its error).
+  struct Cleanup {
+    fs::path dir;
+    ~Cleanup() {
+      std::error_code ec;
+      fs::remove_all(dir, ec);
+    }
+  } cleanup{work};
   write_file_atomic((work / "config.json").string(), config.dump(2));
   nlohmann::json attempts = nlohmann::json::array(), report;
   double fraction = c.run.sample.fraction;
@@ -97,7 +105,6 @@ int run_grown(const RunArgs& args, const RunConfig& c, const nlohmann::json& con
   write_file_atomic((out / "report.json").string(), report.dump(2));
   write_file_atomic((out / "config.json").string(), config.dump(2));
   const std::string log = slurp(last / "log.txt");
-  fs::remove_all(work);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());
   if (!args.quiet) {

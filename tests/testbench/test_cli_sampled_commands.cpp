@@ -5,6 +5,7 @@
 #include "testbench/sampled_frame.h"
 #include "tests/testbench/cli_util.h"
 
+#include <fstream>
 #include <set>
 #include <sstream>
 
@@ -84,6 +85,19 @@ TEST(SampleTarget, BadTargetsAreNamed) {
                      {"sample_grow", "expected"});
   expect_input_error(base + "--sample 0.1 --set run.sample_strata=sorted",
                      {"sample_strata", "'issue' or 'neyman'"});
+  // With grow, an attempt's input error is the run's, and the attempts leave nothing behind.
+  // (A scene the run loads only when it prepares it: in the attempt's process.)
+  const fs::path dir = test::temp_dir("cli_sample_grow_bad");
+  const fs::path scene = dir / "broken.yaml";
+  { std::ofstream(scene) << "name: broken\ngeometry:\n  - procedural: {kind: city, blocks: 0}\n"; }
+  const RunResult r =
+      run("run " + scene.string() + " --hw " + kHw + " --quiet --out " + (dir / "out").string() +
+          " --sample 0.1 --set run.sample_target_pct=5 --set run.sample_grow=true");
+  EXPECT_EQ(r.code, 2) << r.err;
+  EXPECT_NE(r.err.find("broken.yaml:3"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("internal"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out" / ".sample-attempts"));
+  fs::remove_all(dir);
 }
 
 // run.sample_strata: neyman: the plan's strata cut on the functional pass's replay cycles (the
