@@ -10,6 +10,7 @@
 // hardware, so the frame is the run's (run it where the run ran: scene files are relative to the
 // repository). The LVB words are computed as the run computed them (run.lvb, its LVB settings).
 // Prints the host time of the preparation, the LVB and each phase of the pass.
+#include "common/host_clock.h"
 #include "testbench/pipeline.h"
 #include "testbench/run_config.h"
 #include "testbench/sampling_features.h"
@@ -23,14 +24,6 @@
 #include <fstream>
 
 using namespace rtsim;
-
-namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-}  // namespace
 
 // The pass takes the issue order from the model (model/units/ray_generator.cpp), which links
 // SystemC; its library wants an sc_main, though this program never starts a simulation.

@@ -1,6 +1,7 @@
 #include "testbench/pipeline.h"
 
 #include "common/error.h"
+#include "common/host_clock.h"
 
 #include <fmt/format.h>
 
@@ -9,9 +10,6 @@
 namespace rtsim {
 
 namespace {
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 nlohmann::json vec(const Vec3& v) { return {v.x, v.y, v.z}; }
 }  // namespace
 

@@ -1,6 +1,7 @@
 // rtsim run: one testbench run of the SystemC model over a scene. Writes, in the output
 // directory: config.json (the resolved configuration), report.json, report.md, stats.csv,
 // render.png, mask.npy, culled.npy, visibility.npy and the figures (reports/plots.py).
+#include "common/host_clock.h"
 #include "config_loader/hw_config.h"
 #include "config_loader/scene_file.h"
 #include "kernels/lvb.h"
@@ -26,10 +27,6 @@
 namespace rtsim {
 
 namespace {
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The golden model's frame with the run's settings.
 TraceResult reference_frame(const PreparedScene& p, const RunSettings& run) {

@@ -9,6 +9,7 @@
 #include "testbench/commands.h"
 #include "testbench/process_pool.h"
 #include "testbench/sampled_frame.h"
+#include "testbench/sweep_results.h"
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -65,7 +66,7 @@ nlohmann::json run_attempt(const fs::path& config, const fs::path& dir, double f
         fmt::format("run.sample_grow: the attempt at a fraction of {} ended "
                     "with {}:\n{}",
                     fraction, describe_exit(status), slurp(log)));
-  return nlohmann::json::parse(slurp(dir / "report.json"));
+  return read_json((dir / "report.json").string());
 }
 
 }  // namespace

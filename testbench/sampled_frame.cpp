@@ -1,11 +1,14 @@
 #include "testbench/sampled_frame.h"
 
+#include "common/host_clock.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <optional>
 
 namespace rtsim {
 
@@ -20,11 +23,6 @@ SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f
   return aux;
 }
 
-SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
-                                   const RunConfig& c) {
-  return auxiliaries_of(plan, run_batch_features(p, c.hw, c.run), c);
-}
-
 namespace {
 
 // Each unit's replay cycles of both phases: what Neyman's strata balance.
@@ -37,32 +35,6 @@ std::vector<double> both_replays(uint64_t rays, uint32_t unit, const FrameFeatur
   const std::vector<double> shadow = unit_sums(units, f.shadow, replay).x;
   for (size_t u = 0; u < out.size() && u < shadow.size(); ++u) out[u] += shadow[u];
   return out;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// Neyman's strata need the pass's replay cycles before the plan: the pass first, then the
-// simulation, with `while_passing` (the reference tracer's frame) on the second thread.
-SampledRun run_neyman(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
-                      const WindowSimulation& simulate,
-                      const std::function<void()>& while_passing) {
-  SampledRun run;
-  run.settings = settings;
-  const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
-  const FrameFeatures f = run_batch_features(p, c.hw, c.run);
-  run.plan = plan_sample(rays, settings, both_replays(rays, settings.unit, f));
-  std::future<void> beside;
-  if (while_passing) beside = std::async(std::launch::async, while_passing);
-  const auto t0 = std::chrono::steady_clock::now();
-  run.frame = simulate(run.plan);
-  run.simulate_seconds = seconds_since(t0);
-  if (beside.valid()) beside.get();
-  const SampledAuxiliaries aux = auxiliaries_of(run.plan, f, c);
-  run.pass_seconds = aux.seconds;
-  run.estimates = estimate_sampled(run.plan, run.frame, &aux);
-  return run;
 }
 
 }  // namespace
@@ -156,18 +128,30 @@ double SampledRun::fraction_needed() const {
 SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
                        const WindowSimulation& simulate,
                        const std::function<void()>& while_passing) {
-  if (settings.strata == SampleStrata::kNeyman)
-    return run_neyman(settings, p, c, simulate, while_passing);
   SampledRun run;
   run.settings = settings;
-  run.plan = plan_sample(uint64_t(p.scene.width) * p.scene.height, settings);
-  std::future<SampledAuxiliaries> pass =
-      std::async(std::launch::async, [&run, &p, &c] { return functional_pass(run.plan, p, c); });
+  const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
+  const auto pass = [&p, &c] { return run_batch_features(p, c.hw, c.run); };
+  // Neyman's strata need the pass's replay cycles before the plan: the pass first, and
+  // `while_passing` beside the simulation instead.
+  const bool neyman = settings.strata == SampleStrata::kNeyman;
+  std::optional<FrameFeatures> first;
+  std::future<FrameFeatures> beside_pass;
+  std::future<void> beside_caller;
+  if (neyman) {
+    first = pass();
+    run.plan = plan_sample(rays, settings, both_replays(rays, settings.unit, *first));
+    if (while_passing) beside_caller = std::async(std::launch::async, while_passing);
+  } else {
+    run.plan = plan_sample(rays, settings);
+    beside_pass = std::async(std::launch::async, pass);
+  }
   const auto t0 = std::chrono::steady_clock::now();
   run.frame = simulate(run.plan);
   run.simulate_seconds = seconds_since(t0);
-  if (while_passing) while_passing();
-  const SampledAuxiliaries aux = pass.get();
+  if (beside_caller.valid()) beside_caller.get();
+  if (!neyman && while_passing) while_passing();
+  const SampledAuxiliaries aux = auxiliaries_of(run.plan, neyman ? *first : beside_pass.get(), c);
   run.pass_seconds = aux.seconds;
   run.estimates = estimate_sampled(run.plan, run.frame, &aux);
   return run;

@@ -29,16 +29,14 @@ struct SampledEstimates {
   std::vector<double> primary_residuals, shadow_residuals;
 };
 
-// The functional pass's auxiliaries per unit of `plan`, each phase's (testbench/
-// sampling_features.h): the primary phase's replay cycles, IST reads and L1 misses (own and in
-// flight); the shadow phase's replay cycles. And the pass's host time.
+// The functional pass's auxiliaries per unit of `plan`, each phase's, from its features `f`
+// (run_batch_features, testbench/sampling_features.h): the primary phase's replay cycles, IST
+// reads and L1 misses (own and in flight); the shadow phase's replay cycles. And the pass's host
+// time.
 struct SampledAuxiliaries {
   UnitAuxiliaries primary, shadow;
   double seconds = 0;
 };
-SampledAuxiliaries functional_pass(const SamplePlan& plan, const PreparedScene& p,
-                                   const RunConfig& c);
-// The same from the pass's features `f` (run_batch_features).
 SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f,
                                   const RunConfig& c);
 

@@ -1,5 +1,7 @@
 #include "testbench/sampling_replay.h"
 
+#include "common/host_clock.h"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -12,10 +14,6 @@ namespace {
 uint32_t transfer_cycles(const model::LinkConfig& link, uint32_t bytes) {
   const uint32_t w = link.bytes_per_cycle;
   return w == 0 ? 0 : (bytes + link.header_bytes + w - 1) / w;
-}
-
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 }  // namespace
