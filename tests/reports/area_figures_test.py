@@ -37,17 +37,24 @@ def sweep_rows(rng, slower=None):
 
 
 class AreaFigure(fc.FigureTest):
-    def draw_rows(self, rows):
+    def draw_rows(
+        self,
+        rows,
+        metrics=("cycles_total", "rays_shadow", "shadow_culled", "shadow_culled_rate"),
+        **extra,
+    ):
+        """The area figure of a sweep's results.json with `rows` (and `extra` keys)."""
         self.write_json(
             "results.json",
             {
                 "schema": "rtsim-sweep/1",
                 "name": "area",
                 "axes": [SAMPLES, "run.lvb"],
-                "metrics": ["cycles_total", "rays_shadow", "shadow_culled", "shadow_culled_rate"],
+                "metrics": list(metrics),
                 "points": len(rows),
                 "rows": rows,
-                "failed": 0,
+                "failed": [],
+                **extra,
             },
         )
         figures = self.draw(area_figures.area)
@@ -96,7 +103,9 @@ class AreaFigure(fc.FigureTest):
         rows = sweep_rows(random.Random(47))
         for r in rows:
             r.update(sampled=True, cycles_total_ci95=0.01 * r["cycles_total"])
-        ax = self.draw_rows_sampled(rows)
+        ax = self.draw_rows(
+            rows, ["cycles_total"], sampled_columns=["sampled", "cycles_total_ci95"]
+        )
         cycles = {(r["scene"], r[SAMPLES], r["run.lvb"]): r["cycles_total"] for r in rows}
         bars = [c for c in ax.containers if not isinstance(c, fc.BarContainer)]
         self.assertEqual(sorted(b.get_label() for b in bars), sorted(SCENES))
@@ -111,22 +120,6 @@ class AreaFigure(fc.FigureTest):
             self.assertNumbers(lows, [r - c for r, c in zip(red, ci)], scene)
             self.assertNumbers(highs, [r + c for r, c in zip(red, ci)], scene)
         self.assertIn("sampled, 95% interval", ax.get_title())
-
-    def draw_rows_sampled(self, rows):
-        self.write_json(
-            "results.json",
-            {
-                "schema": "rtsim-sweep/1",
-                "name": "area",
-                "axes": [SAMPLES, "run.lvb"],
-                "metrics": ["cycles_total"],
-                "points": len(rows),
-                "rows": rows,
-                "failed": [],
-                "sampled_columns": ["sampled", "cycles_total_ci95"],
-            },
-        )
-        return self.draw(area_figures.area)["plots/area_reduction.png"].axes[0]
 
 
 if __name__ == "__main__":

@@ -5,6 +5,7 @@
 // time and shrink as the sample grows.
 #include "testbench/sample_plan.h"
 #include "testbench/sample_regression.h"
+#include "tests/testbench/sample_units.h"
 
 #include <gtest/gtest.h>
 
@@ -70,11 +71,7 @@ Population population(size_t n, double noise, uint32_t seed) {
   return p;
 }
 
-std::vector<double> measured(const SamplePlan& plan, const std::vector<double>& y) {
-  std::vector<double> v;
-  for (const MeasuredUnit& u : plan.units) v.push_back(y[u.index]);
-  return v;
-}
+using test::measured;
 
 // Neyman's strata (run.sample_strata: neyman): consecutive, covering the units between the
 // first and the last, as many as the issue-order plan's, small where the auxiliary varies and

@@ -6,6 +6,7 @@
 // deviations are the sums of its parts', and the expansion's deviations are its replicates'.
 #include "testbench/sample_plan.h"
 #include "testbench/sample_regression.h"
+#include "tests/testbench/sample_units.h"
 
 #include <gtest/gtest.h>
 
@@ -53,11 +54,7 @@ Frame frame(uint32_t seed) {
   return f;
 }
 
-std::vector<double> measured(const SamplePlan& plan, const std::vector<double>& y) {
-  std::vector<double> v;
-  for (const MeasuredUnit& u : plan.units) v.push_back(y[u.index]);
-  return v;
-}
+using test::measured;
 
 TEST(SampleRegressionJackknife, HoldsTheTruthOnAHeavyTailedFrameAndShrinksWithTheSample) {
   const int trials = 400;
