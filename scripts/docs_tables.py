@@ -317,19 +317,27 @@ SAMPLING_PLANS = [
 ]
 
 
-def sampling_table(run_dir):
-    full = point_reports(os.path.join(run_dir, "full"))
+def sampling_table(run_dir, sub=""):
+    """The sampled runs against the full ones; `sub`: where in each run's directory its points
+    are (`bvh` for `rtsim reproduce --bvh`)."""
+    full = point_reports(os.path.join(run_dir, "full", sub))
     out = []
     for prefix, title in SAMPLING_PLANS:
         seeds = sorted(d for d in os.listdir(run_dir) if re.fullmatch(prefix + r"\d+", d))
         if seeds:
             out += ["" if out else None, f"{title}:", ""]
-            out += sampling_plan_rows(run_dir, full, seeds)
+            out += sampling_plan_rows(run_dir, full, seeds, sub)
     return "\n".join(x for x in out if x is not None) + "\n"
 
 
-def sampling_plan_rows(run_dir, full, seeds):
-    sampled = {s: point_reports(os.path.join(run_dir, s)) for s in seeds}
+def off_variant(variant):
+    """The variant with culling off that `variant` is compared with: `off`, or `bvh8-off` for
+    `bvh8-paper`."""
+    return variant[: variant.rfind("-") + 1] + "off"
+
+
+def sampling_plan_rows(run_dir, full, seeds, sub=""):
+    sampled = {s: point_reports(os.path.join(run_dir, s, sub)) for s in seeds}
     head = ["setup", "full run (cycles)"] + [f"seed {s[1:]}: error / interval" for s in seeds]
     head += ["speedup (median)"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
@@ -373,13 +381,14 @@ def sampling_plan_rows(run_dir, full, seeds):
         "|" + "---|" * (2 + len(seeds)),
     ]
     for (scene, variant), f in full.items():
-        off = full.get((scene, "off"))
-        if variant == "off" or off is None:
+        off = full.get((scene, off_variant(variant)))
+        if variant == off_variant(variant) or off is None:
             continue
         red = 100 * (1 - f["cycles_total"] / off["cycles_total"])
         cells = [f"{scene}, {variant}", f"{red:.2f}%"]
         for s in seeds:
-            on_s, off_s = sampled[s].get((scene, variant)), sampled[s].get((scene, "off"))
+            on_s = sampled[s].get((scene, variant))
+            off_s = sampled[s].get((scene, off_variant(variant)))
             if on_s is None or off_s is None:
                 cells.append("-")
                 continue

@@ -87,6 +87,8 @@ def cache_study(name, minutes, key, label, baseline):
 
 SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
 PAPER_RUNS = ["reproduce", "--variants", "off,paper,exact"]  # the paper's nine runs
+# The paper's setups on the BVH machine (bvh-tni.yaml, bvh8), culling off and the paper's.
+BVH_RUNS = ["reproduce", "--bvh", "--variants", "bvh8-off,bvh8-paper"]
 
 
 def sampled(seed, strata="issue"):
@@ -156,6 +158,15 @@ STUDIES = [
         runs=[("full", PAPER_RUNS)]
         + [(f"s{k}", PAPER_RUNS + sampled(k)) for k in (1, 2, 3)]
         + [(f"n{k}", PAPER_RUNS + sampled(k, "neyman")) for k in (1, 2, 3)],
+        jobs=1,
+    ),
+    # The same on the BVH machine, the default strata only.
+    Study(
+        "sampling-bvh",
+        "docs/sampling.md",
+        12,
+        render=lambda run_dir: sampling_table(run_dir, "bvh"),
+        runs=[("full", BVH_RUNS)] + [(f"s{k}", BVH_RUNS + sampled(k)) for k in (1, 2, 3)],
         jobs=1,
     ),
     # The integration doc's figures: examples and tests that print them (no rtsim run).

@@ -53,11 +53,14 @@ FunctionalCaches::FunctionalCaches(const model::AcceleratorConfig& cfg) {
   const size_t trv_i = size_t(AccessUnit::kTraversal), list_i = size_t(AccessUnit::kList),
                ist_i = size_t(AccessUnit::kIst), shading_i = size_t(AccessUnit::kShading);
   add_type(trv, l1_[trv_i], l2_of_[trv_i], l2s_);
+  l2_type_.resize(l2s_.size(), AccessUnit::kTraversal);
   add_type(cfg.list, l1_[list_i], l2_of_[list_i], l2s_);
+  l2_type_.resize(l2s_.size(), AccessUnit::kList);
   add_type(cfg.ist, l1_[ist_i], l2_of_[ist_i], l2s_);
   // The shading L1s on the IST's shared L2, or on one of their own with its configuration.
   const bool ist_shared = cfg.ist.l2_sharing == model::L2Sharing::kType;
   if (!ist_shared) l2s_.push_back(tags(cfg.ist.l2));
+  l2_type_.resize(l2s_.size(), AccessUnit::kIst);
   const uint32_t shading_l2 = ist_shared ? l2_of_[ist_i][0] : uint32_t(l2s_.size() - 1);
   for (uint32_t i = 0; i < cfg.shading.count; ++i) {
     l1_[shading_i].push_back(tags(cfg.shading.l1));
@@ -65,7 +68,8 @@ FunctionalCaches::FunctionalCaches(const model::AcceleratorConfig& cfg) {
   }
 }
 
-int FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts) {
+int FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts,
+                           std::vector<LineMiss>* misses) {
   const size_t type = size_t(a.unit);
   TagArray& l1 = l1_[type][unit];
   TagArray& l2 = l2s_[l2_of_[type][unit]];
@@ -79,7 +83,9 @@ int FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts) 
     if (l1.access(line)) continue;
     ++counts.l1_misses[type];
     level = std::max(level, 1);
-    if (l2.access(line)) continue;
+    const bool l2_hit = l2.access(line);
+    if (misses) misses->push_back({uint32_t(line), l2_of_[type][unit], !l2_hit});
+    if (l2_hit) continue;
     ++counts.l2_misses[type];
     level = 2;
   }

@@ -56,6 +56,14 @@ struct CacheCounts {
   void add(const CacheCounts& o);
 };
 
+// A line a read missed in its L1: the L2 it went to (an index of the L2s) and whether it missed
+// there too (a line read from DRAM).
+struct LineMiss {
+  uint32_t line = 0;  // address / line bytes
+  uint32_t l2 = 0;
+  bool dram = false;
+};
+
 class FunctionalCaches {
  public:
   // The caches of the machine `cfg` describes (its traversal units: TRV's or the BVH units').
@@ -63,8 +71,9 @@ class FunctionalCaches {
 
   // Unit `unit` of type `a.unit` reads the record `a`: each line covering it goes through that
   // unit's L1, and its L2 on a miss. Returns the deepest level a line of it came from: 0 the L1,
-  // 1 the L2, 2 DRAM.
-  int read(uint32_t unit, const Access& a, CacheCounts& counts);
+  // 1 the L2, 2 DRAM. With `misses`, each line that missed the L1 is appended to it.
+  int read(uint32_t unit, const Access& a, CacheCounts& counts,
+           std::vector<LineMiss>* misses = nullptr);
 
   // The units a ray owned by traversal unit `t` visits, by type, as model/accelerator.cpp binds
   // them: LIST t x list / trv, the IST of that LIST unit (j x ist / list), shading t x shading /
@@ -72,11 +81,15 @@ class FunctionalCaches {
   std::array<uint32_t, kAccessUnits> route(uint32_t t) const;
   uint32_t count(AccessUnit type) const { return uint32_t(l1_[size_t(type)].size()); }
   uint32_t line_bytes() const { return line_bytes_; }
+  uint32_t l2_count() const { return uint32_t(l2s_.size()); }
+  // The unit type whose configuration L2 `l2` has (the shading units' L2 is the IST's).
+  AccessUnit l2_type(uint32_t l2) const { return l2_type_[l2]; }
 
  private:
   std::array<std::vector<TagArray>, kAccessUnits> l1_;
   std::array<std::vector<uint32_t>, kAccessUnits> l2_of_;  // each unit's L2, an index of l2s_
   std::vector<TagArray> l2s_;
+  std::vector<AccessUnit> l2_type_;  // by L2
   uint32_t line_bytes_ = 64;
   uint32_t line_shift_ = 6;
 };

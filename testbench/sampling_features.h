@@ -13,10 +13,13 @@
 //   whose input FIFO (`fifo_depth`) has room; a unit walks `capacity` rays at once;
 // - a ray's steps are its reads grouped as the units make them: a node (TRV), a leaf (LIST's
 //   record and list lines, then IST's tests), the shading unit's two reads; each unit issues one
-//   operation a cycle (LIST a line, IST a test, shading a hit ray every `shading interval`, the
-//   larger of its two reads and its hit record's write over the memory link), and a step ends a
-//   pipeline latency after its last read, whose line comes from the L1, the L2 (the link there
-//   and back and the L2's hit latency) or DRAM (the memory link, tRCD + CL and the burst);
+//   operation a cycle (a traversal unit a node's line, LIST a line, IST a test, shading a hit
+//   ray every `shading interval`, the larger of its two reads and its hit record's write over
+//   the memory link), and a step ends a pipeline latency after its last read, whose line comes
+//   from the L1, the L2 (the link there and back and the L2's hit latency) or DRAM (the memory
+//   link, tRCD + CL and the burst); a line from the L2 takes its bank's port of the link back to
+//   the L1s for its flits, a line from DRAM its bank's port of the memory link first, so lines
+//   queue at a busy bank (a BVH's wide nodes make these ports the shadow phase's bottleneck);
 // - a ray that ends frees its slot for the next ray of its unit's FIFO;
 // - the shadow phase begins when the last primary ray ends. The culling unit requests the record
 //   slots in order, one a cycle, at most `culling.prefetch` ahead of the slot it decides; a
@@ -26,7 +29,8 @@
 //   next traversal unit with room, after the light's record (read once per hit and light through
 //   shading unit 0's L1, held for its samples) is in; a shadow ray walks TRV, LIST and IST (any
 //   hit) and retires through its shading unit in one issue slot, reading nothing.
-// Not modelled: MSHRs, cache banks and ports, crossbar and DRAM queues and row misses, the
+// Not modelled: MSHRs, the L1s' banks, the L2s' lookup ports, the crossbars' other ports and
+// flow control, DRAM queues and row misses, the
 // shading unit's write buffer, the ray pool (which never binds below the traversal units'
 // capacity and FIFOs), the culling unit's and shading unit 0's shared L1 port. A ray's LIST, IST
 // and shading units are those model/accelerator.cpp binds to its traversal unit. Mirror bounces

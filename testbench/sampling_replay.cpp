@@ -80,6 +80,19 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
   }
   for (size_t type = 0; type < kAccessUnits; ++type)
     free_[type].assign(caches_.count(AccessUnit(type)), 0);
+  const model::UnitTypeConfig* types[kAccessUnits] = {&cfg.traversal(), &cfg.list, &cfg.ist,
+                                                      &cfg.shading};
+  for (uint32_t l2 = 0; l2 < caches_.l2_count(); ++l2) {
+    const model::UnitTypeConfig& u = *types[size_t(caches_.l2_type(l2))];
+    L2Ports p;
+    p.bank_mask = u.l2.banks - 1;
+    p.reply_flits = transfer_cycles(u.link, caches_.line_bytes());
+    p.link_latency = u.link.latency;
+    p.hit_latency = u.l2.hit_latency;
+    p.reply.resize(u.l2.banks);
+    p.fill.resize(u.l2.banks);
+    l2_ports_.push_back(std::move(p));
+  }
   for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
   const uint64_t n = order_.size();
   hits_.resize(n);
@@ -234,6 +247,27 @@ void Replay::end(uint32_t walk, uint64_t t) {
     deal(t);
 }
 
+uint64_t Replay::arrival(size_t type, uint64_t t, bool parked) {
+  uint64_t ready = t + timing_.l1_hit[type];
+  uint64_t dram_chain = 0;  // parked: when the last line from DRAM reached its bank
+  for (const LineMiss& m : misses_) {
+    L2Ports& p = l2_ports_[m.l2];
+    const uint32_t bank = m.line & p.bank_mask;
+    const uint64_t looked_up = t + timing_.l1_hit[type] + p.link_latency + p.hit_latency;
+    uint64_t in_bank = looked_up;
+    if (m.dram) {
+      const uint64_t requested = parked && dram_chain ? dram_chain : looked_up;
+      // The line crosses the memory link's port into the bank in its last flits' cycles.
+      const uint64_t crossed = requested + timing_.dram;
+      in_bank = p.fill[bank].book(t, crossed - timing_.line_flits, timing_.line_flits);
+      dram_chain = in_bank;
+    }
+    ready = std::max(ready, p.reply[bank].book(t, in_bank, p.reply_flits) + p.link_latency);
+  }
+  misses_.clear();
+  return ready;
+}
+
 // The walk's next step at `now`: a node, a leaf (LIST, then IST) or the shading; when it ends. A
 // step's reads are made first (the caches' state does not depend on time), so that the lines its
 // L1 fills take their cycles of the unit's port too (after its own).
@@ -241,19 +275,20 @@ uint64_t Replay::step(Walk& w, uint64_t now) {
   fills_ = 0;
   switch (w.stream.reads[w.next].unit) {
     case AccessUnit::kTraversal: {
-      const uint64_t cycles = timing_.read(kTrv, read(w));
-      const uint64_t t = issue(kTrv, w.unit, now, 1 + fills_);
-      return t + cycles + timing_.latency[kTrv];
+      // A node's lines take a cycle of the L1's port each (a kd-tree node one, a bvh8 node four).
+      const uint64_t lines = lines_of(w.stream.reads[w.next]);
+      read(w);
+      const uint64_t t = issue(kTrv, w.unit, now, std::max<uint64_t>(1, lines) + fills_);
+      return arrival(kTrv, t, false) + timing_.latency[kTrv];
     }
     case AccessUnit::kList: return tests(w, leaf(w, now));
     case AccessUnit::kIst: return tests(w, now);
     case AccessUnit::kShading: break;
   }
-  int level = 0;
-  while (w.next < w.stream.reads.size()) level = std::max(level, read(w));
+  while (w.next < w.stream.reads.size()) read(w);
   const uint64_t t =
       issue(kShading, routes_[w.unit][kShading], now, timing_.shading_interval + fills_);
-  return t + timing_.read(kShading, level) + timing_.latency[kShading];
+  return arrival(kShading, t, false) + timing_.latency[kShading];
 }
 
 // LIST: the leaf's record, then its list a line an operation; when the list is read. A read
@@ -263,11 +298,10 @@ uint64_t Replay::leaf(Walk& w, uint64_t now) {
   uint64_t lines = 0;
   if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList)
     lines = lines_of(reads[w.next + 1]);
-  Reads r;
-  r.add(read(w));
-  if (lines > 0) r.add(read(w));
+  read(w);
+  if (lines > 0) read(w);
   const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines + fills_);
-  return t + lines + r.cycles(timing_, kList) + timing_.latency[kList];
+  return arrival(kList, t, true) + lines + timing_.latency[kList];
 }
 
 // IST: the leaf's tests, one a cycle, and a line of its L1's port a cycle (a triangle across
@@ -279,10 +313,9 @@ uint64_t Replay::tests(Walk& w, uint64_t ready) {
     lines += lines_of(reads[w.next + n]);
   if (n == 0) return ready;
   fills_ = 0;
-  Reads r;
-  for (uint64_t k = 0; k < n; ++k) r.add(read(w));
+  for (uint64_t k = 0; k < n; ++k) read(w);
   const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines + fills_);
-  return t + lines - 1 + r.cycles(timing_, kIst) + timing_.latency[kIst];
+  return arrival(kIst, t, true) + lines - 1 + timing_.latency[kIst];
 }
 
 }  // namespace rtsim::sampling_detail

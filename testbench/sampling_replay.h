@@ -40,18 +40,48 @@ struct ReplayTiming {
   bool shared_fill[kAccessUnits] = {};
 };
 
-// The reads of one step: a ray waits for each line from DRAM in turn (the unit parks it), for
-// lines from the L2 together.
-struct Reads {
-  int level = 0;
-  uint32_t from_dram = 0;
-  void add(int l) {
-    level = std::max(level, l);
-    from_dram += l == 2;
+// An L2's banks as the replay times its L1s' misses: each line goes back to its L1 through its
+// bank's port of the link between them (`reply_flits` cycles a line), and a line from DRAM comes
+// into the bank through the bank's port of the memory link first (ReplayTiming::line_flits): a
+// burst of misses on one bank queues there, as the L2's banks and the crossbars queue them in the
+// model. In the other queues' absence a line comes as ReplayTiming::read says.
+// A port's cycles over a sliding window: a line books the first `cycles` free consecutive cycles
+// from when it is ready. The replay makes reads in step order, not in the order their lines
+// become ready (a line from DRAM books later than an L2 hit made after it), so a port is a
+// calendar, not a next-free cycle.
+class PortCalendar {
+ public:
+  // When a line ready at `t` is through the port, `now` the replay's clock (cycles before it
+  // are past: a booking reaches at most kWindow cycles ahead of it, later ones are not booked).
+  uint64_t book(uint64_t now, uint64_t t, uint32_t cycles) {
+    if (t >= tail_) {  // after every booking: most lines
+      tail_ = t + cycles;
+    } else {
+      for (;;) {
+        if (t + cycles > now + kWindow) return t + cycles;
+        uint32_t k = 0;
+        while (k < cycles && booked_[(t + k) & (kWindow - 1)] != uint32_t(t + k + 1)) ++k;
+        if (k == cycles) break;
+        t += k + 1;
+      }
+      tail_ = std::max(tail_, t + cycles);
+    }
+    for (uint32_t k = 0; k < cycles; ++k) booked_[(t + k) & (kWindow - 1)] = uint32_t(t + k + 1);
+    return t + cycles;
   }
-  uint64_t cycles(const ReplayTiming& timing, size_t type) const {
-    return timing.read(type, std::min(level, 1)) + uint64_t(from_dram) * timing.dram;
-  }
+
+ private:
+  static constexpr uint64_t kWindow = 512;
+  uint64_t tail_ = 0;  // the end of the latest booking
+  // Cycle + 1 (its low 32 bits) of each booked cycle of the window.
+  std::vector<uint32_t> booked_ = std::vector<uint32_t>(kWindow, 0);
+};
+
+struct L2Ports {
+  uint32_t bank_mask =
+      0;  // banks - 1: a line's bank is its number's low bits (model/memory/cache.h)
+  uint32_t reply_flits = 1, link_latency = 0, hit_latency = 0;
+  std::vector<PortCalendar> reply, fill;  // each bank's two ports
 };
 
 // One ray a traversal unit walks: its reads and the next one to make.
@@ -156,16 +186,20 @@ class Replay {
     return t;
   }
   // The walk's next read, through its unit's caches, counted for its batch; the lines filled
-  // into a shared-port L1 are added to `fills_`.
-  int read(Walk& w) {
+  // into a shared-port L1 are added to `fills_`, its L1 misses to `misses_`.
+  void read(Walk& w) {
     const Access& a = w.stream.reads[w.next++];
     CacheCounts& counts = batches_[w.phase][w.batch].caches;
     const size_t type = size_t(a.unit);
     const uint64_t before = counts.l1_misses[type];
-    const int level = caches_.read(routes_[w.unit][type], a, counts);
+    caches_.read(routes_[w.unit][type], a, counts, &misses_);
     if (timing_.shared_fill[type]) fills_ += counts.l1_misses[type] - before;
-    return level;
   }
+  // When the lines of the reads since the last call are in, requested at `t` by a unit of type
+  // `type`: the L1's hits at once, the L2's lines together, through their banks' ports
+  // (L2Ports); with `parked`, each line from DRAM after the one before it (LIST and IST park a
+  // ray on a missing line and retry), otherwise those together too.
+  uint64_t arrival(size_t type, uint64_t t, bool parked);
   // Per-batch replay cycles of a phase from its batches' starts to `end`.
   void close_phase(Phase phase, uint64_t end);
 
@@ -202,7 +236,9 @@ class Replay {
   std::array<std::vector<uint64_t>, 2> starts_;  // when each batch began
   std::vector<Hit> hits_;                        // the primary rays', by issue index
   uint64_t next_ray_ = 0, generator_free_ = 0, end_ = 0;
-  uint64_t fills_ = 0;  // L1 fills of the current step's reads that take its unit's port
+  uint64_t fills_ = 0;             // L1 fills of the current step's reads that take its unit's port
+  std::vector<LineMiss> misses_;   // the current step's L1 misses
+  std::vector<L2Ports> l2_ports_;  // by L2 (FunctionalCaches' index)
   size_t next_unit_ = 0;
   bool full_ = false;  // the last deal() found every unit full
   ScanState scan_;

@@ -9,6 +9,7 @@
 #include "kernels/memory_image.h"
 #include "model/accelerator.h"
 #include "testbench/sampling_features.h"
+#include "testbench/sampling_replay.h"
 #include "tests/test_util.h"
 #include "tests/testbench/sampling_counts.h"
 
@@ -50,6 +51,18 @@ TEST(TagArray, EvictsTheLeastRecentlyUsedLineOfItsSet) {
   EXPECT_TRUE(c.access(4));
   EXPECT_FALSE(c.access(2));
   EXPECT_TRUE(c.access(1));  // untouched by the other set
+}
+
+TEST(PortCalendar, ALineTakesTheFirstFreeCyclesFromWhenItIsReady) {
+  sampling_detail::PortCalendar port;
+  EXPECT_EQ(port.book(0, 10, 3), 13u);  // cycles 10-12
+  EXPECT_EQ(port.book(0, 11, 3), 16u);  // queues behind it: 13-15
+  // Booked later but ready earlier (an L2 hit made after a DRAM line): it does not queue behind
+  // the later lines, it takes the free cycles before them.
+  EXPECT_EQ(port.book(0, 2, 3), 5u);
+  EXPECT_EQ(port.book(0, 6, 3), 9u);
+  EXPECT_EQ(port.book(0, 8, 3), 19u);  // 9 is free, 10-15 are not: 16-18
+  EXPECT_EQ(port.book(0, 7, 2), 21u);  // 9 alone is too short: 19-20
 }
 
 TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
