@@ -40,11 +40,6 @@ struct ReplayTiming {
   bool shared_fill[kAccessUnits] = {};
 };
 
-// An L2's banks as the replay times its L1s' misses: each line goes back to its L1 through its
-// bank's port of the link between them (`reply_flits` cycles a line), and a line from DRAM comes
-// into the bank through the bank's port of the memory link first (ReplayTiming::line_flits): a
-// burst of misses on one bank queues there, as the L2's banks and the crossbars queue them in the
-// model. In the other queues' absence a line comes as ReplayTiming::read says.
 // A port's cycles over a sliding window: a line books the first `cycles` free consecutive cycles
 // from when it is ready. The replay makes reads in step order, not in the order their lines
 // become ready (a line from DRAM books later than an L2 hit made after it), so a port is a
@@ -77,9 +72,14 @@ class PortCalendar {
   std::vector<uint32_t> booked_ = std::vector<uint32_t>(kWindow, 0);
 };
 
+// An L2's banks as the replay times its L1s' misses: each line goes back to its L1 through its
+// bank's port of the link between them (`reply_flits` cycles a line), and a line from DRAM comes
+// into the bank through the bank's port of the memory link first (ReplayTiming::line_flits): a
+// burst of misses on one bank queues there, as the L2's banks and the crossbars queue them in the
+// model. In the other queues' absence a line comes as ReplayTiming::read says.
 struct L2Ports {
-  uint32_t bank_mask =
-      0;  // banks - 1: a line's bank is its number's low bits (model/memory/cache.h)
+  // Banks - 1: a line's bank is its number's low bits (model/memory/cache.h).
+  uint32_t bank_mask = 0;
   uint32_t reply_flits = 1, link_latency = 0, hit_latency = 0;
   std::vector<PortCalendar> reply, fill;  // each bank's two ports
 };
