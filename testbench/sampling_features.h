@@ -30,9 +30,9 @@
 //   shading unit 0's L1, held for its samples) is in; a shadow ray walks TRV, LIST and IST (any
 //   hit) and retires through its shading unit in one issue slot, reading nothing.
 // Not modelled: MSHRs, the L1s' banks, the L2s' lookup ports, the crossbars' other ports and
-// flow control, DRAM queues and row misses, the
-// shading unit's write buffer, the ray pool (which never binds below the traversal units'
-// capacity and FIFOs), the culling unit's and shading unit 0's shared L1 port. A ray's LIST, IST
+// flow control, DRAM queues and row misses, the shading unit's write buffer, the ray pool (which
+// never binds below the traversal units' capacity and FIFOs), the culling unit's and shading unit
+// 0's shared L1 port. A ray's LIST, IST
 // and shading units are those model/accelerator.cpp binds to its traversal unit. Mirror bounces
 // (run.reflections) are not followed: the pass covers the primary rays and their shadow rays.
 #pragma once

@@ -16,18 +16,26 @@ uint32_t transfer_cycles(const model::LinkConfig& link, uint32_t bytes) {
   return w == 0 ? 0 : (bytes + link.header_bytes + w - 1) / w;
 }
 
+// The configuration of each unit type, by AccessUnit.
+std::array<const model::UnitTypeConfig*, kAccessUnits> unit_types(
+    const model::AcceleratorConfig& cfg) {
+  return {&cfg.traversal(), &cfg.list, &cfg.ist, &cfg.shading};
+}
+
 }  // namespace
 
 ReplayTiming::ReplayTiming(const model::AcceleratorConfig& cfg) {
-  const model::UnitTypeConfig* types[kAccessUnits] = {&cfg.traversal(), &cfg.list, &cfg.ist,
-                                                      &cfg.shading};
+  const auto types = unit_types(cfg);
   const uint32_t line = cfg.traversal().l1.line_bytes;
   for (size_t t = 0; t < kAccessUnits; ++t) {
     const model::UnitTypeConfig& u = *types[t];
     const model::UnitTypeConfig& below = t == kShading ? cfg.ist : u;  // shading: the IST's L2
     latency[t] = u.latency;
     l1_hit[t] = u.l1.hit_latency;
-    l2_hit[t] = 2 * below.link.latency + transfer_cycles(below.link, line) + below.l2.hit_latency;
+    link_latency[t] = below.link.latency;
+    l2_latency[t] = below.l2.hit_latency;
+    reply_flits[t] = transfer_cycles(below.link, line);
+    l2_hit[t] = 2 * link_latency[t] + reply_flits[t] + l2_latency[t];
     shared_fill[t] = u.l1.fill_port == model::FillPort::kShared;
   }
   const model::DramConfig d = cfg.memory_dram();
@@ -80,17 +88,13 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
   }
   for (size_t type = 0; type < kAccessUnits; ++type)
     free_[type].assign(caches_.count(AccessUnit(type)), 0);
-  const model::UnitTypeConfig* types[kAccessUnits] = {&cfg.traversal(), &cfg.list, &cfg.ist,
-                                                      &cfg.shading};
+  const auto types = unit_types(cfg);
   for (uint32_t l2 = 0; l2 < caches_.l2_count(); ++l2) {
-    const model::UnitTypeConfig& u = *types[size_t(caches_.l2_type(l2))];
+    const uint32_t banks = types[size_t(caches_.l2_type(l2))]->l2.banks;
     L2Ports p;
-    p.bank_mask = u.l2.banks - 1;
-    p.reply_flits = transfer_cycles(u.link, caches_.line_bytes());
-    p.link_latency = u.link.latency;
-    p.hit_latency = u.l2.hit_latency;
-    p.reply.resize(u.l2.banks);
-    p.fill.resize(u.l2.banks);
+    p.bank_mask = banks - 1;
+    p.reply.resize(banks);
+    p.fill.resize(banks);
     l2_ports_.push_back(std::move(p));
   }
   for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
@@ -253,7 +257,8 @@ uint64_t Replay::arrival(size_t type, uint64_t t, bool parked) {
   for (const LineMiss& m : misses_) {
     L2Ports& p = l2_ports_[m.l2];
     const uint32_t bank = m.line & p.bank_mask;
-    const uint64_t looked_up = t + timing_.l1_hit[type] + p.link_latency + p.hit_latency;
+    const uint64_t looked_up =
+        t + timing_.l1_hit[type] + timing_.link_latency[type] + timing_.l2_latency[type];
     uint64_t in_bank = looked_up;
     if (m.dram) {
       const uint64_t requested = parked && dram_chain ? dram_chain : looked_up;
@@ -262,7 +267,8 @@ uint64_t Replay::arrival(size_t type, uint64_t t, bool parked) {
       in_bank = p.fill[bank].book(t, crossed - timing_.line_flits, timing_.line_flits);
       dram_chain = in_bank;
     }
-    ready = std::max(ready, p.reply[bank].book(t, in_bank, p.reply_flits) + p.link_latency);
+    ready = std::max(ready, p.reply[bank].book(t, in_bank, timing_.reply_flits[type]) +
+                                timing_.link_latency[type]);
   }
   misses_.clear();
   return ready;

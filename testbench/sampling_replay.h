@@ -34,6 +34,10 @@ struct ReplayTiming {
     return l1_hit[type] + (level >= 1 ? l2_hit[type] : 0) + (level >= 2 ? dram : 0);
   }
   uint32_t latency[kAccessUnits] = {}, l1_hit[kAccessUnits] = {}, l2_hit[kAccessUnits] = {};
+  // Of the L2 a type's L1s miss to (the shading units': the IST's): its link's latency, its hit
+  // latency, and the cycles a line takes a port of the link back (its flits).
+  uint32_t link_latency[kAccessUnits] = {}, l2_latency[kAccessUnits] = {},
+           reply_flits[kAccessUnits] = {};
   uint32_t dram = 0, shading_interval = 2;
   uint32_t line_flits = 1;  // cycles a line takes a port of the memory link
   // Whether a line filled into a type's L1 takes a cycle of its port (fill_port: shared).
@@ -73,14 +77,13 @@ class PortCalendar {
 };
 
 // An L2's banks as the replay times its L1s' misses: each line goes back to its L1 through its
-// bank's port of the link between them (`reply_flits` cycles a line), and a line from DRAM comes
+// bank's port of the link between them (ReplayTiming::reply_flits), and a line from DRAM comes
 // into the bank through the bank's port of the memory link first (ReplayTiming::line_flits): a
 // burst of misses on one bank queues there, as the L2's banks and the crossbars queue them in the
 // model. In the other queues' absence a line comes as ReplayTiming::read says.
 struct L2Ports {
   // Banks - 1: a line's bank is its number's low bits (model/memory/cache.h).
   uint32_t bank_mask = 0;
-  uint32_t reply_flits = 1, link_latency = 0, hit_latency = 0;
   std::vector<PortCalendar> reply, fill;  // each bank's two ports
 };
 
