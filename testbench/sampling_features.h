@@ -32,9 +32,9 @@
 // Not modelled: MSHRs, the L1s' banks, the L2s' lookup ports, the crossbars' other ports and
 // flow control, DRAM queues and row misses, the shading unit's write buffer, the ray pool (which
 // never binds below the traversal units' capacity and FIFOs), the culling unit's and shading unit
-// 0's shared L1 port. A ray's LIST, IST
-// and shading units are those model/accelerator.cpp binds to its traversal unit. Mirror bounces
-// (run.reflections) are not followed: the pass covers the primary rays and their shadow rays.
+// 0's shared L1 port. A ray's LIST, IST and shading units are those model/accelerator.cpp binds to
+// its traversal unit. Mirror bounces (run.reflections) are not followed: the pass covers the
+// primary rays and their shadow rays.
 #pragma once
 
 #include "kernels/camera.h"
