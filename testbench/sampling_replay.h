@@ -50,30 +50,58 @@ struct ReplayTiming {
 // calendar, not a next-free cycle.
 class PortCalendar {
  public:
-  // When a line ready at `t` is through the port, `now` the replay's clock (cycles before it
-  // are past: a booking reaches at most kWindow cycles ahead of it, later ones are not booked).
+  // When a line ready at `t` is through the port, `now` the time of the read it answers (a
+  // booking reaches at most kWindow cycles ahead of it, later ones are not booked). The first
+  // fit: the earliest start at or after `t` whose `cycles` are all free.
   uint64_t book(uint64_t now, uint64_t t, uint32_t cycles) {
     if (t >= tail_) {  // after every booking: most lines
       tail_ = t + cycles;
     } else {
+      // A start past `last` would end beyond the window: the line is not booked.
+      const uint64_t last = now + kWindow - cycles;
       for (;;) {
-        if (t + cycles > now + kWindow) return t + cycles;
+        if (t > last) return t + cycles;
         uint32_t k = 0;
-        while (k < cycles && booked_[(t + k) & (kWindow - 1)] != uint32_t(t + k + 1)) ++k;
+        while (k < cycles && !booked(t + k)) ++k;
         if (k == cycles) break;
-        t += k + 1;
+        // Every start up to the first free cycle after t + k overlaps a booking: jump there.
+        t = std::max(t + k + 1, std::min(free_after(t + k, last + 1), last + 1));
       }
       tail_ = std::max(tail_, t + cycles);
     }
-    for (uint32_t k = 0; k < cycles; ++k) booked_[(t + k) & (kWindow - 1)] = uint32_t(t + k + 1);
+    for (uint32_t k = 0; k < cycles; ++k) take(t + k, t + cycles);
     return t + cycles;
   }
 
  private:
   static constexpr uint64_t kWindow = 512;
+  bool booked(uint64_t c) const { return booked_[c & (kWindow - 1)] == uint32_t(c + 1); }
+  // The first free cycle after the booked cycle c, or a booked one at or past `limit`.
+  uint64_t free_after(uint64_t c, uint64_t limit) {
+    uint64_t end = run_end_[c & (kWindow - 1)];
+    while (end < limit && booked(end)) end = run_end_[end & (kWindow - 1)];
+    run_end_[c & (kWindow - 1)] = end;  // compressed: [c, end) is booked
+    return end;
+  }
+  // Books cycle c of a booking that ends at `end`. Its slot's earlier cycle (the window is not
+  // ordered: the reads' times are not) is free from now on, so no link jumps over it any more:
+  // the links of the booked run before it are cut there.
+  void take(uint64_t c, uint64_t end) {
+    const size_t slot = c & (kWindow - 1);
+    const uint32_t was = booked_[slot];
+    if (was != 0 && was != uint32_t(c + 1)) {
+      const uint64_t freed = c + int64_t(int32_t(was - uint32_t(c + 1)));
+      for (uint64_t x = freed - 1; booked(x); --x)
+        run_end_[x & (kWindow - 1)] = std::min(run_end_[x & (kWindow - 1)], freed);
+    }
+    booked_[slot] = uint32_t(c + 1);
+    run_end_[slot] = end;
+  }
   uint64_t tail_ = 0;  // the end of the latest booking
   // Cycle + 1 (its low 32 bits) of each booked cycle of the window.
   std::vector<uint32_t> booked_ = std::vector<uint32_t>(kWindow, 0);
+  // For each booked cycle, a cycle after it up to which every cycle is booked.
+  std::vector<uint64_t> run_end_ = std::vector<uint64_t>(kWindow, 0);
 };
 
 // An L2's banks as the replay times its L1s' misses: each line goes back to its L1 through its
