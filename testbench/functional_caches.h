@@ -81,6 +81,7 @@ class FunctionalCaches {
   std::array<uint32_t, kAccessUnits> route(uint32_t t) const;
   uint32_t count(AccessUnit type) const { return uint32_t(l1_[size_t(type)].size()); }
   uint32_t line_bytes() const { return line_bytes_; }
+  uint32_t line_shift() const { return line_shift_; }  // log2 of line_bytes()
   uint32_t l2_count() const { return uint32_t(l2s_.size()); }
   // The unit type whose configuration L2 `l2` has (the shading units' L2 is the IST's).
   AccessUnit l2_type(uint32_t l2) const { return l2_type_[l2]; }

@@ -206,8 +206,8 @@ class Replay {
   uint64_t leaf(Walk& w, uint64_t now);
   uint64_t tests(Walk& w, uint64_t ready);
   uint64_t lines_of(const Access& a) const {
-    const uint64_t line = caches_.line_bytes();
-    return a.bytes == 0 ? 0 : (uint64_t(a.addr) + a.bytes - 1) / line - a.addr / line + 1;
+    const uint32_t shift = caches_.line_shift();
+    return a.bytes == 0 ? 0 : ((uint64_t(a.addr) + a.bytes - 1) >> shift) - (a.addr >> shift) + 1;
   }
   // Unit `unit` of type `type` takes `ops` operations from `now` on, one a cycle; when they begin.
   uint64_t issue(size_t type, uint32_t unit, uint64_t now, uint64_t ops) {
