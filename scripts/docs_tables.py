@@ -288,9 +288,11 @@ def integration_table(run_dir):
 
 # docs/sampling.md's validation (issue 38): the paper's runs in full (RUN/full) and sampled with
 # several seeds (RUN/s1, RUN/s2, ...), each a `rtsim reproduce` directory with the same points.
-def point_reports(reproduce_dir):
+def point_reports(sweep_dir, key="variant"):
+    """A sweep's (or reproduction's) points by (scene, the value of the column `key`): each
+    point's report.json."""
     out = {}
-    points = os.path.join(reproduce_dir, "points")
+    points = os.path.join(sweep_dir, "points")
     for p in sorted(os.listdir(points)):
         path = os.path.join(points, p, "report.json")
         if not os.path.exists(path):
@@ -298,8 +300,8 @@ def point_reports(reproduce_dir):
         with open(path) as f:
             r = json.load(f)
         with open(os.path.join(points, p, "row.json")) as f:
-            variant = json.load(f).get("variant", "")
-        out[(r["scene"]["name"], variant)] = r
+            row = json.load(f)
+        out[(r["scene"]["name"], str(row.get(key, "")))] = r
     return out
 
 
@@ -336,42 +338,56 @@ def off_variant(variant):
     return variant[: variant.rfind("-") + 1] + "off"
 
 
+class SampledTally:
+    """Sampled runs against their full ones, row by row: each seed's error and interval, and over
+    every row the errors, the intervals that missed and the speedups."""
+
+    def __init__(self):
+        self.errors, self.missed, self.speedups = [], [], []
+        self.held = {"total": 0, "primary": 0, "shadow": 0}
+
+    def cells(self, name, full, runs):
+        """The cells of row `name` (full report `full`; `runs`: (seed, its report or None)): one
+        per seed, then the median speedup."""
+        cells, ups = [], []
+        for seed, r in runs:
+            if r is None:
+                cells.append("-")
+                continue
+            err, ci, ok = sampled_cell(full, r, "cycles_total")
+            self.errors.append(abs(err))
+            for phase in self.held:
+                self.held[phase] += sampled_cell(full, r, f"cycles_{phase}")[2]
+            if not ok:
+                self.missed.append(f"{name}, seed {seed}")
+            cells.append(f"{err:+.2f}% / {ci:.2f}%" + ("" if ok else " (missed)"))
+            ups.append(full["host"]["seconds"]["total"] / r["host"]["seconds"]["total"])
+        self.speedups += ups
+        return cells + [f"{median(ups):.1f}x" if ups else "-"]
+
+    def summary(self, what):
+        n, e, held, ups = len(self.errors), self.errors, self.held, self.speedups
+        return (
+            f"{n} sampled {what}: the largest error {max(e):.2f}%, "
+            f"{sum(x <= 2 for x in e)} of {n} within 2%; the 95% interval held the full run's "
+            f"frame in {held['total']} of {n}"
+            + (f" (missed: {'; '.join(self.missed)})" if self.missed else "")
+            + f", its primary phase in {held['primary']}, its shadow phase in {held['shadow']}; "
+            f"host time {median(ups):.1f}x less (median; from {min(ups):.1f}x to {max(ups):.1f}x)."
+        )
+
+
 def sampling_plan_rows(run_dir, full, seeds, sub=""):
     sampled = {s: point_reports(os.path.join(run_dir, s, sub)) for s in seeds}
     head = ["setup", "full run (cycles)"] + [f"seed {s[1:]}: error / interval" for s in seeds]
     head += ["speedup (median)"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
-    errors, missed, held, speedups = [], [], {"total": 0, "primary": 0, "shadow": 0}, []
+    tally = SampledTally()
     for key, f in full.items():
-        cells = [f"{key[0]}, {key[1]}", fmt_int(f["cycles_total"])]
-        ups = []
-        for s in seeds:
-            r = sampled[s].get(key)
-            if r is None:
-                cells.append("-")
-                continue
-            err, ci, ok = sampled_cell(f, r, "cycles_total")
-            errors.append(abs(err))
-            for phase in held:
-                held[phase] += sampled_cell(f, r, f"cycles_{phase}")[2]
-            if not ok:
-                missed.append(f"{key[0]}, {key[1]}, seed {s[1:]}")
-            cells.append(f"{err:+.2f}% / {ci:.2f}%" + ("" if ok else " (missed)"))
-            ups.append(f["host"]["seconds"]["total"] / r["host"]["seconds"]["total"])
-        speedups += ups
-        cells.append(f"{median(ups):.1f}x" if ups else "-")
-        out.append("| " + " | ".join(cells) + " |")
-    n = len(errors)
-    out += [
-        "",
-        f"{n} sampled frames: the largest error {max(errors):.2f}%, "
-        f"{sum(e <= 2 for e in errors)} of {n} within 2%; the 95% interval held the full run's "
-        f"frame in {held['total']} of {n}"
-        + (f" (missed: {'; '.join(missed)})" if missed else "")
-        + f", its primary phase in {held['primary']}, its shadow phase in {held['shadow']}; "
-        f"host time {median(speedups):.1f}x less (median; from {min(speedups):.1f}x to "
-        f"{max(speedups):.1f}x).",
-    ]
+        name = f"{key[0]}, {key[1]}"
+        cells = tally.cells(name, f, [(s[1:], sampled[s].get(key)) for s in seeds])
+        out.append("| " + " | ".join([name, fmt_int(f["cycles_total"])] + cells) + " |")
+    out += ["", tally.summary("frames")]
     out += [
         "",
         "Culling's frame-time reduction (1 - on / off), full run and each seed's error in "
@@ -396,3 +412,32 @@ def sampling_plan_rows(run_dir, full, seeds, sub=""):
             cells.append(f"{r - red:+.2f} pt")
         out.append("| " + " | ".join(cells) + " |")
     return out
+
+
+# The cache sweeps sampled beside their full runs (docs/sampling.md): each sweep's directory
+# full-NAME and sK-NAME (seed K), the column that tells its points apart.
+SAMPLED_SWEEPS = [
+    ("trv-l1", "hw.trv.l1.size_kb", "TRV L1 KB"),
+    ("ist-l1", "hw.ist.l1.size_kb", "IST L1 KB"),
+    ("l2-size", "variant", "L2"),
+    ("l2-banks", "variant", "L2 banks"),
+]
+
+
+def sampling_sweeps_table(run_dir):
+    """Each sampled sweep point against the full one: error and 95% interval, whether the
+    interval held, the host-time speedup; a summary line over every point."""
+    seeds = sorted({d.split("-")[0] for d in os.listdir(run_dir) if re.fullmatch(r"s\d+-.+", d)})
+    head = ["sweep", "scene", "point", "full run (cycles)"]
+    head += [f"seed {s[1:]}: error / interval" for s in seeds] + ["speedup"]
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    tally = SampledTally()
+    for name, key, label in SAMPLED_SWEEPS:
+        full = point_reports(os.path.join(run_dir, f"full-{name}"), key)
+        sampled = {s: point_reports(os.path.join(run_dir, f"{s}-{name}"), key) for s in seeds}
+        for (scene, value), f in full.items():
+            runs = [(s[1:], sampled[s].get((scene, value))) for s in seeds]
+            cells = tally.cells(f"{name}, {scene}, {value}", f, runs)
+            row = [name, scene, f"{label} {value}", fmt_int(f["cycles_total"])] + cells
+            out.append("| " + " | ".join(row) + " |")
+    return "\n".join(out + ["", tally.summary("points")]) + "\n"

@@ -33,6 +33,7 @@ from docs_tables import (  # noqa: E402  (beside this script, which has no packa
     copy_markdown,
     integration_table,
     knob_table,
+    sampling_sweeps_table,
     sampling_table,
 )
 
@@ -89,6 +90,11 @@ SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
 PAPER_RUNS = ["reproduce", "--variants", "off,paper,exact"]  # the paper's nine runs
 # The paper's setups on the BVH machine (bvh-tni.yaml, bvh8), culling off and the paper's.
 BVH_RUNS = ["reproduce", "--bvh", "--variants", "bvh8-off,bvh8-paper"]
+
+
+# A 480x270 frame has 64 units of 2,048 rays: units of 1,024 and a tenth of them give the
+# regression enough drawn units (docs/sampling.md, "Small frames").
+SWEEP_SAMPLE = ["--set", "run.sample=0.1", "--set", "run.sample_unit=1024", "--no-plots"]
 
 
 def sampled(seed, strata="issue"):
@@ -167,6 +173,19 @@ STUDIES = [
         12,
         render=lambda run_dir: sampling_table(run_dir, "bvh"),
         runs=[("full", BVH_RUNS)] + [(f"s{k}", BVH_RUNS + sampled(k)) for k in (1, 2, 3)],
+        jobs=1,
+    ),
+    # The four cache studies (480x270) in full and sampled, one seed, one run at a time.
+    Study(
+        "sampling-caches",
+        "docs/sampling.md",
+        30,
+        render=sampling_sweeps_table,
+        runs=[
+            (f"{tag}-{name}", ["sweep", f"configs/sweeps/cache-{name}.yaml"] + options)
+            for tag, options in (("full", ["--no-plots"]), ("s1", SWEEP_SAMPLE))
+            for name in ("trv-l1", "ist-l1", "l2-size", "l2-banks")
+        ],
         jobs=1,
     ),
     # The integration doc's figures: examples and tests that print them (no rtsim run).

@@ -20,7 +20,9 @@
 #include <fmt/format.h>
 
 #include <sys/resource.h>
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -319,6 +321,38 @@ void warn_target(const SampledRun& s) {
              s.fraction_needed());
 }
 
+// A sample too small for the regression on the functional pass: a phase estimated by the plain
+// expansion, whose interval is wide (docs/sampling.md), says so and what fraction would do.
+void warn_expansion(const SampledRun& s) {
+  const SampledEstimates& e = s.estimates;
+  size_t needed = 0;
+  if (std::string(e.primary_estimator) == "expansion") needed = e.primary_min_drawn;
+  if (std::string(e.shadow_estimator) == "expansion") needed = std::max(needed, e.shadow_min_drawn);
+  if (needed == 0) return;
+  const size_t drawn = size_t(std::count_if(s.plan.units.begin(), s.plan.units.end(),
+                                            [](const MeasuredUnit& u) { return !u.certain; }));
+  // The plan's strata: k consecutive units each between the first and last unit (plan_sample).
+  const uint64_t middle = s.plan.population > 2 ? s.plan.population - 2 : 0;
+  uint64_t k = std::max<uint64_t>(1, uint64_t(std::llround(1.0 / s.settings.fraction)));
+  while (k > 1 && (middle + k - 1) / k < needed) --k;
+  const double wanted = 1.0 / double(k);
+  if (drawn < needed) {
+    fmt::print(stderr,
+               "rtsim: warning: run.sample: a fraction of {:g} draws {} of the frame's {} units of "
+               "{} rays, and the regression on the functional pass needs {}: the estimate is the "
+               "plain expansion, its interval wide; a fraction of {:.3g} (or a smaller "
+               "run.sample_unit) draws enough\n",
+               s.settings.fraction, drawn, s.plan.population, s.plan.unit, needed, wanted);
+  } else {  // enough units, but their auxiliaries leave the fit undetermined
+    fmt::print(stderr,
+               "rtsim: warning: run.sample: the regression on the functional pass could not be "
+               "fitted on the {} units drawn at a fraction of {:g} (their auxiliaries are "
+               "collinear): the estimate is the plain expansion, its interval wide; a larger "
+               "fraction draws more\n",
+               drawn, s.settings.fraction);
+  }
+}
+
 // The model's frame: whole, or sampled (with the reference tracer's frame, which a sampled frame
 // reports its pixels and counts from, traced while the functional pass runs).
 struct ModelFrame {
@@ -402,6 +436,7 @@ int run_model(const RunArgs& args) {
     print_summary(c, p, r, host.simulate, out.string(), c.run.plots && plots_note.empty());
   if (!args.quiet && m.sampled) print_sampled(r, *m.sampled);
   if (m.sampled) warn_target(*m.sampled);
+  if (m.sampled) warn_expansion(*m.sampled);
   if (!plots_note.empty())
     fmt::print(stderr, "rtsim: warning: figures not written: {}\n", plots_note);
   if (c.run.check) print_check(check);

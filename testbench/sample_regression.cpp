@@ -123,7 +123,7 @@ SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& 
   const size_t p = aux.features + 1;
   size_t n = 0;
   for (const MeasuredUnit& u : plan.units) n += u.certain ? 0 : 1;
-  if (n < p + 3) return estimate_plan(plan, values, residuals_out);
+  if (n < greg_min_drawn(aux)) return estimate_plan(plan, values, residuals_out);
   std::vector<double> scale(aux.features, 1.0);
   for (size_t j = 0; j < aux.features; ++j) {
     double s = 0;

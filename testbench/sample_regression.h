@@ -36,12 +36,15 @@ UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<Ba
 // deviations, times the finite population correction, with Student's t for at most n - p degrees
 // of freedom (fewer where a few deviations dominate: sum_interval). A unit that steers the fit
 // moves its replicate far, so the interval knows it (the residuals' successive differences did not:
-// docs/sampling.md). With too few drawn units for the fit (n < p + 3) it is the expansion
+// docs/sampling.md). With too few drawn units for the fit (greg_min_drawn) it is the expansion
 // (estimate_plan). `residuals` (optional) gets each drawn unit's replicate less the total, its
 // jackknife deviation, so that two phases' estimates can be added with the interval of their sum
 // (sum_interval: the deviations of a sum are the sums of the deviations).
 SampleEstimate estimate_greg(const SamplePlan& plan, const std::vector<double>& values,
                              const UnitAuxiliaries& aux, std::vector<double>* residuals = nullptr);
+// The drawn units a fit on `aux` needs: its p parameters (the auxiliaries and the intercept) and
+// three degrees of freedom to spare.
+inline size_t greg_min_drawn(const UnitAuxiliaries& aux) { return aux.features + 1 + 3; }
 
 // Each unit's sum of a per-batch figure (the shadow phase's replay cycles, say), as an auxiliary.
 UnitAuxiliaries unit_sums(const SamplePlan& plan, const std::vector<BatchFeatures>& b,

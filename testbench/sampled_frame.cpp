@@ -94,6 +94,8 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
     // Too few drawn units for a fit: the expansion (one parameter, the mean).
     e.primary_estimator = e.primary.parameters > 1 ? "regression" : "expansion";
     e.shadow_estimator = e.shadow.parameters > 1 ? "regression" : "expansion";
+    e.primary_min_drawn = greg_min_drawn(aux->primary);
+    e.shadow_min_drawn = greg_min_drawn(aux->shadow);
   } else {
     e.primary = estimate_plan(plan, e.primary_units, &rp);
     e.shadow = estimate_plan(plan, e.shadow_units, &rs);

@@ -24,6 +24,8 @@ struct SampledEstimates {
   SampleEstimate primary, shadow, total;
   const char* primary_estimator = "expansion";  // or "regression"
   const char* shadow_estimator = "expansion";
+  // The drawn units each phase's regression needs (greg_min_drawn; 0 without the pass).
+  size_t primary_min_drawn = 0, shadow_min_drawn = 0;
   // Per measured unit, each phase's weighted residual its interval comes from (0 for a unit
   // always measured): two runs of the same plan pair them (culling's reduction).
   std::vector<double> primary_residuals, shadow_residuals;

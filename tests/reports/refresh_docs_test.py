@@ -200,6 +200,29 @@ with tempfile.TemporaryDirectory() as tmp:
     ]:
         check(cells in table, f"sampling cells {cells}:\n{table}")
 
+    # The cache sweeps sampled: points keyed by a sweep's column (an axis), sub-directories
+    # full-NAME and sK-NAME.
+    def sweep_point(sub, k, size, total, ci, seconds):
+        point(sub, k, "", total, ci, seconds)
+        with open(os.path.join(tmp, sub, "points", f"p{k:04}", "row.json"), "w") as f:
+            json.dump({"hw.trv.l1.size_kb": size}, f)
+
+    sweep_point("full-trv-l1", 0, 2, 2000, 0, 30)
+    sweep_point("full-trv-l1", 1, 8, 1000, 0, 20)
+    sweep_point("s1-trv-l1", 0, 2, 2050, 40, 10)  # +2.5%, missed
+    sweep_point("s1-trv-l1", 1, 8, 990, 30, 10)
+    for name in ("ist-l1", "l2-size", "l2-banks"):
+        for sub in ("full", "s1"):
+            os.makedirs(os.path.join(tmp, f"{sub}-{name}", "points"))
+    table = docs_tables.sampling_sweeps_table(tmp)
+    for cells in [
+        "| trv-l1 | kitchen | TRV L1 KB 2 | 2,000 | +2.50% / 2.00% (missed) | 3.0x |",
+        "| trv-l1 | kitchen | TRV L1 KB 8 | 1,000 | -1.00% / 3.00% | 2.0x |",
+        "2 sampled points: the largest error 2.50%, 1 of 2 within 2%; the 95% interval held the "
+        "full run's frame in 1 of 2 (missed: trv-l1, kitchen, 2, seed 1)",
+    ]:
+        check(cells in table, f"sampled sweeps cells {cells}:\n{table}")
+
 ids = {s.id for s in refresh.STUDIES}
 for s in refresh.STUDIES:
     text = open(os.path.join(src, s.doc)).read()

@@ -165,6 +165,33 @@ TEST(CliSample, ASampledSweepCarriesItsIntervalsUnaskedAFullOneDoesNot) {
   fs::remove_all(dir);
 }
 
+// Too few drawn units for the regression on the functional pass: the estimate falls back to the
+// plain expansion, and the run says so, with the fraction that draws enough.
+TEST(CliSample, ASampleTooSmallForTheRegressionSaysSo) {
+  const fs::path dir = test::temp_dir("cli_sample_small");
+  const std::string base = "run " + kCity + " --hw " + kHw +
+                           " --no-plots --quiet --width 256 --height 144 --out " + dir.string();
+  // 72 units of 512 rays, strata of 10 between the first and the last: 7 drawn.
+  const RunResult few = run(base + " --sample 0.1 --set run.sample_unit=512");
+  ASSERT_EQ(few.code, 0) << few.err;
+  EXPECT_NE(few.err.find("run.sample: a fraction of 0.1 draws 7 of the frame's 72 units"),
+            std::string::npos)
+      << few.err;
+  EXPECT_NE(few.err.find("a fraction of 0.125 (or a smaller run.sample_unit) draws enough"),
+            std::string::npos)
+      << few.err;
+  EXPECT_EQ(nlohmann::json::parse(slurp(dir / "report.json"))["sample"]["estimator"]["primary"],
+            "expansion");
+  // The fraction it names: strata of 8, 9 drawn, the regression on both phases, no warning.
+  const RunResult enough = run(base + " --sample 0.125 --set run.sample_unit=512");
+  ASSERT_EQ(enough.code, 0) << enough.err;
+  EXPECT_EQ(enough.err.find("run.sample:"), std::string::npos) << enough.err;
+  const nlohmann::json r = nlohmann::json::parse(slurp(dir / "report.json"));
+  EXPECT_EQ(r["sample"]["estimator"]["primary"], "regression");
+  EXPECT_EQ(r["sample"]["estimator"]["shadow"], "regression");
+  fs::remove_all(dir);
+}
+
 TEST(CliSample, BadSampleSettingsAreNamed) {
   const std::string base = "run " + kCity + " --hw " + kHw + " --quiet --out /tmp/rtsim_bad ";
   expect_input_error(base + "--sample 0", {"sample", "(0, 1]"});
