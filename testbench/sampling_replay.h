@@ -83,9 +83,9 @@ class PortCalendar {
     run_end_[c & (kWindow - 1)] = end;  // compressed: [c, end) is booked
     return end;
   }
-  // Books cycle c of a booking that ends at `end`. Its slot's earlier cycle (the window is not
-  // ordered: the reads' times are not) is free from now on, so no link jumps over it any more:
-  // the links of the booked run before it are cut there.
+  // Books cycle c of a booking that ends at `end`. The cycle that held its slot before (later
+  // or earlier than c: the reads' times go back and forth) is free from now on, so no link may
+  // jump over it: the links of the booked run before it are cut there.
   void take(uint64_t c, uint64_t end) {
     const size_t slot = c & (kWindow - 1);
     const uint32_t was = booked_[slot];
