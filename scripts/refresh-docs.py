@@ -90,6 +90,8 @@ SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
 PAPER_RUNS = ["reproduce", "--variants", "off,paper,exact"]  # the paper's nine runs
 # The paper's setups on the BVH machine (bvh-tni.yaml, bvh8), culling off and the paper's.
 BVH_RUNS = ["reproduce", "--bvh", "--variants", "bvh8-off,bvh8-paper"]
+# The other two BVH formats of the study (docs/bvh.md), the same way.
+BVH_FORMATS = ["reproduce", "--bvh", "--variants", "bvh2-off,bvh2-paper,cwbvh8-off,cwbvh8-paper"]
 
 
 # A 480x270 frame has 64 units of 2,048 rays: units of 1,024 and a tenth of them give the
@@ -173,6 +175,15 @@ STUDIES = [
         12,
         render=lambda run_dir: sampling_table(run_dir, "bvh"),
         runs=[("full", BVH_RUNS)] + [(f"s{k}", BVH_RUNS + sampled(k)) for k in (1, 2, 3)],
+        jobs=1,
+    ),
+    # bvh2 and cwbvh8, two seeds.
+    Study(
+        "sampling-bvh-formats",
+        "docs/sampling.md",
+        40,
+        render=lambda run_dir: sampling_table(run_dir, "bvh"),
+        runs=[("full", BVH_FORMATS)] + [(f"s{k}", BVH_FORMATS + sampled(k)) for k in (1, 2)],
         jobs=1,
     ),
     # The four cache studies (480x270) in full and sampled, one seed, one run at a time.
