@@ -22,7 +22,6 @@
 #include <sys/resource.h>
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <filesystem>
 #include <optional>
 
@@ -326,16 +325,13 @@ void warn_target(const SampledRun& s) {
 void warn_expansion(const SampledRun& s) {
   const SampledEstimates& e = s.estimates;
   size_t needed = 0;
-  if (std::string(e.primary_estimator) == "expansion") needed = e.primary_min_drawn;
-  if (std::string(e.shadow_estimator) == "expansion") needed = std::max(needed, e.shadow_min_drawn);
+  // One parameter, the mean: the expansion (estimate_sampled).
+  if (e.primary.parameters <= 1) needed = e.primary_min_drawn;
+  if (e.shadow.parameters <= 1) needed = std::max(needed, e.shadow_min_drawn);
   if (needed == 0) return;
   const size_t drawn = size_t(std::count_if(s.plan.units.begin(), s.plan.units.end(),
                                             [](const MeasuredUnit& u) { return !u.certain; }));
-  // The plan's strata: k consecutive units each between the first and last unit (plan_sample).
-  const uint64_t middle = s.plan.population > 2 ? s.plan.population - 2 : 0;
-  uint64_t k = std::max<uint64_t>(1, uint64_t(std::llround(1.0 / s.settings.fraction)));
-  while (k > 1 && (middle + k - 1) / k < needed) --k;
-  const double wanted = 1.0 / double(k);
+  const double wanted = fraction_for_drawn(s.plan.population, s.settings.fraction, needed);
   if (drawn < needed) {
     fmt::print(stderr,
                "rtsim: warning: run.sample: a fraction of {:g} draws {} of the frame's {} units of "

@@ -80,7 +80,7 @@ SamplePlan plan_sample(uint64_t rays, const SampleSettings& s,
   p.rays = rays;
   p.unit = s.unit;
   p.population = (rays + s.unit - 1) / s.unit;
-  const uint64_t k = std::max<uint64_t>(1, uint64_t(std::llround(1.0 / s.fraction)));
+  const uint64_t k = stratum_units(s.fraction);
   if (k == 1 || p.population <= 2) {
     for (uint64_t u = 0; u < p.population; ++u) p.units.push_back({u, 1, true});
   } else {
@@ -90,7 +90,7 @@ SamplePlan plan_sample(uint64_t rays, const SampleSettings& s,
     if (s.strata == SampleStrata::kNeyman) {
       if (auxiliary.size() != p.population)
         throw std::invalid_argument("plan_sample: Neyman strata need an auxiliary per unit");
-      strata = neyman_strata(auxiliary, 1, p.population - 1, (p.population - 2 + k - 1) / k);
+      strata = neyman_strata(auxiliary, 1, p.population - 1, strata_count(p.population, k));
     } else {
       for (uint64_t first = 1; first + 1 < p.population; first += k)
         strata.push_back({first, std::min(first + k, p.population - 1)});

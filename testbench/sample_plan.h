@@ -9,6 +9,8 @@
 #include "model/units/detail_window.h"
 #include "testbench/sample_estimate.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <utility>
 #include <vector>
@@ -49,6 +51,16 @@ struct SamplePlan {
   std::vector<MeasuredUnit> units;
   std::vector<model::DetailWindow> windows;
 };
+
+// k, the units a stratum of issue order holds at `fraction`: round(1 / fraction).
+inline uint64_t stratum_units(double fraction) {
+  return std::max<uint64_t>(1, uint64_t(std::llround(1.0 / fraction)));
+}
+// The strata between a frame's first and last unit (of `population`) at k units a stratum: the
+// units a plan draws.
+inline uint64_t strata_count(uint64_t population, uint64_t k) {
+  return population > 2 ? (population - 2 + k - 1) / k : 0;
+}
 
 // The plan for a frame of `rays` primary rays (settings already validated). Neyman strata need
 // `auxiliary`, one value per unit of the frame (a sampled run's: both phases' replay cycles).

@@ -121,6 +121,12 @@ double fraction_for_target(double fraction, double ci95_pct, double target_pct) 
   return k_wanted <= 1 ? 1.0 : 1.0 / double(k_wanted);
 }
 
+double fraction_for_drawn(uint64_t population, double fraction, uint64_t needed) {
+  uint64_t k = stratum_units(fraction);
+  while (k > 1 && strata_count(population, k) < needed) --k;
+  return 1.0 / double(k);
+}
+
 double SampledRun::fraction_needed() const {
   return target_met() ? 0.0
                       : fraction_for_target(settings.fraction, estimates.total.ci95_pct(),

@@ -84,6 +84,10 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
 // `target_pct` %, with a tenth to spare, in (fraction, 1]: a stratum at least one unit smaller.
 double fraction_for_target(double fraction, double ci95_pct, double target_pct);
 
+// The largest fraction of the form 1 / k, at most `fraction`'s k, whose plan draws `needed` units
+// of a frame of `population` units (1 when none does).
+double fraction_for_drawn(uint64_t population, double fraction, uint64_t needed);
+
 // The frame's figures as a sampled run reports them: the estimated cycles, and the rays, hits,
 // culled rays and pixels of the reference tracer's frame `ref` (traced with the run's settings).
 void apply_sampled(SimulatedFrame& r, const SampledEstimates& e, const TraceResult& ref);
