@@ -84,8 +84,8 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
 // `target_pct` %, with a tenth to spare, in (fraction, 1]: a stratum at least one unit smaller.
 double fraction_for_target(double fraction, double ci95_pct, double target_pct);
 
-// The largest fraction of the form 1 / k, at most `fraction`'s k, whose plan draws `needed` units
-// of a frame of `population` units (1 when none does).
+// The smallest fraction 1 / k, k at most `fraction`'s stratum_units, whose plan draws `needed`
+// units of a frame of `population` units (1 when none does).
 double fraction_for_drawn(uint64_t population, double fraction, uint64_t needed);
 
 // The frame's figures as a sampled run reports them: the estimated cycles, and the rays, hits,
