@@ -5,11 +5,13 @@
 // run's batches.csv. Usage:
 //   bench_sampling_features --config RUN/config.json --out features.csv
 //       [--capacity N] [--fifo-depth N] [--shadow-stride K] [--trace-ahead]
-//       [--scene-root DIR]
+//       [--scene-root DIR] [--walk-steps FILE] [--steps-stride K]
 // The run's config.json gives the scene, its overrides, the resolution, the structure and the
 // hardware, so the frame is the run's (run it where the run ran: scene files are relative to the
 // repository). The LVB words are computed as the run computed them (run.lvb, its LVB settings).
-// Prints the host time of the preparation, the LVB and each phase of the pass.
+// --walk-steps also writes the strata's auxiliary (batch_walk_steps of one ray in K, 1 by default:
+// batch,walk_steps per primary batch). Prints the host time of the preparation, the LVB and each
+// phase of the pass.
 #include "common/host_clock.h"
 #include "testbench/pipeline.h"
 #include "testbench/run_config.h"
@@ -30,11 +32,12 @@ using namespace rtsim;
 extern "C" int sc_main(int, char**) { return 0; }
 
 int features(const RunSources& sources, const FeaturePassOptions& options,
-             const std::string& out_file);
+             const std::string& out_file, const std::string& steps_file, uint32_t steps_stride);
 
 int main(int argc, char** argv) {
   RunSources sources;
-  std::string out_file = "features.csv";
+  std::string out_file = "features.csv", steps_file;
+  uint32_t steps_stride = 1;
   FeaturePassOptions options;
   for (int i = 1; i < argc; ++i) {
     auto next = [&] { return bench::option_value(argc, argv, i); };
@@ -50,6 +53,10 @@ int main(int argc, char** argv) {
       options.trace_ahead = true;
     else if (!std::strcmp(argv[i], "--shadow-stride"))
       options.shadow_stride = uint32_t(std::atoi(next()));
+    else if (!std::strcmp(argv[i], "--walk-steps"))
+      steps_file = next();
+    else if (!std::strcmp(argv[i], "--steps-stride"))
+      steps_stride = uint32_t(std::atoi(next()));
     else if (!std::strcmp(argv[i], "--scene-root"))
       sources.scene_root = next();
     else {
@@ -62,7 +69,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    return features(sources, options, out_file);
+    return features(sources, options, out_file, steps_file, steps_stride);
   } catch (const std::exception& e) {
     fmt::print(stderr, "bench_sampling_features: error: {}\n", e.what());
     return 2;
@@ -70,7 +77,7 @@ int main(int argc, char** argv) {
 }
 
 int features(const RunSources& sources, const FeaturePassOptions& options,
-             const std::string& out_file) {
+             const std::string& out_file, const std::string& steps_file, uint32_t steps_stride) {
   const auto t0 = std::chrono::steady_clock::now();
   const RunConfig c = resolve_run_config(sources);
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
@@ -83,6 +90,20 @@ int features(const RunSources& sources, const FeaturePassOptions& options,
     for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
   }
   const double lvb = seconds_since(t1);
+  double steps_seconds = 0;
+  if (!steps_file.empty()) {
+    const auto t2 = std::chrono::steady_clock::now();
+    const std::vector<double> steps = batch_walk_steps(*p.image, p.scene.camera, p.scene.width,
+                                                       p.scene.height, c.hw, steps_stride);
+    steps_seconds = seconds_since(t2);
+    std::ofstream s(steps_file);
+    s << "batch,walk_steps\n";
+    for (size_t i = 0; i < steps.size(); ++i) s << i << ',' << uint64_t(steps[i]) << '\n';
+    if (!s) {
+      fmt::print(stderr, "cannot write {}\n", steps_file);
+      return 1;
+    }
+  }
   const FrameFeatures f = run_batch_features(p, c.hw, c.run, options);
   std::ofstream out(out_file);
   write_features_csv(out, f);
@@ -92,8 +113,9 @@ int features(const RunSources& sources, const FeaturePassOptions& options,
   }
   fmt::print(
       "{} {}x{}: {} primary and {} shadow batches; host seconds: {:.2f} preparing the scene, "
-      "{:.2f} the LVB, {:.2f} the pass's primary phase, {:.2f} its shadow phase\n",
+      "{:.2f} the LVB, {:.2f} the pass's primary phase, {:.2f} its shadow phase, {:.2f} the walk "
+      "steps\n",
       p.scene.name, p.scene.width, p.scene.height, f.primary.size(), f.shadow.size(), prepare, lvb,
-      f.primary_seconds, f.shadow_seconds);
+      f.primary_seconds, f.shadow_seconds, steps_seconds);
   return 0;
 }

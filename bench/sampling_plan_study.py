@@ -9,11 +9,12 @@ sampled run, whatever its warming. Beside the run's estimator, the variants it w
 and plans with a take-all stratum: the m units ranked highest by an auxiliary known before the
 simulation always measured (exactly, as the first and last are), the rest of the same budget of
 measured units drawn one a stratum over the other units, in strata of equal size or of equal
-N_h S_h of the auxiliary (Neyman's allocation with one draw a stratum).
+N_h S_h of the auxiliary (Neyman's allocation with one draw a stratum). With --steps, the walk
+steps that a run's Neyman strata are cut on rank units too.
 
-  bench_sampling_features --config RUN/config.json --out features.csv
+  bench_sampling_features --config RUN/config.json --out features.csv [--walk-steps steps.csv]
   /usr/bin/python3 bench/sampling_plan_study.py RUN features.csv [--fraction 0.05] [--seeds 200]
-      [--variants 'all'|'run'|'take-all'|'NAME;...']
+      [--variants 'all'|'run'|'take-all'|'NAME;...'] [--steps steps.csv]
 
 RUN: a full run's directory (batches.csv with the phase column). Prints, per variant and phase
 (primary, shadow, frame), the largest, rms and 95th-percentile error, the mean 95% half-interval
@@ -68,6 +69,9 @@ RANKINGS = {
     "(a) shadow rays": "shadow_rays",
     "(a) primary hits": "hits",
     "(a) shadow rays + hits": "rays_hits",
+    "(a) IST reads of both phases": "ist_reads",
+    "(a) every unit's reads of both phases": "reads",
+    "(a) walk steps, culling off (--steps)": "walk_steps",
     "(b) primary replay": "primary_replay",
     "(a)x(b) primary replay x (1 + shadow rays / unit)": "primary_replay_rays",
     "(c) both replays": "replay",
@@ -112,7 +116,7 @@ def ahead(x):
     return out
 
 
-def load(run, features):
+def load(run, features, steps=None):
     y = {"primary": [], "shadow": []}
     with open(f"{run}/batches.csv", newline="") as f:
         for r in csv.DictReader(f):
@@ -138,7 +142,14 @@ def load(run, features):
         "primary_replay": xp[:, 0],
         "primary_replay_rays": xp[:, 0] * (1 + rays / (UNIT * 64)),
         "replay": xp[:, 0] + xs[:, 0],
+        "ist_reads": units(p["ist_reads"] + feat["shadow"]["ist_reads"]),
+        "reads": sum(
+            units(p[f"{t}_reads"] + feat["shadow"][f"{t}_reads"]) for t in ("trv", "list", "ist")
+        ),
     }
+    if steps:  # bench_sampling_features --walk-steps: per primary batch
+        with open(steps, newline="") as f:
+            keys["walk_steps"] = units([float(r["walk_steps"]) for r in csv.DictReader(f)])
     for k in (4, 8):  # a pass with shadow_stride k, approximated: its batches of the full pass's
         every = feat["shadow"]["replay_cycles"] * (np.arange(len(feat["shadow"]["rays"])) % k == 0)
         keys[f"replay_stride{k}"] = xp[:, 0] + k * units(every)
@@ -355,9 +366,10 @@ def main():
     ap.add_argument("features")
     ap.add_argument("--fraction", type=float, default=0.05)
     ap.add_argument("--seeds", type=int, default=200)
+    ap.add_argument("--steps", help="bench_sampling_features --walk-steps output")
     ap.add_argument("--variants", default="all", help="all, run, take-all or names joined by ';'")
     a = ap.parse_args()
-    data = load(a.run, a.features)
+    data = load(a.run, a.features, a.steps)
     variants = {**VARIANTS, **TAKE_ALL}
     names = list(VARIANTS)
     if a.variants == "run":

@@ -63,7 +63,7 @@ inline uint64_t strata_count(uint64_t population, uint64_t k) {
 }
 
 // The plan for a frame of `rays` primary rays (settings already validated). Neyman strata need
-// `auxiliary`, one value per unit of the frame (a sampled run's: both phases' replay cycles).
+// `auxiliary`, one value per unit of the frame (a sampled run's: its walk steps, culling off).
 SamplePlan plan_sample(uint64_t rays, const SampleSettings& settings,
                        const std::vector<double>& auxiliary = {});
 

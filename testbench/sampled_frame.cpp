@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cmath>
 #include <future>
-#include <optional>
 
 namespace rtsim {
 
@@ -25,15 +24,16 @@ SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f
 
 namespace {
 
-// Each unit's replay cycles of both phases: what Neyman's strata balance.
-std::vector<double> both_replays(uint64_t rays, uint32_t unit, const FrameFeatures& f) {
-  SamplePlan units;
-  units.unit = unit;
-  units.population = (rays + unit - 1) / unit;
-  const auto replay = [](const BatchFeatures& b) { return b.replay_cycles; };
-  std::vector<double> out = unit_sums(units, f.primary, replay).x;
-  const std::vector<double> shadow = unit_sums(units, f.shadow, replay).x;
-  for (size_t u = 0; u < out.size() && u < shadow.size(); ++u) out[u] += shadow[u];
+// Each unit's walk steps (batch_walk_steps) of one ray in kStepsStride: what Neyman's strata
+// balance. A unit's steps are a sum over its rays, so a quarter of them rank the units about as
+// well (docs/sampling.md, "Neyman's strata on the walk steps") at a quarter of the time.
+constexpr uint32_t kStepsStride = 4;
+std::vector<double> unit_walk_steps(const PreparedScene& p, const RunConfig& c, uint32_t unit) {
+  const std::vector<double> batches =
+      batch_walk_steps(*p.image, p.scene.camera, p.scene.width, p.scene.height, c.hw, kStepsStride);
+  const size_t per_unit = unit / model::kBatchRays;
+  std::vector<double> out((batches.size() + per_unit - 1) / per_unit, 0.0);
+  for (size_t b = 0; b < batches.size(); ++b) out[b / per_unit] += batches[b];
   return out;
 }
 
@@ -140,26 +140,16 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
   run.settings = settings;
   const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
   const auto pass = [&p, &c] { return run_batch_features(p, c.hw, c.run); };
-  // Neyman's strata need the pass's replay cycles before the plan: the pass first, and
-  // `while_passing` beside the simulation instead.
-  const bool neyman = settings.strata == SampleStrata::kNeyman;
-  std::optional<FrameFeatures> first;
-  std::future<FrameFeatures> beside_pass;
-  std::future<void> beside_caller;
-  if (neyman) {
-    first = pass();
-    run.plan = plan_sample(rays, settings, both_replays(rays, settings.unit, *first));
-    if (while_passing) beside_caller = std::async(std::launch::async, while_passing);
-  } else {
-    run.plan = plan_sample(rays, settings);
-    beside_pass = std::async(std::launch::async, pass);
-  }
+  std::future<FrameFeatures> beside = std::async(std::launch::async, pass);
+  // Neyman's strata are cut on the walk steps, counted here while the pass begins.
+  run.plan = settings.strata == SampleStrata::kNeyman
+                 ? plan_sample(rays, settings, unit_walk_steps(p, c, settings.unit))
+                 : plan_sample(rays, settings);
   const auto t0 = std::chrono::steady_clock::now();
   run.frame = simulate(run.plan);
   run.simulate_seconds = seconds_since(t0);
-  if (beside_caller.valid()) beside_caller.get();
-  if (!neyman && while_passing) while_passing();
-  const SampledAuxiliaries aux = auxiliaries_of(run.plan, neyman ? *first : beside_pass.get(), c);
+  if (while_passing) while_passing();
+  const SampledAuxiliaries aux = auxiliaries_of(run.plan, beside.get(), c);
   run.pass_seconds = aux.seconds;
   run.estimates = estimate_sampled(run.plan, run.frame, &aux);
   return run;

@@ -1,6 +1,10 @@
 #include "testbench/sampling_features.h"
 
+#include "model/units/ray_generator.h"
 #include "testbench/sampling_replay.h"
+#include "testbench/sampling_walks.h"
+
+#include <algorithm>
 
 namespace rtsim {
 
@@ -23,6 +27,31 @@ FrameFeatures run_batch_features(const PreparedScene& p, const model::Accelerato
   const bool shadows = hw.schedule == model::Schedule::kTwoPhase;
   return frame_batch_features(*p.image, p.scene.camera, p.scene.width, p.scene.height, hw, options,
                               shadows);
+}
+
+std::vector<double> batch_walk_steps(const MemoryImage& image, const Camera& camera, int width,
+                                     int height, const model::AcceleratorConfig& cfg,
+                                     uint32_t stride) {
+  const std::vector<uint32_t> order = model::issue_order(width, height, cfg.order, cfg.tile);
+  const ReferenceTracer tracer(image);
+  const PinholeCamera cam(camera, width, height);
+  std::vector<image::LightRecord> lights;
+  for (uint32_t i = 0; i < image.header().light_count; ++i) lights.push_back(image.light(i));
+  const float offset = TracerOptions{}.shadow_offset * image.header().bounds.diagonal();
+  std::vector<double> out((order.size() + model::kBatchRays - 1) / model::kBatchRays, 0.0);
+  std::vector<Ray> shadows;
+  for (size_t k = 0; k < order.size(); k += std::max<uint32_t>(1, stride)) {
+    TraversalCounters c;
+    const uint32_t pixel = order[k];
+    const Ray ray = cam.ray(int(pixel % uint32_t(width)), int(pixel / uint32_t(width)));
+    const Hit hit = tracer.closest_hit(ray, &c);
+    if (hit.tri != kNoHit) {
+      sampling_detail::hit_shadow_rays(image, lights, ray, hit, pixel, offset, false, shadows);
+      for (const Ray& s : shadows) tracer.occluded(s, &c);
+    }
+    out[k / model::kBatchRays] += double(c.nodes + c.leaves + c.tri_tests);
+  }
+  return out;
 }
 
 void write_features_csv(std::ostream& out, const FrameFeatures& features) {

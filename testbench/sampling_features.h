@@ -99,6 +99,16 @@ FrameFeatures frame_batch_features(const MemoryImage& image, const Camera& camer
 FrameFeatures run_batch_features(const PreparedScene& p, const model::AcceleratorConfig& hw,
                                  const RunSettings& run, FeaturePassOptions options = {});
 
+// The strata's auxiliary (docs/sampling.md): per batch of kBatchRays primary rays in the issue
+// order of `cfg`, the reference tracer's walk steps (inner nodes, leaves and triangle tests:
+// TraversalCounters) of one ray in `stride` and of every shadow ray of its hit, as if culling
+// were off. Counted in a fraction of the pass's time (no caches, no clock), the same for every
+// culling setting of a frame: Neyman's strata are cut on it before the simulation, and a frame's
+// runs with culling on and off share their plan.
+std::vector<double> batch_walk_steps(const MemoryImage& image, const Camera& camera, int width,
+                                     int height, const model::AcceleratorConfig& cfg,
+                                     uint32_t stride = 1);
+
 // The batches as CSV: phase (primary, shadow), batch, first_ray, rays, hits, culled, occluded,
 // replay_cycles, then per unit type (trv, list, ist, shading) its reads, L1 lines looked up, L1
 // misses and DRAM lines (L2 misses); a shadow batch's shading reads are the culling unit's light

@@ -22,7 +22,7 @@ Walks::Walks(const MemoryImage& image, const Camera& camera, int width, int heig
       culling_(culling),
       shadows_(shadows),
       stride_(stride),
-      offset_(1e-5f * image.header().bounds.diagonal()),
+      offset_(TracerOptions{}.shadow_offset * image.header().bounds.diagonal()),
       hits_(order.size()),
       threaded_(threaded) {
   for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
@@ -106,32 +106,33 @@ bool Walks::produce_shadow(TracedRay& r) {
         ++slot_;
         continue;
       }
-      pixel_ = order_[slot_];
-      const Ray primary = camera_.ray(int(pixel_ % width_), int(pixel_ / width_));
-      const image::TriangleRecord tri = image_.triangle(hit.tri);
-      surface_ = surface_point(primary, hit.t, tri.v0, tri.v1, tri.v2);
-      lvb_ = image_.leaf(hit.leaf).lvb;
+      const uint32_t pixel = order_[slot_];
+      const Ray primary = camera_.ray(int(pixel % width_), int(pixel / width_));
+      hit_shadow_rays(image_, lights_, primary, hit, pixel, offset_, culling_, rays_);
       slot_open_ = true;
-      light_ = sample_ = 0;
+      ray_ = 0;
     }
-    if (light_ == lights_.size()) {
+    if (ray_ == rays_.size()) {
       slot_open_ = false;
       ++slot_;
       continue;
     }
-    if (culling_ && !((lvb_ >> light_) & 1u)) {
-      ++light_;
-      continue;
-    }
-    const image::LightRecord& light = lights_[light_];
-    const Ray ray =
-        shadow_ray(surface_, light_sample_point(light, pixel_, 0, light_, sample_), offset_);
-    r.occluded = tracer_.occluded(ray, r.stream);
-    if (++sample_ == light.samples) {
-      sample_ = 0;
-      ++light_;
-    }
+    r.occluded = tracer_.occluded(rays_[ray_++], r.stream);
     return true;
+  }
+}
+
+void hit_shadow_rays(const MemoryImage& image, const std::vector<image::LightRecord>& lights,
+                     const Ray& primary, const Hit& hit, uint32_t pixel, float offset, bool culling,
+                     std::vector<Ray>& out) {
+  out.clear();
+  const image::TriangleRecord tri = image.triangle(hit.tri);
+  const SurfacePoint surface = surface_point(primary, hit.t, tri.v0, tri.v1, tri.v2);
+  const uint32_t lvb = image.leaf(hit.leaf).lvb;
+  for (uint32_t l = 0; l < lights.size(); ++l) {
+    if (culling && !((lvb >> l) & 1u)) continue;
+    for (uint32_t k = 0; k < lights[l].samples; ++k)
+      out.push_back(shadow_ray(surface, light_sample_point(lights[l], pixel, 0, l, k), offset));
   }
 }
 

@@ -25,6 +25,14 @@ struct TracedRay {
   bool occluded = false;  // a shadow ray's
 };
 
+// The shadow rays of a primary ray's hit (`pixel`: its pixel), as the culling unit emits them:
+// light by light, each light's samples in order (kernels/light_samples.h), with the run's origin
+// offset; a light whose bit in the hit leaf's LVB word is 0 is left out when `culling`. Into
+// `out`, cleared first.
+void hit_shadow_rays(const MemoryImage& image, const std::vector<image::LightRecord>& lights,
+                     const Ray& primary, const Hit& hit, uint32_t pixel, float offset, bool culling,
+                     std::vector<Ray>& out);
+
 class Walks {
  public:
   // `order`: the primary rays' pixels in issue order; `shadows`: the shadow rays follow.
@@ -58,12 +66,11 @@ class Walks {
   uint32_t stride_;
   float offset_;
   std::vector<image::LightRecord> lights_;
-  // The producer's place: primary ray `primary_`, then record slot `slot_`, `light_`, `sample_`.
+  // The producer's place: primary ray `primary_`, then record slot `slot_`'s shadow ray `ray_`.
   uint64_t primary_ = 0, slot_ = 0;
-  uint32_t light_ = 0, sample_ = 0;
   std::vector<Hit> hits_;  // the primary rays', by issue index
-  SurfacePoint surface_;   // the slot's hit
-  uint32_t pixel_ = 0, lvb_ = 0;
+  std::vector<Ray> rays_;  // the open slot's shadow rays
+  size_t ray_ = 0;
   bool slot_open_ = false;
   // The consumer's chunk, and the chunks traced ahead (threaded).
   std::vector<TracedRay> current_;

@@ -100,17 +100,23 @@ TEST(SampleTarget, BadTargetsAreNamed) {
   fs::remove_all(dir);
 }
 
-// run.sample_strata: neyman: the plan's strata cut on the functional pass's replay cycles (the
-// pass first), unequal, their weights covering the frame's units.
-TEST(SampleTarget, NeymanStrataCoverTheFrame) {
+// run.sample_strata: neyman: the plan's strata cut on the walk steps with culling off, unequal,
+// their weights covering the frame's units; the same plan with culling on and off, so that their
+// units pair.
+TEST(SampleTarget, NeymanStrataCoverTheFrameAndServeCullingOnAndOff) {
   const fs::path dir = test::temp_dir("cli_sample_neyman");
-  const RunResult r = run_city(dir / "n", "--sample 0.2 --quiet --set run.sample_strata=neyman");
+  const std::string neyman = "--sample 0.2 --quiet --set run.sample_strata=neyman";
+  const RunResult r = run_city(dir / "n", neyman);
   ASSERT_EQ(r.code, 0) << r.err;
+  const RunResult off = run_city(dir / "off", neyman + " --set run.lvb=false");
+  ASSERT_EQ(off.code, 0) << off.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(dir / "n" / "report.json"));
   EXPECT_EQ(j["sample"]["strata"], "neyman");
-  std::istringstream csv(slurp(dir / "n" / "sample.csv"));
-  std::string line;
+  std::istringstream csv(slurp(dir / "n" / "sample.csv")),
+      csv_off(slurp(dir / "off" / "sample.csv"));
+  std::string line, line_off;
   std::getline(csv, line);  // header
+  std::getline(csv_off, line_off);
   uint64_t weights = 0;
   std::set<uint64_t> sizes;
   while (std::getline(csv, line)) {
@@ -118,7 +124,11 @@ TEST(SampleTarget, NeymanStrataCoverTheFrame) {
     const uint64_t w = std::stoull(line.substr(b + 1, c - b - 1));
     weights += w;
     if (line.substr(c + 1, 1) == "0") sizes.insert(w);
+    ASSERT_TRUE(std::getline(csv_off, line_off));
+    EXPECT_EQ(line.substr(0, c + 2), line_off.substr(0, c + 2))
+        << "unit, first ray, weight, certain";
   }
+  EXPECT_FALSE(std::getline(csv_off, line_off));
   EXPECT_EQ(weights, j["sample"]["units"].get<uint64_t>());
   EXPECT_GT(sizes.size(), 1u) << "strata of unequal sizes";
   fs::remove_all(dir);

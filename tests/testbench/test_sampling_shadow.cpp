@@ -3,8 +3,9 @@
 // culling unit's, per light in all; the reads of TRV, LIST and IST over both phases are the
 // model's units', record for record and line for line; it has as many shadow batches as the
 // model. The caches' misses and the replay's cycles are only printed and bounded (the pass
-// approximates the model's timing). The walks traced ahead on a thread give the same features.
-// (One SystemC simulation per executable.)
+// approximates the model's timing). The walks traced ahead on a thread give the same features,
+// and the walk steps Neyman's strata are cut on are the reference tracer's. (One SystemC simulation
+// per executable.)
 #include "model/accelerator.h"
 #include "testbench/pipeline.h"
 #include "testbench/sampling_features.h"
@@ -89,6 +90,33 @@ TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
   };
   for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], b.primary[i])) << i;
   for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], b.shadow[i])) << i;
+}
+
+// The strata's auxiliary (batch_walk_steps): the reference tracer's frame with culling off takes
+// as many walk steps as the batches add up to, with the LVB words set; one ray in 4 a part of it.
+TEST(SamplingFeatures, TheWalkStepsAreTheReferenceFramesWithCullingOff) {
+  PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
+                                  {"", {}, kW, kH, Accel::kKdTree});
+  LvbParams lp;
+  const LvbResult lvb = compute_scene_lvb(p, lp);
+  for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
+  const model::AcceleratorConfig cfg;
+  const std::vector<double> steps = batch_walk_steps(*p.image, p.scene.camera, kW, kH, cfg);
+  TracerOptions o;
+  o.width = kW;
+  o.height = kH;
+  o.threads = 1;
+  const TraceStats ref = ReferenceTracer(*p.image).trace_frame(p.scene.camera, o).stats;
+  ASSERT_GT(ref.any.tri_tests, 0u);
+  const auto sum = [](const std::vector<double>& v) {
+    return std::accumulate(v.begin(), v.end(), 0.0);
+  };
+  EXPECT_EQ(sum(steps), double(ref.closest.nodes + ref.closest.leaves + ref.closest.tri_tests +
+                               ref.any.nodes + ref.any.leaves + ref.any.tri_tests));
+  EXPECT_EQ(steps.size(), size_t((kW * kH + 63) / 64));
+  const double quarter = sum(batch_walk_steps(*p.image, p.scene.camera, kW, kH, cfg, 4));
+  EXPECT_GT(quarter, 0.15 * sum(steps));
+  EXPECT_LT(quarter, 0.35 * sum(steps));
 }
 
 }  // namespace

@@ -61,7 +61,7 @@ done
 same_json "$work/sampled1/report.json" "$work/sampled2/report.json" ||
   fail "a sampled run's report.json differs from run to run"
 cmp "$work/sampled1/sample.csv" "$work/sampled2/sample.csv" || fail "sample.csv differs"
-# Neyman's strata: the pass first, the reference tracer's frame on a thread beside the simulation.
+# Neyman's strata: the walk steps counted on the calling thread while the pass begins beside it.
 "$rtsim" run "$scene" --hw "$src/configs/hw/tni-paper.yaml" --width 128 --height 72 \
   --sample 0.2 --set run.sample_unit=512 --set run.sample_warmup=512 \
   --set run.sample_strata=neyman --no-plots --quiet --out "$work/neyman" > /dev/null ||
