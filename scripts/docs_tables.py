@@ -290,7 +290,7 @@ def integration_table(run_dir):
 # several seeds (RUN/s1, RUN/s2, ...), each a `rtsim reproduce` directory with the same points.
 def point_reports(sweep_dir, key="variant"):
     """A sweep's (or reproduction's) points by (scene, the value of the column `key`): each
-    point's report.json."""
+    point's report.json. `key` may be a tuple of columns: their values joined by ", "."""
     out = {}
     points = os.path.join(sweep_dir, "points")
     for p in sorted(os.listdir(points)):
@@ -301,7 +301,8 @@ def point_reports(sweep_dir, key="variant"):
             r = json.load(f)
         with open(os.path.join(points, p, "row.json")) as f:
             row = json.load(f)
-        out[(r["scene"]["name"], str(row.get(key, "")))] = r
+        keys = key if isinstance(key, tuple) else (key,)
+        out[(r["scene"]["name"], ", ".join(str(row.get(k, "")) for k in keys))] = r
     return out
 
 
@@ -415,16 +416,20 @@ def sampling_plan_rows(run_dir, full, seeds, sub=""):
 
 
 # The cache sweeps sampled beside their full runs (docs/sampling.md): each sweep's directory
-# full-NAME and sK-NAME (seed K), the column that tells its points apart.
+# full-NAME and sK-NAME (seed K), the column (or columns) that tell its points apart.
 SAMPLED_SWEEPS = [
     ("trv-l1", "hw.trv.l1.size_kb", "TRV L1 KB"),
     ("ist-l1", "hw.ist.l1.size_kb", "IST L1 KB"),
     ("l2-size", "variant", "L2"),
     ("l2-banks", "variant", "L2 banks"),
 ]
+# The area-light N sweep (configs/sweeps/area-lights.yaml): samples per light, and culling.
+SAMPLED_AREA = [
+    ("area-lights", ("scene.lights.area_from_points.samples", "run.lvb"), "N, culling"),
+]
 
 
-def sampling_sweeps_table(run_dir):
+def sampling_sweeps_table(run_dir, sweeps=None):
     """Each sampled sweep point against the full one: error and 95% interval, whether the
     interval held, the host-time speedup; a summary line over every point."""
     seeds = sorted({d.split("-")[0] for d in os.listdir(run_dir) if re.fullmatch(r"s\d+-.+", d)})
@@ -432,7 +437,7 @@ def sampling_sweeps_table(run_dir):
     head += [f"seed {s[1:]}: error / interval" for s in seeds] + ["speedup"]
     out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     tally = SampledTally()
-    for name, key, label in SAMPLED_SWEEPS:
+    for name, key, label in sweeps or SAMPLED_SWEEPS:
         full = point_reports(os.path.join(run_dir, f"full-{name}"), key)
         sampled = {s: point_reports(os.path.join(run_dir, f"{s}-{name}"), key) for s in seeds}
         for (scene, value), f in full.items():

@@ -33,6 +33,7 @@ from docs_tables import (  # noqa: E402  (beside this script, which has no packa
     copy_markdown,
     integration_table,
     knob_table,
+    SAMPLED_AREA,
     sampling_sweeps_table,
     sampling_table,
 )
@@ -196,6 +197,18 @@ STUDIES = [
             (f"{tag}-{name}", ["sweep", f"configs/sweeps/cache-{name}.yaml"] + options)
             for tag, options in (("full", ["--no-plots"]), ("s1", SWEEP_SAMPLE))
             for name in ("trv-l1", "ist-l1", "l2-size", "l2-banks")
+        ],
+        jobs=1,
+    ),
+    # The area-light N sweep (480x270) in full and sampled, one seed, one run at a time.
+    Study(
+        "sampling-area-lights",
+        "docs/sampling.md",
+        40,
+        render=lambda run_dir: sampling_sweeps_table(run_dir, SAMPLED_AREA),
+        runs=[
+            (f"{tag}-area-lights", ["sweep", "configs/sweeps/area-lights.yaml"] + options)
+            for tag, options in (("full", ["--no-plots"]), ("s1", SWEEP_SAMPLE))
         ],
         jobs=1,
     ),

@@ -223,6 +223,15 @@ with tempfile.TemporaryDirectory() as tmp:
     ]:
         check(cells in table, f"sampled sweeps cells {cells}:\n{table}")
 
+    # The area-light sweep: points told apart by two columns.
+    for sub, total in (("full-area-lights", 4000), ("s1-area-lights", 4040)):
+        point(sub, 0, "", total, 100, 40 if sub.startswith("full") else 20)
+        with open(os.path.join(tmp, sub, "points", "p0000", "row.json"), "w") as f:
+            json.dump({"scene.lights.area_from_points.samples": 16, "run.lvb": "on"}, f)
+    table = docs_tables.sampling_sweeps_table(tmp, docs_tables.SAMPLED_AREA)
+    cells = "| area-lights | kitchen | N, culling 16, on | 4,000 | +1.00% / 2.50% | 2.0x |"
+    check(cells in table, f"sampled area-light cells {cells}:\n{table}")
+
 ids = {s.id for s in refresh.STUDIES}
 for s in refresh.STUDIES:
     text = open(os.path.join(src, s.doc)).read()
