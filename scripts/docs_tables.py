@@ -313,10 +313,11 @@ def sampled_cell(full, s, key):
     return 100 * (est / truth - 1), 100 * ci / truth, abs(est - truth) <= ci
 
 
-# The sampled runs' directories by plan: sK (run.sample_strata: issue), nK (neyman); K the seed.
+# The sampled runs' directories by plan: sK (run.sample_strata: issue), nK (neyman, the default);
+# K the seed.
 SAMPLING_PLANS = [
-    ("s", "Strata in issue order (`run.sample_strata: issue`, the default)"),
-    ("n", "Neyman's strata (`run.sample_strata: neyman`)"),
+    ("s", "Strata in issue order (`run.sample_strata: issue`)"),
+    ("n", "Neyman's strata on the walk steps (`run.sample_strata: neyman`, the default)"),
 ]
 
 

@@ -141,8 +141,9 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
   const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
   const auto pass = [&p, &c] { return run_batch_features(p, c.hw, c.run); };
   std::future<FrameFeatures> beside = std::async(std::launch::async, pass);
-  // Neyman's strata are cut on the walk steps, counted here while the pass begins.
-  run.plan = settings.strata == SampleStrata::kNeyman
+  // Neyman's strata are cut on the walk steps, counted here while the pass begins (a fraction of
+  // 1 has no strata to cut).
+  run.plan = settings.strata == SampleStrata::kNeyman && stratum_units(settings.fraction) > 1
                  ? plan_sample(rays, settings, unit_walk_steps(p, c, settings.unit))
                  : plan_sample(rays, settings);
   const auto t0 = std::chrono::steady_clock::now();

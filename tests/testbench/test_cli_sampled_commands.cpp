@@ -5,6 +5,8 @@
 #include "testbench/sampled_frame.h"
 #include "tests/testbench/cli_util.h"
 
+#include <fmt/format.h>
+
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -51,10 +53,14 @@ TEST(SampleTarget, AnUnmetTargetIsReportedAndGrowMeetsIt) {
   EXPECT_GT(u["sample"]["fraction_needed"].get<double>(), 0.1);
   EXPECT_FALSE(p["sample"].contains("target_met"));
 
-  // With grow, a 5% target: the run goes on until its interval is within it, and lists each
-  // attempt; config.json keeps the settings as asked.
-  const RunResult grown = run_city(
-      dir / "grown", "--sample 0.1 --set run.sample_target_pct=5 --set run.sample_grow=true");
+  // With grow, a target of 0.6 times the first interval: the run goes on until its interval is
+  // within it (the last attempt may be the whole frame), and lists each attempt; config.json
+  // keeps the settings as asked.
+  const std::string target =
+      fmt::format("{:.3f}", 0.6 * p["sample"]["cycles_total"]["ci95_pct"].get<double>());
+  const RunResult grown =
+      run_city(dir / "grown", "--sample 0.1 --set run.sample_target_pct=" + target +
+                                  " --set run.sample_grow=true");
   ASSERT_EQ(grown.code, 0) << grown.err;
   EXPECT_NE(grown.out.find("grown over"), std::string::npos) << grown.out;
   const nlohmann::json g = nlohmann::json::parse(slurp(dir / "grown" / "report.json"));
@@ -64,7 +70,7 @@ TEST(SampleTarget, AnUnmetTargetIsReportedAndGrowMeetsIt) {
   for (size_t k = 1; k < attempts.size(); ++k)
     EXPECT_GT(attempts[k]["fraction"].get<double>(), attempts[k - 1]["fraction"].get<double>());
   EXPECT_EQ(g["sample"]["target_met"], true);
-  EXPECT_LE(g["sample"]["cycles_total"]["ci95_pct"].get<double>(), 5.0);
+  EXPECT_LE(g["sample"]["cycles_total"]["ci95_pct"].get<double>(), std::stod(target));
   EXPECT_EQ(g["sample"]["fraction"], attempts.back()["fraction"]);
   const nlohmann::json config = nlohmann::json::parse(slurp(dir / "grown" / "config.json"));
   EXPECT_EQ(config["run"]["sample"], 0.1);
@@ -100,15 +106,15 @@ TEST(SampleTarget, BadTargetsAreNamed) {
   fs::remove_all(dir);
 }
 
-// run.sample_strata: neyman: the plan's strata cut on the walk steps with culling off, unequal,
-// their weights covering the frame's units; the same plan with culling on and off, so that their
-// units pair.
+// run.sample_strata: neyman (the default): the plan's strata cut on the walk steps with culling
+// off, unequal, their weights covering the frame's units; the same plan with culling on and off,
+// so that their units pair.
 TEST(SampleTarget, NeymanStrataCoverTheFrameAndServeCullingOnAndOff) {
   const fs::path dir = test::temp_dir("cli_sample_neyman");
-  const std::string neyman = "--sample 0.2 --quiet --set run.sample_strata=neyman";
-  const RunResult r = run_city(dir / "n", neyman);
+  const RunResult r = run_city(dir / "n", "--sample 0.2 --quiet");
   ASSERT_EQ(r.code, 0) << r.err;
-  const RunResult off = run_city(dir / "off", neyman + " --set run.lvb=false");
+  const RunResult off = run_city(
+      dir / "off", "--sample 0.2 --quiet --set run.sample_strata=neyman --set run.lvb=false");
   ASSERT_EQ(off.code, 0) << off.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(dir / "n" / "report.json"));
   EXPECT_EQ(j["sample"]["strata"], "neyman");

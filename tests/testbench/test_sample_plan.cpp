@@ -18,6 +18,7 @@ namespace {
 
 SampleSettings settings(double fraction, uint32_t unit, uint32_t warmup, uint64_t seed = 1) {
   SampleSettings s;
+  s.strata = SampleStrata::kIssue;  // strata of k units (Neyman's are tested below)
   s.fraction = fraction;
   s.unit = unit;
   s.warmup = warmup;

@@ -19,6 +19,7 @@ namespace {
 
 SampleSettings settings(double fraction, uint64_t seed) {
   SampleSettings s;
+  s.strata = SampleStrata::kIssue;
   s.fraction = fraction;
   s.unit = 64;
   s.warmup = 0;

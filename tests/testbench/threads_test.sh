@@ -61,10 +61,10 @@ done
 same_json "$work/sampled1/report.json" "$work/sampled2/report.json" ||
   fail "a sampled run's report.json differs from run to run"
 cmp "$work/sampled1/sample.csv" "$work/sampled2/sample.csv" || fail "sample.csv differs"
-# Neyman's strata: the walk steps counted on the calling thread while the pass begins beside it.
+# Strata in issue order: no walk steps before the simulation.
 "$rtsim" run "$scene" --hw "$src/configs/hw/tni-paper.yaml" --width 128 --height 72 \
   --sample 0.2 --set run.sample_unit=512 --set run.sample_warmup=512 \
-  --set run.sample_strata=neyman --no-plots --quiet --out "$work/neyman" > /dev/null ||
-  fail "sampled run with Neyman strata"
+  --set run.sample_strata=issue --no-plots --quiet --out "$work/issue" > /dev/null ||
+  fail "sampled run with strata in issue order"
 echo "render, lvb (hierarchical, --verify) and lvb (paper): 4 threads give one thread's outputs;"
 echo "a sampled run with its functional pass beside the simulation: the same report twice"
