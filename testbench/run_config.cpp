@@ -62,8 +62,7 @@ void read_sample_settings(YamlMap& m, SampleSettings& s) {
   s.seed = m.get<uint64_t>("sample_seed", s.seed);
   s.target_pct = m.get_in_range<double>("sample_target_pct", s.target_pct, 0.0, 100.0);
   s.grow = m.get<bool>("sample_grow", s.grow);
-  const std::string strata =
-      m.get<std::string>("sample_strata", s.strata == SampleStrata::kNeyman ? "neyman" : "issue");
+  const std::string strata = m.get<std::string>("sample_strata", strata_name(s.strata));
   if (strata != "issue" && strata != "neyman")
     m.fail("sample_strata", "expected 'issue' or 'neyman'");
   s.strata = strata == "neyman" ? SampleStrata::kNeyman : SampleStrata::kIssue;
@@ -226,7 +225,7 @@ nlohmann::json run_settings_json(const RunSettings& r) {
     j["sample_seed"] = r.sample.seed;
     if (r.sample.target_pct > 0) j["sample_target_pct"] = r.sample.target_pct;
     if (r.sample.grow) j["sample_grow"] = true;
-    j["sample_strata"] = r.sample.strata == SampleStrata::kNeyman ? "neyman" : "issue";
+    j["sample_strata"] = strata_name(r.sample.strata);
   }
   return j;
 }

@@ -24,6 +24,10 @@ namespace rtsim {
 // is the default: its intervals held the full runs' figures in the validation where issue order's
 // did not always (docs/sampling.md).
 enum class SampleStrata { kIssue, kNeyman };
+// Its name in run.sample_strata, config.json and report.json.
+inline const char* strata_name(SampleStrata s) {
+  return s == SampleStrata::kNeyman ? "neyman" : "issue";
+}
 
 struct SampleSettings {
   double fraction = 0;     // of the units measured; 0: a full frame (no plan)

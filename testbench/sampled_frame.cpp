@@ -189,7 +189,7 @@ nlohmann::json sample_json(const SampledRun& run, uint64_t warming_rays) {
       {"warming_rows", s.warming_rows},
       {"warming_rays", warming_rays},
       {"seed", s.seed},
-      {"strata", s.strata == SampleStrata::kNeyman ? "neyman" : "issue"},
+      {"strata", strata_name(s.strata)},
       {"units", plan.population},
       {"measured_units", plan.units.size()},
       {"windows", plan.windows.size()},

@@ -35,9 +35,8 @@ std::vector<double> batch_walk_steps(const MemoryImage& image, const Camera& cam
   const std::vector<uint32_t> order = model::issue_order(width, height, cfg.order, cfg.tile);
   const ReferenceTracer tracer(image);
   const PinholeCamera cam(camera, width, height);
-  std::vector<image::LightRecord> lights;
-  for (uint32_t i = 0; i < image.header().light_count; ++i) lights.push_back(image.light(i));
-  const float offset = TracerOptions{}.shadow_offset * image.header().bounds.diagonal();
+  const std::vector<image::LightRecord> lights = sampling_detail::image_lights(image);
+  const float offset = sampling_detail::shadow_offset(image);
   std::vector<double> out((order.size() + model::kBatchRays - 1) / model::kBatchRays, 0.0);
   std::vector<Ray> shadows;
   for (size_t k = 0; k < order.size(); k += std::max<uint32_t>(1, stride)) {

@@ -97,7 +97,7 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
     p.fill.resize(banks);
     l2_ports_.push_back(std::move(p));
   }
-  for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
+  lights_ = image_lights(image);
   const uint64_t n = order_.size();
   hits_.resize(n);
   for (std::vector<BatchFeatures>& phase : batches_) {

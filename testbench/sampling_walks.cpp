@@ -22,10 +22,10 @@ Walks::Walks(const MemoryImage& image, const Camera& camera, int width, int heig
       culling_(culling),
       shadows_(shadows),
       stride_(stride),
-      offset_(TracerOptions{}.shadow_offset * image.header().bounds.diagonal()),
+      offset_(shadow_offset(image)),
+      lights_(image_lights(image)),
       hits_(order.size()),
       threaded_(threaded) {
-  for (uint32_t i = 0; i < image.header().light_count; ++i) lights_.push_back(image.light(i));
   if (threaded_) thread_ = std::thread([this] { run_thread(); });
 }
 
@@ -120,6 +120,16 @@ bool Walks::produce_shadow(TracedRay& r) {
     r.occluded = tracer_.occluded(rays_[ray_++], r.stream);
     return true;
   }
+}
+
+std::vector<image::LightRecord> image_lights(const MemoryImage& image) {
+  std::vector<image::LightRecord> out;
+  for (uint32_t i = 0; i < image.header().light_count; ++i) out.push_back(image.light(i));
+  return out;
+}
+
+float shadow_offset(const MemoryImage& image) {
+  return TracerOptions{}.shadow_offset * image.header().bounds.diagonal();
 }
 
 void hit_shadow_rays(const MemoryImage& image, const std::vector<image::LightRecord>& lights,

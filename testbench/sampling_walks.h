@@ -25,10 +25,15 @@ struct TracedRay {
   bool occluded = false;  // a shadow ray's
 };
 
+// The image's lights, in order.
+std::vector<image::LightRecord> image_lights(const MemoryImage& image);
+// The shadow rays' origin offset: the reference tracer's (TracerOptions), scaled to the scene.
+float shadow_offset(const MemoryImage& image);
+
 // The shadow rays of a primary ray's hit (`pixel`: its pixel), as the culling unit emits them:
-// light by light, each light's samples in order (kernels/light_samples.h), with the run's origin
-// offset; a light whose bit in the hit leaf's LVB word is 0 is left out when `culling`. Into
-// `out`, cleared first.
+// light by light, each light's samples in order (kernels/light_samples.h), `offset` from the
+// surface (shadow_offset); a light whose bit in the hit leaf's LVB word is 0 is left out when
+// `culling`. Into `out`, cleared first.
 void hit_shadow_rays(const MemoryImage& image, const std::vector<image::LightRecord>& lights,
                      const Ray& primary, const Hit& hit, uint32_t pixel, float offset, bool culling,
                      std::vector<Ray>& out);

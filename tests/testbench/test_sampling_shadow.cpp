@@ -22,13 +22,19 @@ namespace {
 
 constexpr int kW = 96, kH = 54;
 
-TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
-  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+// The city at kW x kH with its LVB words in the image.
+PreparedScene city_with_lvb() {
   PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
                                   {"", {}, kW, kH, Accel::kKdTree});
   LvbParams lp;
   const LvbResult lvb = compute_scene_lvb(p, lp);
   for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
+  return p;
+}
+
+TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
+  sc_core::sc_set_time_resolution(1, sc_core::SC_PS);
+  const PreparedScene p = city_with_lvb();
   model::AcceleratorConfig cfg;  // the paper's machine: two phases, records from memory
   model::Accelerator device("device", cfg, *p.image, model::FrameJob{p.scene.camera, kW, kH});
   test::simulate();
@@ -95,11 +101,7 @@ TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
 // The strata's auxiliary (batch_walk_steps): the reference tracer's frame with culling off takes
 // as many walk steps as the batches add up to, with the LVB words set; one ray in 4 a part of it.
 TEST(SamplingFeatures, TheWalkStepsAreTheReferenceFramesWithCullingOff) {
-  PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
-                                  {"", {}, kW, kH, Accel::kKdTree});
-  LvbParams lp;
-  const LvbResult lvb = compute_scene_lvb(p, lp);
-  for (uint32_t i = 0; i < lvb.words.size(); ++i) p.image->set_leaf_lvb(i, lvb.words[i]);
+  const PreparedScene p = city_with_lvb();
   const model::AcceleratorConfig cfg;
   const std::vector<double> steps = batch_walk_steps(*p.image, p.scene.camera, kW, kH, cfg);
   TracerOptions o;
