@@ -302,8 +302,13 @@ def point_reports(sweep_dir, key="variant"):
         with open(os.path.join(points, p, "row.json")) as f:
             row = json.load(f)
         keys = key if isinstance(key, tuple) else (key,)
-        out[(r["scene"]["name"], ", ".join(str(row.get(k, "")) for k in keys))] = r
+        out[(r["scene"]["name"], ", ".join(column_value(row.get(k, "")) for k in keys))] = r
     return out
+
+
+def column_value(v):
+    """A sweep column's value as a table shows it: a switch (run.lvb) as on or off."""
+    return ("on" if v else "off") if isinstance(v, bool) else str(v)
 
 
 def sampled_cell(full, s, key):

@@ -227,7 +227,7 @@ with tempfile.TemporaryDirectory() as tmp:
     for sub, total in (("full-area-lights", 4000), ("s1-area-lights", 4040)):
         point(sub, 0, "", total, 100, 40 if sub.startswith("full") else 20)
         with open(os.path.join(tmp, sub, "points", "p0000", "row.json"), "w") as f:
-            json.dump({"scene.lights.area_from_points.samples": 16, "run.lvb": "on"}, f)
+            json.dump({"scene.lights.area_from_points.samples": 16, "run.lvb": True}, f)
     table = docs_tables.sampling_sweeps_table(tmp, docs_tables.SAMPLED_AREA)
     cells = "| area-lights | kitchen | N, culling 16, on | 4,000 | +1.00% / 2.50% | 2.0x |"
     check(cells in table, f"sampled area-light cells {cells}:\n{table}")
