@@ -14,7 +14,11 @@ steps that a run's Neyman strata are cut on rank units too.
 
   bench_sampling_features --config RUN/config.json --out features.csv [--walk-steps steps.csv]
   /usr/bin/python3 bench/sampling_plan_study.py RUN features.csv [--fraction 0.05] [--seeds 200]
-      [--variants 'all'|'run'|'take-all'|'NAME;...'] [--steps steps.csv]
+      [--variants 'all'|'run'|'take-all'|'NAME;...'] [--steps steps.csv] [--auxiliary walks]
+
+--auxiliary walks regresses on what the reference tracer's walks count without caches or replay
+(a pass as cheap as the functional frame): the primary phase on its IST, TRV and LIST reads and
+the IST and TRV reads of the batches in flight ahead, the shadow phase on its IST reads.
 
 RUN: a full run's directory (batches.csv with the phase column). Prints, per variant and phase
 (primary, shadow, frame), the largest, rms and 95th-percentile error, the mean 95% half-interval
@@ -116,7 +120,7 @@ def ahead(x):
     return out
 
 
-def load(run, features, steps=None):
+def load(run, features, steps=None, auxiliary="pass"):
     y = {"primary": [], "shadow": []}
     with open(f"{run}/batches.csv", newline="") as f:
         for r in csv.DictReader(f):
@@ -134,6 +138,10 @@ def load(run, features, steps=None):
         + [units(l1), units(ahead(l1))]
     )
     xs = units(feat["shadow"]["replay_cycles"])[:, None]
+    if auxiliary == "walks":  # what the walks alone count: no caches, no replay
+        reads = [p[f"{t}_reads"] for t in ("ist", "trv", "list")]
+        xp = np.column_stack([units(r) for r in reads] + [units(ahead(r)) for r in reads[:2]])
+        xs = units(feat["shadow"]["ist_reads"])[:, None]
     rays, hits = units(feat["shadow"]["rays"]), units(p["hits"])
     keys = {  # the rankings of a take-all stratum (RANKINGS), per unit
         "shadow_rays": rays,
@@ -368,8 +376,14 @@ def main():
     ap.add_argument("--seeds", type=int, default=200)
     ap.add_argument("--steps", help="bench_sampling_features --walk-steps output")
     ap.add_argument("--variants", default="all", help="all, run, take-all or names joined by ';'")
+    ap.add_argument(
+        "--auxiliary",
+        choices=("pass", "walks"),
+        default="pass",
+        help="regress on the pass's features (the run's) or on the walks' reads alone",
+    )
     a = ap.parse_args()
-    data = load(a.run, a.features, a.steps)
+    data = load(a.run, a.features, a.steps, a.auxiliary)
     variants = {**VARIANTS, **TAKE_ALL}
     names = list(VARIANTS)
     if a.variants == "run":

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <future>
@@ -139,7 +140,12 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
   SampledRun run;
   run.settings = settings;
   const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
-  const auto pass = [&p, &c] { return run_batch_features(p, c.hw, c.run); };
+  // The pass is the longer of the two threads: when this one is done, its walks are traced ahead
+  // on the core it frees (the same walks, so the same features).
+  std::atomic<bool> core_free{false};
+  FeaturePassOptions options;
+  options.trace_ahead_from = &core_free;
+  const auto pass = [&p, &c, &options] { return run_batch_features(p, c.hw, c.run, options); };
   std::future<FrameFeatures> beside = std::async(std::launch::async, pass);
   // Neyman's strata are cut on the walk steps, counted here while the pass begins (a fraction of
   // 1 has no strata to cut).
@@ -150,6 +156,7 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
   run.frame = simulate(run.plan);
   run.simulate_seconds = seconds_since(t0);
   if (while_passing) while_passing();
+  core_free = true;
   const SampledAuxiliaries aux = auxiliaries_of(run.plan, beside.get(), c);
   run.pass_seconds = aux.seconds;
   run.estimates = estimate_sampled(run.plan, run.frame, &aux);

@@ -57,10 +57,10 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
 // A sampled frame: its plan's windows simulated on the model (`simulate`) while the functional
 // pass runs on a second thread (the two only read the prepared scene), then the estimates.
 // `while_passing` (optional) runs on the calling thread after the simulation, before it waits for
-// the pass. With Neyman's strata (run.sample_strata) the plan waits for the walk steps
-// (batch_walk_steps) the calling thread counts while the pass begins. One per process: SystemC
-// elaborates once (run.sample_grow's further attempts run as child processes,
-// testbench/run_command.cpp).
+// the pass; then the pass's walks are traced ahead on the calling thread's core. With Neyman's
+// strata (run.sample_strata) the plan waits for the walk steps (batch_walk_steps) the calling
+// thread counts while the pass begins. One per process: SystemC elaborates once (run.sample_grow's
+// further attempts run as child processes, testbench/run_command.cpp).
 struct SampledRun {
   SampleSettings settings;
   SamplePlan plan;

@@ -45,6 +45,7 @@
 #include "testbench/pipeline.h"
 #include "testbench/run_config.h"
 
+#include <atomic>
 #include <cstdint>
 #include <ostream>
 #include <vector>
@@ -71,8 +72,11 @@ struct FeaturePassOptions {
   // The shadow phase on one batch of record slots in `shadow_stride` alone (the others' records
   // are passed over in no time and emit nothing): a cheaper, sparser auxiliary. 1: every batch.
   uint32_t shadow_stride = 1;
-  // The walks traced ahead on a thread of their own (the same features, less wall time).
+  // The walks traced ahead on a thread of their own (the same features, less wall time): from
+  // the first walk, or from when `trace_ahead_from` turns true (a sampled run's second core
+  // comes free).
   bool trace_ahead = false;
+  const std::atomic<bool>* trace_ahead_from = nullptr;
 };
 
 // Both phases' batches, and the pass's host seconds in each.

@@ -71,6 +71,7 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
       height_(height),
       order_(model::issue_order(width, height, cfg.order, cfg.tile)),
       trace_ahead_(o.trace_ahead),
+      trace_ahead_from_(o.trace_ahead_from),
       caches_(cfg),
       timing_(cfg),
       fifo_depth_(o.fifo_depth ? o.fifo_depth : cfg.traversal().fifo_depth),
@@ -114,7 +115,7 @@ FrameFeatures Replay::run(bool shadows) {
   shadows = shadows && !lights_.empty();
   // The walks, with the shadow rays the scan will emit when there is a shadow phase.
   traced_ = std::make_unique<Walks>(image_, camera_, width_, height_, order_, culling_, shadows,
-                                    shadow_stride_, trace_ahead_);
+                                    shadow_stride_, trace_ahead_, trace_ahead_from_);
   uint64_t now = 0;
   deal(now);
   drain(now);

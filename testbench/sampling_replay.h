@@ -249,6 +249,7 @@ class Replay {
   int width_, height_;
   std::vector<uint32_t> order_;
   bool trace_ahead_;
+  const std::atomic<bool>* trace_ahead_from_;
   std::unique_ptr<Walks> traced_;  // the rays' walks, in the order they are taken
   FunctionalCaches caches_;
   ReplayTiming timing_;

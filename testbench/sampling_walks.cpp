@@ -13,7 +13,7 @@ constexpr uint64_t kBatchRays = model::RayGenerator::kBatchRays;
 
 Walks::Walks(const MemoryImage& image, const Camera& camera, int width, int height,
              const std::vector<uint32_t>& order, bool culling, bool shadows, uint32_t stride,
-             bool threaded)
+             bool threaded, const std::atomic<bool>* ahead_from)
     : image_(image),
       tracer_(image),
       camera_(camera, width, height),
@@ -25,8 +25,15 @@ Walks::Walks(const MemoryImage& image, const Camera& camera, int width, int heig
       offset_(shadow_offset(image)),
       lights_(image_lights(image)),
       hits_(order.size()),
-      threaded_(threaded) {
-  if (threaded_) thread_ = std::thread([this] { run_thread(); });
+      threaded_(false),
+      ahead_from_(ahead_from) {
+  if (threaded) start_thread();
+}
+
+// The producer's state is the consumer's until this call, the producer thread's after it.
+void Walks::start_thread() {
+  threaded_ = true;
+  thread_ = std::thread([this] { run_thread(); });
 }
 
 Walks::~Walks() {
@@ -42,11 +49,17 @@ Walks::~Walks() {
 TracedRay& Walks::next() {
   if (at_ == current_.size()) {
     at_ = 0;
+    if (!threaded_ && ahead_from_ && ahead_from_->load(std::memory_order_relaxed)) start_thread();
     if (!threaded_) {
+      for (std::vector<Access>& b : returned_) spare_.push_back(std::move(b));
+      returned_.clear();
       if (!produce(current_))
         throw std::logic_error("the pass asked for more walks than there are");
     } else {
       std::unique_lock<std::mutex> lock(mutex_);
+      if (handed_.size() < 2 * kChunk)
+        for (std::vector<Access>& b : returned_) handed_.push_back(std::move(b));
+      returned_.clear();
       changed_.wait(lock, [this] { return !ready_.empty() || finished_; });
       if (ready_.empty()) throw std::logic_error("the pass asked for more walks than there are");
       current_ = std::move(ready_.front());
@@ -60,6 +73,11 @@ TracedRay& Walks::next() {
 void Walks::run_thread() {
   for (;;) {
     std::vector<TracedRay> chunk;
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      for (std::vector<Access>& b : handed_) spare_.push_back(std::move(b));
+      handed_.clear();
+    }
     const bool any = produce(chunk);
     std::unique_lock<std::mutex> lock(mutex_);
     changed_.wait(lock, [this] { return stop_ || ready_.size() < kChunksAhead; });

@@ -3,13 +3,15 @@
 // the culling unit's scan order (record slot, light, sample; lights whose LVB bit is 0 culled).
 // Neither order depends on the replay's clock, so the walks can be traced ahead, on a thread of
 // their own, while the replay runs the caches and the clock on another: the same walks in the
-// same order either way. Shared by the pass's files and by nothing else.
+// same order either way, from the first walk or from whenever a core comes free. Shared by the
+// pass's files and by nothing else.
 #pragma once
 
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
 #include "kernels/reference_tracer.h"
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
@@ -42,17 +44,20 @@ class Walks {
  public:
   // `order`: the primary rays' pixels in issue order; `shadows`: the shadow rays follow.
   // `stride`: the shadow rays of one batch of record slots in `stride` (FeaturePassOptions).
+  // `threaded`: traced ahead from the first walk; else from the first chunk after `ahead_from`
+  // (when given) turns true.
   Walks(const MemoryImage& image, const Camera& camera, int width, int height,
         const std::vector<uint32_t>& order, bool culling, bool shadows, uint32_t stride,
-        bool threaded);
+        bool threaded, const std::atomic<bool>* ahead_from = nullptr);
   ~Walks();
   Walks(const Walks&) = delete;
   Walks& operator=(const Walks&) = delete;
   // The next walk (the caller may take its stream): valid until the next call.
   TracedRay& next();
-  // A stream the caller is done with: its buffer serves a later walk (tracing in this thread).
+  // A stream the caller is done with: its buffer serves a later walk.
   void recycle(AccessStream& s) {
-    if (!threaded_ && s.reads.capacity() > 0) spare_.push_back(std::move(s.reads));
+    if (s.reads.capacity() > 0 && returned_.size() < 2 * kChunk)
+      returned_.push_back(std::move(s.reads));
   }
 
  private:
@@ -61,6 +66,7 @@ class Walks {
   bool produce(std::vector<TracedRay>& out);
   bool produce_shadow(TracedRay& r);  // the next shadow ray's walk: false at the scan's end
   void run_thread();
+  void start_thread();
 
   const MemoryImage& image_;
   ReferenceTracer tracer_;
@@ -80,8 +86,11 @@ class Walks {
   // The consumer's chunk, and the chunks traced ahead (threaded).
   std::vector<TracedRay> current_;
   size_t at_ = 0;
-  std::vector<std::vector<Access>> spare_;  // recycled buffers
+  // Recycled buffers: the consumer's since its last chunk, the producer's, and (threaded) those
+  // on their way from one to the other.
+  std::vector<std::vector<Access>> returned_, spare_, handed_;
   bool threaded_;
+  const std::atomic<bool>* ahead_from_;
   std::mutex mutex_;
   std::condition_variable changed_;
   std::deque<std::vector<TracedRay>> ready_;

@@ -14,6 +14,7 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <cstdio>
 #include <numeric>
 
@@ -75,7 +76,8 @@ TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
   EXPECT_NEAR(double(at(c.l1_lines, AccessUnit::kShading)), double(shading), 0.02 * shading);
 }
 
-// The walks traced ahead on a thread of their own give the same features, batch for batch.
+// The walks traced ahead on a thread of their own, from the first walk or from the second chunk
+// (a sampled run's second core come free), give the same features, batch for batch.
 TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
   PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
                                   {"", {}, kW, kH, Accel::kKdTree});
@@ -84,10 +86,16 @@ TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
   run.lvb = false;  // every shadow ray traced
   FeaturePassOptions ahead;
   ahead.trace_ahead = true;
+  const std::atomic<bool> free_core{true};  // seen when the first chunk is done
+  FeaturePassOptions later;
+  later.trace_ahead_from = &free_core;
   const FrameFeatures a = run_batch_features(p, cfg, run),
-                      b = run_batch_features(p, cfg, run, ahead);
+                      b = run_batch_features(p, cfg, run, ahead),
+                      c = run_batch_features(p, cfg, run, later);
   ASSERT_EQ(a.primary.size(), b.primary.size());
   ASSERT_EQ(a.shadow.size(), b.shadow.size());
+  ASSERT_EQ(a.primary.size(), c.primary.size());
+  ASSERT_EQ(a.shadow.size(), c.shadow.size());
   ASSERT_FALSE(a.shadow.empty());
   const auto same = [](const BatchFeatures& x, const BatchFeatures& y) {
     return x.rays == y.rays && x.hits == y.hits && x.occluded == y.occluded &&
@@ -96,6 +104,8 @@ TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
   };
   for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], b.primary[i])) << i;
   for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], b.shadow[i])) << i;
+  for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], c.primary[i])) << i;
+  for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], c.shadow[i])) << i;
 }
 
 // The strata's auxiliary (batch_walk_steps): the reference tracer's frame with culling off takes
