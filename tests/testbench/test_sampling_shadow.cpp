@@ -77,7 +77,7 @@ TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
 }
 
 // The walks traced ahead on a thread of their own, from the first walk or from the second chunk
-// (a sampled run's second core come free), give the same features, batch for batch.
+// (as when a sampled run's second core comes free), give the same features, batch for batch.
 TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
   PreparedScene p = prepare_scene((test::source_dir() / "configs/scenes/city.yaml").string(),
                                   {"", {}, kW, kH, Accel::kKdTree});
