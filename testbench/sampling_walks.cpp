@@ -9,6 +9,12 @@ namespace rtsim::sampling_detail {
 
 namespace {
 constexpr uint64_t kBatchRays = model::RayGenerator::kBatchRays;
+
+// Recycled buffers from one hand to the other; `from` is left empty.
+void pass_on(std::vector<std::vector<Access>>& from, std::vector<std::vector<Access>>& to) {
+  for (std::vector<Access>& b : from) to.push_back(std::move(b));
+  from.clear();
+}
 }  // namespace
 
 Walks::Walks(const MemoryImage& image, const Camera& camera, int width, int height,
@@ -51,14 +57,12 @@ TracedRay& Walks::next() {
     at_ = 0;
     if (!threaded_ && ahead_from_ && ahead_from_->load(std::memory_order_relaxed)) start_thread();
     if (!threaded_) {
-      for (std::vector<Access>& b : returned_) spare_.push_back(std::move(b));
-      returned_.clear();
+      pass_on(returned_, spare_);
       if (!produce(current_))
         throw std::logic_error("the pass asked for more walks than there are");
     } else {
       std::unique_lock<std::mutex> lock(mutex_);
-      if (handed_.size() < 2 * kChunk)
-        for (std::vector<Access>& b : returned_) handed_.push_back(std::move(b));
+      if (handed_.size() < 2 * kChunk) pass_on(returned_, handed_);
       returned_.clear();
       changed_.wait(lock, [this] { return !ready_.empty() || finished_; });
       if (ready_.empty()) throw std::logic_error("the pass asked for more walks than there are");
@@ -75,8 +79,7 @@ void Walks::run_thread() {
     std::vector<TracedRay> chunk;
     {
       const std::lock_guard<std::mutex> lock(mutex_);
-      for (std::vector<Access>& b : handed_) spare_.push_back(std::move(b));
-      handed_.clear();
+      pass_on(handed_, spare_);
     }
     const bool any = produce(chunk);
     std::unique_lock<std::mutex> lock(mutex_);

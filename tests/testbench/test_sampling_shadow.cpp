@@ -92,20 +92,19 @@ TEST(SamplingFeatures, TracingAheadOnAThreadChangesNothing) {
   const FrameFeatures a = run_batch_features(p, cfg, run),
                       b = run_batch_features(p, cfg, run, ahead),
                       c = run_batch_features(p, cfg, run, later);
-  ASSERT_EQ(a.primary.size(), b.primary.size());
-  ASSERT_EQ(a.shadow.size(), b.shadow.size());
-  ASSERT_EQ(a.primary.size(), c.primary.size());
-  ASSERT_EQ(a.shadow.size(), c.shadow.size());
   ASSERT_FALSE(a.shadow.empty());
   const auto same = [](const BatchFeatures& x, const BatchFeatures& y) {
     return x.rays == y.rays && x.hits == y.hits && x.occluded == y.occluded &&
            x.replay_cycles == y.replay_cycles && x.caches.l1_misses == y.caches.l1_misses &&
            x.caches.l2_misses == y.caches.l2_misses && x.caches.reads == y.caches.reads;
   };
-  for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], b.primary[i])) << i;
-  for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], b.shadow[i])) << i;
-  for (size_t i = 0; i < a.primary.size(); ++i) EXPECT_TRUE(same(a.primary[i], c.primary[i])) << i;
-  for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], c.shadow[i])) << i;
+  for (const FrameFeatures* x : {&b, &c}) {
+    ASSERT_EQ(a.primary.size(), x->primary.size());
+    ASSERT_EQ(a.shadow.size(), x->shadow.size());
+    for (size_t i = 0; i < a.primary.size(); ++i)
+      EXPECT_TRUE(same(a.primary[i], x->primary[i])) << i;
+    for (size_t i = 0; i < a.shadow.size(); ++i) EXPECT_TRUE(same(a.shadow[i], x->shadow[i])) << i;
+  }
 }
 
 // The strata's auxiliary (batch_walk_steps): the reference tracer's frame with culling off takes
