@@ -28,12 +28,13 @@ if [ "${1:-}" = "--sanitize" ]; then
 fi
 targets=()
 if [ "${1:-}" = "--tsan" ]; then
-  # Only the threaded host code: the reference tracer and the LVB preprocessor (their unit tests
-  # and rtsim render/lvb with threads). The simulator itself runs one SystemC thread.
+  # Only the threaded host code: the reference tracer, the LVB preprocessor and a sampled run's
+  # functional pass (their unit tests, rtsim render/lvb with threads and a sampled run twice). The
+  # simulator itself runs one SystemC thread.
   build=build-tsan
   flags=(-DCMAKE_BUILD_TYPE=Release -DRTSIM_TSAN=ON -DRTSIM_BUILD_BENCH=OFF
          -DRTSIM_BUILD_EXAMPLES=OFF -DRTSIM_WERROR=ON)
-  targets=(--target rtsim test_tracer test_lvb)
+  targets=(--target rtsim test_tracer test_lvb test_sampling_shadow)
   select=(-L threads -E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$')
   export TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1
 fi
