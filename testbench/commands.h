@@ -53,6 +53,9 @@ struct RunArgs {
   std::string out;
   bool quiet = false;  // no progress line, no summary
   std::string trace_file, mem_trace_file, trace_window;
+  // A sampled run's functional pass kept between run.sample_grow's attempts (PassKeeping,
+  // testbench/sample_pass_file.h): read when the file is there, else written. The attempts' own.
+  std::string sample_pass;
 };
 int run_model(const RunArgs& args);
 // rtsim run with run.sample_grow: each attempt a sampled run in a child process

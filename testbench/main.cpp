@@ -149,6 +149,9 @@ void add_run(CLI::App& app, Commands& c) {
                    "Directory that relative geometry paths resolve against")
       ->envname("RTSIM_SCENE_ROOT");
   c.run_cmd->add_flag("--quiet", c.run.quiet, "No progress line and no summary");
+  // run.sample_grow's attempts share their functional pass through this file (no help line: it
+  // is the attempts' own).
+  c.run_cmd->add_option("--sample-pass", c.run.sample_pass)->group("");
   c.run_cmd->add_option("--trace", c.run.trace_file,
                         "Write a VCD of FIFO occupancies and unit busy signals");
   c.run_cmd->add_option("--mem-trace", c.run.mem_trace_file,

@@ -357,7 +357,8 @@ struct ModelFrame {
   std::optional<TraceResult> ref;
 };
 ModelFrame simulate_model_frame(const RunConfig& c, const PreparedScene& p,
-                                const model::SimulationHooks& hooks, RunHost& host) {
+                                const model::SimulationHooks& hooks, RunHost& host,
+                                const std::string& pass_file) {
   ModelFrame m;
   const auto t0 = std::chrono::steady_clock::now();
   if (c.run.sample.fraction == 0) {
@@ -365,9 +366,17 @@ ModelFrame simulate_model_frame(const RunConfig& c, const PreparedScene& p,
     host.simulate = seconds_since(t0);
     return m;
   }
+  std::optional<PassKeeping> keep;
+  if (!pass_file.empty()) {
+    // What the pass depends on: everything but the sample.
+    nlohmann::json key = run_config_json(c);
+    for (auto it = key["run"].begin(); it != key["run"].end();)
+      it = it.key().rfind("sample", 0) == 0 ? key["run"].erase(it) : std::next(it);
+    keep = PassKeeping{pass_file, key.dump()};
+  }
   m.sampled = run_sampled(
       c.run.sample, p, c, [&](const SamplePlan& plan) { return simulate_run(c, p, hooks, &plan); },
-      [&] { m.ref = reference_frame(p, c.run); });
+      [&] { m.ref = reference_frame(p, c.run); }, keep ? &*keep : nullptr);
   m.frame = std::move(m.sampled->frame);
   host.simulate = m.sampled->simulate_seconds;
   return m;
@@ -397,7 +406,7 @@ int run_model(const RunArgs& args) {
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
   hooks.tlm_checks = c.run.tlm_checks;
   doing.emplace("simulating the frame");
-  ModelFrame m = simulate_model_frame(c, p, hooks, host);
+  ModelFrame m = simulate_model_frame(c, p, hooks, host, args.sample_pass);
   progress.finish();
 
   doing.emplace("checking the frame and writing the outputs");

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <future>
+#include <optional>
 
 namespace rtsim {
 
@@ -25,13 +26,17 @@ SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f
 
 namespace {
 
-// Each unit's walk steps (batch_walk_steps) of one ray in kStepsStride: what Neyman's strata
-// balance. A unit's steps are a sum over its rays, so a quarter of them rank the units about as
-// well (docs/sampling.md, "Neyman's strata on the walk steps") at a quarter of the time.
+// The walk steps (batch_walk_steps) of one ray in kStepsStride: what Neyman's strata balance. A
+// unit's steps are a sum over its rays, so a quarter of them rank the units about as well
+// (docs/sampling.md, "Neyman's strata on the walk steps") at a quarter of the time.
 constexpr uint32_t kStepsStride = 4;
-std::vector<double> unit_walk_steps(const PreparedScene& p, const RunConfig& c, uint32_t unit) {
-  const std::vector<double> batches =
-      batch_walk_steps(*p.image, p.scene.camera, p.scene.width, p.scene.height, c.hw, kStepsStride);
+std::vector<double> batch_steps(const PreparedScene& p, const RunConfig& c) {
+  return batch_walk_steps(*p.image, p.scene.camera, p.scene.width, p.scene.height, c.hw,
+                          kStepsStride);
+}
+
+// Each unit's sum of a value per batch of kBatchRays rays.
+std::vector<double> unit_sums_of(const std::vector<double>& batches, uint32_t unit) {
   const size_t per_unit = unit / model::kBatchRays;
   std::vector<double> out((batches.size() + per_unit - 1) / per_unit, 0.0);
   for (size_t b = 0; b < batches.size(); ++b) out[b / per_unit] += batches[b];
@@ -135,30 +140,43 @@ double SampledRun::fraction_needed() const {
 }
 
 SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
-                       const WindowSimulation& simulate,
-                       const std::function<void()>& while_passing) {
+                       const WindowSimulation& simulate, const std::function<void()>& while_passing,
+                       const PassKeeping* keep) {
   SampledRun run;
   run.settings = settings;
   const uint64_t rays = uint64_t(p.scene.width) * p.scene.height;
+  std::optional<SampledPass> kept = keep ? read_sampled_pass(*keep) : std::nullopt;
+  run.pass_reused = kept.has_value();
+  SampledPass pass = kept ? std::move(*kept) : SampledPass{};
   // The pass is the longer of the two threads: when this one is done, its walks are traced ahead
   // on the core it frees (the same walks, so the same features).
   std::atomic<bool> core_free{false};
   FeaturePassOptions options;
   options.trace_ahead_from = &core_free;
-  const auto pass = [&p, &c, &options] { return run_batch_features(p, c.hw, c.run, options); };
-  std::future<FrameFeatures> beside = std::async(std::launch::async, pass);
+  const auto pass_features = [&p, &c, &options] {
+    return run_batch_features(p, c.hw, c.run, options);
+  };
+  std::future<FrameFeatures> beside;
+  if (!run.pass_reused) beside = std::async(std::launch::async, pass_features);
   // Neyman's strata are cut on the walk steps, counted here while the pass begins (a fraction of
   // 1 has no strata to cut).
-  run.plan = settings.strata == SampleStrata::kNeyman && stratum_units(settings.fraction) > 1
-                 ? plan_sample(rays, settings, unit_walk_steps(p, c, settings.unit))
-                 : plan_sample(rays, settings);
+  if (settings.strata == SampleStrata::kNeyman && stratum_units(settings.fraction) > 1) {
+    if (pass.walk_steps.empty()) pass.walk_steps = batch_steps(p, c);
+    run.plan = plan_sample(rays, settings, unit_sums_of(pass.walk_steps, settings.unit));
+  } else {
+    run.plan = plan_sample(rays, settings);
+  }
   const auto t0 = std::chrono::steady_clock::now();
   run.frame = simulate(run.plan);
   run.simulate_seconds = seconds_since(t0);
   if (while_passing) while_passing();
   core_free = true;
-  const SampledAuxiliaries aux = auxiliaries_of(run.plan, beside.get(), c);
-  run.pass_seconds = aux.seconds;
+  if (!run.pass_reused) {
+    pass.features = beside.get();
+    if (keep) write_sampled_pass(*keep, pass);
+  }
+  const SampledAuxiliaries aux = auxiliaries_of(run.plan, pass.features, c);
+  run.pass_seconds = run.pass_reused ? 0.0 : aux.seconds;
   run.estimates = estimate_sampled(run.plan, run.frame, &aux);
   return run;
 }
@@ -197,6 +215,7 @@ nlohmann::json sample_json(const SampledRun& run, uint64_t warming_rays) {
       {"warming_rays", warming_rays},
       {"seed", s.seed},
       {"strata", strata_name(s.strata)},
+      {"pass_reused", run.pass_reused},
       {"units", plan.population},
       {"measured_units", plan.units.size()},
       {"windows", plan.windows.size()},

@@ -7,6 +7,7 @@
 #include "kernels/reference_tracer.h"
 #include "testbench/pipeline.h"
 #include "testbench/run_config.h"
+#include "testbench/sample_pass_file.h"
 #include "testbench/sample_plan.h"
 #include "testbench/sample_regression.h"
 #include "testbench/simulate.h"
@@ -59,14 +60,17 @@ SampledEstimates estimate_sampled(const SamplePlan& plan, const SimulatedFrame& 
 // `while_passing` (optional) runs on the calling thread after the simulation, before it waits for
 // the pass; then the pass's walks are traced ahead on the calling thread's core. With Neyman's
 // strata (run.sample_strata) the plan waits for the walk steps (batch_walk_steps) the calling
-// thread counts while the pass begins. One per process: SystemC elaborates once (run.sample_grow's
-// further attempts run as child processes, testbench/run_command.cpp).
+// thread counts while the pass begins. With `keep` the pass and the walk steps are read from its
+// file when it is there (no pass runs), else kept there: run.sample_grow's attempts share one pass.
+// One per process: SystemC elaborates once (run.sample_grow's attempts run as child processes,
+// testbench/sample_grow_command.cpp).
 struct SampledRun {
   SampleSettings settings;
   SamplePlan plan;
   SimulatedFrame frame;
   SampledEstimates estimates;
   double simulate_seconds = 0, pass_seconds = 0;
+  bool pass_reused = false;  // the pass read from a file (PassKeeping): pass_seconds 0
   bool target_met() const {
     return settings.target_pct == 0 || estimates.total.ci95_pct() <= settings.target_pct;
   }
@@ -78,7 +82,8 @@ inline constexpr int kSampleAttempts = 4;
 using WindowSimulation = std::function<SimulatedFrame(const SamplePlan&)>;
 SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
                        const WindowSimulation& simulate,
-                       const std::function<void()>& while_passing = {});
+                       const std::function<void()>& while_passing = {},
+                       const PassKeeping* keep = nullptr);
 
 // The fraction a frame sampled at `fraction` with a 95% half-interval of `ci95_pct` % needs for
 // `target_pct` %, with a tenth to spare, in (fraction, 1]: a stratum at least one unit smaller.

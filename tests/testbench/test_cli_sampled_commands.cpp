@@ -72,6 +72,22 @@ TEST(SampleTarget, AnUnmetTargetIsReportedAndGrowMeetsIt) {
   EXPECT_EQ(g["sample"]["target_met"], true);
   EXPECT_LE(g["sample"]["cycles_total"]["ci95_pct"].get<double>(), std::stod(target));
   EXPECT_EQ(g["sample"]["fraction"], attempts.back()["fraction"]);
+  // The attempts after the first read its functional pass instead of running it again, and
+  // estimate what a run at the last fraction alone does, to the last digit.
+  EXPECT_EQ(attempts[0]["pass_reused"], false);
+  for (size_t k = 1; k < attempts.size(); ++k) EXPECT_EQ(attempts[k]["pass_reused"], true);
+  EXPECT_EQ(g["host"]["seconds"]["functional_pass"], 0.0);
+  const RunResult direct =
+      run_city(dir / "direct",
+               fmt::format("--sample {} --quiet", attempts.back()["fraction"].get<double>()));
+  ASSERT_EQ(direct.code, 0) << direct.err;
+  const nlohmann::json d = nlohmann::json::parse(slurp(dir / "direct" / "report.json"));
+  EXPECT_EQ(d["sample"]["pass_reused"], false);
+  EXPECT_GT(d["host"]["seconds"]["functional_pass"].get<double>(), 0.0);
+  EXPECT_EQ(g["cycles_total"], d["cycles_total"]);
+  EXPECT_EQ(g["sample"]["cycles_total"], d["sample"]["cycles_total"]);
+  EXPECT_EQ(g["sample"]["cycles_shadow"], d["sample"]["cycles_shadow"]);
+  EXPECT_EQ(slurp(dir / "grown" / "sample.csv"), slurp(dir / "direct" / "sample.csv"));
   const nlohmann::json config = nlohmann::json::parse(slurp(dir / "grown" / "config.json"));
   EXPECT_EQ(config["run"]["sample"], 0.1);
   EXPECT_EQ(config["run"]["sample_grow"], true);

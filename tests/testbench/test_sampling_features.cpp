@@ -8,6 +8,7 @@
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator.h"
+#include "testbench/sample_pass_file.h"
 #include "testbench/sampling_features.h"
 #include "testbench/sampling_replay.h"
 #include "tests/test_util.h"
@@ -16,8 +17,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <numeric>
 #include <random>
+#include <sstream>
 
 namespace rtsim {
 namespace {
@@ -102,6 +106,52 @@ TEST(PortCalendar, BooksWhatACycleByCycleSearchBooks) {
     EXPECT_EQ(differ, 0u) << cycles << " cycles a line";
     EXPECT_GT(deferred, 0u);  // the window's end was reached
   }
+}
+
+// run.sample_grow's attempts share the first one's pass through a file: read back, it is the pass
+// to the last bit; a file kept for another run's settings, or cut short, is refused.
+TEST(SampledPassFile, KeepsThePassBitForBitAndRefusesAnotherRunsOrABrokenOne) {
+  const SceneSetup setup =
+      load_scene_file((test::source_dir() / "configs/scenes/city.yaml").string());
+  const KdTree tree = build_kdtree(setup.scene.triangles, setup.kdtree);
+  const MemoryImage image(setup.scene, tree);
+  const model::AcceleratorConfig cfg;
+  SampledPass pass;
+  pass.features = frame_batch_features(image, setup.scene.camera, kW, kH, cfg);
+  pass.walk_steps = batch_walk_steps(image, setup.scene.camera, kW, kH, cfg);
+  ASSERT_FALSE(pass.features.shadow.empty());
+  const std::filesystem::path dir = test::temp_dir("sampled_pass_file");
+  const PassKeeping keep{(dir / "pass.bin").string(), "the run's settings"};
+  EXPECT_FALSE(read_sampled_pass(keep).has_value());  // none kept yet
+  write_sampled_pass(keep, pass);
+
+  const std::optional<SampledPass> back = read_sampled_pass(keep);
+  ASSERT_TRUE(back.has_value());
+  const auto csv = [](const FrameFeatures& f) {
+    std::ostringstream out;
+    write_features_csv(out, f);
+    return out.str();
+  };
+  EXPECT_EQ(csv(back->features), csv(pass.features));
+  EXPECT_EQ(back->walk_steps, pass.walk_steps);
+  EXPECT_EQ(back->features.primary_seconds, pass.features.primary_seconds);
+  EXPECT_EQ(back->features.shadow_seconds, pass.features.shadow_seconds);
+
+  const auto refused = [](const PassKeeping& k, const std::string& why) {
+    try {
+      read_sampled_pass(k);
+      ADD_FAILURE() << "read " << k.file;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(k.file), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(why), std::string::npos) << e.what();
+    }
+  };
+  refused(PassKeeping{keep.file, "another run's settings"}, "another run's settings");
+  std::filesystem::resize_file(keep.file, std::filesystem::file_size(keep.file) - 9);
+  refused(keep, "ends early");
+  { std::ofstream(keep.file) << "rtsim run report\n"; }
+  refused(keep, "not a kept functional pass");
+  std::filesystem::remove_all(dir);
 }
 
 TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
