@@ -88,6 +88,7 @@ int run_grown(const RunArgs& args, const RunConfig& c, const nlohmann::json& con
   } cleanup{work};
   write_file_atomic((work / "config.json").string(), config.dump(2));
   nlohmann::json attempts = nlohmann::json::array(), report;
+  std::vector<SampleAttempt> tried;
   double fraction = c.run.sample.fraction;
   fs::path last;
   for (int k = 0;; ++k) {
@@ -101,8 +102,13 @@ int run_grown(const RunArgs& args, const RunConfig& c, const nlohmann::json& con
                         {"ci95_pct", s["cycles_total"]["ci95_pct"]},
                         {"pass_reused", s["pass_reused"]},
                         {"host_seconds", report["host"]["seconds"]["total"]}});
-    if (s["target_met"].get<bool>() || k + 1 == kSampleAttempts) break;
-    fraction = s["fraction_needed"].get<double>();
+    tried.push_back({fraction, s["cycles_total"]["ci95_pct"].get<double>(),
+                     s["measured_units"].get<uint64_t>()});
+    if (s["target_met"].get<bool>()) break;
+    // The next fraction from every attempt's interval, not the last one's alone.
+    report["sample"]["fraction_needed"] = fraction_for_target(tried, c.run.sample.target_pct);
+    if (k + 1 == kSampleAttempts) break;
+    fraction = report["sample"]["fraction_needed"].get<double>();
   }
   // The last attempt's outputs become the run's; config.json stays the settings as asked.
   for (const fs::directory_entry& e : fs::directory_iterator(last))

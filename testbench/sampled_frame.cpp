@@ -127,6 +127,18 @@ double fraction_for_target(double fraction, double ci95_pct, double target_pct) 
   return k_wanted <= 1 ? 1.0 : 1.0 / double(k_wanted);
 }
 
+double fraction_for_target(const std::vector<SampleAttempt>& attempts, double target_pct) {
+  double weighted = 0, units = 0;
+  for (const SampleAttempt& a : attempts) {
+    weighted += double(a.units) * a.fraction * a.ci95_pct * a.ci95_pct;
+    units += double(a.units);
+  }
+  const SampleAttempt& last = attempts.back();
+  // The interval the last fraction would have with the pooled variance.
+  const double pooled = units > 0 ? std::sqrt(weighted / units / last.fraction) : last.ci95_pct;
+  return fraction_for_target(last.fraction, pooled, target_pct);
+}
+
 double fraction_for_drawn(uint64_t population, double fraction, uint64_t needed) {
   uint64_t k = stratum_units(fraction);
   while (k > 1 && strata_count(population, k) < needed) --k;

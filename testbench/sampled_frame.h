@@ -89,6 +89,19 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
 // `target_pct` %, with a tenth to spare, in (fraction, 1]: a stratum at least one unit smaller.
 double fraction_for_target(double fraction, double ci95_pct, double target_pct);
 
+// A sampled run of run.sample_grow: its fraction, its frame's 95% half-interval in %, its units
+// measured.
+struct SampleAttempt {
+  double fraction = 0, ci95_pct = 0;
+  uint64_t units = 0;
+};
+// The fraction a grown run's attempts so far ask for: fraction_for_target from the last one, with
+// the square of its interval times its fraction (the frame's variance per unit, up to a constant)
+// pooled over every attempt, weighted by their units. Each attempt estimates the same frame's
+// variance, and an interval from a few units is itself uncertain (docs/sampling.md, item 7). One
+// attempt: fraction_for_target's.
+double fraction_for_target(const std::vector<SampleAttempt>& attempts, double target_pct);
+
 // The smallest fraction 1 / k, k at most `fraction`'s stratum_units, whose plan draws `needed`
 // units of a frame of `population` units (1 when none does).
 double fraction_for_drawn(uint64_t population, double fraction, uint64_t needed);

@@ -35,6 +35,19 @@ TEST(SampleTarget, TheFractionForATargetGrowsAsTheIntervalsSquare) {
   EXPECT_DOUBLE_EQ(fraction_for_target(0.2, 20.0, 1.0), 1.0);
 }
 
+TEST(SampleTarget, AGrownRunPoolsItsAttemptsIntervals) {
+  // One attempt: its own interval's fraction.
+  EXPECT_DOUBLE_EQ(fraction_for_target({{0.05, 4.0, 50}}, 2.0),
+                   fraction_for_target(0.05, 4.0, 2.0));
+  // The kitchen at full HD (docs/sampling.md, item 7): 2.27% at 2% (23 units), then 4.91% at
+  // 1/35 (31 units). The last interval alone asks for a fifth of the frame; pooled with the
+  // first, an eighth.
+  EXPECT_DOUBLE_EQ(fraction_for_target(1.0 / 35, 4.91, 2.0), 1.0 / 5);
+  EXPECT_DOUBLE_EQ(fraction_for_target({{0.02, 2.27, 23}, {1.0 / 35, 4.91, 31}}, 2.0), 1.0 / 8);
+  // A pooled interval within the target still grows: a stratum one unit smaller than the last.
+  EXPECT_DOUBLE_EQ(fraction_for_target({{0.1, 1.0, 100}, {1.0 / 9, 2.01, 10}}, 2.0), 1.0 / 8);
+}
+
 TEST(SampleTarget, AnUnmetTargetIsReportedAndGrowMeetsIt) {
   const fs::path dir = test::temp_dir("cli_sample_target");
   // A 1% target that a tenth of the units does not reach: a warning naming the key and the
