@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
 #include <type_traits>
 
 namespace rtsim {
@@ -26,7 +27,9 @@ void put(std::string& out, const std::vector<T>& v) {
 }
 
 void put(std::string& out, const std::string& s) {
-  put(out, std::vector<char>(s.begin(), s.end()));
+  const uint64_t n = s.size();
+  out.append(reinterpret_cast<const char*>(&n), sizeof n);
+  out += s;
 }
 
 void put(std::string& out, double x) { out.append(reinterpret_cast<const char*>(&x), sizeof x); }
@@ -34,7 +37,8 @@ void put(std::string& out, double x) { out.append(reinterpret_cast<const char*>(
 // Reads the values back in the order `put` wrote them; a short file is an error.
 class Reader {
  public:
-  Reader(std::string bytes, std::string file) : bytes_(std::move(bytes)), file_(std::move(file)) {}
+  Reader(std::string bytes, uint64_t at, std::string file)
+      : bytes_(std::move(bytes)), file_(std::move(file)), at_(at) {}
   void take(void* to, uint64_t n) {
     if (n > bytes_.size() - at_)
       throw std::runtime_error(fmt::format("{}: a kept functional pass ends early", file_));
@@ -74,9 +78,9 @@ std::optional<SampledPass> read_sampled_pass(const PassKeeping& keep) {
   const size_t magic = sizeof kMagic - 1;
   if (bytes.compare(0, magic, kMagic) != 0)
     throw std::runtime_error(fmt::format("{}: not a kept functional pass", keep.file));
-  Reader r(bytes.substr(magic), keep.file);
+  Reader r(std::move(bytes), magic, keep.file);
   const std::vector<char> key = r.vector<char>();
-  if (std::string(key.begin(), key.end()) != keep.key)
+  if (std::string_view(key.data(), key.size()) != keep.key)
     throw std::runtime_error(
         fmt::format("{}: a functional pass kept for another run's settings", keep.file));
   SampledPass pass;
