@@ -137,7 +137,7 @@ int run_lvb(const LvbArgs& args) {
   std::vector<uint16_t> mask(r.pixels.size()), culled(r.pixels.size());
   for (size_t i = 0; i < r.pixels.size(); ++i) {
     mask[i] = mask_value(r.pixels[i].hit.tri, r.pixels[i].occluded);
-    culled[i] = uint16_t(uint32_t(r.pixels[i].culled) << 1);
+    culled[i] = r.pixels[i].culled;  // bit i: light i, as rtsim run writes it (docs/reports.md)
   }
 
   fmt::print(

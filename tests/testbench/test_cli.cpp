@@ -132,9 +132,10 @@ TEST(Cli, LvbWritesTablesJsonAndCulledMask) {
     EXPECT_EQ(pl["wrong_culls"].get<uint64_t>(), 0u) << "the exact mode is never wrong";
     uint64_t from_mask = 0;
     for (size_t i = 0; i < culled.size(); ++i) {
-      from_mask += (culled[i] >> (1 + l)) & 1u;
-      if ((culled[i] >> (1 + l)) & 1u) {
-        EXPECT_FALSE((mask[i] >> (1 + l)) & 1u) << "a culled ray is lit";
+      // culled.npy: bit l (docs/reports.md); mask.npy: bit 1 + l, bit 0 the hit.
+      from_mask += (culled[i] >> l) & 1u;
+      if ((culled[i] >> l) & 1u) {
+        EXPECT_FALSE((mask[i] >> (1 + l)) & 1u) << "a culled ray was occluded";
       }
       if (culled[i]) {
         EXPECT_TRUE(mask[i] & 1u) << "only hits cast shadow rays";
@@ -353,6 +354,39 @@ TEST(Cli, ParamsTableInConfigsReadmeIsCurrent) {
   walk(nlohmann::json::parse(slurp(out / "report.json"))["stats"], "");
   EXPECT_EQ(stats, unit.size());
   fs::remove_all(out);
+}
+
+// culled.npy has one layout whoever writes it (bit i: the shadow rays to light i were culled):
+// rtsim run and rtsim lvb on the same frame and LVB mode write the same bytes, in the exact mode
+// and in the paper's.
+TEST(Cli, RunAndLvbWriteTheSameCulledNpy) {
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  for (const char* occlusion : {"test", "ignore"}) {
+    const fs::path lvb = test::temp_dir("cli_culled_lvb"), sim = test::temp_dir("cli_culled_run");
+    ASSERT_EQ(
+        run("lvb " + scene + " --out " + lvb.string() +
+            " --width 64 --height 36 --method paper --bounds cell --self-occlusion " + occlusion)
+            .code,
+        0);
+    ASSERT_EQ(run(city_run(sim, std::string("--set run.lvb_method=paper --set run.lvb_bounds=cell "
+                                            "--set run.lvb_self_occlusion=") +
+                                    occlusion))
+                  .code,
+              0);
+    const std::string bytes = slurp(lvb / "culled.npy");
+    EXPECT_EQ(bytes, slurp(sim / "culled.npy")) << occlusion;
+    // Not a frame without culls: some pixel has a light's bit, and none past the lights.
+    const std::vector<uint16_t> culled = read_npy_u16(lvb / "culled.npy", 36, 64);
+    const nlohmann::json j = nlohmann::json::parse(slurp(lvb / "lvb.json"));
+    uint64_t set = 0;
+    for (uint16_t v : culled) {
+      set += v != 0;
+      EXPECT_EQ(v >> j["per_light"].size(), 0) << occlusion;
+    }
+    EXPECT_GT(set, 0u) << occlusion;
+    fs::remove_all(lvb);
+    fs::remove_all(sim);
+  }
 }
 
 }  // namespace
