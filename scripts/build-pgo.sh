@@ -2,7 +2,7 @@
 # A profile-guided build of the rtsim command (GCC's -fprofile-generate, then -fprofile-use): the
 # same code and the same figures to the last bit (bench/same_figures.py), a few percent fewer
 # instructions but no host time measurably saved on top of the model's -O3
-# (docs/benchmarks-history.md, issue 20). Takes about twice a plain build plus a minute of training.
+# (docs/changes.md, issue 20). Takes about twice a plain build plus a minute of training.
 #   bash scripts/build-pgo.sh [BUILD_DIR]      (default build-pgo; the binary is BUILD_DIR/rtsim)
 # The training runs the procedural city and, when the scene root holds them (RTSIM_SCENE_ROOT,
 # see configs/README.md), the paper's three scenes, small frames on the paper's hardware.

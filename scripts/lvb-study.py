@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Why the paper's LVB test culls so few of our leaves: Table 4 (culled leaves per light) for
-variants of the robots setup, printed as the markdown tables of docs/lvb.md ("What the published
-leaf rates need").
+variants of the robots setup, printed as the markdown tables of docs/lvb-paper.md ("What the
+published leaf rates need").
 
     python3 scripts/lvb-study.py [--out DIR] [--rtsim build/rtsim] [--scene-root DIR]
                                  [--only a,b,c,d]

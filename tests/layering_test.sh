@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The host folders lean one way (README.md, "Layout"): a file may not include, and a folder's
+# The host folders lean one way (docs/architecture.md): a file may not include, and a folder's
 # CMakeLists.txt may not link, a folder its rule forbids; inside model/, a layer may not include a
 # layer above it. Fails naming every file and line that does.
 # Usage: layering_test.sh SOURCE_DIR
