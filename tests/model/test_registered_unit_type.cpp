@@ -132,8 +132,19 @@ TEST(RegisteredUnitType, AFrameRunsWithItAndEveryReportShowsIt) {
   EXPECT_DOUBLE_EQ(sweep_metric("tally_busy", r), b / (b + s + i));
   EXPECT_DOUBLE_EQ(sweep_metric("shading_busy", r), b / (b + s + i));
   EXPECT_DOUBLE_EQ(sweep_metric("tally_l1_hit_rate", r), json_number(r, "stats.tally.l1.hit_rate"));
-  EXPECT_DOUBLE_EQ(sweep_metric("tally_operations_per_ray", r),
-                   operations / json_number(r, "stats.bvh.total.rays_started"));
+  const double rays = json_number(r, "stats.bvh.total.rays_started");
+  EXPECT_DOUBLE_EQ(sweep_metric("tally_operations_per_ray", r), operations / rays);
+  // The built-in types' figures, from their rows too.
+  EXPECT_DOUBLE_EQ(sweep_metric("nodes_per_ray", r),
+                   json_number(r, "stats.bvh.total.node_fetches") / rays);
+  EXPECT_DOUBLE_EQ(sweep_metric("tests_per_ray", r),
+                   json_number(r, "stats.ist.total.tests") / rays);
+  EXPECT_DOUBLE_EQ(sweep_metric("traversal_l2_hit_rate", r),
+                   json_number(r, "stats.bvh.l2.hit_rate"));
+  EXPECT_DOUBLE_EQ(sweep_metric("ist_l2_bank_stall_cycles", r),
+                   json_number(r, "stats.ist.l2.bank.stall_cycles"));
+  EXPECT_DOUBLE_EQ(sweep_metric("traversal_reply_queue_cycles", r),
+                   json_number(r, "stats.bvh.icnt.reply.avg_queue_cycles"));
 
   // report.md's unit table: its label and count.
   const std::string md = test::slurp(out / "report.md");
