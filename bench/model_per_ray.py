@@ -7,9 +7,10 @@ goal: a BVH within 1.5x of the kd-tree's time per ray on robots).
 
 Each run is `rtsim run` pinned to one core, culling on (the exact mode): the kd-tree on
 configs/hw/tni-paper.yaml, each BVH format on configs/hw/bvh-tni.yaml. A ray is one the traversal
-units started (primary, shadow and reflection rays: `<unit>.total.rays_started`); the time is
-report.json's host.seconds.simulate. The setups alternate within a round, so a slow phase of the
-machine hits all of them; medians over --runs rounds, and each BVH's ratio to the kd-tree.
+units started (primary, shadow and reflection rays: the statistic report.json's `units` names as
+`rays`); the time is report.json's host.seconds.simulate. The setups alternate within a round, so
+a slow phase of the machine hits all of them; medians over --runs rounds, and each BVH's ratio to
+the kd-tree.
 """
 import argparse
 import json
@@ -30,8 +31,11 @@ def run(args, accel):
         subprocess.run(cmd, cwd=ROOT, check=True)
         with open(os.path.join(out, "report.json")) as f:
             r = json.load(f)
-    unit = "trv" if accel == "kdtree" else "bvh"
-    rays = r["stats"][unit]["total"]["rays_started"]
+    # The rays the report's per-ray figures divide: the traversal type's `rays` statistic.
+    node = r["stats"]
+    for part in next(u["rays"] for u in r["units"] if "rays" in u).split("."):
+        node = node[part]
+    rays = node
     return r["host"]["seconds"]["simulate"], rays, r["cycles_total"]
 
 

@@ -245,34 +245,11 @@ void Accelerator::Netlist::register_stats() {
   for (RayFifo* f : fifos) f->register_stats(stats, stat_prefix(*f, top), &stats_span);
 }
 
-namespace {
-
-// <key>.total.<name> for `names` of the units' own statistics (U::stats(), described once).
-template <class U>
-void register_stats_totals(StatsRegistry& r, const char* key,
-                           const std::vector<std::unique_ptr<RayUnit>>& units,
-                           const std::vector<std::string>& names) {
-  using S = std::decay_t<decltype(std::declval<const U&>().stats())>;
-  std::vector<const S*> parts;
-  for (const auto& u : units) parts.push_back(&static_cast<const U&>(*u).stats());
-  register_totals(r, std::string(key) + ".total", std::string("all ") + key + " units: ", parts,
-                  names, [](auto& v, const S& s) { describe_stats(v, s); });
-}
-
-}  // namespace
-
-// The work of each unit type summed over its units: what per-ray figures divide (nodes and leaves
-// visited, triangles tested per ray traced).
+// The work of each unit type summed over its units, as its row lists it: what per-ray figures
+// divide (nodes and leaves visited, triangles tested per ray traced).
 void Accelerator::Netlist::register_work_totals() {
-  if (cfg.structure == Structure::kBvh)
-    register_stats_totals<BvhUnit>(stats, "bvh", units[kTrvStage],
-                                   {"node_fetches", "box_tests", "leaves", "rays_started",
-                                    "stack_pushes", "stack_pops", "stack_spills", "stack_refills"});
-  else
-    register_stats_totals<TrvUnit>(stats, "trv", units[kTrvStage],
-                                   {"node_fetches", "rays_started"});
-  register_stats_totals<ListUnit>(stats, "list", units[kListStage], {"leaves", "prims"});
-  register_stats_totals<IstUnit>(stats, "ist", units[kIstStage], {"tests", "hits"});
+  for (const RayUnitType* type : unit_types(cfg))
+    if (type->totals) type->totals(stats, type->key, units[type->stage], type->work);
 }
 
 // <key>.total.{busy,stalled,idle}_cycles over a type's units.

@@ -100,7 +100,7 @@ struct Accelerator::Netlist : FrameEngine, CacheWarmer {
   std::unique_ptr<MemorySystem> memory;
   std::unique_ptr<TlmChecker> checker;  // between the memory port and the memory, if asked
   std::unique_ptr<RayGenerator> generator;
-  // By type (stage, kRayUnitTypes), then index; as their own types through the accessors below.
+  // By type (stage, unit_types), then index; as their own types through the accessors below.
   std::array<std::vector<std::unique_ptr<RayUnit>>, kStages> units;
   LvbUpdater lvb;
   std::unique_ptr<ShadowCullingUnit> culling;

@@ -6,39 +6,75 @@
 #include "model/units/shading_unit.h"
 #include "model/units/trv_unit.h"
 
+#include <deque>
+
 namespace rtsim::model {
 
-const std::array<RayUnitType, kStages + 1> kRayUnitTypes = {{
-    {kTrvStage, "trv", "TRV", kTrvRank, &AcceleratorConfig::trv, kTrvStage,
-     [](const char* name, const UnitBuild& b, uint32_t i) -> std::unique_ptr<RayUnit> {
-       return std::make_unique<TrvUnit>(name, b.ctx, b.cfg.trv, i);
-     },
-     Structure::kKdTree},
-    {kTrvStage, "bvh", "BVH", kTrvRank, &AcceleratorConfig::bvh, kTrvStage,
-     [](const char* name, const UnitBuild& b, uint32_t i) -> std::unique_ptr<RayUnit> {
-       return std::make_unique<BvhUnit>(name, b.ctx, b.cfg.bvh, b.cfg.bvh_walk, i);
-     },
-     Structure::kBvh},
-    {kListStage, "list", "LIST", kListRank, &AcceleratorConfig::list, kListStage,
-     [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
-       return std::make_unique<ListUnit>(name, b.ctx, b.cfg.list);
-     },
-     std::nullopt},
-    {kIstStage, "ist", "IST", kIstRank, &AcceleratorConfig::ist, kIstStage,
-     [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
-       return std::make_unique<IstUnit>(name, b.ctx, b.cfg.ist);
-     },
-     std::nullopt},
-    {kShadingStage, "shading", "shading", kShadingRank, &AcceleratorConfig::shading, kIstStage,
-     [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
-       return std::make_unique<ShadingUnit>(name, b.ctx, b.cfg.shading, b.frame, b.records);
-     },
-     std::nullopt},
-}};
+namespace {
+
+// Built in, in stage order.
+std::deque<RayUnitType> built_in() {
+  // The types' work counters (their totals), with the per-ray figures they give; here, not
+  // globals, so that a type registered by another file's static initialiser finds them built.
+  const std::vector<WorkCounter> trv_work = {{"node_fetches", "nodes_per_ray"},
+                                             {"rays_started", nullptr}};
+  const std::vector<WorkCounter> bvh_work = {
+      {"node_fetches", "nodes_per_ray"}, {"box_tests", nullptr},    {"leaves", nullptr},
+      {"rays_started", nullptr},         {"stack_pushes", nullptr}, {"stack_pops", nullptr},
+      {"stack_spills", nullptr},         {"stack_refills", nullptr}};
+  const std::vector<WorkCounter> list_work = {{"leaves", "leaves_per_ray"}, {"prims", nullptr}};
+  const std::vector<WorkCounter> ist_work = {{"tests", "tests_per_ray"}, {"hits", nullptr}};
+  return {
+      {kTrvStage, "trv", "TRV", kTrvRank, &AcceleratorConfig::trv, kTrvStage,
+       [](const char* name, const UnitBuild& b, uint32_t i) -> std::unique_ptr<RayUnit> {
+         return std::make_unique<TrvUnit>(name, b.ctx, b.cfg.trv, i);
+       },
+       Structure::kKdTree, trv_work, &work_totals<TrvUnit>, "rays_started"},
+      {kTrvStage, "bvh", "BVH", kTrvRank, &AcceleratorConfig::bvh, kTrvStage,
+       [](const char* name, const UnitBuild& b, uint32_t i) -> std::unique_ptr<RayUnit> {
+         return std::make_unique<BvhUnit>(name, b.ctx, b.cfg.bvh, b.cfg.bvh_walk, i);
+       },
+       Structure::kBvh, bvh_work, &work_totals<BvhUnit>, "rays_started"},
+      {kListStage, "list", "LIST", kListRank, &AcceleratorConfig::list, kListStage,
+       [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
+         return std::make_unique<ListUnit>(name, b.ctx, b.cfg.list);
+       },
+       std::nullopt, list_work, &work_totals<ListUnit>},
+      {kIstStage, "ist", "IST", kIstRank, &AcceleratorConfig::ist, kIstStage,
+       [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
+         return std::make_unique<IstUnit>(name, b.ctx, b.cfg.ist);
+       },
+       std::nullopt, ist_work, &work_totals<IstUnit>},
+      {kShadingStage, "shading", "shading", kShadingRank, &AcceleratorConfig::shading, kIstStage,
+       [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
+         return std::make_unique<ShadingUnit>(name, b.ctx, b.cfg.shading, b.frame, b.records);
+       },
+       std::nullopt},
+  };
+}
+
+// A deque: adding a type leaves the others where they are.
+std::deque<RayUnitType>& registry() {
+  static std::deque<RayUnitType> types = built_in();
+  return types;
+}
+
+// The stages by name, as the report lists them (and the sweep's structure-neutral metrics).
+const char* stage_name(Stage s) {
+  static const char* const names[kStages] = {"traversal", "list", "ist", "shading"};
+  return names[s];
+}
+
+}  // namespace
+
+bool register_unit_type(RayUnitType type) {
+  registry().push_back(std::move(type));
+  return true;
+}
 
 UnitTypes unit_types(const AcceleratorConfig& cfg) {
   UnitTypes types{};
-  for (const RayUnitType& t : kRayUnitTypes)
+  for (const RayUnitType& t : registry())
     if (!t.only_for || *t.only_for == cfg.structure) types[t.stage] = &t;
   return types;
 }
@@ -47,11 +83,18 @@ nlohmann::json report_units(const AcceleratorConfig& cfg) {
   nlohmann::json units = nlohmann::json::array();
   units.push_back(
       {{"key", "raygen"}, {"label", "ray generator"}, {"count", 1}, {"stats", "raygen"}});
-  for (const RayUnitType* t : unit_types(cfg))
-    units.push_back({{"key", t->key},
-                     {"label", t->label},
-                     {"count", (cfg.*t->config).count},
-                     {"stats", std::string(t->key) + ".total"}});
+  for (const RayUnitType* t : unit_types(cfg)) {
+    const std::string total = std::string(t->key) + ".total";
+    nlohmann::json u = {{"key", t->key},
+                        {"label", t->label},
+                        {"count", (cfg.*t->config).count},
+                        {"stats", total},
+                        {"stage", stage_name(t->stage)}};
+    for (const WorkCounter& w : t->work)
+      if (w.per_ray) u["per_ray"][w.per_ray] = total + "." + w.counter;
+    if (t->rays) u["rays"] = total + "." + t->rays;
+    units.push_back(std::move(u));
+  }
   units.push_back(
       {{"key", "culling"}, {"label", "shadow culling"}, {"count", 1}, {"stats", "culling"}});
   return units;

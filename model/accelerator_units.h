@@ -6,6 +6,7 @@
 #pragma once
 
 #include "model/accelerator_config.h"
+#include "model/sim/stats_description.h"
 #include "model/units/frame_buffer.h"
 #include "model/units/hit_record.h"
 #include "model/units/model_context.h"
@@ -16,6 +17,9 @@
 #include <array>
 #include <memory>
 #include <optional>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 namespace rtsim::model {
 
@@ -44,14 +48,26 @@ struct UnitBuild {
   const HitRecordRegion& records;
 };
 
+// A counter of a type's units that its totals sum (`<key>.total.<counter>`), and the figure per
+// ray it gives, if any: a sweep metric, the total over the rays the machine's walks started.
+struct WorkCounter {
+  const char* counter;
+  const char* per_ray;  // null: none
+};
+
+using UnitList = std::vector<std::unique_ptr<RayUnit>>;
+// Registers a type's work totals over its units (work_totals<U> below).
+using WorkTotals = void (*)(StatsRegistry& r, const std::string& key, const UnitList& units,
+                            const std::vector<WorkCounter>& work);
+
 // A type of ray unit (model/units/ray_unit.h). A machine has one type per stage: the traversal
-// stage's is TRV or the BVH unit, by `structure`.
+// stage's is TRV or the BVH unit, by `structure`; a registered type may take a stage's place.
 struct RayUnitType {
   Stage stage;        // its place on a ray's path, and its entry in a ray's state (ray_state.h)
-  const char* key;    // its units are <key><i>; statistics <key>.*; its hardware file section
+  const char* key;    // its units are <key><i>; statistics <key>.*
   const char* label;  // its name in reports
   Rank rank;
-  UnitTypeConfig AcceleratorConfig::*config;
+  UnitTypeConfig AcceleratorConfig::*config;  // its section of the hardware file
   // Whose L2 its L1s reach: its own (the type's `l2` section, shared or private), or another
   // type's, shared (shading: the IST's).
   Stage l2_of;
@@ -59,17 +75,42 @@ struct RayUnitType {
   std::unique_ptr<RayUnit> (*make)(const char* name, const UnitBuild& b, uint32_t index);
   // The machines that have this type: what their traversal units walk (any, for the others).
   std::optional<Structure> only_for;
+  // Its work: the counters its totals sum, with the per-ray figures they give (`totals` registers
+  // them, work_totals<its unit class>); and the counter of the rays it starts, which every per-ray
+  // figure divides (the traversal types'; null for the others).
+  std::vector<WorkCounter> work = {};
+  WorkTotals totals = nullptr;
+  const char* rays = nullptr;
 };
 
-// Every type, in stage order.
-extern const std::array<RayUnitType, kStages + 1> kRayUnitTypes;
+// The table holds the built-in types (model/accelerator_units.cpp), then those registered.
+// Adds a type (a test's, say) before any accelerator is built. Of the types a machine has for a
+// stage, the last added is the one it builds: a type registered for a stage replaces the built-in
+// one on the machines its `only_for` names. Returns true (for a static initialiser).
+bool register_unit_type(RayUnitType type);
 
 // The types of the machine `cfg` describes, indexed by stage.
 using UnitTypes = std::array<const RayUnitType*, kStages>;
 UnitTypes unit_types(const AcceleratorConfig& cfg);
 
+// <key>.total.<counter> for each of `work`, summed over `units`, all of class U: the counters of
+// U::stats(), described once (describe_stats).
+template <class U>
+void work_totals(StatsRegistry& r, const std::string& key, const UnitList& units,
+                 const std::vector<WorkCounter>& work) {
+  using S = std::decay_t<decltype(std::declval<const U&>().stats())>;
+  std::vector<const S*> parts;
+  for (const auto& u : units) parts.push_back(&static_cast<const U&>(*u).stats());
+  std::vector<std::string> names;
+  for (const WorkCounter& w : work) names.push_back(w.counter);
+  register_totals(r, key + ".total", "all " + key + " units: ", parts, names,
+                  [](auto& v, const S& s) { describe_stats(v, s); });
+}
+
 // The unit types a report lists, in its order ({key, label, count, stats}: `stats` the prefix of
-// the type's busy/stalled/idle cycles, summed over its units), and the caches it lists ({key,
+// the type's busy/stalled/idle cycles, summed over its units; a ray unit type adds its `stage`
+// ("traversal", "list", "ist", "shading"), its work figures `per_ray` ({metric: statistic}) and,
+// on the traversal stage, `rays`, the statistic they divide), and the caches it lists ({key,
 // unit, label, level}: `key` the statistics prefix, a type's total over its units).
 nlohmann::json report_units(const AcceleratorConfig& cfg);
 nlohmann::json report_caches(const AcceleratorConfig& cfg);

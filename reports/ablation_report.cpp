@@ -37,8 +37,9 @@ std::string metric_label(const std::string& m, const AblationInput& in) {
     const std::string key = u["key"], label = u["label"];
     if (m == key + "_busy") return label + " busy";
     if (m == "stats." + key + ".busy_cycles") return key + " busy cycles";
-    if (m == "stats." + key + ".l2.bank.stall_cycles") return label + " L2 bank stall cycles";
-    if (m == "stats." + key + ".icnt.reply.avg_queue_cycles")
+    if (m == "stats." + key + ".l2.bank.stall_cycles" || m == key + "_l2_bank_stall_cycles")
+      return label + " L2 bank stall cycles";
+    if (m == "stats." + key + ".icnt.reply.avg_queue_cycles" || m == key + "_reply_queue_cycles")
       return label + " crossbar reply wait (cycles)";
   }
   for (const json& c : in.caches.is_array() ? in.caches : json::array()) {

@@ -56,7 +56,7 @@ std::string run_report_markdown(const nlohmann::json& report);
 // report's cache of unit trv at level L1.
 std::string cache_hit_rate_metric(const nlohmann::json& cache);
 
-// A numeric leaf by dotted path ("stats.trv.l1.hit_rate"); NaN if absent.
+// A numeric leaf by dotted path ("stats.dram.reads"); NaN if absent.
 double json_number(const nlohmann::json& j, const std::string& dotted_path);
 
 }  // namespace rtsim

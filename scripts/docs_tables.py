@@ -32,9 +32,9 @@ CACHE_COLUMNS = [
     ("IST L1 hits", "ist_l1_hit_rate", fmt_pct),
     ("IST L2 hits", "ist_l2_hit_rate", fmt_pct),
     ("TRV busy", "trv_busy", fmt_pct),
-    ("TRV reply queue", "stats.trv.icnt.reply.avg_queue_cycles", fmt_1),
-    ("IST reply queue", "stats.ist.icnt.reply.avg_queue_cycles", fmt_1),
-    ("IST L2 bank stalls", "stats.ist.l2.bank.stall_cycles", fmt_int),
+    ("TRV reply queue", "trv_reply_queue_cycles", fmt_1),
+    ("IST reply queue", "ist_reply_queue_cycles", fmt_1),
+    ("IST L2 bank stalls", "ist_l2_bank_stall_cycles", fmt_int),
     ("DRAM GB/s", "dram_bandwidth_gbps", fmt_1),
 ]
 

@@ -19,13 +19,18 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GOLDEN = os.path.join(ROOT, "tests", "golden")
 
-# What a golden pins: the frame, every unit type's time split, every cache level, the DRAM.
-KEYS = ["cycles_total", "cycles_primary", "cycles_shadow"]
-for unit in ["raygen", "culling", "shading.total", "trv.total", "list.total", "ist.total"]:
-    KEYS += [f"stats.{unit}.{k}" for k in ("busy_cycles", "stalled_cycles", "idle_cycles")]
-for cache in ["trv.l1", "list.l1", "ist.l1", "shading.l1", "trv.l2", "list.l2", "ist.l2"]:
-    KEYS += [f"stats.{cache}.{k}" for k in ("accesses", "hits", "misses")]
-KEYS += ["stats.dram.reads", "stats.dram.row_hits", "stats.dram.activates"]
+# What a golden pins: the frame, every unit type's time split and every cache level, as the
+# report lists them (its `units` and `caches`), and the DRAM.
+FRAME = ["cycles_total", "cycles_primary", "cycles_shadow"]
+UNIT_FIGURES = ("busy_cycles", "stalled_cycles", "idle_cycles")
+CACHE_FIGURES = ("accesses", "hits", "misses")
+DRAM = ["stats.dram.reads", "stats.dram.row_hits", "stats.dram.activates"]
+
+
+def keys(report):
+    units = [f"stats.{u['stats']}.{k}" for u in report["units"] for k in UNIT_FIGURES]
+    caches = [f"stats.{c['key']}.{k}" for c in report["caches"] for k in CACHE_FIGURES]
+    return FRAME + units + caches + DRAM
 
 
 def lookup(report, path):
@@ -42,10 +47,8 @@ def measure(binary, args):
         subprocess.run([binary, *args, "--out", out, "--no-plots", "--quiet"], cwd=ROOT, check=True)
         with open(os.path.join(out, "report.json")) as f:
             report = json.load(f)
-    # On a BVH machine the traversal units are the bvh units: the same figures under their name.
-    traversal = "bvh" if any(u["key"] == "bvh" for u in report.get("units", [])) else "trv"
     figures = {}
-    for key in (k.replace("stats.trv.", f"stats.{traversal}.") for k in KEYS):
+    for key in keys(report):
         value = lookup(report, key)
         if value is None:
             sys.exit(f"{key}: not in the report of rtsim {' '.join(args)}")
@@ -68,6 +71,7 @@ def main():
         figures = measure(binary, golden["args"])
         old = golden.get("expect", {})
         changes = [(k, old.get(k), v) for k, v in figures.items() if old.get(k) != v]
+        changes += [(k, v, None) for k, v in old.items() if k not in figures]
         for key, before, after in changes:
             print(f"{name}: {key}: {before} -> {after}")
         if not changes:
@@ -80,7 +84,9 @@ def main():
         if check:
             failed = True
             continue
-        golden["expect"] = figures
+        # The figures in the golden's order (new ones last), so that a rewrite moves no line.
+        order = [k for k in old if k in figures] + [k for k in figures if k not in old]
+        golden["expect"] = {k: figures[k] for k in order}
         tmp = path + ".tmp"
         with open(tmp, "w") as f:
             json.dump(golden, f, indent=2)

@@ -12,11 +12,39 @@ namespace rtsim {
 
 namespace {
 
+using nlohmann::json;
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The names of a unit type's metric `tail` (_busy, _l1_hit_rate): by its key and, a ray unit
+// type's, by its stage's name, whichever type fills the stage.
+std::vector<std::string> unit_metrics(const json& unit, const std::string& tail) {
+  std::vector<std::string> names{unit["key"].get<std::string>() + tail};
+  if (unit.contains("stage")) names.push_back(unit["stage"].get<std::string>() + tail);
+  return names;
+}
+
+bool is_one_of(const std::string& name, const std::vector<std::string>& names) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// unit_metrics of the type `key` of `units`.
+std::vector<std::string> unit_metrics(const json& units, const std::string& key,
+                                      const std::string& tail) {
+  for (const json& u : units)
+    if (u["key"] == key) return unit_metrics(u, tail);
+  return {key + tail};
+}
+
+// A cache's hit rate's names: its unit's (cache_hit_rate_metric) and its unit's stage's.
+std::vector<std::string> cache_metrics(const json& cache, const json& units) {
+  const std::string unit = cache["unit"];
+  return unit_metrics(units, unit, cache_hit_rate_metric(cache).substr(unit.size()));
+}
 
 }  // namespace
 
-double sweep_metric(const std::string& name, const nlohmann::json& r) {
+double sweep_metric(const std::string& name, const json& r) {
   auto share = [&](const std::string& p) {
     const double b = json_number(r, p + ".busy_cycles"), s = json_number(r, p + ".stalled_cycles"),
                  i = json_number(r, p + ".idle_cycles");
@@ -52,57 +80,71 @@ double sweep_metric(const std::string& name, const nlohmann::json& r) {
     }
     return n > 0 ? c / n : kNaN;
   }
-  // The traversal units' figures whichever structure they walk (trv.* or bvh.*), per ray they
-  // started: nodes and leaves visited, triangles tested, bytes read from DRAM.
-  const bool bvh = r.contains("bvh");
-  const std::string walk = bvh ? "stats.bvh" : "stats.trv";
+  // Per unit type and cache, as the report lists them (model/accelerator_units.h): a type's busy
+  // share and its caches' hit rates, by its key (trv_busy) or its stage's name (traversal_busy:
+  // whichever structure the traversal units walk), and its work per ray the walks started.
+  const json units = r.value("units", json::array()), caches = r.value("caches", json::array());
+  double rays = kNaN;
+  for (const json& u : units)
+    if (u.contains("rays")) {
+      rays = json_number(r, "stats." + u["rays"].get<std::string>());
+      break;
+    }
   auto per_ray = [&](const std::string& path) {
-    const double rays = json_number(r, walk + ".total.rays_started");
     return rays > 0 ? json_number(r, path) / rays : kNaN;
   };
-  if (name == "traversal_busy") return share(walk + ".total");
-  if (name == "traversal_l1_hit_rate") return json_number(r, walk + ".l1.hit_rate");
-  if (name == "traversal_l2_hit_rate") return json_number(r, walk + ".l2.hit_rate");
-  if (name == "nodes_per_ray") return per_ray(walk + ".total.node_fetches");
-  if (name == "leaves_per_ray") return per_ray("stats.list.total.leaves");
-  if (name == "tests_per_ray") return per_ray("stats.ist.total.tests");
   if (name == "dram_bytes_per_ray") return per_ray("stats.dram.bytes");
   if (name == "dram_row_hit_rate") return json_number(r, "stats.dram.row_hit_rate");
   if (name == "dram_bandwidth_gbps") return json_number(r, "stats.dram.bandwidth_gbps");
   if (name == "dram_reads") return json_number(r, "stats.dram.reads");
-  // Per unit type and cache, as the report lists them (model/accelerator_units.h).
-  if (r.contains("units"))
-    for (const auto& u : r["units"])
-      if (name == u["key"].get<std::string>() + "_busy")
-        return share("stats." + u["stats"].get<std::string>());
-  if (r.contains("caches"))
-    for (const auto& c : r["caches"])
-      if (name == cache_hit_rate_metric(c))
-        return json_number(r, "stats." + c["key"].get<std::string>() + ".hit_rate");
+  for (const json& u : units) {
+    if (is_one_of(name, unit_metrics(u, "_busy")))
+      return share("stats." + u["stats"].get<std::string>());
+    if (u.contains("per_ray") && u["per_ray"].contains(name))
+      return per_ray("stats." + u["per_ray"][name].get<std::string>());
+  }
+  for (const json& c : caches) {
+    const std::string key = c["key"];
+    if (is_one_of(name, cache_metrics(c, units)))
+      return json_number(r, "stats." + key + ".hit_rate");
+    if (c["level"] != "L2") continue;
+    // A type's own L2: the cycles its lookups waited for a bank, and the mean wait of a reply in
+    // the crossbar between it and the type's L1s.
+    const std::string unit = c["unit"];
+    if (is_one_of(name, unit_metrics(units, unit, "_l2_bank_stall_cycles")))
+      return json_number(r, "stats." + key + ".bank.stall_cycles");
+    if (is_one_of(name, unit_metrics(units, unit, "_reply_queue_cycles")))
+      return json_number(r, "stats." + unit + ".icnt.reply.avg_queue_cycles");
+  }
   return json_number(r, name);  // any numeric field of report.json by its dotted path
 }
 
 bool is_sweep_metric(const std::string& name) {
   static const std::vector<std::string> named = [] {
-    std::vector<std::string> v{
-        "frame_ms_all",         "frame_ms_shadow",       "frame_ms_all_ci95",
-        "frame_ms_shadow_ci95", "rays_primary",          "rays_shadow",
-        "shadow_culled",        "shadow_culled_rate",    "leaves_culled_rate",
-        "dram_row_hit_rate",    "dram_bandwidth_gbps",   "dram_reads",
-        "traversal_busy",       "traversal_l1_hit_rate", "traversal_l2_hit_rate",
-        "nodes_per_ray",        "leaves_per_ray",        "tests_per_ray",
-        "dram_bytes_per_ray"};
+    std::vector<std::string> v{"frame_ms_all",         "frame_ms_shadow",     "frame_ms_all_ci95",
+                               "frame_ms_shadow_ci95", "rays_primary",        "rays_shadow",
+                               "shadow_culled",        "shadow_culled_rate",  "leaves_culled_rate",
+                               "dram_row_hit_rate",    "dram_bandwidth_gbps", "dram_reads",
+                               "dram_bytes_per_ray"};
+    auto add = [&v](const std::vector<std::string>& names) {
+      for (const std::string& n : names)
+        if (!is_one_of(n, v)) v.push_back(n);
+    };
     // The model's unit types and caches, whatever the configuration (a kd-tree or a BVH machine).
     for (const model::Structure s : {model::Structure::kKdTree, model::Structure::kBvh}) {
       model::AcceleratorConfig cfg;
       cfg.structure = s;
-      for (const auto& u : model::report_units(cfg)) {
-        const std::string metric = u["key"].get<std::string>() + "_busy";
-        if (std::find(v.begin(), v.end(), metric) == v.end()) v.push_back(metric);
+      const json units = model::report_units(cfg);
+      for (const json& u : units) {
+        add(unit_metrics(u, "_busy"));
+        const json per_ray = u.value("per_ray", json::object());
+        for (const auto& m : per_ray.items()) add({m.key()});
       }
-      for (const auto& c : model::report_caches(cfg)) {
-        const std::string metric = cache_hit_rate_metric(c);
-        if (std::find(v.begin(), v.end(), metric) == v.end()) v.push_back(metric);
+      for (const json& c : model::report_caches(cfg)) {
+        add(cache_metrics(c, units));
+        if (c["level"] != "L2") continue;
+        add(unit_metrics(units, c["unit"], "_l2_bank_stall_cycles"));
+        add(unit_metrics(units, c["unit"], "_reply_queue_cycles"));
       }
     }
     return v;
