@@ -185,7 +185,7 @@ TEST(Cli, BadOverridesAndRunSettingsAreNamed) {
                      {"--set hw.schedule=eager", "'two-phase' or 'one-phase'"});
   expect_input_error(base + "cache.size=3", {"--set cache.size=3", "'hw.', 'scene.' or 'run.'"});
   expect_input_error(base + "hw.trv", {"--set hw.trv", "no '='"});
-  // bench/fuzz.py seed 23, case 585: yaml-cpp reads "[8, 8]" and stops, the rest of the text
+  // tests/fuzz/fuzz.py seed 23, case 585: yaml-cpp reads "[8, 8]" and stops, the rest of the text
   // (with a byte that is not UTF-8) reached config.json: "internal error", exit 1
   expect_input_error(base + "'scene.resolution=[8, 8]x\xff]'", {"--set", "not UTF-8 text"});
   expect_input_error(

@@ -7,7 +7,8 @@ through the command that reads it, under a time and an address-space limit. A ca
 rtsim exits 0, or exits 2 with exactly one `rtsim: error:` line on stderr; anything else (exit 1,
 a signal, a timeout, several lines) is a finding, kept with its input under OUT/findings/.
 
-    python3 bench/fuzz.py --rtsim build/rtsim --cases 400 --seed 1 [--out DIR] [--kinds aff,ply]
+    python3 tests/fuzz/fuzz.py --rtsim build/rtsim --cases 400 --seed 1 [--out DIR]
+        [--kinds aff,ply]
 
 Deterministic for a seed. Exit status 1 if there is a finding.
 """
@@ -22,7 +23,7 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 AFF = b"""v
 from 0 0 5
