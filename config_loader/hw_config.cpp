@@ -64,6 +64,14 @@ class YamlReader {
       }
     m.fail(key, "expected " + choice_names(choices));
   }
+  void registered(const char* key, std::string& field, const std::vector<RegisteredName>& names,
+                  const char*) {
+    YamlMap& m = at(key);
+    field = m.get<std::string>(key, field);
+    for (const RegisteredName& n : names)
+      if (n.name == field) return;
+    m.fail(key, "expected " + quoted_names(names));
+  }
   void preset(const char* key, model::DramConfig& dram, const char*) {
     YamlMap& m = at(key);
     if (!m.has(key)) return;  // the defaults' preset stands
@@ -121,6 +129,10 @@ class JsonWriter {
   void choice(const char* key, const E& field, model::Choices<E> choices, const char*) {
     at()[key] = name_of(field, choices);
   }
+  void registered(const char* key, const std::string& field, const std::vector<RegisteredName>&,
+                  const char*) {
+    at()[key] = field;
+  }
   void preset(const char* key, const model::DramConfig& dram, const char*) {
     at()[key] = dram.preset;
   }
@@ -169,6 +181,17 @@ class DocTable {
     std::vector<std::string> names;
     for (const auto& [name, v] : choices) names.push_back(name);
     row(key, name_of(field, choices), fmt::format("{}", fmt::join(names, ", ")), "", meaning);
+  }
+  // The meaning, then each name's: "meaning (a: ...; b: ...)".
+  void registered(const char* key, const std::string& field,
+                  const std::vector<RegisteredName>& names, const char* meaning) {
+    std::vector<std::string> listed, meanings;
+    for (const RegisteredName& n : names) {
+      listed.push_back(n.name);
+      meanings.push_back(n.name + ": " + n.description);
+    }
+    row(key, field, fmt::format("{}", fmt::join(listed, ", ")), "",
+        fmt::format("{} ({})", meaning, fmt::join(meanings, "; ")).c_str());
   }
   void preset(const char* key, const model::DramConfig& dram, const char* meaning) {
     row(key, dram.preset, fmt::format("{}", fmt::join(model::dram_preset_names(), ", ")), "",

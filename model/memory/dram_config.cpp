@@ -1,5 +1,7 @@
 #include "model/memory/dram_config.h"
 
+#include "model/memory/dram_policies.h"
+
 #include <algorithm>
 #include <cctype>
 #include <stdexcept>
@@ -64,13 +66,13 @@ DramConfig gddr3_gt200() {
   // -gpgpu_dram_burst_length 4, -dram_data_command_freq_ratio 2 (cfg:66-67): DDR, 2 command
   // cycles of data bus
   c.burst_length = 4;
-  c.bus_bytes = 8;       // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
-  c.queue_size = 16;     // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
-                         // FR-FCFS (cfg:54, 60)
-  c.input_queue = 8;     // the L2-to-DRAM queue of -gpgpu_dram_partition_queues 8:8:8:8
-  c.request_bytes = 32;  // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
-                         // accelerator sets its own L2 line size here
-  c.row_policy = RowPolicy::kOpenPage;       // GPGPU-Sim's DRAM model keeps rows open
+  c.bus_bytes = 8;        // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
+  c.queue_size = 16;      // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
+                          // FR-FCFS (cfg:54, 60)
+  c.input_queue = 8;      // the L2-to-DRAM queue of -gpgpu_dram_partition_queues 8:8:8:8
+  c.request_bytes = 32;   // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
+                          // accelerator sets its own L2 line size here
+  c.row_policy = "open";  // GPGPU-Sim's DRAM model keeps rows open
   c.address_mapping = kGt200AddressMapping;  // -gpgpu_mem_addr_mapping, verbatim (cfg:69)
   return c;
 }
@@ -172,13 +174,13 @@ DramConfig gddr6_14gbps() {
   c.burst_length = 16;    // BL 16 (256-bit prefetch per x16 channel)
   c.beats_per_clock = 8;  // data rate = 8 x CK
   c.bus_bytes = 2;        // x16 channel
-  c.refresh = Refresh::kAllBank;
+  c.refresh = "all-bank";
   c.tREFI = 3333;  // nREFI 3333 = 1.9 us (16k refreshes per 32 ms: 1.95 us)
   c.tRFC = 210;    // nRFC 210 = 120 ns
   return c;
 }
 
-// Bank groups and refresh: what their fields must satisfy together.
+// Bank groups and the policies: what their fields must satisfy together.
 void validate_policies(const DramConfig& c) {
   require_pow2("bank_groups", c.bank_groups);
   if (c.bank_groups > c.banks)
@@ -191,12 +193,10 @@ void validate_policies(const DramConfig& c) {
   if (c.bank_groups > 1 && c.tRRD_L != 0 && c.tRRD_L < c.tRRD)
     fail("tRRD_L",
          "must be 0 or >= tRRD (" + std::to_string(c.tRRD) + "), got " + std::to_string(c.tRRD_L));
-  if (c.refresh == Refresh::kNone) return;
-  if (c.tRFC == 0) fail("tRFC", "must be >= 1 with refresh: all-bank");
-  // Otherwise the channel would do nothing but refresh.
-  if (c.tREFI <= c.tRFC)
-    fail("tREFI", "must be > tRFC (" + std::to_string(c.tRFC) + ") with refresh: all-bank, got " +
-                      std::to_string(c.tREFI));
+  // A policy checks the fields it uses when it is built (the names are known by now).
+  dram_schedulers().make(c.scheduler, c);
+  dram_row_policies().make(c.row_policy, c);
+  dram_refresh_policies().make(c.refresh, c);
 }
 
 }  // namespace
