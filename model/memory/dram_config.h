@@ -1,6 +1,6 @@
 // DRAM configuration: geometry, timings (in DRAM command-clock cycles), controller queue, request
-// size and address mapping, plus the named presets. The timing engine (dram_controller.h) and the
-// SystemC wrapper (dram.h) take a validated DramConfig.
+// size and address mapping, plus the named presets (configs/dram/<name>.yaml, compiled in). The
+// timing engine (dram_controller.h) and the SystemC wrapper (dram.h) take a validated DramConfig.
 //
 // Address mapping syntax (GPGPU-Sim's -gpgpu_mem_addr_mapping, a documented subset):
 //   [dramid@N;]<bits>
@@ -30,14 +30,6 @@
 
 namespace rtsim::model {
 
-// GPGPU-Sim's QuadroFX5800 (GT200) mapping string, verbatim.
-inline constexpr const char* kGt200AddressMapping =
-    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS";
-// GPGPU-Sim's mapping for one x32 GDDR5(X) or x16 GDDR6 channel per partition with 32-byte atoms
-// and 16 banks (SM3_KEPLER_TITAN, SM6_TITANX and SM75_RTX2060 files), verbatim: bit 7 is the
-// lowest bank bit, so that neighbouring 128-byte blocks fall in different bank groups.
-inline constexpr const char* kGddr16BankAddressMapping =
-    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RBBBCCCC.BCCSSSSS";
 // A simple alternative, row:bank:channel:column:offset: each channel gets whole 2 KB rows in turn
 // (coarse interleaving, for studying channel imbalance).
 inline constexpr const char* kRowBankChannelColumnMapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.SSSSS";
@@ -50,7 +42,7 @@ const std::vector<RegisteredName>& dram_row_policy_names();
 const std::vector<RegisteredName>& dram_refresh_names();
 
 // A default-constructed DramConfig is empty (and fails validate()): start from dram_preset(),
-// which is the one place the numbers and their sources are written down.
+// whose files (configs/dram/) are the one place the numbers and their sources are written down.
 struct DramConfig {
   std::string preset;  // name of the preset this came from ("" = hand-made)
 
@@ -179,9 +171,10 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
   v.number("tRFC", c.tRFC, 0, 100000, "tCK", "REF -> ACT, channel (refresh: all-bank)");
 }
 
-// The preset called `name`; unknown names throw std::invalid_argument listing the known ones.
+// The preset called `name` (configs/dram/NAME.yaml, dram_presets.cpp); unknown names throw
+// std::invalid_argument listing the known ones. A malformed file is an InputError naming it.
 DramConfig dram_preset(const std::string& name);
-std::vector<std::string> dram_preset_names();
+std::vector<std::string> dram_preset_names();  // sorted
 
 // Where an address lands.
 struct DramAddress {

@@ -90,7 +90,7 @@ TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
 TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
   EXPECT_EQ(dram_preset_names(),
             (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles",
-                                      "gddr5-4gbps", "gddr6-14gbps"}));
+                                      "gddr5-4gbps", "gddr6-14gbps", "lpddr4-3200"}));
   try {
     dram_preset("ddr9");
     FAIL() << "unknown preset accepted";
