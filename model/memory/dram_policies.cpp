@@ -9,33 +9,32 @@ void add_closed_page(DramRowPolicies& r);
 void add_no_refresh(DramRefreshPolicies& r);
 void add_all_bank_refresh(DramRefreshPolicies& r);
 
+namespace {
+
+template <class R, class... Add>
+R registry(const char* kind, Add... add) {
+  R r(kind);
+  (add(r), ...);
+  return r;
+}
+
+}  // namespace
+
 // The lists: the order is the one `rtsim params` and the errors show, the default first.
 const DramSchedulers& dram_schedulers() {
-  static const DramSchedulers r = [] {
-    DramSchedulers s("DRAM scheduler");
-    add_fr_fcfs_schedulers(s);
-    return s;
-  }();
+  static const auto r = registry<DramSchedulers>("DRAM scheduler", add_fr_fcfs_schedulers);
   return r;
 }
 
 const DramRowPolicies& dram_row_policies() {
-  static const DramRowPolicies r = [] {
-    DramRowPolicies s("DRAM row policy");
-    add_open_page(s);
-    add_closed_page(s);
-    return s;
-  }();
+  static const auto r =
+      registry<DramRowPolicies>("DRAM row policy", add_open_page, add_closed_page);
   return r;
 }
 
 const DramRefreshPolicies& dram_refresh_policies() {
-  static const DramRefreshPolicies r = [] {
-    DramRefreshPolicies s("DRAM refresh policy");
-    add_no_refresh(s);
-    add_all_bank_refresh(s);
-    return s;
-  }();
+  static const auto r =
+      registry<DramRefreshPolicies>("DRAM refresh policy", add_no_refresh, add_all_bank_refresh);
   return r;
 }
 
