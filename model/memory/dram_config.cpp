@@ -1,5 +1,7 @@
 #include "model/memory/dram_config.h"
 
+#include "model/memory/dram_policies.h"
+
 #include <algorithm>
 #include <cctype>
 #include <stdexcept>
@@ -37,148 +39,7 @@ const char* field_name(AddressMapping::Field f) {
   }
 }
 
-// GT200 as configured in GPGPU-Sim's QuadroFX5800 file, configs/deprecated-cfgs/QuadroFX5800/
-// gpgpusim.config (configs/QuadroFX5800/ before 2018; "cfg:N" = its line N at master 90ec3399
-// and at 5e8e8497). Its timing line (cfg:71), commented "GDDR3 timing from Samsung
-// K4J52324QH-HC12 @ 800MHz", reads at 5e8e8497
-//   -gpgpu_dram_timing_opt nbk=8:CCD=2:RRD=8:RCD=12:RAS=25:RP=10:RC=35:CL=10:WL=7:CDLR=6:WR=11
-// (until 2011-07 it had ten positional fields, the 10th (6) then read as tWTR; since 2011-08 the
-// 10th is tCDLR and an 11th, tWR = 11, follows: GPGPU-Sim derives tWTR = WL + BL/2 + tCDLR = 15).
-DramConfig gddr3_gt200() {
-  DramConfig c;
-  c.preset = "gddr3-gt200";
-  c.channels = 8;  // -gpgpu_n_mem 8 (cfg:12)
-  c.banks = 8;     // nbk = 8
-  // -gpgpu_clock_domains 325.0:650.0:650.0:800.0, DRAM clock 800 MHz (cfg:13)
-  c.tCK_ps = 1250;
-  c.tCCD = 2;   // CCD
-  c.tRRD = 8;   // RRD
-  c.tRCD = 12;  // RCD
-  c.tRAS = 25;  // RAS
-  c.tRP = 10;   // RP
-  c.tRC = 35;   // RC (= tRAS + tRP exactly)
-  c.CL = 10;    // CL
-  c.WL = 7;     // WL
-  c.tCDLR = 6;  // CDLR
-  c.tWR = 11;   // WR
-  // -gpgpu_dram_burst_length 4, -dram_data_command_freq_ratio 2 (cfg:66-67): DDR, 2 command
-  // cycles of data bus
-  c.burst_length = 4;
-  c.bus_bytes = 8;       // -gpgpu_n_mem_per_ctrlr 2 x -gpgpu_dram_buswidth 4 (cfg:64-65)
-  c.queue_size = 16;     // -gpgpu_frfcfs_dram_sched_queue_size 16 with -gpgpu_dram_scheduler 1,
-                         // FR-FCFS (cfg:54, 60)
-  c.input_queue = 8;     // the L2-to-DRAM queue of -gpgpu_dram_partition_queues 8:8:8:8
-  c.request_bytes = 32;  // one burst (2 x 4 bytes x BL 4, GPGPU-Sim's dram_atom_size); the
-                         // accelerator sets its own L2 line size here
-  c.row_policy = RowPolicy::kOpenPage;       // GPGPU-Sim's DRAM model keeps rows open
-  c.address_mapping = kGt200AddressMapping;  // -gpgpu_mem_addr_mapping, verbatim (cfg:69)
-  return c;
-}
-
-// The same chip's timings in nanoseconds on a 1 GHz command clock (each rounded up to whole
-// cycles): a faster GDDR3 part of the same family (K4J52324QH-HC10 is the 1 GHz grade). The
-// HC10 datasheet values are not in GPGPU-Sim; this rescaling is our assumption. The derived
-// write turnarounds follow from the rescaled WL, tCDLR and tWR with GPGPU-Sim's formulas (BL/2
-// and the 2-cycle bus turnaround stay cycles of the data bus).
-DramConfig gddr3_gt200_1ghz() {
-  DramConfig c = gddr3_gt200();
-  c.preset = "gddr3-gt200-1ghz";
-  auto rescale = [&c](uint32_t cycles_at_800) {
-    return uint32_t((uint64_t(cycles_at_800) * c.tCK_ps + 999) / 1000);
-  };
-  c.tRRD = rescale(c.tRRD);    // 10 ns
-  c.tRCD = rescale(c.tRCD);    // 15 ns
-  c.tRAS = rescale(c.tRAS);    // 31.25 -> 32
-  c.tRP = rescale(c.tRP);      // 12.5 -> 13
-  c.CL = rescale(c.CL);        // 12.5 -> 13
-  c.WL = rescale(c.WL);        // 8.75 -> 9
-  c.tCDLR = rescale(c.tCDLR);  // 7.5 -> 8
-  c.tWR = rescale(c.tWR);      // 13.75 -> 14
-  // 43.75 ns rounds up to 44, but tRAS and tRP, rounded up separately, sum to 45: GT200's values
-  // satisfy tRC = tRAS + tRP exactly (35 = 25 + 10), so keep that. This changes no timing: a bank
-  // cannot ACT again before ACT + tRAS (to PRE) + tRP (to ACT) anyway.
-  c.tRC = std::max(rescale(c.tRC), c.tRAS + c.tRP);  // 45
-  c.tCK_ps = 1000;                                   // tCCD stays 2: a burst of 4 on a DDR bus
-  return c;
-}
-
-// GPGPU-Sim's other reading of "GDDR3 at 1 GHz": its timings are counted in DRAM command
-// cycles, so setting its DRAM clock domain to 1000 MHz keeps GT200's cycle counts, each now 1 ns
-// (tRCD 12 ns, CL 10 ns, ...: a faster part than any K4J52324QH grade).
-DramConfig gddr3_gt200_1ghz_cycles() {
-  DramConfig c = gddr3_gt200();
-  c.preset = "gddr3-gt200-1ghz-cycles";
-  c.tCK_ps = 1000;
-  return c;
-}
-
-// GDDR5 at 4 Gb/s per pin: SK hynix H5GQ1H24AFR (1 Gb, x32) at its 4 Gbps grade, a 1 GHz command
-// clock. Its cycle counts as GPGPU-Sim's GTX480 file quotes them ("GDDR5 timing from hynix
-// H5GQ1H24AFR", configs/tested-cfgs/SM2_GTX480/gpgpusim.config; run there at 924 MHz) and as
-// Ramulator's GDDR5_4000 speed bin lists them at tCK 1 ns (src/GDDR5.h); both agree wherever both
-// give a value (docs/dram.md, "Presets", has the table). One x32 chip per channel, as in
-// GPGPU-Sim's TITAN files: BL 8 on 4 bytes = 32-byte bursts; 8 channels = a 256-bit bus, 128 GB/s
-// (the default preset's peak). The controller (queues, request size) is GT200's, so that the
-// presets differ only in the device. Neither source refreshes GDDR5 (GPGPU-Sim models no refresh,
-// Ramulator's nREFI is 0).
-DramConfig gddr5_4gbps() {
-  DramConfig c = gddr3_gt200();
-  c.preset = "gddr5-4gbps";
-  c.banks = 16;           // nbk=16
-  c.bank_groups = 4;      // nbkgrp=4
-  c.tCK_ps = 1000;        // Ramulator tCK 1.0 ns (4 Gbps / 4 beats per clock)
-  c.tCCD = 2;             // CCD=2, nCCDS 2
-  c.tCCD_L = 3;           // CCDL=3, nCCDL 3
-  c.tRRD = 6;             // RRD=6, nRRD 6 (no separate same-group value in either source)
-  c.tRCD = 12;            // RCD=12, nRCDR 12
-  c.tRAS = 28;            // RAS=28, nRAS 28
-  c.tRP = 12;             // RP=12, nRP 12
-  c.tRC = 40;             // RC=40, nRC 40
-  c.CL = 12;              // CL=12, nCL 12
-  c.WL = 4;               // WL=4 (Ramulator: nCWL 3)
-  c.tCDLR = 5;            // CDLR=5, nWTR 5
-  c.tWR = 12;             // WR=12, nWR 12
-  c.tRTP = 2;             // RTPL=2, nRTP 2
-  c.burst_length = 8;     // -gpgpu_dram_burst_length 8
-  c.beats_per_clock = 4;  // -dram_data_command_freq_ratio 4 ("GDDR5 is QDR")
-  c.bus_bytes = 4;        // -gpgpu_dram_buswidth 4, one chip per channel (SM6_TITANX)
-  c.address_mapping = kGddr16BankAddressMapping;
-  return c;
-}
-
-// GDDR6 at 14 Gb/s per pin (8 Gb, two x16 channels per chip). Timings: Ramulator 2.0's GDDR6
-// table (src/dram/impl/GDDR6.cpp, row GDDR6_2000_1350mV_double) in its cycles of tCK 570 ps
-// (CK 1.75 GHz: Micron's MT61K256M32 brief, "Clocking": data rate = 8 x CK). Organisation:
-// Micron's brief, "Addressing": 16 banks (BA[3:0]) in 4 groups, 2 KB page = 64 bursts of 32
-// bytes (x16, BL 16), refresh 16k per 32 ms. 16 channels = 8 chips = a 256-bit bus, 449 GB/s.
-DramConfig gddr6_14gbps() {
-  DramConfig c = gddr5_4gbps();
-  c.preset = "gddr6-14gbps";
-  c.channels = 16;
-  c.tCK_ps = 570;         // tCK_ps 570
-  c.tCCD = 4;             // nCCDS 4
-  c.tCCD_L = 6;           // nCCDL 6
-  c.tRRD = 7;             // nRRDS 7
-  c.tRRD_L = 7;           // nRRDL 7
-  c.tRCD = 26;            // nRCDRD 26
-  c.tRAS = 53;            // nRAS 53
-  c.tRP = 26;             // nRP 26
-  c.tRC = 79;             // nRC 79
-  c.CL = 24;              // nCL 24
-  c.WL = 6;               // nCWL 6
-  c.tCDLR = 9;            // nWTRS 9: WR -> RD = nCWL + nBL + nWTRS, GPGPU-Sim's form
-  c.tWR = 26;             // nWR 26
-  c.tRTP = 4;             // nRTP 4
-  c.burst_length = 16;    // BL 16 (256-bit prefetch per x16 channel)
-  c.beats_per_clock = 8;  // data rate = 8 x CK
-  c.bus_bytes = 2;        // x16 channel
-  c.refresh = Refresh::kAllBank;
-  c.tREFI = 3333;  // nREFI 3333 = 1.9 us (16k refreshes per 32 ms: 1.95 us)
-  c.tRFC = 210;    // nRFC 210 = 120 ns
-  return c;
-}
-
-// Bank groups and refresh: what their fields must satisfy together.
+// Bank groups and the policies: what their fields must satisfy together.
 void validate_policies(const DramConfig& c) {
   require_pow2("bank_groups", c.bank_groups);
   if (c.bank_groups > c.banks)
@@ -191,12 +52,10 @@ void validate_policies(const DramConfig& c) {
   if (c.bank_groups > 1 && c.tRRD_L != 0 && c.tRRD_L < c.tRRD)
     fail("tRRD_L",
          "must be 0 or >= tRRD (" + std::to_string(c.tRRD) + "), got " + std::to_string(c.tRRD_L));
-  if (c.refresh == Refresh::kNone) return;
-  if (c.tRFC == 0) fail("tRFC", "must be >= 1 with refresh: all-bank");
-  // Otherwise the channel would do nothing but refresh.
-  if (c.tREFI <= c.tRFC)
-    fail("tREFI", "must be > tRFC (" + std::to_string(c.tRFC) + ") with refresh: all-bank, got " +
-                      std::to_string(c.tREFI));
+  // A policy checks the fields it uses when it is built (the names are known by now).
+  dram_schedulers().make(c.scheduler, c);
+  dram_row_policies().make(c.row_policy, c);
+  dram_refresh_policies().make(c.refresh, c);
 }
 
 }  // namespace
@@ -253,22 +112,6 @@ void DramConfig::validate() const {
                                   " bit, so a " + std::to_string(request_bytes) +
                                   "-byte request (request_bytes) would not stay in one row");
   }
-}
-
-std::vector<std::string> dram_preset_names() {
-  return {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles", "gddr5-4gbps",
-          "gddr6-14gbps"};
-}
-
-DramConfig dram_preset(const std::string& name) {
-  if (name == "gddr3-gt200") return gddr3_gt200();
-  if (name == "gddr3-gt200-1ghz") return gddr3_gt200_1ghz();
-  if (name == "gddr3-gt200-1ghz-cycles") return gddr3_gt200_1ghz_cycles();
-  if (name == "gddr5-4gbps") return gddr5_4gbps();
-  if (name == "gddr6-14gbps") return gddr6_14gbps();
-  std::string known;
-  for (const std::string& n : dram_preset_names()) known += (known.empty() ? "" : ", ") + n;
-  throw std::invalid_argument("unknown DRAM preset '" + name + "' (known: " + known + ")");
 }
 
 AddressMapping::AddressMapping(const std::string& spec, uint32_t channels) {

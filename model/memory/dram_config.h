@@ -1,6 +1,6 @@
 // DRAM configuration: geometry, timings (in DRAM command-clock cycles), controller queue, request
-// size and address mapping, plus the named presets. The timing engine (dram_controller.h) and the
-// SystemC wrapper (dram.h) take a validated DramConfig.
+// size and address mapping, plus the named presets (configs/dram/<name>.yaml, compiled in). The
+// timing engine (dram_controller.h) and the SystemC wrapper (dram.h) take a validated DramConfig.
 //
 // Address mapping syntax (GPGPU-Sim's -gpgpu_mem_addr_mapping, a documented subset):
 //   [dramid@N;]<bits>
@@ -30,31 +30,19 @@
 
 namespace rtsim::model {
 
-// GPGPU-Sim's QuadroFX5800 (GT200) mapping string, verbatim.
-inline constexpr const char* kGt200AddressMapping =
-    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RRBBBCCC.CCCSSSSS";
-// GPGPU-Sim's mapping for one x32 GDDR5(X) or x16 GDDR6 channel per partition with 32-byte atoms
-// and 16 banks (SM3_KEPLER_TITAN, SM6_TITANX and SM75_RTX2060 files), verbatim: bit 7 is the
-// lowest bank bit, so that neighbouring 128-byte blocks fall in different bank groups.
-inline constexpr const char* kGddr16BankAddressMapping =
-    "dramid@8;00000000.00000000.00000000.00000000.0000RRRR.RRRRRRRR.RBBBCCCC.BCCSSSSS";
 // A simple alternative, row:bank:channel:column:offset: each channel gets whole 2 KB rows in turn
 // (coarse interleaving, for studying channel imbalance).
 inline constexpr const char* kRowBankChannelColumnMapping = "RRRRRRRRRRRRRR.BBB.DDD.CCCCCC.SSSSS";
 
-// The controller's policies (docs/dram.md, "Policies"; one class each in dram_scheduler.h,
-// dram_row_policy.h, dram_refresh.h). The defaults are GT200's: FR-FCFS, open page, no refresh.
-enum class Scheduler { kFrFcfs, kFcfs };
-// Open page: a row stays open until a request for another row of its bank forces a precharge.
-// Closed page: a request's last burst precharges its bank (auto-precharge) unless another queued
-// request hits the same row.
-enum class RowPolicy { kOpenPage, kClosedPage };
-// All-bank: every tREFI cycles each channel precharges its banks and issues REF, which blocks
-// every bank of the channel for tRFC.
-enum class Refresh { kNone, kAllBank };
+// The controller's policies (docs/dram.md, "Policies"), each a class registered by name in its
+// own file (dram_policies.h): a DramConfig names them. The defaults are GT200's: FR-FCFS, open
+// page, no refresh. Their names and meanings, for the readers and `rtsim params`:
+const std::vector<RegisteredName>& dram_scheduler_names();
+const std::vector<RegisteredName>& dram_row_policy_names();
+const std::vector<RegisteredName>& dram_refresh_names();
 
 // A default-constructed DramConfig is empty (and fails validate()): start from dram_preset(),
-// which is the one place the numbers and their sources are written down.
+// whose files (configs/dram/) are the one place the numbers and their sources are written down.
 struct DramConfig {
   std::string preset;  // name of the preset this came from ("" = hand-made)
 
@@ -112,11 +100,11 @@ struct DramConfig {
   // The built-in memory's size, where a platform puts the image and the frame buffer: GT200's
   // (GeForce GTX 280) 1 GiB of GDDR3. Untouched pages cost no host memory.
   uint32_t capacity_mib = 1024;
-  Scheduler scheduler = Scheduler::kFrFcfs;
-  RowPolicy row_policy = RowPolicy::kOpenPage;
-  Refresh refresh = Refresh::kNone;
-  uint32_t tREFI = 0;  // REF -> REF, channel (refresh interval)
-  uint32_t tRFC = 0;   // REF -> ACT, channel (refresh cycle time)
+  std::string scheduler = "fr-fcfs";  // a registered DramScheduler
+  std::string row_policy = "open";    // a registered DramRowPolicy
+  std::string refresh = "none";       // a registered DramRefreshPolicy
+  uint32_t tREFI = 0;                 // REF -> REF, channel (refresh interval)
+  uint32_t tRFC = 0;                  // REF -> ACT, channel (refresh cycle time)
   std::string address_mapping;
 
   uint32_t burst_bytes() const { return bus_bytes * burst_length; }
@@ -173,21 +161,20 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
   v.text("address_mapping", c.address_mapping, "GPGPU-Sim's address-mapping syntax (above)");
   v.number("capacity_mib", c.capacity_mib, 1, 1 << 20, "MiB",
            "the built-in memory's size (the device's address space for image and frame buffer)");
-  v.choice("scheduler", c.scheduler, {{"fr-fcfs", Scheduler::kFrFcfs}, {"fcfs", Scheduler::kFcfs}},
-           "row hits first, then the oldest; or the oldest ready command");
-  v.choice("row_policy", c.row_policy,
-           {{"open", RowPolicy::kOpenPage}, {"closed", RowPolicy::kClosedPage}},
-           "rows stay open until a conflict; or a request's last burst precharges its bank "
-           "unless a queued request hits the row");
-  v.choice("refresh", c.refresh, {{"none", Refresh::kNone}, {"all-bank", Refresh::kAllBank}},
-           "no refresh; or REF every tREFI, all banks blocked for tRFC");
+  v.registered("scheduler", c.scheduler, dram_scheduler_names(),
+               "which queued request's next command issues");
+  v.registered("row_policy", c.row_policy, dram_row_policy_names(),
+               "whether a request's last burst closes its row");
+  v.registered("refresh", c.refresh, dram_refresh_names(),
+               "when a refresh's PRE and REF go before the scheduler's pick");
   v.number("tREFI", c.tREFI, 0, 1000000, "tCK", "refresh interval (refresh: all-bank)");
   v.number("tRFC", c.tRFC, 0, 100000, "tCK", "REF -> ACT, channel (refresh: all-bank)");
 }
 
-// The preset called `name`; unknown names throw std::invalid_argument listing the known ones.
+// The preset called `name` (configs/dram/NAME.yaml, dram_presets.cpp); unknown names throw
+// std::invalid_argument listing the known ones. A malformed file is an InputError naming it.
 DramConfig dram_preset(const std::string& name);
-std::vector<std::string> dram_preset_names();
+std::vector<std::string> dram_preset_names();  // sorted
 
 // Where an address lands.
 struct DramAddress {

@@ -1,5 +1,7 @@
 #include "model/memory/dram_controller.h"
 
+#include "model/memory/dram_policies.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -32,10 +34,10 @@ double DramStats::avg_latency_ns() const {
 DramController::DramController(const DramConfig& config)
     : config_(validated(config)),
       mapping_(config_.address_mapping, config_.channels),
-      scheduler_(make_dram_scheduler(config_)),
-      row_policy_(make_dram_row_policy(config_)),
-      refresh_(make_dram_refresh(config_)),
-      refreshing_(config_.refresh != Refresh::kNone) {
+      scheduler_(dram_schedulers().make(config_.scheduler, config_)),
+      row_policy_(dram_row_policies().make(config_.row_policy, config_)),
+      refresh_(dram_refresh_policies().make(config_.refresh, config_)),
+      refreshing_(refresh_->first_due() != kDramNever) {
   add_rules();
   channels_.resize(config_.channels);
   for (Channel& ch : channels_) {
@@ -75,7 +77,7 @@ void DramController::add_rules() {
   }
   // REF is all-bank: its constraints are the channel's. Without refresh no REF issues, and these
   // rules would only cost host time.
-  if (config_.refresh != Refresh::kNone) {
+  if (refreshing_) {
     rules.push_back({C::kActivate, C::kRefresh, Scope::kChannel, config_.tRC});
     rules.push_back({C::kPrecharge, C::kRefresh, Scope::kChannel, config_.tRP});
     rules.push_back({C::kRefresh, C::kActivate, Scope::kChannel, config_.tRFC});
@@ -278,7 +280,7 @@ Tick DramController::next_event_time() const {
 
 void DramController::register_stats(StatsRegistry& reg, const std::string& prefix) const {
   StatsRegistrar v(reg, prefix);
-  describe_stats(v, stats_, config_.channels, config_.refresh != Refresh::kNone);
+  describe_stats(v, stats_, config_.channels, refreshing_);
 }
 
 }  // namespace rtsim::model

@@ -9,12 +9,14 @@
 //    time); the refreshes it would have issued meanwhile are issued when its next request arrives
 //    (catch_up), at the cycles they were due, so the request sees them as if they had happened.
 //    Refreshes after a channel's last request are therefore not counted.
+// Implementations register by name (dram_policies.h): dram_no_refresh.cpp,
+// dram_all_bank_refresh.cpp (which also checks tREFI and tRFC).
 #pragma once
 
 #include "model/memory/dram_channel.h"
 #include "model/memory/dram_config.h"
 
-#include <memory>
+#include <cstdint>
 
 namespace rtsim::model {
 
@@ -30,7 +32,5 @@ class DramRefreshPolicy {
   // The first REF's due cycle (kDramNever: never).
   virtual uint64_t first_due() const = 0;
 };
-
-std::unique_ptr<DramRefreshPolicy> make_dram_refresh(const DramConfig& config);
 
 }  // namespace rtsim::model

@@ -4,12 +4,13 @@
 //  - Closed page: the last burst precharges the bank (auto-precharge: no command slot, at the
 //    earliest cycle the bank's PRE rules allow) unless another queued request hits the same row,
 //    which then keeps it open for its own burst(s). A later request to the row pays ACT again.
+// Implementations register by name (dram_policies.h): dram_open_page.cpp, dram_closed_page.cpp.
 #pragma once
 
 #include "model/memory/dram_channel.h"
 #include "model/memory/dram_config.h"
 
-#include <memory>
+#include <cstddef>
 
 namespace rtsim::model {
 
@@ -19,7 +20,5 @@ class DramRowPolicy {
   // After the last burst of ch.queue[done]: precharge its bank now?
   virtual bool close_after(const DramChannel& ch, size_t done) const = 0;
 };
-
-std::unique_ptr<DramRowPolicy> make_dram_row_policy(const DramConfig& config);
 
 }  // namespace rtsim::model

@@ -11,12 +11,13 @@
 //  - FCFS: the oldest request first, hit or not, and a conflict's PRE is proposed even while
 //    younger requests hit the open row (an older conflict is served before a younger hit), but
 //    not for the bank of a request between its bursts.
+// Implementations register by name (dram_policies.h): dram_fr_fcfs.cpp.
 #pragma once
 
 #include "model/memory/dram_channel.h"
 #include "model/memory/dram_config.h"
 
-#include <memory>
+#include <cstddef>
 
 namespace rtsim::model {
 
@@ -26,7 +27,5 @@ class DramScheduler {
   // The pick at the earliest cycle with a legal proposal; cycle kDramNever for an empty queue.
   virtual DramChoice choose(const DramChannel& ch) = 0;
 };
-
-std::unique_ptr<DramScheduler> make_dram_scheduler(const DramConfig& config);
 
 }  // namespace rtsim::model

@@ -9,6 +9,9 @@
 //   flag(key, field, meaning)                     a bool
 //   text(key, field, meaning)                     a string
 //   choice(key, field, {{"name", value}, ...}, meaning)    an enum by name
+//   registered(key, field, names, meaning)        a string naming one registered implementation
+//                                                 (common/registry.h); `names` lists them with
+//                                                 their meanings
 //   section(key, meaning, body[, check])          a nested map; body() describes its fields, and
 //                                                 check() (optional) throws std::invalid_argument
 //                                                 when they do not fit together
@@ -17,12 +20,15 @@
 // `field` is a reference, const when the visitor only reads.
 #pragma once
 
+#include "common/registry.h"
+
 #include <cstdint>
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <utility>
+#include <vector>
 
 namespace rtsim::model {
 
@@ -52,6 +58,13 @@ class RangeCheck {
   void text(const char*, const std::string&, const char*) {}
   template <class E>
   void choice(const char*, const E&, Choices<E>, const char*) {}
+  void registered(const char* key, const std::string& v, const std::vector<RegisteredName>& names,
+                  const char*) {
+    for (const RegisteredName& n : names)
+      if (n.name == v) return;
+    throw std::invalid_argument(path(key) + ": expected " + quoted_names(names) + ", got '" + v +
+                                "'");
+  }
   template <class E>
   void preset(const char*, const E&, const char*) {}
   template <class F, class G>

@@ -90,7 +90,7 @@ TEST(DramConfig, DerivedWriteTimingsOfThePresets) {
 TEST(DramConfig, UnknownPresetListsTheKnownOnes) {
   EXPECT_EQ(dram_preset_names(),
             (std::vector<std::string>{"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles",
-                                      "gddr5-4gbps", "gddr6-14gbps"}));
+                                      "gddr5-4gbps", "gddr6-14gbps", "lpddr4-3200"}));
   try {
     dram_preset("ddr9");
     FAIL() << "unknown preset accepted";
@@ -178,9 +178,9 @@ TEST(DramConfig, ValidationNamesTheField) {
 TEST(DramConfig, Gt200PresetsKeepTheDefaultPolicies) {
   for (const char* name : {"gddr3-gt200", "gddr3-gt200-1ghz", "gddr3-gt200-1ghz-cycles"}) {
     const DramConfig c = dram_preset(name);
-    EXPECT_EQ(c.scheduler, Scheduler::kFrFcfs) << name;
-    EXPECT_EQ(c.row_policy, RowPolicy::kOpenPage) << name;
-    EXPECT_EQ(c.refresh, Refresh::kNone) << name;
+    EXPECT_EQ(c.scheduler, "fr-fcfs") << name;
+    EXPECT_EQ(c.row_policy, "open") << name;
+    EXPECT_EQ(c.refresh, "none") << name;
     EXPECT_EQ(c.bank_groups, 1u) << name;
     EXPECT_EQ(c.beats_per_clock, 2u) << name;
     EXPECT_EQ(c.read_to_precharge(), 2u) << name;  // BL/2, tRTP 0
@@ -198,7 +198,7 @@ TEST(DramConfig, Gddr5AndGddr6PresetsValidate) {
   EXPECT_EQ(g5.burst_bytes(), 32u);
   EXPECT_EQ(g5.burst_cycles(), 2u);  // BL 8 at 4 beats per clock
   EXPECT_EQ(g5.read_to_precharge(), 2u);
-  EXPECT_EQ(g5.refresh, Refresh::kNone);
+  EXPECT_EQ(g5.refresh, "none");
   EXPECT_DOUBLE_EQ(g5.peak_bandwidth_gbps(), 128.0);  // 8 x 4 bytes x 4 Gb/s
 
   const DramConfig g6 = dram_preset("gddr6-14gbps");
@@ -210,7 +210,7 @@ TEST(DramConfig, Gddr5AndGddr6PresetsValidate) {
   EXPECT_EQ(g6.tCCD, 4u);
   EXPECT_EQ(g6.tCCD_L, 6u);
   EXPECT_EQ(g6.read_to_precharge(), 4u);  // tRTP
-  EXPECT_EQ(g6.refresh, Refresh::kAllBank);
+  EXPECT_EQ(g6.refresh, "all-bank");
   EXPECT_EQ(g6.tREFI, 3333u);
   EXPECT_EQ(g6.tRFC, 210u);
   EXPECT_NEAR(g6.peak_bandwidth_gbps(), 16 * 2 * 8 / 0.57, 1e-9);
@@ -272,13 +272,16 @@ TEST(DramConfig, PolicyFieldsValidateNamingTheKey) {
   c.tRRD_L = 4;  // below tRRD
   expect_invalid(c, "tRRD_L");
   c = gt200();
-  c.refresh = Refresh::kAllBank;
+  c.refresh = "all-bank";
   expect_invalid(c, "tRFC");
   c.tRFC = 50;
   c.tREFI = 50;
   expect_invalid(c, "tREFI");
   c.tREFI = 400;
   EXPECT_NO_THROW(c.validate());
+  c = gt200();
+  c.scheduler = "lifo";  // not registered: the error lists the registered names
+  expect_invalid(c, "DramConfig.scheduler: expected 'fr-fcfs' or 'fcfs', got 'lifo'");
   c = gt200();
   c.beats_per_clock = 3;
   expect_invalid(c, "beats_per_clock");

@@ -39,7 +39,7 @@ TEST(DramPolicies, FcfsServesAnOlderConflictBeforeAYoungerHit) {
   EXPECT_EQ(done[0].id, 2u);  // FR-FCFS: the hit first (RD 80, data 92)
   EXPECT_EQ(done[0].data_ready, 92 * kTck);
 
-  c.scheduler = Scheduler::kFcfs;
+  c.scheduler = "fcfs";
   const Trace t = conflict_then_hit(c, done);
   ASSERT_EQ(done.size(), 2u);
   // The conflict's PRE 80, ACT 80 + tRP = 90, RD 90 + tRCD = 102, data 102 + CL + BL/2 = 114.
@@ -55,7 +55,7 @@ TEST(DramPolicies, FcfsServesAnOlderConflictBeforeAYoungerHit) {
 
 TEST(DramPolicies, FcfsStillOverlapsBanks) {
   DramConfig c = gt200();
-  c.scheduler = Scheduler::kFcfs;
+  c.scheduler = "fcfs";
   DramController e(c);
   Trace trace;
   e.set_command_trace(&trace);
@@ -69,7 +69,7 @@ TEST(DramPolicies, FcfsStillOverlapsBanks) {
 
 TEST(DramPolicies, ClosedPageActivatesAgainForTheSameRow) {
   DramConfig c = gt200();
-  c.row_policy = RowPolicy::kClosedPage;
+  c.row_policy = "closed";
   DramController e(c);
   Trace trace;
   e.set_command_trace(&trace);
@@ -90,7 +90,7 @@ TEST(DramPolicies, ClosedPageActivatesAgainForTheSameRow) {
 
 TEST(DramPolicies, ClosedPageKeepsTheRowOpenForAQueuedHit) {
   DramConfig c = gt200();
-  c.row_policy = RowPolicy::kClosedPage;
+  c.row_policy = "closed";
   DramController e(c);
   Trace trace;
   e.set_command_trace(&trace);
@@ -107,7 +107,7 @@ TEST(DramPolicies, ClosedPageKeepsTheRowOpenForAQueuedHit) {
 
 DramConfig refreshing(uint32_t tREFI, uint32_t tRFC) {
   DramConfig c = gt200();
-  c.refresh = Refresh::kAllBank;
+  c.refresh = "all-bank";
   c.tREFI = tREFI;
   c.tRFC = tRFC;
   return c;
@@ -280,20 +280,19 @@ void expect_legal(Trace trace, const DramConfig& c) {
   }
 }
 
-// Every combination of the policies, with and without bank groups, on a mix of reads and writes
-// to few rows of two channels: every request completes and every command is legal.
+// Every combination of the registered policies, with and without bank groups, on a mix of reads and
+// writes to few rows of two channels: every request completes and every command is legal.
 TEST(DramPolicies, EveryCombinationServesEveryRequestLegally) {
-  for (Scheduler s : {Scheduler::kFrFcfs, Scheduler::kFcfs})
-    for (RowPolicy p : {RowPolicy::kOpenPage, RowPolicy::kClosedPage})
-      for (Refresh f : {Refresh::kNone, Refresh::kAllBank})
+  for (const RegisteredName& s : dram_scheduler_names())
+    for (const RegisteredName& p : dram_row_policy_names())
+      for (const RegisteredName& f : dram_refresh_names())
         for (uint32_t groups : {1u, 4u}) {
-          SCOPED_TRACE("scheduler " + std::to_string(int(s)) + ", row policy " +
-                       std::to_string(int(p)) + ", refresh " + std::to_string(int(f)) +
+          SCOPED_TRACE("scheduler " + s.name + ", row policy " + p.name + ", refresh " + f.name +
                        ", groups " + std::to_string(groups));
           DramConfig c = refreshing(150, 25);
-          c.scheduler = s;
-          c.row_policy = p;
-          c.refresh = f;
+          c.scheduler = s.name;
+          c.row_policy = p.name;
+          c.refresh = f.name;
           c.bank_groups = groups;
           c.tCCD_L = 4;
           c.tRRD_L = 10;
@@ -315,7 +314,7 @@ TEST(DramPolicies, EveryCombinationServesEveryRequestLegally) {
           const DramStats& st = e.stats();
           EXPECT_EQ(done.size() + rest.size(), st.requests + st.write_requests);
           EXPECT_EQ(st.reads + st.writes, st.requests + st.write_requests);
-          EXPECT_EQ(f == Refresh::kNone, st.refreshes == 0u);
+          EXPECT_EQ(f.name == "none", st.refreshes == 0u);
           expect_legal(trace, c);
         }
 }

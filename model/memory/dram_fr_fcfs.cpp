@@ -1,4 +1,6 @@
-#include "model/memory/dram_scheduler.h"
+// FR-FCFS (GPGPU-Sim's, the default) and FCFS (dram_scheduler.h says what each picks): one file
+// because they share the proposal loop and differ in two decisions.
+#include "model/memory/dram_policies.h"
 
 #include <algorithm>
 
@@ -61,9 +63,13 @@ class QueueScheduler final : public DramScheduler {
 
 }  // namespace
 
-std::unique_ptr<DramScheduler> make_dram_scheduler(const DramConfig& config) {
-  if (config.scheduler == Scheduler::kFcfs) return std::make_unique<QueueScheduler<false>>(config);
-  return std::make_unique<QueueScheduler<true>>(config);
+void add_fr_fcfs_schedulers(DramSchedulers& r) {
+  r.add(
+      "fr-fcfs", [](const DramConfig& c) { return std::make_unique<QueueScheduler<true>>(c); },
+      "row hits first, then the oldest");
+  r.add(
+      "fcfs", [](const DramConfig& c) { return std::make_unique<QueueScheduler<false>>(c); },
+      "the oldest ready command");
 }
 
 }  // namespace rtsim::model

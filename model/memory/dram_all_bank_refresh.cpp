@@ -1,21 +1,27 @@
-#include "model/memory/dram_refresh.h"
+// All-bank refresh: a REF every tREFI cycles per channel, which blocks every bank of the channel
+// for tRFC (dram_refresh.h has the sequence: the started request's bursts, PREs, then REF).
+#include "model/memory/dram_policies.h"
 
 #include <algorithm>
+#include <stdexcept>
+#include <string>
 
 namespace rtsim::model {
 
 namespace {
 
-class NoRefresh final : public DramRefreshPolicy {
- public:
-  DramChoice arbitrate(const DramChannel&, const DramChoice& pick) const override { return pick; }
-  DramChoice catch_up(const DramChannel&, uint64_t) const override { return {}; }
-  uint64_t first_due() const override { return kDramNever; }
-};
-
 class AllBankRefresh final : public DramRefreshPolicy {
  public:
-  explicit AllBankRefresh(const DramConfig& config) : tREFI_(config.tREFI) {}
+  // Throws std::invalid_argument naming the field that does not fit (DramConfig::validate()).
+  explicit AllBankRefresh(const DramConfig& config) : tREFI_(config.tREFI) {
+    if (config.tRFC == 0)
+      throw std::invalid_argument("DramConfig.tRFC: must be >= 1 with refresh: all-bank");
+    // Otherwise the channel would do nothing but refresh.
+    if (config.tREFI <= config.tRFC)
+      throw std::invalid_argument("DramConfig.tREFI: must be > tRFC (" +
+                                  std::to_string(config.tRFC) + ") with refresh: all-bank, got " +
+                                  std::to_string(config.tREFI));
+  }
 
   DramChoice arbitrate(const DramChannel& ch, const DramChoice& pick) const override {
     if (ch.queue.empty() || pick.cycle < ch.refresh_due) return pick;
@@ -60,9 +66,10 @@ class AllBankRefresh final : public DramRefreshPolicy {
 
 }  // namespace
 
-std::unique_ptr<DramRefreshPolicy> make_dram_refresh(const DramConfig& config) {
-  if (config.refresh == Refresh::kAllBank) return std::make_unique<AllBankRefresh>(config);
-  return std::make_unique<NoRefresh>();
+void add_all_bank_refresh(DramRefreshPolicies& r) {
+  r.add(
+      "all-bank", [](const DramConfig& c) { return std::make_unique<AllBankRefresh>(c); },
+      "REF every tREFI, all banks blocked for tRFC");
 }
 
 }  // namespace rtsim::model
