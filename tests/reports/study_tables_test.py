@@ -211,6 +211,71 @@ with tempfile.TemporaryDirectory() as tmp:
         lambda d: docs_tables.sampling_sweeps_table(d, docs_tables.SAMPLED_AREA),
     )
 
+
+def expect_cells(study, run_dir, python_render, expected):
+    """The C++ table equals Python's and holds each expected cell (figures worked by hand)."""
+    compare(study, run_dir, python_render)
+    table = open(os.path.join(run_dir, "table.md")).read()
+    for cells in expected:
+        check(cells in table, f"{study}: no '{cells}' in:\n{table}")
+
+
+# Worked by hand: a full reproduce and two sampled ones of two setups, a sampled cache sweep, an
+# area-light point.
+with tempfile.TemporaryDirectory() as tmp:
+    for sub, k, variant, total, ci, secs in (
+        ("full", 0, "off", 1000, 0, 80),
+        ("full", 1, "exact", 900, 0, 80),
+        ("s1", 0, "off", 1010, 20, 10),  # +1%, held
+        ("s1", 1, "exact", 930, 20, 10),  # +3.3%, missed
+        ("s2", 0, "off", 990, 20, 8),
+        ("s2", 1, "exact", 900, 20, 8),
+    ):
+        point(os.path.join(tmp, sub), k, "kitchen", {"variant": variant}, total, ci, secs)
+    expect_cells(
+        "sampling",
+        tmp,
+        docs_tables.sampling_table,
+        [
+            "| kitchen, off | 1,000 | +1.00% / 2.00% | -1.00% / 2.00% | 9.0x |",
+            "| kitchen, exact | 900 | +3.33% / 2.22% (missed) | +0.00% / 2.22% | 9.0x |",
+            "4 sampled frames: the largest error 3.33%, 3 of 4 within 2%; the 95% interval held "
+            "the full run's frame in 3 of 4 (missed: kitchen, exact, seed 1), its primary phase "
+            "in 3, its shadow phase in 3; host time 9.0x less (median; from 8.0x to 10.0x).",
+            "| kitchen, exact | 10.00% | -2.08 pt | -0.91 pt |",  # 1 - 930 / 1010, 1 - 900 / 990
+        ],
+    )
+    for sub, k, size, total, ci, secs in (
+        ("full-trv-l1", 0, 2, 2000, 0, 30),
+        ("full-trv-l1", 1, 8, 1000, 0, 20),
+        ("s1-trv-l1", 0, 2, 2050, 40, 10),  # +2.5%, missed
+        ("s1-trv-l1", 1, 8, 990, 30, 10),
+    ):
+        point(os.path.join(tmp, sub), k, "kitchen", {"hw.trv.l1.size_kb": size}, total, ci, secs)
+    for name in ("ist-l1", "l2-size", "l2-banks"):
+        for sub in ("full", "s1"):
+            os.makedirs(os.path.join(tmp, f"{sub}-{name}", "points"))
+    expect_cells(
+        "sampling-caches",
+        tmp,
+        docs_tables.sampling_sweeps_table,
+        [
+            "| trv-l1 | kitchen | TRV L1 KB 2 | 2,000 | +2.50% / 2.00% (missed) | 3.0x |",
+            "| trv-l1 | kitchen | TRV L1 KB 8 | 1,000 | -1.00% / 3.00% | 2.0x |",
+            "2 sampled points: the largest error 2.50%, 1 of 2 within 2%; the 95% interval held "
+            "the full run's frame in 1 of 2 (missed: trv-l1, kitchen, 2, seed 1)",
+        ],
+    )
+    for sub, total in (("full-area-lights", 4000), ("s1-area-lights", 4040)):
+        row = {"scene.lights.area_from_points.samples": 16, "run.lvb": True}
+        point(os.path.join(tmp, sub), 0, "kitchen", row, total, 100, 40 if "full" in sub else 20)
+    expect_cells(
+        "sampling-area-lights",
+        tmp,
+        lambda d: docs_tables.sampling_sweeps_table(d, docs_tables.SAMPLED_AREA),
+        ["| area-lights | kitchen | N, culling 16, on | 4,000 | +1.00% / 2.50% | 2.0x |"],
+    )
+
 for f in failures:
     print("FAIL:", f)
 sys.exit(1 if failures else 0)
