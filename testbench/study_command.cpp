@@ -17,8 +17,6 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 namespace fs = std::filesystem;
 
@@ -121,10 +119,7 @@ std::string today() {
 
 // Replaces what lies between the doc's markers of block `id` with `body`.
 void replace_block(const std::string& doc, const std::string& id, const std::string& body) {
-  std::ifstream in(doc, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  std::string s = text.str();
+  std::string s = report::read_text_file(doc);
   const std::string begin = "<!-- generated: " + id + " -->";
   const std::string end = "<!-- end generated: " + id + " -->";
   const size_t i = s.find(begin), j = s.find(end);
