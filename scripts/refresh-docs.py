@@ -2,12 +2,16 @@
 """Reruns the studies behind the generated tables in docs/ and rewrites those tables (issue 19).
 
 A generated table sits in its doc between `<!-- generated: ID -->` and
-`<!-- end generated: ID -->`; this script reruns study ID (a sweep or `rtsim reproduce --ablation`,
-resumable, in RUNS/ID), renders the table from the run's own files and replaces the block, stamped
-with the commit of the source tree the binary was built from and the date. The prose around a
-table is ours: read it again after a refresh.
+`<!-- end generated: ID -->`; study ID is configs/studies/ID.yaml. This script reruns it
+(resumable, in RUNS/ID), renders the table from the run's own files and replaces the block, stamped
+with the commit of the source tree the binary was built from and the date. A study whose table the
+report layer renders runs as `rtsim study ID --write-doc` (it writes the block and copies the
+figure); the others (`rtsim study --list` marks them "table: Python") still run and render here,
+from the STUDIES below, until their renderers are ported. The prose around a table is ours: read it
+again after a refresh.
 
   python3 scripts/refresh-docs.py --list                  the studies, their docs and costs
+                                                          (rtsim study --list)
   python3 scripts/refresh-docs.py                         all of them (several hours on 2 cores)
   python3 scripts/refresh-docs.py --only cache-trv-l1,cache-ist-l1 [--runs DIR] [--jobs 2]
 
@@ -29,13 +33,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 from docs_tables import (  # noqa: E402  (beside this script, which has no package)
     animation_hd_table,
     animation_table,
-    cache_table,
-    copy_markdown,
     integration_table,
-    knob_table,
-    SAMPLED_AREA,
-    sampling_sweeps_table,
-    sampling_table,
 )
 
 
@@ -75,151 +73,12 @@ def animate(scene, times, *options):
     )
 
 
-def cache_study(name, minutes, key, label, baseline):
-    """docs/cache-sweeps.md: configs/sweeps/cache-NAME.yaml, its table and its cycles plot."""
-    return Study(
-        f"cache-{name}",
-        "docs/cache-sweeps.md",
-        minutes,
-        ["sweep", f"configs/sweeps/cache-{name}.yaml"],
-        cache_table(key, label, baseline),
-        figure=(f"plots/cycles_total_vs_{key}.png", f"docs/figures/sweep-{name}.png"),
-    )
-
-
 SMALL = ["--width", "480", "--height", "270", "--check-every", "5"]
-PAPER_RUNS = ["reproduce", "--variants", "off,paper,exact"]  # the paper's nine runs
-# The paper's setups on the BVH machine (bvh-tni.yaml, bvh8), culling off and the paper's.
-BVH_RUNS = ["reproduce", "--bvh", "--variants", "bvh8-off,bvh8-paper"]
-# The other two BVH formats of the study (docs/bvh.md), the same way.
-BVH_FORMATS = ["reproduce", "--bvh", "--variants", "bvh2-off,bvh2-paper,cwbvh8-off,cwbvh8-paper"]
 
 
-# A 480x270 frame has 64 units of 2,048 rays: units of 1,024 and a tenth of them give the
-# regression enough drawn units (docs/sampling.md, "Small frames").
-SWEEP_SAMPLE = ["--set", "run.sample=0.1", "--set", "run.sample_unit=1024"]
-SWEEP_SAMPLE += ["--set", "run.sample_strata=neyman", "--no-plots"]
-
-
-def sampled(seed, strata="neyman"):
-    """A sampled reproduction's options: 5% of the units, `seed`, `strata` (named even when it is
-    the default, so that a block's commands say which strata ran)."""
-    return [
-        "--sample",
-        "0.05",
-        "--set",
-        f"run.sample_seed={seed}",
-        "--set",
-        f"run.sample_strata={strata}",
-    ]
-
-
+# The studies whose tables are still rendered here (scripts/docs_tables.py); each is also
+# configs/studies/ID.yaml, which `rtsim study` runs once its renderer is ported.
 STUDIES = [
-    cache_study("trv-l1", 3, "hw.trv.l1.size_kb", "TRV L1 KB", "8"),
-    cache_study("ist-l1", 3, "hw.ist.l1.size_kb", "IST L1 KB", "16"),
-    cache_study("l2-size", 5, "variant", "L2", "table2-128k"),
-    cache_study("l2-banks", 5, "variant", "L2 banks", "banks-8"),
-    Study(
-        "unpublished-knobs",
-        "docs/ablation.md",
-        35,
-        ["sweep", "configs/sweeps/unpublished-knobs.yaml", "--no-plots"],
-        knob_table,
-    ),
-    Study(
-        "unpublished-knobs-hd",
-        "docs/ablation.md",
-        45,
-        ["sweep", "configs/sweeps/unpublished-knobs-hd.yaml", "--no-plots"],
-        knob_table,
-    ),
-    # The area-light sweeps write area_lights.md (reports/area_report.cpp) and, with plots.py, the
-    # figure.
-    Study(
-        "area-lights",
-        "docs/area-lights.md",
-        30,
-        ["sweep", "configs/sweeps/area-lights.yaml"],
-        copy_markdown("area_lights.md", "| scene"),
-        figure=("plots/area_reduction.png", "docs/figures/area-reduction.png"),
-    ),
-    Study(
-        "area-lights-hd",
-        "docs/area-lights.md",
-        70,
-        ["sweep", "configs/sweeps/area-lights-hd.yaml"],
-        copy_markdown("area_lights.md", "| scene"),
-    ),
-    Study(
-        "ablation",
-        "docs/ablation.md",
-        65,
-        ["reproduce", "--ablation"],
-        copy_markdown("ablation.md", "Sweep `ablation.yaml`"),
-    ),
-    Study(
-        "bvh",
-        "docs/bvh.md",
-        45,
-        ["reproduce", "--bvh"],
-        copy_markdown("bvh.md", "Sweep `bvh-study.yaml`"),
-    ),
-    # Sampled frames against full ones (issue 38): the paper's nine runs in full and sampled at 5%
-    # with three seeds, with strata in issue order (sK) and with Neyman's (nK, the default), one run
-    # at a time so that the host times compare.
-    Study(
-        "sampling",
-        "docs/sampling.md",
-        41,
-        render=sampling_table,
-        runs=[("full", PAPER_RUNS)]
-        + [(f"s{k}", PAPER_RUNS + sampled(k, "issue")) for k in (1, 2, 3)]
-        + [(f"n{k}", PAPER_RUNS + sampled(k)) for k in (1, 2, 3)],
-        jobs=1,
-    ),
-    # The same on the BVH machine, the default strata only.
-    Study(
-        "sampling-bvh",
-        "docs/sampling.md",
-        12,
-        render=lambda run_dir: sampling_table(run_dir, "bvh"),
-        runs=[("full", BVH_RUNS)] + [(f"n{k}", BVH_RUNS + sampled(k)) for k in (1, 2, 3)],
-        jobs=1,
-    ),
-    # bvh2 and cwbvh8, two seeds.
-    Study(
-        "sampling-bvh-formats",
-        "docs/sampling.md",
-        40,
-        render=lambda run_dir: sampling_table(run_dir, "bvh"),
-        runs=[("full", BVH_FORMATS)] + [(f"n{k}", BVH_FORMATS + sampled(k)) for k in (1, 2)],
-        jobs=1,
-    ),
-    # The four cache studies (480x270) in full and sampled, one seed, one run at a time.
-    Study(
-        "sampling-caches",
-        "docs/sampling.md",
-        30,
-        render=sampling_sweeps_table,
-        runs=[
-            (f"{tag}-{name}", ["sweep", f"configs/sweeps/cache-{name}.yaml"] + options)
-            for tag, options in (("full", ["--no-plots"]), ("s1", SWEEP_SAMPLE))
-            for name in ("trv-l1", "ist-l1", "l2-size", "l2-banks")
-        ],
-        jobs=1,
-    ),
-    # The area-light N sweep (480x270) in full and sampled, one seed, one run at a time.
-    Study(
-        "sampling-area-lights",
-        "docs/sampling.md",
-        40,
-        render=lambda run_dir: sampling_sweeps_table(run_dir, SAMPLED_AREA),
-        runs=[
-            (f"{tag}-area-lights", ["sweep", "configs/sweeps/area-lights.yaml"] + options)
-            for tag, options in (("full", ["--no-plots"]), ("s1", SWEEP_SAMPLE))
-        ],
-        jobs=1,
-    ),
     # The integration doc's figures: examples and tests that print them (no rtsim run).
     Study(
         "integration",
@@ -303,10 +162,10 @@ def run_program(out, sub, command):
     os.replace(path + ".tmp", path)
 
 
-def run_study(s, args, commit):
-    """Runs (or resumes) the study; returns its directory, the minutes it took and the commit its
-    points were run from."""
-    out = os.path.join(args.runs, s.id)
+def study_dir(ident, args, commit):
+    """The study's directory, emptied when its runs were made from another commit (kept with
+    --reuse); returns it and the commit its points were run from."""
+    out = os.path.join(args.runs, ident)
     stamp = os.path.join(out, "commit.txt")
     recorded = open(stamp).read().strip() if os.path.exists(stamp) else None
     if os.path.isdir(out) and recorded != commit and not (args.reuse and recorded):
@@ -316,6 +175,13 @@ def run_study(s, args, commit):
     os.makedirs(out, exist_ok=True)
     with open(stamp, "w") as f:
         f.write(commit + "\n")
+    return out, commit
+
+
+def run_study(s, args, commit):
+    """Runs (or resumes) the study; returns its directory, the minutes it took and the commit its
+    points were run from."""
+    out, commit = study_dir(s.id, args, commit)
     start = datetime.datetime.now()
     for sub, command in s.runs:
         if command[0].startswith("build/"):  # a program of the build (an example, a test)
@@ -333,6 +199,32 @@ def run_study(s, args, commit):
             )
     minutes = (datetime.datetime.now() - start).total_seconds() / 60
     return out, minutes, commit
+
+
+def render_here(s, args, commit):
+    """A study whose table is still rendered here: its runs, its table, its block and figure."""
+    out, minutes, ran_at = run_study(s, args, commit)
+    table = s.render(out)
+    note = (
+        f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`{s.describe()}`) "
+        f"from commit {ran_at} on {datetime.date.today()}; this sitting "
+        f"took {minutes:.0f} min with --jobs {s.jobs or args.jobs}._"
+    )
+    replace_block(os.path.join(ROOT, s.doc), s.id, note + "\n\n" + table)
+    if s.figure:
+        shutil.copyfile(os.path.join(out, s.figure[0]), os.path.join(ROOT, s.figure[1]))
+    print(f"refresh-docs: {s.doc}: {s.id} rewritten ({minutes:.0f} min)", file=sys.stderr)
+
+
+def rtsim_studies(rtsim):
+    """configs/studies/ by `rtsim study --list`: every id, and those whose tables it renders (it
+    marks the others "(table: Python)")."""
+    lines = subprocess.run(
+        [rtsim, "study", "--list"], check=True, capture_output=True, text=True
+    ).stdout.splitlines()
+    every = [line.split()[0] for line in lines]
+    ported = [line.split()[0] for line in lines if not line.endswith("(table: Python)")]
+    return every, ported
 
 
 def main():
@@ -353,36 +245,30 @@ def main():
     )
     args = ap.parse_args()
     if args.list:
-        for s in STUDIES:
-            print(f"{s.id:20} {s.doc:22} ~{s.minutes} min   {s.describe()}")
-        return
-    wanted = [x for x in args.only.split(",") if x] or [s.id for s in STUDIES]
-    unknown = set(wanted) - {s.id for s in STUDIES}
+        sys.exit(subprocess.run([args.rtsim, "study", "--list"]).returncode)
+    if not args.no_build:
+        subprocess.run(
+            ["cmake", "--build", os.path.join(ROOT, "build"), "--target", "rtsim"], check=True
+        )
+    every, ported = rtsim_studies(args.rtsim)
+    wanted = [x for x in args.only.split(",") if x] or every
+    unknown = set(wanted) - set(every)
     if unknown:
         print(
             f"refresh-docs: unknown study {', '.join(sorted(unknown))} (see --list)",
             file=sys.stderr,
         )
         sys.exit(2)
-    if not args.no_build:
-        subprocess.run(
-            ["cmake", "--build", os.path.join(ROOT, "build"), "--target", "rtsim"], check=True
-        )
     commit = source_commit()
+    for ident in (x for x in ported if x in wanted):
+        out, _ = study_dir(ident, args, commit)
+        cmd = [args.rtsim, "study", ident, "--out", out, "--jobs", str(args.jobs), "--write-doc"]
+        print("refresh-docs:", " ".join(cmd), file=sys.stderr, flush=True)
+        if subprocess.run(cmd, cwd=ROOT).returncode != 0:
+            raise SystemExit(f"refresh-docs: {ident} failed; its points' log.txt say why")
     for s in STUDIES:
-        if s.id not in wanted:
-            continue
-        out, minutes, ran_at = run_study(s, args, commit)
-        table = s.render(out)
-        note = (
-            f"_Generated by `python3 scripts/refresh-docs.py --only {s.id}` (`{s.describe()}`) "
-            f"from commit {ran_at} on {datetime.date.today()}; this sitting "
-            f"took {minutes:.0f} min with --jobs {s.jobs or args.jobs}._"
-        )
-        replace_block(os.path.join(ROOT, s.doc), s.id, note + "\n\n" + table)
-        if s.figure:
-            shutil.copyfile(os.path.join(out, s.figure[0]), os.path.join(ROOT, s.figure[1]))
-        print(f"refresh-docs: {s.doc}: {s.id} rewritten ({minutes:.0f} min)", file=sys.stderr)
+        if s.id in wanted and s.id not in ported:
+            render_here(s, args, commit)
 
 
 if __name__ == "__main__":

@@ -78,6 +78,16 @@ struct ReproduceArgs {
 };
 int run_reproduce(const ReproduceArgs& args);
 
+// rtsim study: the runs behind a doc's generated block and its table (testbench/study_file.h).
+struct StudyArgs {
+  std::string name, out, emit;  // name: an id of configs/studies/ or a study file
+  int jobs = 1;                 // runs at once, unless the study file says (jobs:)
+  bool list = false;            // print the studies, their docs and costs
+  bool write_doc = false;       // replace the doc's block with the table (and copy the figure)
+  bool table_only = false;      // render from the runs in OUT; run nothing
+};
+int run_study_command(const StudyArgs& args);
+
 // --sample F of reproduce and animate: F itself when it is a fraction in (0, 1], else an
 // InputError naming the option.
 std::string checked_sample_option(const std::string& text);

@@ -63,9 +63,10 @@ struct Commands {
   bool sweep_no_plots = false;
   rtsim::AnimateArgs animate;
   rtsim::ReproduceArgs reproduce;
+  rtsim::StudyArgs study;
   CLI::App *render_cmd = nullptr, *info_cmd = nullptr, *lvb_cmd = nullptr, *run_cmd = nullptr,
            *sweep_cmd = nullptr, *animate_cmd = nullptr, *params_cmd = nullptr,
-           *reproduce_cmd = nullptr;
+           *reproduce_cmd = nullptr, *study_cmd = nullptr;
 };
 
 void add_render(CLI::App& app, Commands& c) {
@@ -274,6 +275,25 @@ void add_params_and_reproduce(CLI::App& app, Commands& c) {
       ->delimiter(',');
 }
 
+void add_study(CLI::App& app, Commands& c) {
+  c.study_cmd = app.add_subcommand(
+      "study",
+      "Run the study behind a generated table of docs/ (configs/studies/NAME.yaml; "
+      "resumable) and render its table");
+  c.study_cmd->add_option("name", c.study.name, "Study id (see --list) or study file");
+  c.study_cmd->add_option("--out", c.study.out, "Output directory (table.md, a directory per run)");
+  c.study_cmd->add_option("--jobs", c.study.jobs, "Points run at once (unless the study says)")
+      ->check(CLI::Range(1, 1024));
+  c.study_cmd->add_option("--emit", c.study.emit, "Write the runs' job scripts instead of running")
+      ->check(CLI::IsMember({"slurm"}));
+  c.study_cmd->add_flag("--list", c.study.list, "Print the studies, their docs and costs");
+  c.study_cmd->add_flag(
+      "--write-doc", c.study.write_doc,
+      "Replace the study's block in its doc with the table (and copy its figure)");
+  c.study_cmd->add_flag("--table-only", c.study.table_only,
+                        "Render the table from the runs already in --out; run nothing");
+}
+
 // The defaults that depend on what was given; false when a combination is refused.
 bool finish(Commands& c) {
   if (c.render.out.empty()) c.render.out = default_out(c.render.scene, "render");
@@ -310,6 +330,7 @@ int dispatch(Commands& c) {
     return rtsim::run_sweep_command(c.sweep);
   }
   if (*c.reproduce_cmd) return rtsim::run_reproduce(c.reproduce);
+  if (*c.study_cmd) return rtsim::run_study_command(c.study);
   if (*c.run_cmd) {
     // Only the flags given: they override a --config file's run section.
     YAML::Node& flags = c.run.sources.run_flags;
@@ -340,6 +361,7 @@ extern "C" int sc_main(int argc, char** argv) {
   add_sweep(app, c);
   add_animate(app, c);
   add_params_and_reproduce(app, c);
+  add_study(app, c);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

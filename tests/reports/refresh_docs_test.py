@@ -1,11 +1,11 @@
 #!/usr/bin/env python3
 """scripts/refresh-docs.py without running a study: its renderers (scripts/docs_tables.py) on a
-sweep's results.csv and on programs' output, the block replacement in a doc (only between its
-markers, the rest untouched), and that every block the script knows is in its doc and every
-generated block in docs/ belongs to a study."""
+sweep's results.csv, an animation's frames and programs' output (the sampled runs' tables:
+study_tables_test.py), the block replacement in a doc (only between its
+markers, the rest untouched), and that every block a study names (configs/studies/, and the
+script's own list) is in its doc and every generated block in docs/ belongs to a study."""
 
 import csv
-import json
 import importlib.util
 import os
 import re
@@ -50,7 +50,7 @@ with tempfile.TemporaryDirectory() as tmp:
                 }
             )
             w.writerow(row)
-    table = refresh.cache_table("hw.trv.l1.size_kb", "TRV L1 KB", "8")(tmp)
+    table = docs_tables.cache_table("hw.trv.l1.size_kb", "TRV L1 KB", "8")(tmp)
     lines = table.splitlines()
     check(lines[0].startswith("| scene | TRV L1 KB | cycles | vs Table 2 |"), "cache table header")
     check(
@@ -113,7 +113,7 @@ with tempfile.TemporaryDirectory() as tmp:
             os.path.join(tmp, "animation-hd", scene),
             [(1, 20000, 18000, 0.3, 20, 400, 400, "", "", "", "", "", "")],
         )
-    table = refresh.animation_table(small)
+    table = docs_tables.animation_table(small)
     for row in [
         "| cycles, culling off | 2,000 (0.00-0.00 M) |",
         "| cycles culling saves | 100 (100-400), 10.0% (5.0-10.0%) |",  # 10%, 5%, 10%
@@ -129,7 +129,7 @@ with tempfile.TemporaryDirectory() as tmp:
             and any(line.startswith(row) for line in table.splitlines()),
             f"animation row {row}:\n{table}",
         )
-    hd = refresh.animation_hd_table(os.path.join(tmp, "animation-hd"))
+    hd = docs_tables.animation_hd_table(os.path.join(tmp, "animation-hd"))
     check(
         "| robots t = 1 | 20,000 / 18,000 | 2,000 (10.0%) | 20.0 | 0.4 |" in hd,
         "the HD row:\n" + hd,
@@ -168,72 +168,26 @@ with tempfile.TemporaryDirectory() as tmp:
     ]:
         check(cells in table, f"integration cells {cells}:\n{table}")
 
-# The sampling validation: a full reproduce and two sampled ones of two setups.
-with tempfile.TemporaryDirectory() as tmp:
-
-    def point(sub, k, variant, total, ci, seconds):
-        d = os.path.join(tmp, sub, "points", f"p{k:04}")
-        os.makedirs(d)
-        r = {"scene": {"name": "kitchen"}, "host": {"seconds": {"total": seconds}}}
-        for phase, share in (("total", 1.0), ("primary", 0.25), ("shadow", 0.75)):
-            r[f"cycles_{phase}"] = total * share
-            r[f"cycles_{phase}_ci95"] = ci * share
-        with open(os.path.join(d, "report.json"), "w") as f:
-            json.dump(r, f)
-        with open(os.path.join(d, "row.json"), "w") as f:
-            json.dump({"variant": variant}, f)
-
-    point("full", 0, "off", 1000, 0, 80)
-    point("full", 1, "exact", 900, 0, 80)
-    point("s1", 0, "off", 1010, 20, 10)  # +1%, held
-    point("s1", 1, "exact", 930, 20, 10)  # +3.3%, missed
-    point("s2", 0, "off", 990, 20, 8)
-    point("s2", 1, "exact", 900, 20, 8)
-    table = refresh.sampling_table(tmp)
-    for cells in [
-        "| kitchen, off | 1,000 | +1.00% / 2.00% | -1.00% / 2.00% | 9.0x |",
-        "| kitchen, exact | 900 | +3.33% / 2.22% (missed) | +0.00% / 2.22% | 9.0x |",
-        "4 sampled frames: the largest error 3.33%, 3 of 4 within 2%; the 95% interval held the "
-        "full run's frame in 3 of 4 (missed: kitchen, exact, seed 1), its primary phase in 3, its "
-        "shadow phase in 3; host time 9.0x less (median; from 8.0x to 10.0x).",
-        "| kitchen, exact | 10.00% | -2.08 pt | -0.91 pt |",  # 1 - 930 / 1010, 1 - 900 / 990
-    ]:
-        check(cells in table, f"sampling cells {cells}:\n{table}")
-
-    # The cache sweeps sampled: points keyed by a sweep's column (an axis), sub-directories
-    # full-NAME and sK-NAME.
-    def sweep_point(sub, k, size, total, ci, seconds):
-        point(sub, k, "", total, ci, seconds)
-        with open(os.path.join(tmp, sub, "points", f"p{k:04}", "row.json"), "w") as f:
-            json.dump({"hw.trv.l1.size_kb": size}, f)
-
-    sweep_point("full-trv-l1", 0, 2, 2000, 0, 30)
-    sweep_point("full-trv-l1", 1, 8, 1000, 0, 20)
-    sweep_point("s1-trv-l1", 0, 2, 2050, 40, 10)  # +2.5%, missed
-    sweep_point("s1-trv-l1", 1, 8, 990, 30, 10)
-    for name in ("ist-l1", "l2-size", "l2-banks"):
-        for sub in ("full", "s1"):
-            os.makedirs(os.path.join(tmp, f"{sub}-{name}", "points"))
-    table = docs_tables.sampling_sweeps_table(tmp)
-    for cells in [
-        "| trv-l1 | kitchen | TRV L1 KB 2 | 2,000 | +2.50% / 2.00% (missed) | 3.0x |",
-        "| trv-l1 | kitchen | TRV L1 KB 8 | 1,000 | -1.00% / 3.00% | 2.0x |",
-        "2 sampled points: the largest error 2.50%, 1 of 2 within 2%; the 95% interval held the "
-        "full run's frame in 1 of 2 (missed: trv-l1, kitchen, 2, seed 1)",
-    ]:
-        check(cells in table, f"sampled sweeps cells {cells}:\n{table}")
-
-    # The area-light sweep: points told apart by two columns.
-    for sub, total in (("full-area-lights", 4000), ("s1-area-lights", 4040)):
-        point(sub, 0, "", total, 100, 40 if sub.startswith("full") else 20)
-        with open(os.path.join(tmp, sub, "points", "p0000", "row.json"), "w") as f:
-            json.dump({"scene.lights.area_from_points.samples": 16, "run.lvb": True}, f)
-    table = docs_tables.sampling_sweeps_table(tmp, docs_tables.SAMPLED_AREA)
-    cells = "| area-lights | kitchen | N, culling 16, on | 4,000 | +1.00% / 2.50% | 2.0x |"
-    check(cells in table, f"sampled area-light cells {cells}:\n{table}")
-
-ids = {s.id for s in refresh.STUDIES}
+# configs/studies/ID.yaml names its doc (relative to the file) in a `doc:` line.
+studies = os.path.join(src, "configs", "studies")
+ids = set()
+for name in sorted(os.listdir(studies)):
+    ident = name[: -len(".yaml")]
+    ids.add(ident)
+    doc = re.search(r"^doc: (\S+)$", open(os.path.join(studies, name)).read(), re.M)
+    check(doc is not None, f"configs/studies/{name} has no doc")
+    text = open(os.path.normpath(os.path.join(studies, doc.group(1)))).read() if doc else ""
+    figure = re.search(r"^  to: (\S+)$", open(os.path.join(studies, name)).read(), re.M)
+    check(
+        not figure or os.path.exists(os.path.join(studies, figure.group(1))),
+        f"{name}: no figure {figure and figure.group(1)}",
+    )
+    check(
+        f"<!-- generated: {ident} -->" in text and f"<!-- end generated: {ident} -->" in text,
+        f"{name}: its doc has no block for {ident}",
+    )
 for s in refresh.STUDIES:
+    check(s.id in ids, f"{s.id}: refresh-docs.py's study has no configs/studies/{s.id}.yaml")
     text = open(os.path.join(src, s.doc)).read()
     check(
         f"<!-- generated: {s.id} -->" in text and f"<!-- end generated: {s.id} -->" in text,
@@ -245,7 +199,7 @@ for name in os.listdir(os.path.join(src, "docs")):
         for ident in re.findall(
             r"<!-- generated: ([\w-]+) -->", open(os.path.join(src, "docs", name)).read()
         ):
-            check(ident in ids, f"docs/{name}: block {ident} has no study in refresh-docs.py")
+            check(ident in ids, f"docs/{name}: block {ident} has no study in configs/studies/")
 
 for f in failures:
     print("FAIL:", f)

@@ -1,0 +1,37 @@
+// What the study tables (study_tables.h) share: a run's results.csv read as rows of cells by
+// column name, a run's text files, and numbers written as the docs' tables write them (Python's
+// formatting, so that a table reads the same whichever side rendered it while both exist).
+#pragma once
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace rtsim::report {
+
+// One results.csv row: cell text by column name ("" for an empty cell).
+using CsvRow = std::map<std::string, std::string>;
+
+// RUN_DIR/results.csv's rows in file order (quoted cells as the sweep writes them); an InputError
+// naming the file when it is missing or a row has more cells than the header.
+std::vector<CsvRow> read_results_csv(const std::string& run_dir);
+// The cell of `column`; an InputError naming the file and the column when there is none.
+const std::string& cell(const CsvRow& row, const std::string& column, const std::string& file);
+// The cell as a number; an InputError naming the file and the column when it is not one.
+double cell_number(const CsvRow& row, const std::string& column, const std::string& file);
+// A whole text file; an InputError naming it when it cannot be read.
+std::string read_text_file(const std::string& path);
+
+// 1234.5 -> "1,234" (rounded half to even, as Python's round()).
+std::string fmt_int(double v);
+// 0.1234 -> "12.3%".
+std::string fmt_pct(double v);
+// 12.34 -> "12.3".
+std::string fmt_1(double v);
+// "| a | b |" from its cells; the separator row "|---|---|" of `n` columns.
+std::string table_row(const std::vector<std::string>& cells);
+std::string table_rule(size_t n);
+// The text without its leading and trailing whitespace (Python's str.strip() on ASCII).
+std::string strip(const std::string& text);
+
+}  // namespace rtsim::report
