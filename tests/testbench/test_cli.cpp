@@ -357,22 +357,23 @@ TEST(Cli, ParamsTableInConfigsReadmeIsCurrent) {
 }
 
 // culled.npy has one layout whoever writes it (bit i: the shadow rays to light i were culled):
-// rtsim run and rtsim lvb on the same frame and LVB mode write the same bytes, in the exact mode
-// and in the paper's.
+// rtsim run and rtsim lvb on the same frame and LVB mode write the same bytes, with the exact
+// self-occlusion test and with the paper's reading (ignore).
 TEST(Cli, RunAndLvbWriteTheSameCulledNpy) {
   const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
   for (const char* occlusion : {"test", "ignore"}) {
     const fs::path lvb = test::temp_dir("cli_culled_lvb"), sim = test::temp_dir("cli_culled_run");
-    ASSERT_EQ(
-        run("lvb " + scene + " --out " + lvb.string() +
-            " --width 64 --height 36 --method paper --bounds cell --self-occlusion " + occlusion)
-            .code,
-        0);
-    ASSERT_EQ(run(city_run(sim, std::string("--set run.lvb_method=paper --set run.lvb_bounds=cell "
-                                            "--set run.lvb_self_occlusion=") +
-                                    occlusion))
+    ASSERT_EQ(run("lvb " + scene + " --out " + lvb.string() +
+                  " --width 64 --height 36 --method hierarchical --bounds cell --self-occlusion " +
+                  occlusion)
                   .code,
               0);
+    ASSERT_EQ(
+        run(city_run(sim, std::string("--set run.lvb_method=hierarchical --set run.lvb_bounds=cell "
+                                      "--set run.lvb_self_occlusion=") +
+                              occlusion))
+            .code,
+        0);
     const std::string bytes = slurp(lvb / "culled.npy");
     EXPECT_EQ(bytes, slurp(sim / "culled.npy")) << occlusion;
     // Not a frame without culls: some pixel has a light's bit, and none past the lights.
