@@ -21,30 +21,41 @@ struct BruteHit {
   float t = 0;
 };
 
-BruteHit brute_closest(const std::vector<Triangle>& tris, const Ray& ray) {
-  const RayShear s(ray.d);
-  BruteHit best;
-  Ray r = ray;
-  for (uint32_t i = 0; i < tris.size(); ++i) {
-    if (triangle_is_degenerate(tris[i])) continue;  // the kd-tree leaves them out
-    float t;
-    if (intersect_triangle(r, s, tris[i].v0, tris[i].v1, tris[i].v2, t) &&
-        (best.tri == kNoHit || t < best.t || (t == best.t && i < best.tri))) {
-      best = {i, t};
-      r.tmax = std::nextafter(t, INFINITY);
-    }
+// Every triangle against a ray. The degenerate triangles (the kd-tree leaves them out) are
+// dropped once, not tested per ray: triangle_is_degenerate is a call the loop cannot inline.
+class BruteForce {
+ public:
+  explicit BruteForce(const std::vector<Triangle>& tris) {
+    for (uint32_t i = 0; i < tris.size(); ++i)
+      if (!triangle_is_degenerate(tris[i])) tris_.push_back(tris[i]), index_.push_back(i);
   }
-  return best;
-}
+  BruteHit closest(const Ray& ray) const {
+    const RayShear s(ray.d);
+    BruteHit best;
+    Ray r = ray;
+    for (size_t k = 0; k < tris_.size(); ++k) {
+      float t;
+      const uint32_t i = index_[k];
+      if (intersect_triangle(r, s, tris_[k].v0, tris_[k].v1, tris_[k].v2, t) &&
+          (best.tri == kNoHit || t < best.t || (t == best.t && i < best.tri))) {
+        best = {i, t};
+        r.tmax = std::nextafter(t, INFINITY);
+      }
+    }
+    return best;
+  }
+  bool occluded(const Ray& ray) const {
+    const RayShear s(ray.d);
+    float t;
+    for (const Triangle& tri : tris_)
+      if (intersect_triangle(ray, s, tri.v0, tri.v1, tri.v2, t)) return true;
+    return false;
+  }
 
-bool brute_occluded(const std::vector<Triangle>& tris, const Ray& ray) {
-  const RayShear s(ray.d);
-  float t;
-  for (const Triangle& tri : tris)
-    if (!triangle_is_degenerate(tri) && intersect_triangle(ray, s, tri.v0, tri.v1, tri.v2, t))
-      return true;
-  return false;
-}
+ private:
+  std::vector<Triangle> tris_;
+  std::vector<uint32_t> index_;  // each one's index in the scene
+};
 
 Vec3 random_unit(std::mt19937& rng) {
   std::normal_distribution<float> n(0.f, 1.f);
@@ -60,6 +71,7 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
   const KdTree tree = build_kdtree(scene.triangles, setup.kdtree);
   const MemoryImage image(scene, tree);
   const ReferenceTracer tracer(image);
+  const BruteForce brute(scene.triangles);
   const PinholeCamera cam(scene.camera, scene.width, scene.height);
   const AABB box = scene.bounds();
   std::mt19937 rng(seed);
@@ -75,7 +87,7 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
       ray.d = random_unit(rng);
     }
     const Hit h = tracer.closest_hit(ray);
-    const BruteHit b = brute_closest(scene.triangles, ray);
+    const BruteHit b = brute.closest(ray);
     if (h.tri != b.tri || (b.tri != kNoHit && h.t != b.t)) {
       if (++mismatches <= 5)
         ADD_FAILURE() << "ray " << i << ": kd-tree tri " << h.tri << " t " << h.t
@@ -98,8 +110,7 @@ void check_against_brute_force(const SceneSetup& setup, int rays, uint32_t seed)
     shadow.o = p - 1e-4f * ray.d * glm::length(box.extent());
     shadow.d = light - shadow.o;
     shadow.tmax = 1.f;
-    EXPECT_EQ(tracer.occluded(shadow), brute_occluded(scene.triangles, shadow))
-        << "shadow ray " << i;
+    EXPECT_EQ(tracer.occluded(shadow), brute.occluded(shadow)) << "shadow ray " << i;
   }
   EXPECT_EQ(mismatches, 0);
   EXPECT_GT(hits, rays / 10) << "too few rays hit anything for the test to mean much";
@@ -154,7 +165,7 @@ void expect_like_brute_force(const Scene& s, const Ray& r) {
   const MemoryImage image(s, tree);
   const ReferenceTracer tracer(image);
   const Hit h = tracer.closest_hit(r);
-  const BruteHit b = brute_closest(s.triangles, r);
+  const BruteHit b = BruteForce(s.triangles).closest(r);
   EXPECT_EQ(h.tri, b.tri);
   EXPECT_EQ(h.t, b.t);
 }
@@ -166,7 +177,7 @@ TEST(ReferenceTracer, RayWithNegativeZeroDirectionOnTheRootFace) {
   r.o = Vec3(0.f, 0.75f, 0.5f);
   r.d = Vec3(-0.f, -1.f, 0.f);
   expect_like_brute_force(s, r);
-  EXPECT_NE(brute_closest(s.triangles, r).tri, kNoHit);
+  EXPECT_NE(BruteForce(s.triangles).closest(r).tri, kNoHit);
 }
 
 TEST(ReferenceTracer, CellThinnerThanRoundingIsStillVisited) {
@@ -275,6 +286,7 @@ TEST(ReferenceTracer, AreaLightSamplesCastPenumbraeCountedPerPixel) {
   opt.height = 48;
   const TraceResult r = tracer.trace_frame(scene.camera, opt);
   const PinholeCamera cam(scene.camera, opt.width, opt.height);
+  const BruteForce brute(scene.triangles);
   const float offset = opt.shadow_offset * tree.bounds.diagonal();
   int umbra = 0, penumbra = 0, lit = 0;
   for (int y = 0; y < opt.height; ++y)
@@ -287,8 +299,7 @@ TEST(ReferenceTracer, AreaLightSamplesCastPenumbraeCountedPerPixel) {
       const SurfacePoint sp = surface_point(ray, px.hit.t, t.v0, t.v1, t.v2);
       uint16_t blocked = 0;
       for (uint32_t k = 0; k < 16; ++k)
-        blocked += brute_occluded(
-            scene.triangles,
+        blocked += brute.occluded(
             shadow_ray(sp, light_sample_point(image.light(0), idx, 0, 0, k), offset));
       ASSERT_EQ(px.occluded_samples[0], blocked) << x << "," << y;
       EXPECT_EQ(px.occluded & 1u, blocked == 16 ? 1u : 0u);
