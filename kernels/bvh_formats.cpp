@@ -28,8 +28,7 @@ BvhFormats& formats() {
 }  // namespace
 
 void BvhFormats::add(std::string name, Factory make, std::string description) {
-  registry_.add(name, make, std::move(description));  // refuses a name twice
-  std::unique_ptr<BvhNodeFormat> f = registry_.make(name);
+  std::unique_ptr<BvhNodeFormat> f = make();
   const BvhFormatTraits& t = f->traits();
   auto refuse = [&](const std::string& why) {
     throw std::logic_error("BVH node format '" + name + "': " + why);
@@ -40,6 +39,7 @@ void BvhFormats::add(std::string name, Factory make, std::string description) {
     refuse("a branching factor of " + std::to_string(t.branching));
   if (t.node_bytes == 0 || t.node_bytes % 16 || t.node_bytes > kBvhMaxNodeBytes)
     refuse(std::to_string(t.node_bytes) + "-byte nodes");
+  registry_.add(name, std::move(make), std::move(description));  // refuses a name twice
   f->name_ = std::move(name);
   formats_.push_back(std::move(f));
 }
