@@ -22,12 +22,12 @@ class Bvh2Format final : public BvhNodeFormat {
 
   BvhNodeView decode(const uint8_t* p) const override {
     BvhNodeView v;
-    v.count = std::min<uint32_t>(get_u32(p + 56), 2);
+    v.count = std::min<uint32_t>(load_u32(p + 56), 2);
     for (uint32_t i = 0; i < v.count; ++i) {
       const uint8_t* xy = p + 16 * i;
-      v.box[i].lo = Vec3(get_f32(xy), get_f32(xy + 8), get_f32(p + 32 + 8 * i));
-      v.box[i].hi = Vec3(get_f32(xy + 4), get_f32(xy + 12), get_f32(p + 36 + 8 * i));
-      const uint32_t ref = get_u32(p + 48 + 4 * i);
+      v.box[i].lo = Vec3(load_f32(xy), load_f32(xy + 8), load_f32(p + 32 + 8 * i));
+      v.box[i].hi = Vec3(load_f32(xy + 4), load_f32(xy + 12), load_f32(p + 36 + 8 * i));
+      const uint32_t ref = load_u32(p + 48 + 4 * i);
       v.leaf[i] = is_leaf_ref(ref);
       v.ref[i] = ref_index(ref);
     }

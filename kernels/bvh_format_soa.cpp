@@ -26,13 +26,13 @@ class SoaFormat final : public BvhNodeFormat {
   BvhNodeView decode(const uint8_t* p) const override {
     const uint32_t w = traits().branching;
     BvhNodeView v;
-    v.count = std::min(get_u32(p + 28 * w), w);
+    v.count = std::min(load_u32(p + 28 * w), w);
     for (uint32_t i = 0; i < v.count; ++i) {
       for (int a = 0; a < 3; ++a) {
-        v.box[i].lo[a] = get_f32(p + 4 * ((2 * a) * w + i));
-        v.box[i].hi[a] = get_f32(p + 4 * ((2 * a + 1) * w + i));
+        v.box[i].lo[a] = load_f32(p + 4 * ((2 * a) * w + i));
+        v.box[i].hi[a] = load_f32(p + 4 * ((2 * a + 1) * w + i));
       }
-      const uint32_t ref = get_u32(p + 4 * (6 * w + i));
+      const uint32_t ref = load_u32(p + 4 * (6 * w + i));
       v.leaf[i] = is_leaf_ref(ref);
       v.ref[i] = ref_index(ref);
     }

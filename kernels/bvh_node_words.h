@@ -3,6 +3,7 @@
 #pragma once
 
 #include "kernels/bvh_format.h"
+#include "kernels/memory_image.h"
 
 #include <cstdint>
 #include <cstring>
@@ -13,16 +14,8 @@ namespace rtsim::bvh_words {
 
 inline void put_u32(uint8_t* p, uint32_t v) { std::memcpy(p, &v, 4); }
 inline void put_f32(uint8_t* p, float v) { std::memcpy(p, &v, 4); }
-inline uint32_t get_u32(const uint8_t* p) {
-  uint32_t v;
-  std::memcpy(&v, p, 4);
-  return v;
-}
-inline float get_f32(const uint8_t* p) {
-  float v;
-  std::memcpy(&v, p, 4);
-  return v;
-}
+using image::load_f32;
+using image::load_u32;
 
 // A child reference: an inner node's record, or the bit-inverted leaf number (Aila and Laine's
 // negative index), so both must fit in 31 bits.

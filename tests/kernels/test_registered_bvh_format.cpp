@@ -48,13 +48,13 @@ class ReversedBvh8Format final : public BvhNodeFormat {
 
   BvhNodeView decode(const uint8_t* p) const override {
     BvhNodeView v;
-    v.count = std::min(get_u32(p + 28 * kW), kW);
+    v.count = std::min(load_u32(p + 28 * kW), kW);
     for (uint32_t i = 0; i < v.count; ++i) {
       for (int a = 0; a < 3; ++a) {
-        v.box[i].lo[a] = get_f32(p + 4 * ((2 * a) * kW + i));
-        v.box[i].hi[a] = get_f32(p + 4 * ((2 * a + 1) * kW + i));
+        v.box[i].lo[a] = load_f32(p + 4 * ((2 * a) * kW + i));
+        v.box[i].hi[a] = load_f32(p + 4 * ((2 * a + 1) * kW + i));
       }
-      const uint32_t ref = get_u32(p + 4 * (6 * kW + i));
+      const uint32_t ref = load_u32(p + 4 * (6 * kW + i));
       v.leaf[i] = is_leaf_ref(ref);
       v.ref[i] = ref_index(ref);
     }
