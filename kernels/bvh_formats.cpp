@@ -13,7 +13,7 @@ void add_cwbvh8_format(BvhFormats& r);
 
 namespace {
 
-// The order is the one `--accel`, `rtsim params` and the errors show (after the kd-tree).
+// The order is the one `--accel`, its help and the errors show (after the kd-tree).
 BvhFormats& formats() {
   static BvhFormats r = [] {
     BvhFormats f;
