@@ -22,7 +22,7 @@ struct BvhFormatTraits {
   // The header word `accel` and the device's register: part of the memory image format and the
   // register map, so never renumbered or reused (0 is the kd-tree's).
   uint32_t id = 0;
-  uint32_t branching = 0;   // children per node; the BVH builder's branching factor
+  uint32_t branching = 0;   // children per node: the BVH builder's 2, 4 or 8
   uint32_t node_bytes = 0;  // one record, a multiple of 16, at most kBvhMaxNodeBytes
   // Decoding a node costs the BVH unit hw `bvh.decode_latency` extra cycles (a compressed node).
   bool decode_cycles = false;

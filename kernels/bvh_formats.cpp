@@ -35,8 +35,8 @@ void BvhFormats::add(std::string name, Factory make, std::string description) {
   };
   if (t.id == uint32_t(Accel::kKdTree)) refuse("id 0 is the kd-tree's");
   if (find(Accel(t.id))) refuse("id " + std::to_string(t.id) + " registered twice");
-  if (t.branching < 2 || t.branching > kBvhMaxBranching)
-    refuse("a branching factor of " + std::to_string(t.branching));
+  if (t.branching != 2 && t.branching != 4 && t.branching != 8)  // what the builder builds
+    refuse("a branching factor of " + std::to_string(t.branching) + " (expected 2, 4 or 8)");
   if (t.node_bytes == 0 || t.node_bytes % 16 || t.node_bytes > kBvhMaxNodeBytes)
     refuse(std::to_string(t.node_bytes) + "-byte nodes");
   registry_.add(name, std::move(make), std::move(description));  // refuses a name twice
