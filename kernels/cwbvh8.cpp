@@ -6,6 +6,7 @@
 // box contains the true one, as Embree's quantised node does (embree kernels/bvh/bvh_node_qaabb.h).
 #include "kernels/cwbvh8.h"
 
+#include "kernels/bvh_format.h"
 #include "kernels/memory_image.h"
 
 #include <algorithm>
@@ -232,6 +233,24 @@ BvhNodeView decode_cwbvh8(const uint8_t* p) {
     }
   }
   return v;
+}
+
+namespace {
+
+class Cwbvh8Format final : public BvhNodeFormat {
+ public:
+  Cwbvh8Format()
+      : BvhNodeFormat({/*id=*/4, /*branching=*/8, kCwbvh8NodeBytes, /*decode_cycles=*/true}) {}
+  BvhNodeSection encode(const Bvh& bvh) const override { return encode_cwbvh8(bvh); }
+  BvhNodeView decode(const uint8_t* p) const override { return decode_cwbvh8(p); }
+};
+
+}  // namespace
+
+void add_cwbvh8_format(BvhFormats& r) {
+  r.add(
+      "cwbvh8", [] { return std::make_unique<Cwbvh8Format>(); },
+      "Ylitie, Karras and Laine's compressed eight-wide node, 80 B");
 }
 
 }  // namespace rtsim

@@ -19,9 +19,10 @@ ReferenceTracer::ReferenceTracer(const MemoryImage& image)
     : image_(image), mem_(image.bytes().data()), h_(image.header()) {
   abs_eps_ = 1e-6f * std::max(h_.bounds.diagonal(), 1e-20f);
   if (h_.nodes.count == 0) throw InputError("memory image has no nodes");
-  if (uint32_t(h_.accel) > uint32_t(Accel::kCwbvh8))
+  if (!known_accel(h_.accel))
     throw InputError(fmt::format("memory image: acceleration structure {} is not one of {}",
-                                 uint32_t(h_.accel), kAccelNames));
+                                 uint32_t(h_.accel), quoted_names(accel_names())));
+  format_ = bvh_formats().find(h_.accel);
 }
 
 template <bool kAnyHit, class Observer>
@@ -98,7 +99,7 @@ bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& 
       const uint32_t addr = h_.nodes.base + s.node * node_bytes;
       const uint8_t* p = mem_ + addr;
       obs.read(AccessUnit::kTraversal, addr, node_bytes);
-      step = bvh_traversal_node(s, result, decode_bvh_node(h_.accel, p));
+      step = bvh_traversal_node(s, result, format_->decode(p));
       if (step == TraversalStep::kFault)
         throw std::logic_error("BVH deeper than the traversal stack");
       continue;

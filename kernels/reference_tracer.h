@@ -3,6 +3,7 @@
 #pragma once
 
 #include "kernels/access_stream.h"
+#include "kernels/bvh_format.h"
 #include "kernels/bvh_traversal.h"
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
@@ -100,7 +101,8 @@ class ReferenceTracer {
   const MemoryImage& image_;
   const uint8_t* mem_;
   image::Header h_;
-  float abs_eps_;  // absolute slack on t, from the scene size
+  const BvhNodeFormat* format_ = nullptr;  // the image's BVH node format (null for the kd-tree)
+  float abs_eps_;                          // absolute slack on t, from the scene size
 };
 
 }  // namespace rtsim

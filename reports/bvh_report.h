@@ -16,7 +16,7 @@ inline constexpr const char* kBvhStudySchema = "rtsim-bvh-study/1";
 // One finished point: its setup, structure and culling, and its sweep metrics by name.
 struct BvhStudyRun {
   std::string scene;
-  std::string accel;    // kdtree, bvh2, bvh4, bvh8, cwbvh8
+  std::string accel;    // to_string(Accel): kdtree or a registered BVH node format
   std::string culling;  // off, paper, exact
   int width = 0, height = 0;
   std::map<std::string, double> figures;  // frame_ms_all, cycles_shadow, nodes_per_ray, ...

@@ -1,6 +1,7 @@
 // rtsim: the command-line front end. Input errors print one line and exit with code 2.
 #include "common/error.h"
 #include "config_loader/hw_config.h"
+#include "kernels/bvh_image.h"
 #include "testbench/commands.h"
 #include "testbench/resources.h"
 #include "testbench/sweep.h"
@@ -25,13 +26,17 @@ std::string default_out(const std::string& scene, const char* command) {
       .string();
 }
 
-// --accel NAME: the acceleration structure in the memory image (run.accel).
+// --accel NAME: the acceleration structure in the memory image (run.accel): the kd-tree or a
+// registered BVH node format.
 CLI::Option* add_accel_option(CLI::App* cmd, std::function<void(const std::string&)> set) {
+  std::vector<std::string> names;
+  for (const rtsim::RegisteredName& n : rtsim::accel_names()) names.push_back(n.name);
   return cmd
       ->add_option_function<std::string>(
           "--accel", std::move(set),
-          "Acceleration structure: kdtree (the paper's, default), bvh2, bvh4, bvh8 or cwbvh8")
-      ->check(CLI::IsMember({"kdtree", "bvh2", "bvh4", "bvh8", "cwbvh8"}));
+          "Acceleration structure: " + rtsim::quoted_names(rtsim::accel_names()) +
+              " (default: kdtree, the paper's)")
+      ->check(CLI::IsMember(names));
 }
 
 void add_prepare_options(CLI::App* cmd, rtsim::PrepareOptions& p) {

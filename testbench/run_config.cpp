@@ -73,8 +73,12 @@ void read_sample_settings(YamlMap& m, SampleSettings& s) {
 
 RunSettings read_run_settings(YamlMap m) {
   RunSettings r;
-  r.accel = read_choice(m, "accel", r.accel,
-                        {Accel::kKdTree, Accel::kBvh2, Accel::kBvh4, Accel::kBvh8, Accel::kCwbvh8});
+  const std::string accel = m.get<std::string>("accel", to_string(r.accel));
+  try {
+    r.accel = parse_accel(accel);
+  } catch (const std::invalid_argument&) {
+    m.fail("accel", "expected " + quoted_names(accel_names()));
+  }
   r.lvb = m.get<bool>("lvb", r.lvb);
   r.lvb_params.method = read_choice(m, "lvb_method", r.lvb_params.method,
                                     {LvbMethod::kHierarchical, LvbMethod::kPaper});

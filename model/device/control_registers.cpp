@@ -163,7 +163,7 @@ FrameProgram ControlRegisters::program() const {
 uint32_t ControlRegisters::validate(FrameProgram& p) const {
   p = program();
   if (p.header.magic != image::kMagic || p.header.version != image::kVersion ||
-      uint32_t(p.header.accel) > uint32_t(Accel::kCwbvh8))
+      !known_accel(p.header.accel))
     return regs::kBadHeader;
   if (is_bvh(p.header.accel) != info_.bvh) return regs::kBadStructure;
   if (p.width < 1 || p.height < 1 || p.width > kMaxSide || p.height > kMaxSide)

@@ -32,7 +32,7 @@ const char* status_error_name(uint32_t code) {
     case regs::kBusyReset: return "a reset while a frame runs";
     case regs::kBadStructure:
       return "the image's acceleration structure is not the one the traversal units walk "
-             "(hw.structure: kdtree for a kd-tree image, bvh for bvh2, bvh4, bvh8 and cwbvh8)";
+             "(hw.structure: kdtree for a kd-tree image, bvh for any BVH node format)";
     case regs::kBadImage:
       return "the memory does not hold a readable image (an index outside its section, or a "
              "walk deeper than its stack or longer than its tree; statistics faults.*)";

@@ -7,7 +7,8 @@ namespace rtsim::model {
 namespace {
 
 // Every BVH format numbers a node's inner children after it (pre-order, or cwbvh8's
-// breadth-first records; docs/memory-image.md): a child at or before its parent is not an image.
+// breadth-first records; docs/memory-image.md; kernels/bvh_format.h requires it): a child at or
+// before its parent is not an image.
 bool children_after(const BvhNodeView& n, uint32_t node) {
   for (uint32_t i = 0; i < n.count; ++i)
     if (!n.leaf[i] && n.ref[i] <= node) return false;
@@ -125,7 +126,9 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
     keep(id, now + ctx_.clock.period());
     return;
   }
-  const BvhNodeView node = decode_bvh_node(h.accel, slot.node);
+  // The image's format: the control registers refused an id that names none.
+  const BvhNodeFormat& format = *bvh_formats().find(h.accel);
+  const BvhNodeView node = format.decode(slot.node);
   const uint32_t passes = std::max<uint32_t>(
       1, (node.count + walk_.box_tests_per_cycle - 1) / walk_.box_tests_per_cycle);
   if (op + 1 < passes) {  // more boxes than one operation tests
@@ -152,7 +155,7 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
     account_pushes(t, walk.pushed - 1);
   else
     extra = account_pops(t, walk.skipped + (step != TraversalStep::kDone));
-  const uint32_t decode = h.accel == Accel::kCwbvh8 ? walk_.decode_latency : 0;
+  const uint32_t decode = format.traits().decode_cycles ? walk_.decode_latency : 0;
   const Tick done_at =
       std::max(slot.node_ready, now) + ctx_.clock.cycles(latency_ + decode) + extra;
   switch (step) {

@@ -1,5 +1,5 @@
 // The BVH traversal unit: a traversal unit (model/units/traversal_unit.h) that walks a BVH image
-// (bvh2, bvh4, bvh8 or cwbvh8, kernels/bvh_image.h) with the shared walk of
+// (any registered node format, kernels/bvh_format.h) with the shared walk of
 // kernels/bvh_traversal.h, so its rays' results are the reference tracer's bit for bit.
 //
 // A node visit: the node's record comes through the unit's L1, two lines per operation (a 256-byte
@@ -12,6 +12,7 @@
 
 #include "model/sim/stats_description.h"
 
+#include "kernels/bvh_format.h"
 #include "kernels/bvh_traversal.h"
 #include "model/memory/cache.h"
 #include "model/units/traversal_unit.h"
@@ -94,7 +95,7 @@ class BvhUnit : public TraversalUnit {
   // A ray slot's storage: its stack, and the node being fetched.
   struct Slot {
     std::vector<BvhStackEntry> stack;
-    uint8_t node[256];
+    uint8_t node[kBvhMaxNodeBytes];
     Tick node_ready = 0;
   };
   // Pops `popped` entries off the ray's stack; the extra time a refill of spilled ones takes.

@@ -3,7 +3,7 @@
 #pragma once
 
 #include "config_loader/scene_file.h"
-#include "kernels/bvh_image.h"
+#include "kernels/bvh_format.h"
 #include "tests/test_util.h"
 
 #include <cstdint>
@@ -12,10 +12,17 @@
 
 namespace rtsim::bvh_test {
 
-// Every BVH node format, and those that decode to the tree's nodes exactly (cwbvh8's boxes are
-// quantised outward and its nodes renumbered: tests/kernels/test_cwbvh8.cpp checks it).
-inline constexpr Accel kBvhAccels[] = {Accel::kBvh2, Accel::kBvh4, Accel::kBvh8, Accel::kCwbvh8};
-inline constexpr Accel kUncompressedAccels[] = {Accel::kBvh2, Accel::kBvh4, Accel::kBvh8};
+// Every registered BVH node format, and those that decode to the tree's nodes exactly (cwbvh8's
+// boxes are quantised outward and its nodes renumbered: tests/kernels/test_cwbvh8.cpp checks it).
+inline std::vector<Accel> registered_bvh_accels() {
+  std::vector<Accel> out;
+  for (const RegisteredName& n : bvh_formats().names()) out.push_back(parse_accel(n.name));
+  return out;
+}
+inline const std::vector<Accel> kBvhAccels = registered_bvh_accels();
+inline const Accel kBvh2 = parse_accel("bvh2"), kBvh4 = parse_accel("bvh4"),
+                   kBvh8 = parse_accel("bvh8"), kCwbvh8 = parse_accel("cwbvh8");
+inline const std::vector<Accel> kUncompressedAccels = {kBvh2, kBvh4, kBvh8};
 
 inline uint32_t bits(float f) {
   uint32_t u;

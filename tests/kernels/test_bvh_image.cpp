@@ -20,7 +20,11 @@ namespace rtsim {
 namespace {
 
 using bvh_test::bits;
+using bvh_test::kBvh2;
+using bvh_test::kBvh4;
+using bvh_test::kBvh8;
 using bvh_test::kBvhAccels;
+using bvh_test::kCwbvh8;
 using bvh_test::kUncompressedAccels;
 using kdtree_test::tri;
 
@@ -73,10 +77,10 @@ Scene image_scene() {
 
 // The raw child reference and child count of a record, where each format keeps them.
 uint32_t raw_ref(Accel a, const uint8_t* p, uint32_t i) {
-  return a == Accel::kBvh2 ? word(p + 48 + 4 * i) : word(p + 4 * (6 * accel_branching(a) + i));
+  return a == kBvh2 ? word(p + 48 + 4 * i) : word(p + 4 * (6 * accel_branching(a) + i));
 }
 uint32_t raw_count(Accel a, const uint8_t* p) {
-  return a == Accel::kBvh2 ? word(p + 56) : word(p + 28 * accel_branching(a));
+  return a == kBvh2 ? word(p + 56) : word(p + 28 * accel_branching(a));
 }
 
 // Every record of `bytes` (the nodes section) decodes to the tree's node, slot for slot.
@@ -147,23 +151,42 @@ void expect_image(const Scene& scene, const std::vector<Triangle>& tris, Accel a
 
 TEST(BvhImage, NodeRecordBytes) {
   EXPECT_EQ(bvh_node_bytes(Accel::kKdTree), image::kNodeBytes);
-  EXPECT_EQ(bvh_node_bytes(Accel::kBvh2), 64u);
-  EXPECT_EQ(bvh_node_bytes(Accel::kBvh4), 128u);
-  EXPECT_EQ(bvh_node_bytes(Accel::kBvh8), 256u);
-  EXPECT_EQ(bvh_node_bytes(Accel::kCwbvh8), 80u);
+  EXPECT_EQ(bvh_node_bytes(kBvh2), 64u);
+  EXPECT_EQ(bvh_node_bytes(kBvh4), 128u);
+  EXPECT_EQ(bvh_node_bytes(kBvh8), 256u);
+  EXPECT_EQ(bvh_node_bytes(kCwbvh8), 80u);
   EXPECT_EQ(accel_branching(Accel::kKdTree), 0u);
-  EXPECT_EQ(accel_branching(Accel::kBvh2), 2u);
-  EXPECT_EQ(accel_branching(Accel::kBvh4), 4u);
-  EXPECT_EQ(accel_branching(Accel::kBvh8), 8u);
-  EXPECT_EQ(accel_branching(Accel::kCwbvh8), 8u);
+  EXPECT_EQ(accel_branching(kBvh2), 2u);
+  EXPECT_EQ(accel_branching(kBvh4), 4u);
+  EXPECT_EQ(accel_branching(kBvh8), 8u);
+  EXPECT_EQ(accel_branching(kCwbvh8), 8u);
   for (Accel a : kBvhAccels) EXPECT_EQ(bvh_node_bytes(a) % 16, 0u) << to_string(a);
 }
 
+// The ids are the header word `accel` and the device's register: part of the image format and
+// the register map (docs/memory-image.md), so they never move.
+TEST(BvhImage, FormatIdsAreTheImageFormats) {
+  EXPECT_EQ(uint32_t(parse_accel("kdtree")), 0u);
+  EXPECT_EQ(uint32_t(kBvh2), 1u);
+  EXPECT_EQ(uint32_t(kBvh4), 2u);
+  EXPECT_EQ(uint32_t(kBvh8), 3u);
+  EXPECT_EQ(uint32_t(kCwbvh8), 4u);
+  EXPECT_TRUE(bvh_formats().find(kCwbvh8)->traits().decode_cycles);
+  for (Accel a : kUncompressedAccels) EXPECT_FALSE(bvh_formats().find(a)->traits().decode_cycles);
+  EXPECT_FALSE(known_accel(Accel(5)));
+  EXPECT_EQ(to_string(Accel(5)), "accel 5");
+  EXPECT_EQ(bvh_node_bytes(Accel(5)), 0u);
+}
+
 TEST(BvhImage, AccelNamesParseAndBadOnesAreRefused) {
-  for (uint32_t i = 0; i <= uint32_t(Accel::kCwbvh8); ++i) {
-    const Accel a = static_cast<Accel>(i);
-    EXPECT_EQ(parse_accel(to_string(a)), a);
-    EXPECT_EQ(is_bvh(a), a != Accel::kKdTree);
+  const std::vector<RegisteredName> names = accel_names();
+  ASSERT_EQ(names.size(), 1 + bvh_formats().names().size());
+  EXPECT_EQ(names[0].name, "kdtree");
+  for (const RegisteredName& n : names) {
+    const Accel a = parse_accel(n.name);
+    EXPECT_EQ(to_string(a), n.name);
+    EXPECT_TRUE(known_accel(a));
+    EXPECT_EQ(is_bvh(a), n.name != "kdtree");
   }
   for (const char* bad : {"bvh16", "", "BVH2", "kd-tree", "bvh2 "}) {
     try {
@@ -172,8 +195,9 @@ TEST(BvhImage, AccelNamesParseAndBadOnesAreRefused) {
     } catch (const std::invalid_argument& e) {
       const std::string m = e.what();
       EXPECT_EQ(m.rfind("run.accel: ", 0), 0u) << m;
-      EXPECT_NE(m.find("kdtree, bvh2, bvh4, bvh8 or cwbvh8"), std::string::npos) << m;
-      EXPECT_NE(m.find("'" + std::string(bad) + "'"), std::string::npos) << m;
+      for (const RegisteredName& n : names)
+        EXPECT_NE(m.find("'" + n.name + "'"), std::string::npos) << m;
+      EXPECT_NE(m.find("got '" + std::string(bad) + "'"), std::string::npos) << m;
     }
   }
   try {
@@ -203,14 +227,13 @@ TEST(BvhImage, RecordsAreTheFormatsBytes) {
     for (uint32_t i = 0; i < 2; ++i) {
       for (uint32_t k = 0; k < 3; ++k) {
         // bvh2: (lo.x, hi.x, lo.y, hi.y) per child, then (lo.z, hi.z) per child; SoA: six rows.
-        expected[a == Accel::kBvh2 ? (k < 2 ? 4 * i + 2 * k : 8 + 2 * i) : 2 * k * w + i] =
-            bits(lo[i][k]);
-        expected[a == Accel::kBvh2 ? (k < 2 ? 4 * i + 2 * k + 1 : 9 + 2 * i)
-                                   : (2 * k + 1) * w + i] = bits(hi[i][k]);
+        expected[a == kBvh2 ? (k < 2 ? 4 * i + 2 * k : 8 + 2 * i) : 2 * k * w + i] = bits(lo[i][k]);
+        expected[a == kBvh2 ? (k < 2 ? 4 * i + 2 * k + 1 : 9 + 2 * i) : (2 * k + 1) * w + i] =
+            bits(hi[i][k]);
       }
-      expected[a == Accel::kBvh2 ? 12 + i : 6 * w + i] = ~i;  // leaf i, inverted
+      expected[a == kBvh2 ? 12 + i : 6 * w + i] = ~i;  // leaf i, inverted
     }
-    expected[a == Accel::kBvh2 ? 14 : 7 * w] = 2;
+    expected[a == kBvh2 ? 14 : 7 * w] = 2;
     std::vector<uint32_t> got(expected.size());
     std::memcpy(got.data(), s.bytes.data(), s.bytes.size());
     EXPECT_EQ(got, expected);

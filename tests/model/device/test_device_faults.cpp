@@ -271,7 +271,7 @@ struct CityBvh8 {
   CityBvh8()
       : city(kWidth, kHeight),
         cfg(load_hw_config((test::source_dir() / "configs/hw/bvh-tni.yaml").string())),
-        image(city.scene, build_bvh(city.scene.triangles, bvh8()), Accel::kBvh8) {}
+        image(city.scene, build_bvh(city.scene.triangles, bvh8()), parse_accel("bvh8")) {}
   static BvhConfig bvh8() {
     BvhConfig c;
     c.branching = 8;

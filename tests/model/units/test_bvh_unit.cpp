@@ -122,8 +122,9 @@ struct BvhBench : Bench, RaySink {
 struct Scenario {
   Scene row = row_of_triangles(), pair = stacked(2), triple = stacked(3);
   Bvh row_bvh = bvh4(row), pair_bvh = bvh4(pair), triple_bvh = bvh4(triple);
-  MemoryImage row_image{row, row_bvh, Accel::kBvh4}, pair_image{pair, pair_bvh, Accel::kBvh4},
-      triple_image{triple, triple_bvh, Accel::kBvh4};
+  MemoryImage row_image{row, row_bvh, parse_accel("bvh4")},
+      pair_image{pair, pair_bvh, parse_accel("bvh4")},
+      triple_image{triple, triple_bvh, parse_accel("bvh4")};
   // wide: 4 boxes an operation (the default); narrow: 2; two: the pair; spill: the triple with
   // one stack entry on chip.
   std::unique_ptr<BvhBench> wide, narrow, two, spill;
