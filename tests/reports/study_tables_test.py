@@ -72,7 +72,7 @@ with tempfile.TemporaryDirectory() as tmp:
                     }
                 )
                 rows.append(r)
-        rows[2]["stats.ist.l2.bank.stall_cycles"] = ""
+        rows[2]["ist_l2_bank_stall_cycles"] = ""
         rows[5] = {"point": 5, "id": "p0005", key: values[2], "failure": 'exit 1: "a, b"\nlast'}
         run_dir = os.path.join(tmp, study)
         results(

@@ -27,8 +27,8 @@ fs::path tiny_study(const fs::path& dir) {
             "]\nhw: " + (src / "configs/hw/tni-paper.yaml").string() +
             "\nset: {scene.resolution: [64, 36]}\naxes:\n  hw.trv.l1.size_kb: [4, 8]\n"
             "metrics: [cycles_total, trv_l1_hit_rate, ist_l1_hit_rate, ist_l2_hit_rate, "
-            "trv_busy, dram_bandwidth_gbps, stats.ist.l2.bank.stall_cycles, "
-            "stats.trv.icnt.reply.avg_queue_cycles, stats.ist.icnt.reply.avg_queue_cycles]\n");
+            "trv_busy, dram_bandwidth_gbps, ist_l2_bank_stall_cycles, trv_reply_queue_cycles, "
+            "ist_reply_queue_cycles]\n");
   write(dir / "doc.md",
         "# Doc\n\nbefore\n<!-- generated: tiny -->\nold\n"
         "<!-- end generated: tiny -->\nafter\n");
