@@ -3,7 +3,9 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+# The test command's flags (scripts/test.sh): with the same flags it reuses every object built here
+# instead of compiling them again with -Werror added.
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DRTSIM_WERROR=ON
 # Only what the job runs; scripts/test.sh builds the rest (tests, benchmarks, examples).
 cmake --build build -j "$(nproc)" --target rtsim
 ./build/rtsim info configs/scenes/city.yaml
