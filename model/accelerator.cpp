@@ -95,12 +95,13 @@ void Accelerator::Netlist::bind_ray_path() {
     TraversalUnit& t = traversal(i);
     generator->to_trv.bind(t.in);
     culling->to_trv.bind(t.in);
-    t.to_list.bind(list(i * cfg.list.count / traversal_units).in);
-    t.to_shading.bind(shading(i * cfg.shading.count / traversal_units).in);
+    const std::array<uint32_t, kStages> route = ray_route(cfg, i);
+    t.to_list.bind(list(route[kListStage]).in);
+    t.to_shading.bind(shading(route[kShadingStage]).in);
     router.owners.bind(t.owner);
   }
   for (uint32_t j = 0; j < cfg.list.count; ++j)
-    list(j).to_ist.bind(ist(j * cfg.ist.count / cfg.list.count).in);
+    list(j).to_ist.bind(ist(fan_in(j, cfg.list.count, cfg.ist.count)).in);
   for (uint32_t k = 0; k < cfg.ist.count; ++k) {
     ist(k).back.bind(router.returns);
     ist(k).to_shading.bind(router.finished);

@@ -32,6 +32,16 @@ size_t add_type(MemorySystemConfig& m, const std::string& key, const UnitTypeCon
 
 }  // namespace
 
+std::array<uint32_t, kStages> ray_route(const AcceleratorConfig& cfg, uint32_t t) {
+  const uint32_t trv = cfg.traversal().count, list = fan_in(t, trv, cfg.list.count);
+  std::array<uint32_t, kStages> route{};
+  route[kTrvStage] = t;
+  route[kListStage] = list;
+  route[kIstStage] = fan_in(list, cfg.list.count, cfg.ist.count);
+  route[kShadingStage] = fan_in(t, trv, cfg.shading.count);
+  return route;
+}
+
 MemoryTopology memory_topology(const AcceleratorConfig& cfg, MemoryTarget target) {
   MemoryTopology t;
   MemorySystemConfig& m = t.memory;

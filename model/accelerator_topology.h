@@ -31,6 +31,15 @@ struct MemoryTopology {
 };
 MemoryTopology memory_topology(const AcceleratorConfig& cfg, MemoryTarget target);
 
+// The ray path's fan-in, as data: unit `i` of a stage of `from` units hands its rays to unit
+// i x to / from of the next stage of `to` units (TRV -> LIST, LIST -> IST, TRV -> shading).
+inline uint32_t fan_in(uint32_t i, uint32_t from, uint32_t to) {
+  return uint32_t(uint64_t(i) * to / from);
+}
+// The units a ray dealt to traversal unit `t` visits, by stage: the path bind_ray_path binds, which
+// the sampled frame's warming and functional pass follow too.
+std::array<uint32_t, kStages> ray_route(const AcceleratorConfig& cfg, uint32_t t);
+
 // What a client attached at `a` binds its mem_side to.
 inline LineSource& reach(MemorySystem& memory, const MemoryAttachment& a) {
   return a.private_l2 ? memory.memory_port(a.l2) : memory.client_port(a.l2, a.source);

@@ -25,17 +25,10 @@ void Accelerator::Netlist::warm_line(Cache& cache, Cache* below, uint64_t addr) 
 
 void Accelerator::Netlist::read(AccessUnit unit, uint32_t traversal, uint64_t addr,
                                 uint32_t bytes) {
-  // The units a ray of traversal unit `traversal` visits, as accelerator.cpp binds them.
-  const uint32_t trvs = cfg.traversal().count, t = traversal % trvs;
-  const uint32_t list_unit = t * cfg.list.count / trvs;
-  Stage stage = kTrvStage;
-  uint32_t i = t;
-  switch (unit) {
-    case AccessUnit::kTraversal: break;
-    case AccessUnit::kList: stage = kListStage, i = list_unit; break;
-    case AccessUnit::kIst: stage = kIstStage, i = list_unit * cfg.ist.count / cfg.list.count; break;
-    case AccessUnit::kShading: stage = kShadingStage, i = t * cfg.shading.count / trvs; break;
-  }
+  // AccessUnit's types are the stages, in stage order (kernels/access_stream.h).
+  static_assert(size_t(AccessUnit::kShading) == kShadingStage && kAccessUnits == kStages);
+  const Stage stage = Stage(unit);
+  const uint32_t i = ray_route(cfg, traversal % cfg.traversal().count)[stage];
   RayUnit& u = *units[stage][i];
   const MemoryAttachment& at = topology.units[stage][i];
   Cache* l2 = at.private_l2 ? u.caches().l2() : memory->shared_l2(at.l2);

@@ -1,5 +1,7 @@
 #include "testbench/functional_caches.h"
 
+#include "model/accelerator_topology.h"
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -66,6 +68,10 @@ FunctionalCaches::FunctionalCaches(const model::AcceleratorConfig& cfg) {
     l1_[shading_i].push_back(tags(cfg.shading.l1));
     l2_of_[shading_i].push_back(shading_l2);
   }
+  // AccessUnit's types are the stages, in stage order (kernels/access_stream.h).
+  static_assert(size_t(AccessUnit::kShading) == model::kShadingStage &&
+                kAccessUnits == model::kStages);
+  for (uint32_t t = 0; t < trv.count; ++t) routes_.push_back(model::ray_route(cfg, t));
 }
 
 int FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts,
@@ -90,15 +96,6 @@ int FunctionalCaches::read(uint32_t unit, const Access& a, CacheCounts& counts,
     level = 2;
   }
   return level;
-}
-
-std::array<uint32_t, kAccessUnits> FunctionalCaches::route(uint32_t t) const {
-  const auto n = [this](AccessUnit u) { return uint64_t(count(u)); };
-  const uint64_t trv = n(AccessUnit::kTraversal);
-  const uint32_t list = uint32_t(t * n(AccessUnit::kList) / trv);
-  const uint32_t ist = uint32_t(list * n(AccessUnit::kIst) / n(AccessUnit::kList));
-  const uint32_t shading = uint32_t(t * n(AccessUnit::kShading) / trv);
-  return {t, list, ist, shading};
 }
 
 }  // namespace rtsim

@@ -75,10 +75,9 @@ class FunctionalCaches {
   int read(uint32_t unit, const Access& a, CacheCounts& counts,
            std::vector<LineMiss>* misses = nullptr);
 
-  // The units a ray owned by traversal unit `t` visits, by type, as model/accelerator.cpp binds
-  // them: LIST t x list / trv, the IST of that LIST unit (j x ist / list), shading t x shading /
-  // trv.
-  std::array<uint32_t, kAccessUnits> route(uint32_t t) const;
+  // The units a ray owned by traversal unit `t` visits, by type: the model's ray path
+  // (model::ray_route).
+  const std::array<uint32_t, kAccessUnits>& route(uint32_t t) const { return routes_[t]; }
   uint32_t count(AccessUnit type) const { return uint32_t(l1_[size_t(type)].size()); }
   uint32_t line_bytes() const { return line_bytes_; }
   uint32_t line_shift() const { return line_shift_; }  // log2 of line_bytes()
@@ -90,7 +89,8 @@ class FunctionalCaches {
   std::array<std::vector<TagArray>, kAccessUnits> l1_;
   std::array<std::vector<uint32_t>, kAccessUnits> l2_of_;  // each unit's L2, an index of l2s_
   std::vector<TagArray> l2s_;
-  std::vector<AccessUnit> l2_type_;  // by L2
+  std::vector<AccessUnit> l2_type_;                         // by L2
+  std::vector<std::array<uint32_t, kAccessUnits>> routes_;  // by traversal unit
   uint32_t line_bytes_ = 64;
   uint32_t line_shift_ = 6;
 };
