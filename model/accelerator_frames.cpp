@@ -1,5 +1,7 @@
 #include "model/accelerator_netlist.h"
 
+#include "kernels/bvh_format.h"
+
 namespace rtsim::model {
 
 // A whole memory line, so that a record is one write and no two pixels share a line.
@@ -62,6 +64,7 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   const image::Header& h = p.header;
   ctx.header = placed(h, p.image_base);
   ctx.bvh = is_bvh(h.accel);
+  ctx.bvh_format = ctx.bvh ? bvh_formats().find(h.accel) : nullptr;
   // The reference tracer's constants (reference_tracer.cpp), computed the same way.
   ctx.abs_eps = 1e-6f * std::max(h.bounds.diagonal(), 1e-20f);
   ctx.shadow_offset = 1e-5f * h.bounds.diagonal();

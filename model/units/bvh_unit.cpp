@@ -126,8 +126,7 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
     keep(id, now + ctx_.clock.period());
     return;
   }
-  // The image's format: the control registers refused an id that names none.
-  const BvhNodeFormat& format = *bvh_formats().find(h.accel);
+  const BvhNodeFormat& format = *ctx_.bvh_format;  // the image's, looked up with its header
   const BvhNodeView node = format.decode(slot.node);
   const uint32_t passes = std::max<uint32_t>(
       1, (node.count + walk_.box_tests_per_cycle - 1) / walk_.box_tests_per_cycle);

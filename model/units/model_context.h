@@ -7,6 +7,10 @@
 #include "model/units/image_faults.h"
 #include "model/units/ray_state.h"
 
+namespace rtsim {
+class BvhNodeFormat;
+}
+
 namespace rtsim::model {
 
 class Calendar;
@@ -17,6 +21,9 @@ struct ModelContext {
   ImageFaultStats* faults = nullptr;  // what the units found unreadable (the accelerator's)
   image::Header header;
   bool bvh = false;  // the image holds a BVH (header.accel): the traversal units walk it
+  // Its node format, looked up once with the header (the control registers refused an id that
+  // names none); null for a kd-tree.
+  const BvhNodeFormat* bvh_format = nullptr;
   Clock clock;
   float abs_eps = 0.f;        // the traversal's absolute slack (1e-6 of the scene diagonal)
   float shadow_offset = 0.f;  // shadow-ray origin offset (1e-5 of the scene diagonal)

@@ -91,6 +91,7 @@ struct BvhBench : Bench, RaySink {
   BvhBench(sc_core::sc_module_name name, const MemoryImage& image, const BvhWalkConfig& walk)
       : Bench(name, image, bvh_config()), unit("bvh0", ctx, cfg.bvh, walk, 0) {
     ctx.bvh = true;
+    ctx.bvh_format = bvh_formats().find(ctx.header.accel);  // as the accelerator's begin_frame
     attach(unit.mem_side, kTrvStage, 0);
     unit.to_list.bind(static_cast<RaySink&>(*this));
     unit.to_shading.bind(done);
