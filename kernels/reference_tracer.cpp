@@ -31,8 +31,8 @@ void ReferenceTracer::test_leaf(const RayWalk& s, TraversalResult& result, Trave
   constexpr bool kObserved = !std::is_same_v<Observer, NoAccessObserver>;
   const uint32_t leaf_addr = h_.leaves.base + s.leaf * image::kLeafBytes;
   const image::LeafRecord leaf = image::decode_leaf(mem_ + leaf_addr);
-  obs.read(AccessUnit::kList, leaf_addr, image::kLeafBytes);
-  obs.read(AccessUnit::kList, h_.prims.base + leaf.prim_offset * image::kPrimBytes,
+  obs.read(WalkRead::kLeaf, leaf_addr, image::kLeafBytes);
+  obs.read(WalkRead::kPrims, h_.prims.base + leaf.prim_offset * image::kPrimBytes,
            leaf.prim_count * image::kPrimBytes);
   const Ray r = traversal_leaf_ray(s, result);
   for (uint32_t k = 0; k < leaf.prim_count; ++k) {
@@ -40,7 +40,7 @@ void ReferenceTracer::test_leaf(const RayWalk& s, TraversalResult& result, Trave
         image::load_u32(mem_ + h_.prims.base + (leaf.prim_offset + k) * image::kPrimBytes);
     const uint32_t tri_addr = h_.triangles.base + tri * image::kTriangleBytes;
     const image::TriangleRecord t = image::decode_triangle(mem_ + tri_addr);
-    obs.read(AccessUnit::kIst, tri_addr, image::kTriangleBytes);
+    obs.read(WalkRead::kTriangle, tri_addr, image::kTriangleBytes);
     ++c.tri_tests;
     float t_hit;
     if (!intersect_triangle(r, s.shear, t.v0, t.v1, t.v2, t_hit)) continue;
@@ -49,7 +49,8 @@ void ReferenceTracer::test_leaf(const RayWalk& s, TraversalResult& result, Trave
     if constexpr (kObserved) {  // IST reads the leaf's other triangles all the same
       for (uint32_t j = k + 1; j < leaf.prim_count; ++j) {
         const uint8_t* p = mem_ + h_.prims.base + (leaf.prim_offset + j) * image::kPrimBytes;
-        obs.read(AccessUnit::kIst, h_.triangles.base + image::load_u32(p) * image::kTriangleBytes,
+        obs.read(WalkRead::kTriangle,
+                 h_.triangles.base + image::load_u32(p) * image::kTriangleBytes,
                  image::kTriangleBytes);
       }
     }
@@ -68,7 +69,7 @@ bool ReferenceTracer::traverse(const Ray& ray, Hit& hit, TraversalCounters& c,
   while (step != TraversalStep::kDone) {
     const uint32_t addr = h_.nodes.base + s.node * image::kNodeBytes;
     const KdNode node = image::decode_node(mem_ + addr);
-    obs.read(AccessUnit::kTraversal, addr, image::kNodeBytes);
+    obs.read(WalkRead::kNode, addr, image::kNodeBytes);
     if (!node.is_leaf())
       ++c.nodes;
     else
@@ -98,7 +99,7 @@ bool ReferenceTracer::traverse_bvh(const Ray& ray, Hit& hit, TraversalCounters& 
       ++c.nodes;
       const uint32_t addr = h_.nodes.base + s.node * node_bytes;
       const uint8_t* p = mem_ + addr;
-      obs.read(AccessUnit::kTraversal, addr, node_bytes);
+      obs.read(WalkRead::kNode, addr, node_bytes);
       step = bvh_traversal_node(s, result, format_->decode(p));
       if (step == TraversalStep::kFault)
         throw std::logic_error("BVH deeper than the traversal stack");
@@ -135,9 +136,9 @@ Hit ReferenceTracer::closest_hit(const Ray& ray, AccessStream& out,
   if (hit.tri == kNoHit) return hit;
   // The shading unit: the hit's triangle, then its material.
   const uint32_t tri_addr = h_.triangles.base + hit.tri * image::kTriangleBytes;
-  out.read(AccessUnit::kShading, tri_addr, image::kTriangleBytes);
+  out.read(WalkRead::kShade, tri_addr, image::kTriangleBytes);
   const uint32_t material = image::decode_triangle(mem_ + tri_addr).material;
-  out.read(AccessUnit::kShading, h_.materials.base + material * image::kMaterialBytes,
+  out.read(WalkRead::kShade, h_.materials.base + material * image::kMaterialBytes,
            image::kMaterialBytes);
   return hit;
 }

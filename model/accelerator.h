@@ -126,8 +126,9 @@ MemoryLayout memory_layout(const AcceleratorConfig& config, uint64_t image_bytes
 class CacheWarmer {
  public:
   virtual ~CacheWarmer() = default;
-  // Unit type `unit` read `bytes` at `addr` for a ray dealt to traversal unit `traversal`.
-  virtual void read(AccessUnit unit, uint32_t traversal, uint64_t addr, uint32_t bytes) = 0;
+  // A walk's record of kind `kind`, `bytes` at `addr`, read for a ray dealt to traversal unit
+  // `traversal` (by the unit of its stage on that ray's path, model::stage_of).
+  virtual void read(WalkRead kind, uint32_t traversal, uint64_t addr, uint32_t bytes) = 0;
   virtual uint32_t traversal_units() const = 0;
 };
 // Called before each window of primary rays but the first, with the window's first ray.

@@ -43,7 +43,7 @@ struct Accelerator::Netlist : FrameEngine, CacheWarmer {
   // The frame is over once every ray retired and its records' writes are answered.
   void check_frame_end();
   // CacheWarmer (model/accelerator_warming.cpp).
-  void read(AccessUnit unit, uint32_t traversal, uint64_t addr, uint32_t bytes) override;
+  void read(WalkRead kind, uint32_t traversal, uint64_t addr, uint32_t bytes) override;
   uint32_t traversal_units() const override { return cfg.traversal().count; }
   // One line of a record into `cache` and, missing there, into `below` (may be null).
   void warm_line(Cache& cache, Cache* below, uint64_t addr);

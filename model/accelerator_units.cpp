@@ -59,13 +59,12 @@ std::deque<RayUnitType>& registry() {
   return types;
 }
 
-// The stages by name, as the report lists them (and the sweep's structure-neutral metrics).
+}  // namespace
+
 const char* stage_name(Stage s) {
   static const char* const names[kStages] = {"traversal", "list", "ist", "shading"};
   return names[s];
 }
-
-}  // namespace
 
 bool register_unit_type(RayUnitType type) {
   registry().push_back(std::move(type));

@@ -89,6 +89,10 @@ struct RayUnitType {
 // one on the machines its `only_for` names. Returns true (for a static initialiser).
 bool register_unit_type(RayUnitType type);
 
+// A stage by name, as the report lists it (and the sweep's structure-neutral metrics and the
+// functional pass's features): traversal, list, ist, shading.
+const char* stage_name(Stage s);
+
 // The types of the machine `cfg` describes, indexed by stage.
 using UnitTypes = std::array<const RayUnitType*, kStages>;
 UnitTypes unit_types(const AcceleratorConfig& cfg);

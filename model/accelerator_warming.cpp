@@ -23,11 +23,8 @@ void Accelerator::Netlist::warm_line(Cache& cache, Cache* below, uint64_t addr) 
   below->warm(below_line, warm_bytes.data());
 }
 
-void Accelerator::Netlist::read(AccessUnit unit, uint32_t traversal, uint64_t addr,
-                                uint32_t bytes) {
-  // AccessUnit's types are the stages, in stage order (kernels/access_stream.h).
-  static_assert(size_t(AccessUnit::kShading) == kShadingStage && kAccessUnits == kStages);
-  const Stage stage = Stage(unit);
+void Accelerator::Netlist::read(WalkRead kind, uint32_t traversal, uint64_t addr, uint32_t bytes) {
+  const Stage stage = stage_of(kind);
   const uint32_t i = ray_route(cfg, traversal % cfg.traversal().count)[stage];
   RayUnit& u = *units[stage][i];
   const MemoryAttachment& at = topology.units[stage][i];

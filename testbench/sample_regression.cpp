@@ -53,7 +53,7 @@ double dot(const std::vector<double>& a, const std::vector<double>& b) {
 
 UnitAuxiliaries primary_auxiliaries(const SamplePlan& plan, const std::vector<BatchFeatures>& b,
                                     uint32_t in_flight) {
-  auto ist = [&](size_t i) { return double(b[i].caches.reads[size_t(AccessUnit::kIst)]); };
+  auto ist = [&](size_t i) { return double(b[i].caches.reads[model::kIstStage]); };
   auto l1 = [&](size_t i) {
     double s = 0;
     for (uint64_t m : b[i].caches.l1_misses) s += double(m);

@@ -45,34 +45,6 @@ std::vector<double> unit_sums_of(const std::vector<double>& batches, uint32_t un
 
 }  // namespace
 
-model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera, int width,
-                                  int height, const model::AcceleratorConfig& cfg, uint64_t rays) {
-  if (rays == 0) return {};
-  struct Pass {
-    ReferenceTracer tracer;
-    PinholeCamera camera;
-    std::vector<uint32_t> order;
-    int width;
-    AccessStream stream;
-  };
-  auto pass = std::make_shared<Pass>(Pass{ReferenceTracer(image),
-                                          PinholeCamera(camera, width, height),
-                                          model::issue_order(width, height, cfg.order, cfg.tile),
-                                          width,
-                                          {}});
-  return [pass, rays](uint64_t first, model::CacheWarmer& warmer) {
-    const uint32_t units = warmer.traversal_units();
-    for (uint64_t k = first > rays ? first - rays : 0; k < first; ++k) {
-      const uint32_t px = pass->order[k];
-      pass->stream.clear();
-      pass->tracer.closest_hit(pass->camera.ray(int(px % pass->width), int(px / pass->width)),
-                               pass->stream);
-      for (const Access& a : pass->stream.reads)
-        warmer.read(a.unit, uint32_t(k % units), a.addr, a.bytes);
-    }
-  };
-}
-
 namespace {
 
 // The drawn units' residuals in the order of the plan's measured units (0 for those always

@@ -43,12 +43,6 @@ struct SampledAuxiliaries {
 SampledAuxiliaries auxiliaries_of(const SamplePlan& plan, const FrameFeatures& f,
                                   const RunConfig& c);
 
-// The functional warming of a sampled frame (model::WarmSource): before a window, the reads of the
-// `rays` primary rays issued before it, walked by the reference tracer in issue order, each for
-// the traversal unit the generator would deal it to in turn. `image` must outlive the source.
-model::WarmSource primary_warming(const MemoryImage& image, const Camera& camera, int width,
-                                  int height, const model::AcceleratorConfig& cfg, uint64_t rays);
-
 // The estimates from the frame the model simulated over `plan.windows`: each phase by the
 // regression on its auxiliaries when given (null: the expansion), the frame as their sum, with
 // the interval of the sum (from each drawn unit's residuals of both phases together).

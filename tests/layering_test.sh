@@ -47,15 +47,16 @@ for dir in common scene scene_loader kernels model config_loader; do
 done
 # Inside model/, the layers lean one way too: sim/ (calendar, FIFOs, statistics, tracing) below
 # memory/ (L1 to DRAM, the TLM-2.0 boundary) below units/ (the ray-processing blocks) below the
-# accelerator (model/accelerator*: the netlist and its configuration), which alone sees them all.
+# accelerator (model/accelerator*: the netlist and its configuration; beside it its functional mode,
+# model/functional/), which alone see them all.
 # device/ (the register block and the host's driver) sees sim/ only: it is the face a platform
 # programs, beside the blocks, not above them.
 model_forbidden() {
   case $1 in
-    sim) echo "model/memory/ model/units/ model/device/ model/accelerator" ;;
-    memory) echo "model/units/ model/device/ model/accelerator" ;;
-    units) echo "model/device/ model/accelerator" ;;
-    device) echo "model/memory/ model/units/ model/accelerator" ;;
+    sim) echo "model/memory/ model/units/ model/device/ model/accelerator model/functional/" ;;
+    memory) echo "model/units/ model/device/ model/accelerator model/functional/" ;;
+    units) echo "model/device/ model/accelerator model/functional/" ;;
+    device) echo "model/memory/ model/units/ model/accelerator model/functional/" ;;
   esac
 }
 for layer in sim memory units device; do
@@ -67,9 +68,14 @@ for layer in sim memory units device; do
                "^[[:space:]]*#[[:space:]]*include[[:space:]]*[\"<]$bad" "model/$layer")
   done
 done
-# Every model file lives in a layer or is the accelerator.
+# Every model file lives in a layer or is the accelerator (model/accelerator* and, beside it, its
+# functional mode, model/functional/).
 while IFS= read -r stray; do
-  violation "$stray" "a model file outside model/{sim,memory,units,device}/ that is not the accelerator"
+  violation "$stray" "a model file outside model/{sim,memory,units,device,functional}/ that is not the accelerator"
 done < <(find model -maxdepth 1 -type f \( -name '*.h' -o -name '*.cpp' \) ! -name 'accelerator*')
+while IFS= read -r stray; do
+  violation "$stray" "a model folder that is not a layer (sim, memory, units, device) or functional/"
+done < <(find model -mindepth 1 -maxdepth 1 -type d ! -name sim ! -name memory ! -name units \
+           ! -name device ! -name functional)
 [ $status -eq 0 ] && echo "layering: ok"
 exit $status

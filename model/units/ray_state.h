@@ -4,6 +4,7 @@
 // its own part when the ray enters it; the pool sets up a new ray's result (no hit yet).
 #pragma once
 
+#include "kernels/access_stream.h"
 #include "kernels/bvh_traversal.h"
 #include "kernels/shading.h"
 #include "kernels/traversal.h"
@@ -31,6 +32,22 @@ struct RayInfo {
 
 // The stages that hold a ray while it waits for memory, each with its own entry below.
 enum Stage : uint8_t { kTrvStage, kListStage, kIstStage, kShadingStage, kStages };
+
+// The stage whose units read a walk's record of kind `k` (kernels/access_stream.h): a node the
+// traversal stage, a leaf's record and list LIST, a triangle IST, a hit's records the shading
+// stage; and the light records, which the culling unit reads through the shading stage's L1s
+// (or one beside them: culling.l1), the shading stage.
+constexpr Stage stage_of(WalkRead k) {
+  switch (k) {
+    case WalkRead::kNode: return kTrvStage;
+    case WalkRead::kLeaf:
+    case WalkRead::kPrims: return kListStage;
+    case WalkRead::kTriangle: return kIstStage;
+    case WalkRead::kShade:
+    case WalkRead::kLight: break;
+  }
+  return kShadingStage;
+}
 
 // A unit's hold on a ray waiting for memory: its entry in the unit's ray accumulation buffer.
 // Empty again whenever the ray leaves the unit.

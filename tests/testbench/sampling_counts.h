@@ -3,7 +3,7 @@
 // units that walk the rays (TRV, LIST, IST).
 #pragma once
 
-#include "testbench/functional_caches.h"
+#include "model/functional/functional_machine.h"
 
 #include <gtest/gtest.h>
 
@@ -18,20 +18,20 @@ inline uint64_t stat(const nlohmann::json& stats, const char* type, const char* 
   return uint64_t(stats[type][group][name].get<double>());
 }
 
-inline uint64_t count(const std::array<uint64_t, kAccessUnits>& a, AccessUnit u) {
-  return a[size_t(u)];
+inline uint64_t count(const std::array<uint64_t, model::kStages>& a, model::Stage s) {
+  return a[s];
 }
 
 // TRV: a read per node fetched, leaves included, one line each. LIST: a leaf record and a
 // primitive list per leaf, the lines of both. IST: a triangle per test (across two lines for half
 // of them).
-inline void expect_walk_reads(const CacheCounts& c, const nlohmann::json& s) {
-  EXPECT_EQ(count(c.reads, AccessUnit::kTraversal), stat(s, "trv", "total", "node_fetches"));
-  EXPECT_EQ(count(c.l1_lines, AccessUnit::kTraversal), stat(s, "trv", "l1", "accesses"));
-  EXPECT_EQ(count(c.reads, AccessUnit::kList), 2 * stat(s, "list", "total", "leaves"));
-  EXPECT_EQ(count(c.l1_lines, AccessUnit::kList), stat(s, "list", "l1", "accesses"));
-  EXPECT_EQ(count(c.reads, AccessUnit::kIst), stat(s, "ist", "total", "tests"));
-  EXPECT_EQ(count(c.l1_lines, AccessUnit::kIst), stat(s, "ist", "l1", "accesses"));
+inline void expect_walk_reads(const model::CacheCounts& c, const nlohmann::json& s) {
+  EXPECT_EQ(count(c.reads, model::kTrvStage), stat(s, "trv", "total", "node_fetches"));
+  EXPECT_EQ(count(c.l1_lines, model::kTrvStage), stat(s, "trv", "l1", "accesses"));
+  EXPECT_EQ(count(c.reads, model::kListStage), 2 * stat(s, "list", "total", "leaves"));
+  EXPECT_EQ(count(c.l1_lines, model::kListStage), stat(s, "list", "l1", "accesses"));
+  EXPECT_EQ(count(c.reads, model::kIstStage), stat(s, "ist", "total", "tests"));
+  EXPECT_EQ(count(c.l1_lines, model::kIstStage), stat(s, "ist", "l1", "accesses"));
 }
 
 }  // namespace rtsim::test

@@ -1,16 +1,16 @@
-// The functional pass of a sampled frame (testbench/sampling_features.h) against the model: over a
-// frame of primary rays only (the city without its lights: no shadow phase), the reads of each
-// unit type in the reference tracer's access stream (kernels/access_stream.h) are the reads the
-// model's units made, record for record and line for line. The caches' misses and the replay's
+// The functional pass of a sampled frame (model/functional/batch_features.h) against the model:
+// over a frame of primary rays only (the city without its lights: no shadow phase), the reads of
+// each unit type in the reference tracer's access stream (kernels/access_stream.h) are the reads
+// the model's units made, record for record and line for line. The caches' misses and the replay's
 // cycles are not compared exactly (the model's depend on its timing, which the pass only
 // approximates), only printed and bounded. (One SystemC simulation per executable.)
 #include "config_loader/scene_file.h"
 #include "kernels/kdtree.h"
 #include "kernels/memory_image.h"
 #include "model/accelerator.h"
+#include "model/functional/functional_pass.h"
 #include "testbench/sample_pass_file.h"
 #include "testbench/sampling_features.h"
-#include "testbench/sampling_replay.h"
 #include "tests/test_util.h"
 #include "tests/testbench/sampling_counts.h"
 
@@ -44,9 +44,12 @@ struct PrimaryOnlyCity {
 
 using test::stat;
 
-TEST(TagArray, EvictsTheLeastRecentlyUsedLineOfItsSet) {
-  TagArray c(4 * 64, 2, 64);  // two sets of two ways
-  EXPECT_EQ(c.sets(), 2u);
+TEST(CacheTags, EvictsTheLeastRecentlyUsedLineOfItsSet) {
+  model::CacheConfig cfg;
+  cfg.size_bytes = 4 * 64;
+  cfg.ways = 2;
+  cfg.line_bytes = 64;
+  model::CacheTags c(cfg);  // two sets of two ways
   EXPECT_FALSE(c.access(0));
   EXPECT_FALSE(c.access(2));  // the same set (even lines)
   EXPECT_FALSE(c.access(1));  // the other set
@@ -59,7 +62,7 @@ TEST(TagArray, EvictsTheLeastRecentlyUsedLineOfItsSet) {
 }
 
 TEST(PortCalendar, ALineTakesTheFirstFreeCyclesFromWhenItIsReady) {
-  sampling_detail::PortCalendar port;
+  model::functional::PortCalendar port;
   EXPECT_EQ(port.book(0, 10, 3), 13u);  // cycles 10-12
   EXPECT_EQ(port.book(0, 11, 3), 16u);  // queues behind it: 13-15
   // Booked later but ready earlier (an L2 hit made after a DRAM line): it does not queue behind
@@ -92,7 +95,7 @@ TEST(PortCalendar, BooksWhatACycleByCycleSearchBooks) {
   };
   for (uint32_t cycles : {1u, 3u}) {
     Plain plain;
-    sampling_detail::PortCalendar port;
+    model::functional::PortCalendar port;
     std::mt19937_64 rng(cycles);
     uint64_t clock = 1000, differ = 0, deferred = 0;
     for (int i = 0; i < 200000; ++i) {
@@ -166,7 +169,7 @@ TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
   const std::vector<BatchFeatures> batches =
       primary_batch_features(*city.image, city.scene.camera, kW, kH, cfg);
   ASSERT_EQ(batches.size(), r.primary_batch_cycles.size());
-  CacheCounts c;
+  model::CacheCounts c;
   uint64_t rays = 0, hits = 0, replay_cycles = 0;
   for (const BatchFeatures& b : batches) {
     c.add(b.caches);
@@ -182,16 +185,16 @@ TEST(SamplingFeatures, TheAccessStreamReadsWhatTheModelsUnitsRead) {
   EXPECT_NEAR(double(replay_cycles), double(r.cycles_primary), 0.3 * r.cycles_primary);
   const auto at = test::count;
   const nlohmann::json& s = r.stats;
-  EXPECT_GT(at(c.reads, AccessUnit::kIst), 0u);
+  EXPECT_GT(at(c.reads, model::kIstStage), 0u);
   test::expect_walk_reads(c, s);
   // Shading: the hit's triangle and its material.
-  EXPECT_EQ(at(c.reads, AccessUnit::kShading), 2 * r.primary_hits);
-  EXPECT_EQ(at(c.l1_lines, AccessUnit::kShading), stat(s, "shading", "l1", "accesses"));
+  EXPECT_EQ(at(c.reads, model::kShadingStage), 2 * r.primary_hits);
+  EXPECT_EQ(at(c.l1_lines, model::kShadingStage), stat(s, "shading", "l1", "accesses"));
 
   // The misses: the model's L1 misses against the pass's (a request the model merges into a
   // miss in flight is a hit in the pass), and its L2 misses (the shading L1s' on the IST's L2).
-  const char* names[kAccessUnits] = {"trv", "list", "ist", "shading"};
-  for (int u = 0; u < kAccessUnits; ++u) {
+  const char* names[model::kStages] = {"trv", "list", "ist", "shading"};
+  for (int u = 0; u < model::kStages; ++u) {
     const uint64_t model_misses = stat(s, names[u], "l1", "misses");
     std::printf("%s: L1 misses %llu (model: %llu), DRAM lines %llu\n", names[u],
                 (unsigned long long)c.l1_misses[u], (unsigned long long)model_misses,

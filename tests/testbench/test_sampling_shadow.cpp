@@ -1,4 +1,4 @@
-// The functional pass's shadow phase (testbench/sampling_features.h) against the model over the
+// The functional pass's shadow phase (model/functional/batch_features.h) against the model over the
 // city with its lights and LVB culling, two phases: the shadow rays it emits and culls are the
 // culling unit's, per light in all; the reads of TRV, LIST and IST over both phases are the
 // model's units', record for record and line for line; it has as many shadow batches as the
@@ -6,6 +6,7 @@
 // approximates the model's timing). The walks traced ahead on a thread give the same features,
 // and the walk steps Neyman's strata are cut on are the reference tracer's. (One SystemC simulation
 // per executable.)
+#include "kernels/reference_tracer.h"
 #include "model/accelerator.h"
 #include "testbench/pipeline.h"
 #include "testbench/sampling_features.h"
@@ -48,7 +49,7 @@ TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
   ASSERT_EQ(f.primary.size(), r.primary_batch_cycles.size());
   ASSERT_EQ(f.shadow.size(), r.shadow_batch_cycles.size());
   uint64_t emitted = 0, culled = 0, hits = 0, replay = 0;
-  CacheCounts c;
+  model::CacheCounts c;
   for (const BatchFeatures& b : f.primary) c.add(b.caches);
   for (const BatchFeatures& b : f.shadow) {
     c.add(b.caches);
@@ -71,9 +72,9 @@ TEST(SamplingFeatures, TheShadowPhaseEmitsCullsAndReadsWhatTheModelDoes) {
   // model reads a light's record again after a miss fills it: a few more).
   const uint64_t shading = test::stat(s, "shading", "l1", "accesses");
   std::printf("shading L1 lines: pass %llu, model %llu\n",
-              (unsigned long long)at(c.l1_lines, AccessUnit::kShading),
+              (unsigned long long)at(c.l1_lines, model::kShadingStage),
               (unsigned long long)shading);
-  EXPECT_NEAR(double(at(c.l1_lines, AccessUnit::kShading)), double(shading), 0.02 * shading);
+  EXPECT_NEAR(double(at(c.l1_lines, model::kShadingStage)), double(shading), 0.02 * shading);
 }
 
 // The walks traced ahead on a thread of their own, from the first walk or from the second chunk

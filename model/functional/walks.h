@@ -1,5 +1,5 @@
-// The functional pass's walks (testbench/sampling_features.h), traced by the reference tracer in
-// the order the replay takes its rays: the primary rays in issue order, then the shadow rays in
+// The functional pass's walks (model/functional/batch_features.h), traced by the reference tracer
+// in the order the replay takes its rays: the primary rays in issue order, then the shadow rays in
 // the culling unit's scan order (record slot, light, sample; lights whose LVB bit is 0 culled).
 // Neither order depends on the replay's clock, so the walks can be traced ahead, on a thread of
 // their own, while the replay runs the caches and the clock on another: the same walks in the
@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-namespace rtsim::sampling_detail {
+namespace rtsim::model::functional {
 
 struct TracedRay {
   AccessStream stream;    // the records its walk reads
@@ -98,4 +98,4 @@ class Walks {
   std::thread thread_;
 };
 
-}  // namespace rtsim::sampling_detail
+}  // namespace rtsim::model::functional

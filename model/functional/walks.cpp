@@ -1,14 +1,14 @@
-#include "testbench/sampling_walks.h"
+#include "model/functional/walks.h"
 
 #include "kernels/light_samples.h"
 #include "model/units/ray_generator.h"
 
 #include <stdexcept>
 
-namespace rtsim::sampling_detail {
+namespace rtsim::model::functional {
 
 namespace {
-constexpr uint64_t kBatchRays = model::RayGenerator::kBatchRays;
+constexpr uint64_t kBatchRays = RayGenerator::kBatchRays;
 
 // Recycled buffers from one hand to the other; `from` is left empty.
 void pass_on(std::vector<std::vector<Access>>& from, std::vector<std::vector<Access>>& to) {
@@ -167,4 +167,4 @@ void hit_shadow_rays(const MemoryImage& image, const std::vector<image::LightRec
   }
 }
 
-}  // namespace rtsim::sampling_detail
+}  // namespace rtsim::model::functional

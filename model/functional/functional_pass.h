@@ -1,17 +1,17 @@
-// The functional pass's replay (testbench/sampling_features.h says what it models), shared by its
-// two files and by nothing else: sampling_replay.cpp runs the rays through the units on the rough
-// clock and deals the primary rays; sampling_scan.cpp is the shadow phase's source of rays, the
-// culling unit's scan over the record slots.
+// The functional pass's replay (model/functional/batch_features.h says what it models), shared by
+// its two files and by nothing else: functional_pass.cpp runs the rays through the units on the
+// rough clock and deals the primary rays; culling_scan.cpp is the shadow phase's source of rays,
+// the culling unit's scan over the record slots.
 #pragma once
 
 #include "kernels/camera.h"
 #include "kernels/memory_image.h"
 #include "kernels/reference_tracer.h"
 #include "model/accelerator_config.h"
+#include "model/functional/batch_features.h"
+#include "model/functional/functional_machine.h"
+#include "model/functional/walks.h"
 #include "model/units/ray_generator.h"
-#include "testbench/functional_caches.h"
-#include "testbench/sampling_features.h"
-#include "testbench/sampling_walks.h"
 
 #include <array>
 #include <cstdint>
@@ -19,30 +19,10 @@
 #include <memory>
 #include <vector>
 
-namespace rtsim::sampling_detail {
+namespace rtsim::model::functional {
 
-constexpr size_t kTrv = size_t(AccessUnit::kTraversal), kList = size_t(AccessUnit::kList),
-                 kIst = size_t(AccessUnit::kIst), kShading = size_t(AccessUnit::kShading);
-constexpr uint64_t kBatchRays = model::RayGenerator::kBatchRays;
+constexpr uint64_t kBatchRays = RayGenerator::kBatchRays;
 enum Phase : uint8_t { kPrimary, kShadow };
-
-// The replay's clock, in the accelerator's cycles, from the hardware file.
-struct ReplayTiming {
-  explicit ReplayTiming(const model::AcceleratorConfig& cfg);
-  // A read of unit type `type` whose deepest line came from `level` (FunctionalCaches::read).
-  uint64_t read(size_t type, int level) const {
-    return l1_hit[type] + (level >= 1 ? l2_hit[type] : 0) + (level >= 2 ? dram : 0);
-  }
-  uint32_t latency[kAccessUnits] = {}, l1_hit[kAccessUnits] = {}, l2_hit[kAccessUnits] = {};
-  // Of the L2 a type's L1s miss to (the shading units': the IST's): its link's latency, its hit
-  // latency, and the cycles a line takes a port of the link back (its flits).
-  uint32_t link_latency[kAccessUnits] = {}, l2_latency[kAccessUnits] = {},
-           reply_flits[kAccessUnits] = {};
-  uint32_t dram = 0, shading_interval = 2;
-  uint32_t line_flits = 1;  // cycles a line takes a port of the memory link
-  // Whether a line filled into a type's L1 takes a cycle of its port (fill_port: shared).
-  bool shared_fill[kAccessUnits] = {};
-};
 
 // A port's cycles over a sliding window: a line books the first `cycles` free consecutive cycles
 // from when it is ready. The replay makes reads in step order, not in the order their lines
@@ -105,10 +85,10 @@ class PortCalendar {
 };
 
 // An L2's banks as the replay times its L1s' misses: each line goes back to its L1 through its
-// bank's port of the link between them (ReplayTiming::reply_flits), and a line from DRAM comes
-// into the bank through the bank's port of the memory link first (ReplayTiming::line_flits): a
-// burst of misses on one bank queues there, as the L2's banks and the crossbars queue them in the
-// model. In the other queues' absence a line comes as ReplayTiming::read says.
+// bank's port of the link between them (StageTiming::reply_flits), and a line from DRAM comes
+// into the bank through the bank's port of the memory link first (FunctionalMachine::line_flits):
+// a burst of misses on one bank queues there, as the L2's banks and the crossbars queue them in
+// the model. In the other queues' absence a line comes as FunctionalMachine::read_cycles says.
 struct L2Ports {
   // Banks - 1: a line's bank is its number's low bits (model/memory/cache.h).
   uint32_t bank_mask = 0;
@@ -182,7 +162,7 @@ struct ScanState {
 class Replay {
  public:
   Replay(const MemoryImage& image, const Camera& camera, int width, int height,
-         const model::AcceleratorConfig& cfg, const FeaturePassOptions& o);
+         const AcceleratorConfig& cfg, const FeaturePassOptions& o);
   FrameFeatures run(bool shadows);
 
  private:
@@ -206,12 +186,13 @@ class Replay {
   uint64_t leaf(Walk& w, uint64_t now);
   uint64_t tests(Walk& w, uint64_t ready);
   uint64_t lines_of(const Access& a) const {
-    const uint32_t shift = caches_.line_shift();
+    const uint32_t shift = machine_.line_shift();
     return a.bytes == 0 ? 0 : ((uint64_t(a.addr) + a.bytes - 1) >> shift) - (a.addr >> shift) + 1;
   }
-  // Unit `unit` of type `type` takes `ops` operations from `now` on, one a cycle; when they begin.
-  uint64_t issue(size_t type, uint32_t unit, uint64_t now, uint64_t ops) {
-    uint64_t& free = free_[type][unit];
+  // The unit of stage `s` on the path of the walk `w` takes `ops` operations from `now` on, one a
+  // cycle; when they begin.
+  uint64_t issue(Stage s, const Walk& w, uint64_t now, uint64_t ops) {
+    uint64_t& free = free_[s][machine_.unit(s, w.unit)];
     const uint64_t t = std::max(now, free);
     free = t + ops;
     return t;
@@ -221,16 +202,16 @@ class Replay {
   void read(Walk& w) {
     const Access& a = w.stream.reads[w.next++];
     CacheCounts& counts = batches_[w.phase][w.batch].caches;
-    const size_t type = size_t(a.unit);
-    const uint64_t before = counts.l1_misses[type];
-    caches_.read(routes_[w.unit][type], a, counts, &misses_);
-    if (timing_.shared_fill[type]) fills_ += counts.l1_misses[type] - before;
+    const Stage s = stage_of(a.kind);
+    const uint64_t before = counts.l1_misses[s];
+    machine_.read(w.unit, a, counts, &misses_);
+    if (machine_.timing(s).shared_fill) fills_ += counts.l1_misses[s] - before;
   }
   // When the lines of the reads since the last call are in, requested at `t` by a unit of type
-  // `type`: the L1's hits at once, the L2's lines together, through their banks' ports
+  // stage `s`: the L1's hits at once, the L2's lines together, through their banks' ports
   // (L2Ports); with `parked`, each line from DRAM after the one before it (LIST and IST park a
   // ray on a missing line and retry), otherwise those together too.
-  uint64_t arrival(size_t type, uint64_t t, bool parked);
+  uint64_t arrival(Stage s, uint64_t t, bool parked);
   // Per-batch replay cycles of a phase from its batches' starts to `end`.
   void close_phase(Phase phase, uint64_t end);
 
@@ -251,8 +232,7 @@ class Replay {
   bool trace_ahead_;
   const std::atomic<bool>* trace_ahead_from_;
   std::unique_ptr<Walks> traced_;  // the rays' walks, in the order they are taken
-  FunctionalCaches caches_;
-  ReplayTiming timing_;
+  FunctionalMachine machine_;
   size_t fifo_depth_;
   bool culling_;
   uint32_t shadow_stride_;
@@ -260,8 +240,7 @@ class Replay {
   std::vector<image::LightRecord> lights_;
   std::vector<TraversalUnitState> units_;
   std::vector<Walk> walks_;
-  std::vector<std::array<uint32_t, kAccessUnits>> routes_;
-  std::array<std::vector<uint64_t>, kAccessUnits> free_;  // each unit's next free issue cycle
+  std::array<std::vector<uint64_t>, kStages> free_;  // each unit's next free issue cycle
   Calendar calendar_;
   Phase phase_ = kPrimary;
   std::array<std::vector<BatchFeatures>, 2> batches_;
@@ -270,10 +249,10 @@ class Replay {
   uint64_t next_ray_ = 0, generator_free_ = 0, end_ = 0;
   uint64_t fills_ = 0;             // L1 fills of the current step's reads that take its unit's port
   std::vector<LineMiss> misses_;   // the current step's L1 misses
-  std::vector<L2Ports> l2_ports_;  // by L2 (FunctionalCaches' index)
+  std::vector<L2Ports> l2_ports_;  // by L2 (FunctionalMachine's index)
   size_t next_unit_ = 0;
   bool full_ = false;  // the last deal() found every unit full
   ScanState scan_;
 };
 
-}  // namespace rtsim::sampling_detail
+}  // namespace rtsim::model::functional

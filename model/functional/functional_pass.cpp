@@ -1,4 +1,4 @@
-#include "testbench/sampling_replay.h"
+#include "model/functional/functional_pass.h"
 
 #include "common/host_clock.h"
 
@@ -6,47 +6,7 @@
 #include <chrono>
 #include <cmath>
 
-namespace rtsim::sampling_detail {
-
-namespace {
-
-// Cycles a packet of `bytes` occupies a link.
-uint32_t transfer_cycles(const model::LinkConfig& link, uint32_t bytes) {
-  const uint32_t w = link.bytes_per_cycle;
-  return w == 0 ? 0 : (bytes + link.header_bytes + w - 1) / w;
-}
-
-// The configuration of each unit type, by AccessUnit.
-std::array<const model::UnitTypeConfig*, kAccessUnits> unit_types(
-    const model::AcceleratorConfig& cfg) {
-  return {&cfg.traversal(), &cfg.list, &cfg.ist, &cfg.shading};
-}
-
-}  // namespace
-
-ReplayTiming::ReplayTiming(const model::AcceleratorConfig& cfg) {
-  const auto types = unit_types(cfg);
-  const uint32_t line = cfg.traversal().l1.line_bytes;
-  for (size_t t = 0; t < kAccessUnits; ++t) {
-    const model::UnitTypeConfig& u = *types[t];
-    const model::UnitTypeConfig& below = t == kShading ? cfg.ist : u;  // shading: the IST's L2
-    latency[t] = u.latency;
-    l1_hit[t] = u.l1.hit_latency;
-    link_latency[t] = below.link.latency;
-    l2_latency[t] = below.l2.hit_latency;
-    reply_flits[t] = transfer_cycles(below.link, line);
-    l2_hit[t] = 2 * link_latency[t] + reply_flits[t] + l2_latency[t];
-    shared_fill[t] = u.l1.fill_port == model::FillPort::kShared;
-  }
-  const model::DramConfig d = cfg.memory_dram();
-  const double access =
-      double(d.tRCD + d.CL + d.burst_cycles()) * double(d.tCK_ps) * cfg.clock_ghz / 1000.0;
-  line_flits = std::max<uint32_t>(1, transfer_cycles(cfg.memory_link, line));
-  dram = 2 * cfg.memory_link.latency + transfer_cycles(cfg.memory_link, line) +
-         uint32_t(std::lround(access));
-  const uint32_t write = cfg.write_records ? transfer_cycles(cfg.memory_link, line) : 0;
-  shading_interval = std::max<uint32_t>(2, write);
-}
+namespace rtsim::model::functional {
 
 void Calendar::due(uint64_t now, std::vector<uint32_t>& out) {
   out.clear();
@@ -64,34 +24,30 @@ void Calendar::due(uint64_t now, std::vector<uint32_t>& out) {
 }
 
 Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int height,
-               const model::AcceleratorConfig& cfg, const FeaturePassOptions& o)
+               const AcceleratorConfig& cfg, const FeaturePassOptions& o)
     : image_(image),
       camera_(camera),
       width_(width),
       height_(height),
-      order_(model::issue_order(width, height, cfg.order, cfg.tile)),
+      order_(issue_order(width, height, cfg.order, cfg.tile)),
       trace_ahead_(o.trace_ahead),
       trace_ahead_from_(o.trace_ahead_from),
-      caches_(cfg),
-      timing_(cfg),
+      machine_(cfg),
       fifo_depth_(o.fifo_depth ? o.fifo_depth : cfg.traversal().fifo_depth),
       culling_(o.culling),
       shadow_stride_(std::max<uint32_t>(1, o.shadow_stride)),
       prefetch_(std::max<uint32_t>(1, cfg.culling.prefetch)) {
   const uint32_t capacity = o.capacity ? o.capacity : cfg.traversal().capacity;
-  units_.resize(caches_.count(AccessUnit::kTraversal));
+  units_.resize(machine_.units(kTrvStage));
   walks_.resize(units_.size() * capacity);
   calendar_ = Calendar(walks_.size());
   for (uint32_t t = 0; t < units_.size(); ++t) {
-    routes_.push_back(caches_.route(t));
     for (uint32_t s = capacity; s-- > 0;) units_[t].idle.push_back(t * capacity + s);
     for (uint32_t s = 0; s < capacity; ++s) walks_[t * capacity + s].unit = t;
   }
-  for (size_t type = 0; type < kAccessUnits; ++type)
-    free_[type].assign(caches_.count(AccessUnit(type)), 0);
-  const auto types = unit_types(cfg);
-  for (uint32_t l2 = 0; l2 < caches_.l2_count(); ++l2) {
-    const uint32_t banks = types[size_t(caches_.l2_type(l2))]->l2.banks;
+  for (size_t s = 0; s < kStages; ++s) free_[s].assign(machine_.units(Stage(s)), 0);
+  for (uint32_t l2 = 0; l2 < machine_.l2_count(); ++l2) {
+    const uint32_t banks = machine_.l2_banks(l2);
     L2Ports p;
     p.bank_mask = banks - 1;
     p.reply.resize(banks);
@@ -152,7 +108,7 @@ void Replay::drain(uint64_t& now) {
           calendar_.add(walk, step(w, now));
         } else if (w.phase == kShadow && !w.retiring) {
           w.retiring = true;
-          calendar_.add(walk, issue(kShading, routes_[w.unit][kShading], now, 1));
+          calendar_.add(walk, issue(kShadingStage, w, now, 1));
         } else {
           end(walk, now);
         }
@@ -258,24 +214,25 @@ void Replay::end(uint32_t walk, uint64_t t) {
     deal(t);
 }
 
-uint64_t Replay::arrival(size_t type, uint64_t t, bool parked) {
-  uint64_t ready = t + timing_.l1_hit[type];
+uint64_t Replay::arrival(Stage s, uint64_t t, bool parked) {
+  const StageTiming& timing = machine_.timing(s);
+  uint64_t ready = t + timing.l1_hit;
   uint64_t dram_chain = 0;  // parked: when the last line from DRAM reached its bank
   for (const LineMiss& m : misses_) {
     L2Ports& p = l2_ports_[m.l2];
     const uint32_t bank = m.line & p.bank_mask;
-    const uint64_t looked_up =
-        t + timing_.l1_hit[type] + timing_.link_latency[type] + timing_.l2_latency[type];
+    const uint64_t looked_up = t + timing.l1_hit + timing.link_latency + timing.l2_latency;
     uint64_t in_bank = looked_up;
     if (m.dram) {
       const uint64_t requested = parked && dram_chain ? dram_chain : looked_up;
       // The line crosses the memory link's port into the bank in its last flits' cycles.
-      const uint64_t crossed = requested + timing_.dram;
-      in_bank = p.fill[bank].book(t, crossed - timing_.line_flits, timing_.line_flits);
+      const uint64_t crossed = requested + machine_.dram_cycles();
+      const uint32_t flits = machine_.line_flits();
+      in_bank = p.fill[bank].book(t, crossed - flits, flits);
       dram_chain = in_bank;
     }
-    ready = std::max(ready, p.reply[bank].book(t, in_bank, timing_.reply_flits[type]) +
-                                timing_.link_latency[type]);
+    ready =
+        std::max(ready, p.reply[bank].book(t, in_bank, timing.reply_flits) + timing.link_latency);
   }
   misses_.clear();
   return ready;
@@ -286,22 +243,23 @@ uint64_t Replay::arrival(size_t type, uint64_t t, bool parked) {
 // L1 fills take their cycles of the unit's port too (after its own).
 uint64_t Replay::step(Walk& w, uint64_t now) {
   fills_ = 0;
-  switch (w.stream.reads[w.next].unit) {
-    case AccessUnit::kTraversal: {
+  switch (w.stream.reads[w.next].kind) {
+    case WalkRead::kNode: {
       // A node's lines take a cycle of the L1's port each (a kd-tree node one, a bvh8 node four).
       const uint64_t lines = lines_of(w.stream.reads[w.next]);
       read(w);
-      const uint64_t t = issue(kTrv, w.unit, now, std::max<uint64_t>(1, lines) + fills_);
-      return arrival(kTrv, t, false) + timing_.latency[kTrv];
+      const uint64_t t = issue(kTrvStage, w, now, std::max<uint64_t>(1, lines) + fills_);
+      return arrival(kTrvStage, t, false) + machine_.timing(kTrvStage).latency;
     }
-    case AccessUnit::kList: return tests(w, leaf(w, now));
-    case AccessUnit::kIst: return tests(w, now);
-    case AccessUnit::kShading: break;
+    case WalkRead::kLeaf:
+    case WalkRead::kPrims: return tests(w, leaf(w, now));
+    case WalkRead::kTriangle: return tests(w, now);
+    case WalkRead::kShade:
+    case WalkRead::kLight: break;
   }
   while (w.next < w.stream.reads.size()) read(w);
-  const uint64_t t =
-      issue(kShading, routes_[w.unit][kShading], now, timing_.shading_interval + fills_);
-  return arrival(kShading, t, false) + timing_.latency[kShading];
+  const uint64_t t = issue(kShadingStage, w, now, machine_.shading_interval() + fills_);
+  return arrival(kShadingStage, t, false) + machine_.timing(kShadingStage).latency;
 }
 
 // LIST: the leaf's record, then its list a line an operation; when the list is read. A read
@@ -309,12 +267,12 @@ uint64_t Replay::step(Walk& w, uint64_t now) {
 uint64_t Replay::leaf(Walk& w, uint64_t now) {
   const std::vector<Access>& reads = w.stream.reads;
   uint64_t lines = 0;
-  if (w.next + 1 < reads.size() && reads[w.next + 1].unit == AccessUnit::kList)
+  if (w.next + 1 < reads.size() && reads[w.next + 1].kind == WalkRead::kPrims)
     lines = lines_of(reads[w.next + 1]);
   read(w);
   if (lines > 0) read(w);
-  const uint64_t t = issue(kList, routes_[w.unit][kList], now, 1 + lines + fills_);
-  return arrival(kList, t, true) + lines + timing_.latency[kList];
+  const uint64_t t = issue(kListStage, w, now, 1 + lines + fills_);
+  return arrival(kListStage, t, true) + lines + machine_.timing(kListStage).latency;
 }
 
 // IST: the leaf's tests, one a cycle, and a line of its L1's port a cycle (a triangle across
@@ -322,13 +280,13 @@ uint64_t Replay::leaf(Walk& w, uint64_t now) {
 uint64_t Replay::tests(Walk& w, uint64_t ready) {
   const std::vector<Access>& reads = w.stream.reads;
   uint64_t n = 0, lines = 0;
-  for (; w.next + n < reads.size() && reads[w.next + n].unit == AccessUnit::kIst; ++n)
+  for (; w.next + n < reads.size() && reads[w.next + n].kind == WalkRead::kTriangle; ++n)
     lines += lines_of(reads[w.next + n]);
   if (n == 0) return ready;
   fills_ = 0;
   for (uint64_t k = 0; k < n; ++k) read(w);
-  const uint64_t t = issue(kIst, routes_[w.unit][kIst], ready, lines + fills_);
-  return arrival(kIst, t, true) + lines - 1 + timing_.latency[kIst];
+  const uint64_t t = issue(kIstStage, w, ready, lines + fills_);
+  return arrival(kIstStage, t, true) + lines - 1 + machine_.timing(kIstStage).latency;
 }
 
-}  // namespace rtsim::sampling_detail
+}  // namespace rtsim::model::functional

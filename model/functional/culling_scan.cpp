@@ -1,9 +1,9 @@
 // The shadow phase's source of rays in the functional pass's replay: the culling unit's scan over
 // the record slots, as model/units/shadow_culling_unit.cpp makes it in two phases with the records
-// read from memory (testbench/sampling_features.h says what the replay keeps of its timing).
-#include "testbench/sampling_replay.h"
+// read from memory (model/functional/batch_features.h says what the replay keeps of its timing).
+#include "model/functional/functional_pass.h"
 
-namespace rtsim::sampling_detail {
+namespace rtsim::model::functional {
 
 void Replay::begin_scan(uint64_t at) {
   next_unit_ = 0;  // the culling unit's round robin over the traversal units' inputs
@@ -19,8 +19,8 @@ uint64_t Replay::record_arrival() {
   ScanState& s = scan_;
   const uint64_t allowed = s.left[s.slot % prefetch_];  // slot - prefetch left (or the start)
   const uint64_t request = s.slot == 0 ? s.last_request : std::max(s.last_request + 1, allowed);
-  const uint64_t arrival =
-      std::max(request + timing_.dram, s.slot == 0 ? 0 : s.last_arrival + timing_.line_flits);
+  const uint64_t arrival = std::max(request + machine_.dram_cycles(),
+                                    s.slot == 0 ? 0 : s.last_arrival + machine_.line_flits());
   s.last_request = request;
   s.last_arrival = arrival;
   return arrival;
@@ -83,11 +83,11 @@ uint64_t Replay::read_light() {
   const uint32_t i = scan_.light;
   CacheCounts& counts = scan_batch().caches;
   const auto light = [&](uint32_t addr) {
-    return caches_.read(0, Access{addr, image::kLightBytes, AccessUnit::kShading}, counts);
+    return machine_.read(0, Access{addr, image::kLightBytes, WalkRead::kLight}, counts);
   };
   int level = light(image_.light_addr(i));
   if (lights_[i].area) level = std::max(level, light(image_.light_area_addr(i)));
-  return timing_.read(kShading, level);
+  return machine_.read_cycles(kShadingStage, level);
 }
 
 bool Replay::take_shadow(uint64_t now, Queued& q) {
@@ -95,11 +95,11 @@ bool Replay::take_shadow(uint64_t now, Queued& q) {
   ScanState& s = scan_;
   uint64_t t = std::max(now, s.free);
   if (!s.latched) {
-    // The light's record through shading unit 0's L1; on a miss the unit waits for it.
+    // The light's record through the culling unit's L1; on a miss the unit waits for it.
     const uint64_t cycles = read_light();
     s.latched = true;
     s.light_ready = t + cycles;
-    if (cycles > timing_.l1_hit[kShading]) t = s.light_ready;
+    if (cycles > machine_.timing(kShadingStage).l1_hit) t = s.light_ready;
   }
   const image::LightRecord& light = lights_[s.light];
   q.ray = s.slot;
@@ -118,4 +118,4 @@ bool Replay::take_shadow(uint64_t now, Queued& q) {
   return true;
 }
 
-}  // namespace rtsim::sampling_detail
+}  // namespace rtsim::model::functional
