@@ -19,8 +19,9 @@ uint64_t Replay::record_arrival() {
   ScanState& s = scan_;
   const uint64_t allowed = s.left[s.slot % prefetch_];  // slot - prefetch left (or the start)
   const uint64_t request = s.slot == 0 ? s.last_request : std::max(s.last_request + 1, allowed);
-  const uint64_t arrival = std::max(request + machine_.dram_cycles(),
-                                    s.slot == 0 ? 0 : s.last_arrival + machine_.line_flits());
+  const uint64_t arrival =
+      std::max(request + machine_.dram_cycles(records_base_ + s.slot * record_stride_),
+               s.slot == 0 ? 0 : s.last_arrival + machine_.line_flits());
   s.last_request = request;
   s.last_arrival = arrival;
   return arrival;
@@ -87,7 +88,7 @@ uint64_t Replay::read_light() {
   };
   int level = light(image_.light_addr(i));
   if (lights_[i].area) level = std::max(level, light(image_.light_area_addr(i)));
-  return machine_.read_cycles(kShadingStage, level);
+  return machine_.read_cycles(kShadingStage, level, image_.light_addr(i));
 }
 
 bool Replay::take_shadow(uint64_t now, Queued& q) {

@@ -28,7 +28,7 @@ uint32_t transfer_cycles(const LinkConfig& link, uint32_t bytes) {
 
 }  // namespace
 
-FunctionalMachine::FunctionalMachine(const AcceleratorConfig& cfg) {
+FunctionalMachine::FunctionalMachine(const AcceleratorConfig& cfg) : rows_(cfg.memory_dram()) {
   const UnitTypes types = unit_types(cfg);
   const MemoryTopology topology = memory_topology(cfg, MemoryTarget::kBuiltin);
   line_bytes_ = cfg.traversal().l1.line_bytes;
@@ -65,12 +65,11 @@ FunctionalMachine::FunctionalMachine(const AcceleratorConfig& cfg) {
   while ((1u << line_shift_) < line_bytes_) ++line_shift_;
   for (uint32_t t = 0; t < cfg.traversal().count; ++t) routes_.push_back(ray_route(cfg, t));
 
-  const DramConfig d = cfg.memory_dram();
-  const double access =
-      double(d.tRCD + d.CL + d.burst_cycles()) * double(d.tCK_ps) * cfg.clock_ghz / 1000.0;
+  const double tck_cycles = double(cfg.memory_dram().tCK_ps) * cfg.clock_ghz / 1000.0;
   line_flits_ = std::max<uint32_t>(1, transfer_cycles(cfg.memory_link, line_bytes_));
-  dram_ = 2 * cfg.memory_link.latency + transfer_cycles(cfg.memory_link, line_bytes_) +
-          uint32_t(std::lround(access));
+  for (int o = 0; o < DramRows::kOutcomes; ++o)
+    dram_[o] = 2 * cfg.memory_link.latency + transfer_cycles(cfg.memory_link, line_bytes_) +
+               uint32_t(std::lround(rows_.cycles(DramRows::Outcome(o)) * tck_cycles));
   const uint32_t write = cfg.write_records ? transfer_cycles(cfg.memory_link, line_bytes_) : 0;
   shading_interval_ = std::max<uint32_t>(2, write);
 }

@@ -6,12 +6,14 @@
 // L1s on the IST's), and the culling unit's L1 for the lights (shading unit 0's, or its own beside
 // the shading L1s). A unit's L1 miss goes to its L2, an L2 miss is a line read from DRAM. No time,
 // no MSHRs, no banks: a line is in a cache from the access that misses on it (a request the model
-// would merge into an MSHR in flight is a hit here).
+// would merge into an MSHR in flight is a hit here). A line read from DRAM finds its bank's row as
+// the configured DRAM leaves it (model/memory/dram_rows.h).
 #pragma once
 
 #include "kernels/access_stream.h"
 #include "model/accelerator_config.h"
 #include "model/memory/cache_tags.h"
+#include "model/memory/dram_rows.h"
 #include "model/units/ray_state.h"
 
 #include <array>
@@ -61,13 +63,15 @@ class FunctionalMachine {
   uint32_t unit(Stage s, uint32_t t) const { return routes_[t][s]; }
   uint32_t units(Stage s) const { return uint32_t(l1_[s].size()); }
   const StageTiming& timing(Stage s) const { return timing_[s]; }
-  // The cycles of a read by stage `s` whose deepest line came from `level` (read()), queues aside.
-  uint64_t read_cycles(Stage s, int level) const {
+  // The cycles of a read by stage `s` whose deepest line came from `level` (read()), queues aside,
+  // `addr` the line read from DRAM (level 2).
+  uint64_t read_cycles(Stage s, int level, uint64_t addr) {
     const StageTiming& t = timing_[s];
-    return t.l1_hit + (level >= 1 ? t.l2_hit : 0) + (level >= 2 ? dram_ : 0);
+    return t.l1_hit + (level >= 1 ? t.l2_hit : 0) + (level >= 2 ? dram_cycles(addr) : 0);
   }
-  // A line from DRAM: the memory link both ways, its flits, and the DRAM's access.
-  uint32_t dram_cycles() const { return dram_; }
+  // The line at `addr` read from DRAM: the memory link both ways, its flits, and the DRAM's access
+  // from the state its bank's row is in (DramRows), which the read leaves as the DRAM would.
+  uint32_t dram_cycles(uint64_t addr) { return dram_[rows_.read(addr)]; }
   uint32_t line_flits() const { return line_flits_; }  // cycles a line takes a memory-link port
   // The shading unit's issue interval: the larger of its two reads and its hit record's write over
   // the memory link.
@@ -86,7 +90,9 @@ class FunctionalMachine {
   uint32_t culling_l2_ = 0;
   std::vector<std::array<uint32_t, kStages>> routes_;  // by traversal unit
   std::array<StageTiming, kStages> timing_{};
-  uint32_t dram_ = 0, line_flits_ = 1, shading_interval_ = 2;
+  DramRows rows_;
+  uint32_t dram_[DramRows::kOutcomes] = {};  // by what the bank found
+  uint32_t line_flits_ = 1, shading_interval_ = 2;
   uint32_t line_bytes_ = 64, line_shift_ = 6;
 };
 

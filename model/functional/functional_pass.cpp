@@ -55,6 +55,9 @@ Replay::Replay(const MemoryImage& image, const Camera& camera, int width, int he
     l2_ports_.push_back(std::move(p));
   }
   lights_ = image_lights(image);
+  const MemoryLayout layout = memory_layout(cfg, image.bytes().size(), width, height);
+  records_base_ = layout.fb_base;
+  record_stride_ = layout.record_stride;
   const uint64_t n = order_.size();
   hits_.resize(n);
   for (std::vector<BatchFeatures>& phase : batches_) {
@@ -218,6 +221,7 @@ uint64_t Replay::arrival(Stage s, uint64_t t, bool parked) {
   const StageTiming& timing = machine_.timing(s);
   uint64_t ready = t + timing.l1_hit;
   uint64_t dram_chain = 0;  // parked: when the last line from DRAM reached its bank
+  const uint32_t shift = machine_.line_shift();
   for (const LineMiss& m : misses_) {
     L2Ports& p = l2_ports_[m.l2];
     const uint32_t bank = m.line & p.bank_mask;
@@ -226,7 +230,7 @@ uint64_t Replay::arrival(Stage s, uint64_t t, bool parked) {
     if (m.dram) {
       const uint64_t requested = parked && dram_chain ? dram_chain : looked_up;
       // The line crosses the memory link's port into the bank in its last flits' cycles.
-      const uint64_t crossed = requested + machine_.dram_cycles();
+      const uint64_t crossed = requested + machine_.dram_cycles(uint64_t(m.line) << shift);
       const uint32_t flits = machine_.line_flits();
       in_bank = p.fill[bank].book(t, crossed - flits, flits);
       dram_chain = in_bank;

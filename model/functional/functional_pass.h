@@ -237,6 +237,8 @@ class Replay {
   bool culling_;
   uint32_t shadow_stride_;
   uint32_t prefetch_;
+  uint64_t records_base_ = 0;  // the hit records' slots in memory (memory_layout)
+  uint32_t record_stride_ = 0;
   std::vector<image::LightRecord> lights_;
   std::vector<TraversalUnitState> units_;
   std::vector<Walk> walks_;

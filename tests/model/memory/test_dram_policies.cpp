@@ -2,6 +2,7 @@
 // all-bank refresh and bank groups (GT200's timings, tCK 1.25 ns, unless a test changes them).
 #include "model/memory/dram_config.h"
 #include "model/memory/dram_controller.h"
+#include "model/memory/dram_rows.h"
 #include "tests/model/memory/dram_test_util.h"
 
 #include <gtest/gtest.h>
@@ -317,6 +318,30 @@ TEST(DramPolicies, EveryCombinationServesEveryRequestLegally) {
           EXPECT_EQ(f.name == "none", st.refreshes == 0u);
           expect_legal(trace, c);
         }
+}
+
+// The functional mode's DRAM (DramRows) finds a bank as the controller leaves it and costs what the
+// controller takes for a lone read in that state: an idle bank, a row hit, a conflict (open page),
+// and an idle bank every time under the closed-page policy.
+TEST(DramRows, ALoneReadCostsWhatTheControllerTakes) {
+  for (const char* policy : {"open", "closed"}) {
+    DramConfig c = gt200();
+    c.row_policy = policy;
+    DramController e(c);
+    const std::vector<Tick> timed = idle_latencies(e);
+    DramRows rows(c);
+    const bool open = std::string(policy) == "open";
+    const std::vector<DramRows::Outcome> expected =
+        open ? std::vector<DramRows::Outcome>{DramRows::kIdleBank, DramRows::kRowHit,
+                                              DramRows::kRowConflict}
+             : std::vector<DramRows::Outcome>(3, DramRows::kIdleBank);
+    const std::vector<uint64_t> addrs{0, kCol1, kRow1};
+    for (size_t i = 0; i < addrs.size(); ++i) {
+      const DramRows::Outcome o = rows.read(addrs[i]);
+      EXPECT_EQ(o, expected[i]) << policy << " read " << i;
+      EXPECT_EQ(rows.cycles(o) * kTck, timed[i]) << policy << " read " << i;
+    }
+  }
 }
 
 }  // namespace
