@@ -4,7 +4,7 @@
 //             [--scene-root DIR]
 // Without scene files: the kitchen, robots and bunny setups.
 #include "kernels/lvb.h"
-#include "testbench/pipeline.h"
+#include "testbench/run/pipeline.h"
 
 #include "bench/bench_util.h"
 

@@ -1,4 +1,4 @@
-// The functional pass of a sampled frame (issue 38; testbench/sampling_features.h) over a run's
+// The functional pass of a sampled frame (issue 38; testbench/run/sampling_features.h) over a run's
 // frame: per 64-ray batch of its primary rays in issue order and, in two phases, per batch of 64
 // record slots of its shadow phase, the units' reads, L1 misses and DRAM lines, the shadow rays
 // emitted and culled, and the replay's cycles, for bench/sampling_regression.py to set beside the
@@ -13,9 +13,9 @@
 // batch,walk_steps per primary batch). Prints the host time of the preparation, the LVB and each
 // phase of the pass.
 #include "common/host_clock.h"
-#include "testbench/pipeline.h"
-#include "testbench/run_config.h"
-#include "testbench/sampling_features.h"
+#include "testbench/run/pipeline.h"
+#include "testbench/run/run_config.h"
+#include "testbench/run/sampling_features.h"
 
 #include "bench/bench_util.h"
 

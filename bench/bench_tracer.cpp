@@ -2,7 +2,7 @@
 // second over the camera rays of a scene. Usage:
 //   bench_tracer [SCENE.yaml] [--width W --height H] [--repeat N] [--scene-root DIR]
 #include "kernels/reference_tracer.h"
-#include "testbench/pipeline.h"
+#include "testbench/run/pipeline.h"
 
 #include "bench/bench_util.h"
 

@@ -7,7 +7,8 @@ perfect, for every start of the sample. What it prints bounds what warming can a
 
 Per run: the units (G consecutive batches each), the primary phase, and over the k starts the
 largest error of the estimate, the mean 95% half-interval (both in % of the phase) and how many
-intervals held the true phase. The estimator is testbench/sample_estimate.cpp's, with z = 1.96
+intervals held the true phase. The estimator is testbench/sampling/sample_estimate.cpp's, with z =
+1.96
 (Student's t would widen the intervals of samples under 31 units a little).
 """
 import argparse

@@ -1,17 +1,16 @@
 #!/usr/bin/env python3
 """A sampled run's estimator on a full run's true unit cycles (docs/sampling.md): the plan of
-testbench/sample_plan.cpp (first and last unit always measured, one unit drawn per stratum of
-round(1/F) units) and the estimators of testbench/sample_regression.cpp (GREG on the functional
-pass's features; the 95% interval from the delete-one jackknife of each phase's total, the frame's
-from the sums of both phases' replicates, with Satterthwaite's degrees of freedom), over many
-seeds, as if every drawn unit were measured exactly: the bound that the estimator puts on a
-sampled run, whatever its warming. Beside the run's estimator, the variants it was chosen from,
-and plans with a take-all stratum: the m units ranked highest by an auxiliary known before the
+testbench/sampling/sample_plan.cpp (first and last unit always measured, one unit drawn per stratum
+of round(1/F) units) and the estimators of testbench/sampling/sample_regression.cpp (GREG on the
+functional pass's features; the 95% interval from the delete-one jackknife of each phase's total,
+the frame's from the sums of both phases' replicates, with Satterthwaite's degrees of freedom), over
+many seeds, as if every drawn unit were measured exactly: the bound that the estimator puts on a
+sampled run, whatever its warming. Beside the run's estimator, the variants it was chosen from, and
+plans with a take-all stratum: the m units ranked highest by an auxiliary known before the
 simulation always measured (exactly, as the first and last are), the rest of the same budget of
-measured units drawn one a stratum over the other units, in strata of equal size or of equal
-N_h S_h of the auxiliary (Neyman's allocation with one draw a stratum). With --steps, the walk
-steps that a run's Neyman strata are cut on rank units too.
-
+measured units drawn one a stratum over the other units, in strata of equal size or of equal N_h S_h
+of the auxiliary (Neyman's allocation with one draw a stratum). With --steps, the walk steps that a
+run's Neyman strata are cut on rank units too.
   bench_sampling_features --config RUN/config.json --out features.csv [--walk-steps steps.csv]
   /usr/bin/python3 bench/sampling_plan_study.py RUN features.csv [--fraction 0.05] [--seeds 200]
       [--variants 'all'|'run'|'take-all'|'NAME;...'] [--steps steps.csv] [--auxiliary walks]
@@ -165,7 +164,8 @@ def load(run, features, steps=None, auxiliary="pass"):
 
 
 def strata_of(n_units, fraction, order=None):
-    """testbench/sample_plan.cpp's strata: k = round(1 / F) consecutive units of `order` (the
+    """testbench/sampling/sample_plan.cpp's strata: k = round(1 / F) consecutive units of `order`
+    (the
     units between the first and the last in issue order if not given)."""
     k = max(1, round(1 / fraction))
     inner = np.arange(1, n_units - 1) if order is None else order
@@ -220,7 +220,8 @@ def take_all_strata(n_units, fraction, key, m, allocation):
 
 
 def plan(n_units, seed, strata, certain=()):
-    """(unit, weight, certain) as testbench/sample_plan.cpp: the first and the last unit and
+    """(unit, weight, certain) as testbench/sampling/sample_plan.cpp: the first and the last unit
+    and
     `certain` always measured, one unit drawn at random from each stratum."""
     rng = np.random.default_rng(seed)
     out = [(0, 1, True)] + [(int(u), 1, True) for u in certain]
@@ -251,7 +252,8 @@ def fit(y, ad, w, how, x0):
 
 
 def greg(y, x, sample, cols, how="ols", jackknife=False):
-    """testbench/sample_regression.cpp's estimate_greg: the total, the drawn units' weighted
+    """testbench/sampling/sample_regression.cpp's estimate_greg: the total, the drawn units'
+    weighted
     residuals over 1 - their leverage, their leverages, and (jackknife) their replicates' deviations
     (estimate_plan's for the expansion, cols None)."""
     cert = [i for i, _, c in sample if c]

@@ -10,7 +10,8 @@ worth.
 RUN_DIR holds a full run's batches.csv (phase,batch,first,cycles: the cycles per 64-ray batch of
 the primary phase in issue order and, in two phases, per 64 record slots of the shadow phase; a
 file without the phase column is the primary phase's alone), report.json and config.json;
-FEATURES_CSV is bench_sampling_features' output for the same frame (testbench/sampling_features.h:
+FEATURES_CSV is bench_sampling_features' output for the same frame
+(testbench/run/sampling_features.h:
 reads, L1 misses and DRAM lines by unit type, hits, shadow rays emitted and culled, and the
 replay's own cycles, per phase). "frame" is a unit's primary and shadow cycles together (the same
 batches of slots in both phases). For each phase and unit size (batches per unit) it prints:
@@ -26,7 +27,8 @@ batches of slots in both phases). For each phase and unit size (batches per unit
   largest and rms error, the mean 95% half-interval (successive differences of the sampled
   residuals, each divided by 1 - its leverage; Student's t) and how many intervals held the truth.
   With --certain 1 the first and the last unit are always measured (the pipeline's fill and
-  drain: testbench/sample_plan.h) and the strata cover the units between them. With --sorted
+  drain: testbench/sampling/sample_plan.h) and the strata cover the units between them. With
+  --sorted
   expansion, the ratio and GREG on the replay's cycles are also measured with strata cut in the
   order of the units' replay cycles (a unit's stratum holds units of about its replay cycles).
 """

@@ -61,7 +61,7 @@ struct AcceleratorResult {
   std::vector<uint64_t> shadow_batch_cycles;
   // A sampled frame (Accelerator::sample): each window's batches, in each phase (the shadow phase's
   // in two phases only). The cycles above then count the simulated time, gaps included: a sampled
-  // frame's figures are estimated from these (testbench/sampled_frame.h).
+  // frame's figures are estimated from these (testbench/run/sampled_frame.h).
   std::vector<WindowBatches> primary_windows, shadow_windows;
   nlohmann::json stats;  // every named statistic
   // The unit types and the caches a report lists (model/accelerator_units.h).

@@ -42,6 +42,16 @@ void write_json(const std::string& path, const nlohmann::json& j) {
   write_file_atomic(path, j.dump(2) + "\n");
 }
 
+nlohmann::json read_json(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot read");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("{}: not valid JSON: {}", path, e.what()));
+  }
+}
+
 void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height,
                    int width) {
   write_npy_u16(path, data, std::vector<size_t>{size_t(height), size_t(width)});

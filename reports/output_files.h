@@ -53,6 +53,8 @@ inline constexpr const char* kAreaLightsMd = "area_lights.md";  // reports: [are
 
 void write_file_atomic(const std::string& path, const std::string& contents);
 void write_json(const std::string& path, const nlohmann::json& j);
+// A JSON file; an InputError naming it when it is missing or malformed.
+nlohmann::json read_json(const std::string& path);
 // NumPy .npy (format 1.0), little-endian uint16, C order, shape (height, width).
 void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, int height,
                    int width);

@@ -26,8 +26,8 @@ std::string sanitize(const std::string& name) {
   return out;
 }
 
-// Sampled points (results.json's `sampled_columns`, testbench/sweep_metrics.h): how many, at which
-// fractions, and where their intervals are; "" for a sweep of full runs.
+// Sampled points (results.json's `sampled_columns`, testbench/studies/sweep_metrics.h): how many,
+// at which fractions, and where their intervals are; "" for a sweep of full runs.
 std::string sampled_note(const json& results) {
   if (!results.contains("sampled_columns")) return "";
   const json rows = results.value("rows", json::array());

@@ -4,7 +4,7 @@
 #include "kernels/reference_tracer.h"
 #include "reports/output_files.h"
 #include "testbench/commands.h"
-#include "testbench/resources.h"
+#include "testbench/run/resources.h"
 
 #include <fmt/format.h>
 

@@ -3,8 +3,8 @@
 #include "config_loader/hw_config.h"
 #include "kernels/bvh_image.h"
 #include "testbench/commands.h"
-#include "testbench/resources.h"
-#include "testbench/sweep.h"
+#include "testbench/run/resources.h"
+#include "testbench/studies/sweep.h"
 
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>

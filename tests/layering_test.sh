@@ -77,5 +77,27 @@ while IFS= read -r stray; do
   violation "$stray" "a model folder that is not a layer (sim, memory, units, device) or functional/"
 done < <(find model -mindepth 1 -maxdepth 1 -type d ! -name sim ! -name memory ! -name units \
            ! -name device ! -name functional)
+# testbench/ leans one way too, by concern: sampling/ (the sample's statistics) below run/ (one
+# run, full or sampled) below studies/ (sweeps, reproductions, studies: many runs) below the
+# commands at its top level (main.cpp, commands.h and the commands of one scene: render, info, lvb).
+testbench_forbidden() {
+  case $1 in
+    sampling) echo "testbench/run/ testbench/studies/ testbench/[a-z_]*\.h" ;;
+    run) echo "testbench/studies/ testbench/[a-z_]*\.h" ;;
+    studies) echo "testbench/[a-z_]*\.h" ;;
+  esac
+}
+for concern in sampling run studies; do
+  [ -d "testbench/$concern" ] || continue
+  for bad in $(testbench_forbidden "$concern"); do
+    while IFS= read -r hit; do
+      violation "$hit" "testbench/$concern/ may not include $bad"
+    done < <(grep -rnE --include='*.h' --include='*.cpp' \
+               "^[[:space:]]*#[[:space:]]*include[[:space:]]*[\"<]$bad" "testbench/$concern")
+  done
+done
+while IFS= read -r stray; do
+  violation "$stray" "a testbench folder that is not a concern (sampling, run, studies)"
+done < <(find testbench -mindepth 1 -maxdepth 1 -type d ! -name sampling ! -name run ! -name studies)
 [ $status -eq 0 ] && echo "layering: ok"
 exit $status

@@ -1,6 +1,6 @@
 // How the model reports errors: through sc_report (SC_REPORT_ERROR) with message types of ours,
 // so a virtual platform that embeds the model sees them like any other SystemC block's, and the
-// testbench maps each type to its own message and exit code (testbench/simulate.cpp). Warnings
+// testbench maps each type to its own message and exit code (testbench/run/simulate.cpp). Warnings
 // (SC_REPORT_WARNING) say that a run goes on but its figures are not what one may expect.
 #pragma once
 

@@ -20,7 +20,8 @@ from rtsim_plots.common import (
 from rtsim_plots.files import RESULTS_JSON
 
 
-# A sampled point's row carries each estimate's 95% half-interval (testbench/sweep_metrics.h):
+# A sampled point's row carries each estimate's 95% half-interval
+# (testbench/studies/sweep_metrics.h):
 # the metric's column of intervals.
 INTERVALS = {
     "cycles_total": "cycles_total_ci95",

@@ -1,7 +1,7 @@
 // The SystemC model against the reference tracer on the procedural city, LVB culling on: every
 // pixel's hit triangle, t and per-light shadow result, the culled counts and the image must be
 // equal bit for bit. (One SystemC simulation per executable.)
-#include "testbench/simulate.h"
+#include "testbench/run/simulate.h"
 #include "tests/model/city_frame.h"
 
 #include <gtest/gtest.h>

@@ -8,7 +8,7 @@
 #include "model/units/shading_unit.h"
 #include "reports/run_report.h"
 #include "testbench/commands.h"
-#include "testbench/sweep_metrics.h"
+#include "testbench/studies/sweep_metrics.h"
 #include "tests/test_util.h"
 
 #include <gtest/gtest.h>

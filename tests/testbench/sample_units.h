@@ -2,7 +2,7 @@
 // a plan measures of a synthetic frame's units.
 #pragma once
 
-#include "testbench/sample_plan.h"
+#include "testbench/sampling/sample_plan.h"
 
 #include <vector>
 

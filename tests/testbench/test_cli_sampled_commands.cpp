@@ -2,7 +2,7 @@
 // frame whose interval is wider than the target says so and what fraction would meet it; with
 // grow it runs again at that fraction, each attempt a child process, until the target is met), and
 // rtsim animate --sample (each frame sampled, frames.csv with the intervals).
-#include "testbench/sampled_frame.h"
+#include "testbench/run/sampled_frame.h"
 #include "tests/testbench/cli_util.h"
 
 #include <fmt/format.h>

@@ -1,6 +1,7 @@
-// rtsim study (testbench/study_command.cpp): a tiny study end to end (a sweep of the city at 64x36
-// with the shipped cache table), its resume, the doc block it writes against the Python renderer
-// of scripts/docs_tables.py on the same runs, --list, and the one-line error of a bad study file.
+// rtsim study (testbench/studies/study_command.cpp): a tiny study end to end (a sweep of the city
+// at 64x36 with the shipped cache table), its resume, the doc block it writes against the Python
+// renderer of scripts/docs_tables.py on the same runs, --list, and the one-line error of a bad
+// study file.
 #include "tests/test_util.h"
 #include "tests/testbench/cli_util.h"
 

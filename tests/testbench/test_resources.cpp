@@ -1,6 +1,6 @@
-// Memory before the work (testbench/resources.h): a frame too big for the process's limits is one
-// error naming the estimate and the limit, exit 2, before the frame's state is allocated.
-#include "testbench/resources.h"
+// Memory before the work (testbench/run/resources.h): a frame too big for the process's limits is
+// one error naming the estimate and the limit, exit 2, before the frame's state is allocated.
+#include "testbench/run/resources.h"
 
 #include "common/error.h"
 #include "tests/test_util.h"

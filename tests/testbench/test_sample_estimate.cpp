@@ -1,6 +1,6 @@
-// Student's t of the sampled frame's intervals (testbench/sample_estimate.h): the table's 0.975
-// quantiles, the normal's beyond 30 degrees of freedom, and none without a degree of freedom.
-#include "testbench/sample_estimate.h"
+// Student's t of the sampled frame's intervals (testbench/sampling/sample_estimate.h): the table's
+// 0.975 quantiles, the normal's beyond 30 degrees of freedom, and none without a degree of freedom.
+#include "testbench/sampling/sample_estimate.h"
 
 #include <gtest/gtest.h>
 

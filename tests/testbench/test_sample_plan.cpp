@@ -1,10 +1,10 @@
-// A sampled frame's plan and estimators (testbench/sample_plan.h, sample_regression.h): the plan's
-// windows hold every measured unit after its warm-up; expansion and regression are exact with
-// every unit; the regression is exact on a population its auxiliaries explain, and far tighter
+// A sampled frame's plan and estimators (testbench/sampling/sample_plan.h, sample_regression.h):
+// the plan's windows hold every measured unit after its warm-up; expansion and regression are exact
+// with every unit; the regression is exact on a population its auxiliaries explain, and far tighter
 // than the expansion on one they mostly explain; both intervals cover the truth about 95% of the
 // time and shrink as the sample grows.
-#include "testbench/sample_plan.h"
-#include "testbench/sample_regression.h"
+#include "testbench/sampling/sample_plan.h"
+#include "testbench/sampling/sample_regression.h"
 #include "tests/testbench/sample_units.h"
 
 #include <gtest/gtest.h>

@@ -1,11 +1,11 @@
-// The regression estimator's jackknife interval (testbench/sample_regression.h): on a frame-like
-// population with a heavy-tailed component (a region of units whose cycles jump, as the units on
-// the geometry do) its intervals hold the truth at least 85% of the time at a 5% sample (88%
-// measured: like the frames', the tail is often missed by 51 units, docs/sampling.md); they
+// The regression estimator's jackknife interval (testbench/sampling/sample_regression.h): on a
+// frame-like population with a heavy-tailed component (a region of units whose cycles jump, as the
+// units on the geometry do) its intervals hold the truth at least 85% of the time at a 5% sample
+// (88% measured: like the frames', the tail is often missed by 51 units, docs/sampling.md); they
 // shrink as the sample grows; a fraction of 1 gives the exact total and no interval; a sum's
 // deviations are the sums of its parts', and the expansion's deviations are its replicates'.
-#include "testbench/sample_plan.h"
-#include "testbench/sample_regression.h"
+#include "testbench/sampling/sample_plan.h"
+#include "testbench/sampling/sample_regression.h"
 #include "tests/testbench/sample_units.h"
 
 #include <gtest/gtest.h>

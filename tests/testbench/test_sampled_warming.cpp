@@ -1,11 +1,11 @@
-// A sampled frame's functional warming (testbench/sampled_frame.h, primary_warming; the model's
+// A sampled frame's functional warming (testbench/run/sampled_frame.h, primary_warming; the model's
 // CacheWarmer): a window whose caches are warmed with the reads of the rays before it measures
 // its batches about as the full frame does, closer than the same window with cold caches, and
 // computes the same pixels; its caches hit as often as the full frame's over the same rays.
 #include "config_loader/scene_file.h"
 #include "kernels/kdtree.h"
 #include "model/accelerator.h"
-#include "testbench/sampled_frame.h"
+#include "testbench/run/sampled_frame.h"
 #include "tests/model/city_frame.h"
 
 #include <gtest/gtest.h>

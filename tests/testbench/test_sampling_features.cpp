@@ -9,8 +9,8 @@
 #include "kernels/memory_image.h"
 #include "model/accelerator.h"
 #include "model/functional/functional_pass.h"
-#include "testbench/sample_pass_file.h"
-#include "testbench/sampling_features.h"
+#include "testbench/run/sampling_features.h"
+#include "testbench/sampling/sample_pass_file.h"
 #include "tests/test_util.h"
 #include "tests/testbench/sampling_counts.h"
 

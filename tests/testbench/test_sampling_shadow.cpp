@@ -8,8 +8,8 @@
 // per executable.)
 #include "kernels/reference_tracer.h"
 #include "model/accelerator.h"
-#include "testbench/pipeline.h"
-#include "testbench/sampling_features.h"
+#include "testbench/run/pipeline.h"
+#include "testbench/run/sampling_features.h"
 #include "tests/test_util.h"
 #include "tests/testbench/sampling_counts.h"
 

@@ -1,0 +1,184 @@
+// rtsim study: the runs behind a generated block of a doc (a study file,
+// testbench/studies/study_file.h) and the table they give. Each run is the command it names, called
+// in this process (a sweep's points, a reproduction, an animation), so a study resumes as they do:
+// a second sitting runs only what has no result yet. The table comes from the report layer
+// (reports/study_tables.h).
+#include "common/error.h"
+#include "reports/output_files.h"
+#include "reports/study_files.h"
+#include "reports/study_tables.h"
+#include "testbench/studies/slurm.h"
+#include "testbench/studies/study_commands.h"
+#include "testbench/studies/study_file.h"
+#include "testbench/studies/sweep.h"
+
+#include <fmt/format.h>
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+
+namespace fs = std::filesystem;
+
+namespace rtsim {
+
+namespace {
+
+std::string describe(const StudySpec& s) {
+  std::string d;
+  for (const StudyRun& r : s.runs) d += (d.empty() ? "" : "; ") + describe_run(r);
+  return d;
+}
+
+int list_studies() {
+  for (const std::string& file : study_files()) {
+    const StudySpec s = load_study(file);
+    fmt::print("{:20} {:22} ~{:g} min   {}{}\n", s.id, source_relative(s.doc), s.minutes,
+               describe(s),
+               report::study_renderer_ported(s.table.renderer) ? "" : " (table: Python)");
+  }
+  return 0;
+}
+
+// One run of the study in OUT/DIR (a sweep or animation with --emit slurm: its job script).
+int run_one(const StudyRun& r, const std::string& out, int jobs, const std::string& emit) {
+  const std::string dir = r.dir.empty() ? out : (fs::path(out) / r.dir).string();
+  if (r.kind == "sweep") {
+    const SweepSpec spec = load_sweep(r.file, r.set, r.variants);
+    if (emit == "slurm") return emit_slurm(spec, dir);
+    return run_sweep_points(spec, dir, jobs, r.plots, spec.point_timeout);
+  }
+  if (r.kind == "animate") {
+    AnimateArgs a;
+    a.scene = r.file;
+    a.hw = r.hw;
+    a.times = r.times;
+    a.out = dir;
+    a.emit = emit;
+    a.lvb = r.lvb;
+    a.width = r.width;
+    a.height = r.height;
+    a.jobs = jobs;
+    a.check_every = r.check_every;
+    a.sample = r.sample;
+    return run_animate(a);
+  }
+  ReproduceArgs a;
+  a.out = dir;
+  a.variants = r.variants;
+  a.ablation = r.reproduce == "ablation";
+  a.bvh = r.reproduce == "bvh";
+  a.jobs = jobs;
+  a.sample = r.sample;
+  a.set = r.set;
+  return run_reproduce(a);
+}
+
+// What a study cannot do yet, before anything runs.
+void check_runnable(const StudySpec& s, const std::string& emit) {
+  for (const StudyRun& r : s.runs) {
+    if (r.kind == "program")
+      throw InputError(
+          fmt::format("{}: runs programs of the build ({}): scripts/refresh-docs.py "
+                      "runs this study",
+                      s.file, describe_run(r)));
+    if (!emit.empty() && r.kind == "reproduce")
+      throw InputError(fmt::format("{}: --emit {}: a reproduction ({}) runs here only", s.file,
+                                   emit, describe_run(r)));
+  }
+}
+
+std::string shell_line(const std::string& command) {
+  std::string line;
+  if (FILE* p = ::popen(command.c_str(), "r")) {
+    char buf[256];
+    while (std::fgets(buf, sizeof buf, p)) line += buf;
+    if (::pclose(p) != 0) return "";
+  }
+  while (!line.empty() && (line.back() == '\n' || line.back() == ' ')) line.pop_back();
+  return line;
+}
+
+// The commit of the source tree, "-dirty" when files outside docs/ differ from it (a refresh
+// rewrites docs/ itself); "an unknown commit" outside a git checkout.
+std::string source_commit() {
+  const std::string git = fmt::format("git -C '{}' ", RTSIM_DEFAULT_SOURCE_DIR);
+  const std::string head = shell_line(git + "rev-parse --short=7 HEAD 2>/dev/null");
+  if (head.empty()) return "an unknown commit";
+  const std::string dirty =
+      shell_line(git + "status --porcelain --untracked-files=no -- . ':(exclude)docs' 2>/dev/null");
+  return head + (dirty.empty() ? "" : "-dirty");
+}
+
+std::string today() {
+  const std::time_t t = std::time(nullptr);
+  char buf[16];
+  std::strftime(buf, sizeof buf, "%Y-%m-%d", std::localtime(&t));
+  return buf;
+}
+
+// Replaces what lies between the doc's markers of block `id` with `body`.
+void replace_block(const std::string& doc, const std::string& id, const std::string& body) {
+  std::string s = report::read_text_file(doc);
+  const std::string begin = "<!-- generated: " + id + " -->";
+  const std::string end = "<!-- end generated: " + id + " -->";
+  const size_t i = s.find(begin), j = s.find(end);
+  if (i == std::string::npos || j == std::string::npos || j < i)
+    throw InputError(fmt::format("{}: has no block '{}' ... '{}'", doc, begin, end));
+  s = s.substr(0, i + begin.size()) + "\n" + report::strip(body) + "\n" + s.substr(j);
+  write_file_atomic(doc, s);
+}
+
+// OUT/table.md, and with `write_doc` the doc's block (stamped) and the figure's copy.
+void write_table(const StudySpec& s, const StudyArgs& a, int jobs, double minutes) {
+  if (!report::study_renderer_ported(s.table.renderer)) {
+    fmt::print("study {}: table {} is drawn by scripts/refresh-docs.py\n", s.id, s.table.renderer);
+    return;
+  }
+  const std::string table = report::render_study_table(s.table, a.out);
+  write_file_atomic((fs::path(a.out) / "table.md").string(), table + "\n");
+  fmt::print("study {}: table in {}/table.md\n", s.id, a.out);
+  if (!a.write_doc) return;
+  const std::string note = fmt::format(
+      "_Generated by `rtsim study {}` (`{}`) from commit {} on {}; this sitting took {:.0f} min "
+      "with --jobs {}._",
+      s.id, describe(s), source_commit(), today(), minutes, jobs);
+  replace_block(s.doc, s.id, note + "\n\n" + table);
+  if (!s.figure_from.empty())
+    fs::copy_file(fs::path(a.out) / s.figure_from, s.figure_to,
+                  fs::copy_options::overwrite_existing);
+  fmt::print("study {}: {} rewritten\n", s.id, source_relative(s.doc));
+}
+
+}  // namespace
+
+int run_study_command(const StudyArgs& a) {
+  if (a.list) return list_studies();
+  if (a.name.empty()) throw InputError("expected a study name (rtsim study --list) or file");
+  if (a.out.empty()) throw InputError("--out DIR is required");
+  const StudySpec s = load_study(study_file_of(a.name));
+  check_runnable(s, a.emit);
+  const int jobs = s.jobs ? s.jobs : a.jobs;
+  const auto start = std::chrono::steady_clock::now();
+  if (!a.table_only) {
+    fs::create_directories(a.out);
+    for (const StudyRun& r : s.runs) {
+      fmt::print("study {}: {}\n", s.id, describe_run(r));
+      std::fflush(stdout);
+      const int code = run_one(r, a.out, jobs, a.emit);
+      if (code != 0) {
+        fmt::print(stderr, "rtsim: error: study {}: {} failed (exit {}); its log.txt say why\n",
+                   s.id, describe_run(r), code);
+        return code;
+      }
+    }
+  }
+  if (!a.emit.empty()) return 0;
+  const double minutes =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 60;
+  write_table(s, a, jobs, minutes);
+  return 0;
+}
+
+}  // namespace rtsim
