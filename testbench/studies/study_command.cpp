@@ -7,6 +7,7 @@
 #include "reports/output_files.h"
 #include "reports/study_files.h"
 #include "reports/study_tables.h"
+#include "testbench/run/process_pool.h"
 #include "testbench/studies/slurm.h"
 #include "testbench/studies/study_commands.h"
 #include "testbench/studies/study_file.h"
@@ -18,6 +19,8 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+
+#include <sys/wait.h>
 
 namespace fs = std::filesystem;
 
@@ -34,16 +37,38 @@ std::string describe(const StudySpec& s) {
 int list_studies() {
   for (const std::string& file : study_files()) {
     const StudySpec s = load_study(file);
-    fmt::print("{:20} {:22} ~{:g} min   {}{}\n", s.id, source_relative(s.doc), s.minutes,
-               describe(s),
-               report::study_renderer_ported(s.table.renderer) ? "" : " (table: Python)");
+    fmt::print("{:20} {:22} ~{:g} min   {}\n", s.id, source_relative(s.doc), s.minutes,
+               describe(s));
   }
+  return 0;
+}
+
+// A program of the build (its path in the source tree) run from the source tree, its output in
+// DIR/stdout.txt (kept: a second sitting does not run it again), its errors in DIR/stderr.txt.
+int run_program(const StudyRun& r, const std::string& dir) {
+  const fs::path out = fs::path(dir) / "stdout.txt";
+  if (fs::exists(out)) return 0;
+  std::vector<std::string> argv = r.program;
+  argv[0] = (fs::path(RTSIM_DEFAULT_SOURCE_DIR) / argv[0]).string();
+  if (!fs::exists(argv[0]))
+    throw InputError(fmt::format("{}: not found (build it first)", argv[0]));
+  fs::create_directories(dir);
+  const std::string tmp = out.string() + ".tmp", err = (fs::path(dir) / "stderr.txt").string();
+  int status = 0;
+  waitpid(spawn_program(argv, RTSIM_DEFAULT_SOURCE_DIR, tmp, err), &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    fmt::print(stderr, "rtsim: error: {} ended with {}; {} says why\n", describe_run(r),
+               describe_exit(status), err);
+    return WIFEXITED(status) && WEXITSTATUS(status) != 0 ? WEXITSTATUS(status) : 1;
+  }
+  fs::rename(tmp, out);
   return 0;
 }
 
 // One run of the study in OUT/DIR (a sweep or animation with --emit slurm: its job script).
 int run_one(const StudyRun& r, const std::string& out, int jobs, const std::string& emit) {
   const std::string dir = r.dir.empty() ? out : (fs::path(out) / r.dir).string();
+  if (r.kind == "program") return run_program(r, dir);
   if (r.kind == "sweep") {
     const SweepSpec spec = load_sweep(r.file, r.set, r.variants);
     if (emit == "slurm") return emit_slurm(spec, dir);
@@ -78,11 +103,6 @@ int run_one(const StudyRun& r, const std::string& out, int jobs, const std::stri
 // What a study cannot do yet, before anything runs.
 void check_runnable(const StudySpec& s, const std::string& emit) {
   for (const StudyRun& r : s.runs) {
-    if (r.kind == "program")
-      throw InputError(
-          fmt::format("{}: runs programs of the build ({}): scripts/refresh-docs.py "
-                      "runs this study",
-                      s.file, describe_run(r)));
     if (!emit.empty() && r.kind == "reproduce")
       throw InputError(fmt::format("{}: --emit {}: a reproduction ({}) runs here only", s.file,
                                    emit, describe_run(r)));
@@ -132,10 +152,6 @@ void replace_block(const std::string& doc, const std::string& id, const std::str
 
 // OUT/table.md, and with `write_doc` the doc's block (stamped) and the figure's copy.
 void write_table(const StudySpec& s, const StudyArgs& a, int jobs, double minutes) {
-  if (!report::study_renderer_ported(s.table.renderer)) {
-    fmt::print("study {}: table {} is drawn by scripts/refresh-docs.py\n", s.id, s.table.renderer);
-    return;
-  }
   const std::string table = report::render_study_table(s.table, a.out);
   write_file_atomic((fs::path(a.out) / "table.md").string(), table + "\n");
   fmt::print("study {}: table in {}/table.md\n", s.id, a.out);

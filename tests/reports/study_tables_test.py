@@ -276,6 +276,94 @@ with tempfile.TemporaryDirectory() as tmp:
         ["| area-lights | kitchen | N, culling 16, on | 4,000 | +1.00% / 2.50% | 2.0x |"],
     )
 
+
+def frames_files(run_dir, frames):
+    """An `rtsim animate` directory's frames.csv and host.csv: `frames` a list of dicts (None an
+    empty cell); host.csv lacks the last frame's time."""
+    os.makedirs(run_dir)
+    cols = list(frames[0])
+    results(run_dir, cols, [{k: "" if v is None else v for k, v in f.items()} for f in frames])
+    os.rename(os.path.join(run_dir, "results.csv"), os.path.join(run_dir, "frames.csv"))
+    hcols = ["time", "kdtree_seconds", "lvb_seconds", "simulate_seconds_off"]
+    host = [
+        {
+            "time": f["time"],
+            "kdtree_seconds": 0.2 + f["time"] / 100,
+            "lvb_seconds": 0.45,
+            "simulate_seconds_off": 3,
+        }
+        for f in frames[:-1]
+    ]
+    results(run_dir, hcols, host)
+    os.rename(os.path.join(run_dir, "results.csv"), os.path.join(run_dir, "host.csv"))
+
+
+def frame(t, off, on, k, lazy=True, checked=None):
+    """One frame: cycles off and on, the LVB's work growing with `k`, a lazy rebuild's when
+    `lazy`, the reference check's mismatches when checked."""
+    return {
+        "time": t,
+        "cycles_off": off,
+        "cycles_on": on,
+        "culled_share": 0.1 + 0.01 * k,
+        "lvb_nodes_visited": 3.5e6 + 1e4 * k,
+        "lvb_region_tests": 3.7e6 + 2.5e4 * k,
+        "lvb_pair_tests": 1.1e6 - 1e3 * k,
+        "lazy_dirty_pairs": 100 * k if lazy else None,
+        "lazy_pairs": (1000 if k else 0) if lazy else None,
+        "lazy_dirty_tests": 1.5e6 + k if lazy else None,
+        "lazy_region_tests": 3e5 if lazy else None,
+        "lazy_pair_tests": 2.5e5 if lazy else None,
+        "check_mismatched_pixels": checked,
+    }
+
+
+# The animations: per scene, frames with a saving, a loss, none; a scene without a lazy rebuild;
+# host.csv without the last frame. The 1920x1080 study beside the 480x270 one, which lacks a time.
+with tempfile.TemporaryDirectory() as tmp:
+    robots = [
+        frame(0, 3.4e6, 3.2e6, 0, checked=0),
+        frame(0.5, 2.2e6, 2.3e6, 1),
+        frame(1, 5.3e6, 5.3e6, 2, checked=3),
+        frame(1.5, 4.1e6 + 0.5, 4e6, 3),
+    ]
+    kitchen = [
+        frame(0, 1.7e6, 1.69e6, 4, lazy=False, checked=1),
+        frame(10, 7.2e6, 7.0e6, 5, lazy=False),
+    ]
+    frames_files(os.path.join(tmp, "animation", "robots"), robots)
+    frames_files(os.path.join(tmp, "animation", "kitchen"), kitchen)
+    compare("animation", os.path.join(tmp, "animation"), docs_tables.animation_table)
+    frames_files(
+        os.path.join(tmp, "animation-hd", "robots"),
+        [frame(0, 3.4e7, 3.1e7, 0), frame(1, 5e7, 5e7, 1), frame(2, 6e7, 5.9e7, 2)],
+    )
+    frames_files(
+        os.path.join(tmp, "animation-hd", "kitchen"),
+        [frame(0, 3.8e7, 3.7e7, 0), frame(10, 8.7e7, 8.8e7, 1)],
+    )
+    compare("animation-hd", os.path.join(tmp, "animation-hd"), docs_tables.animation_hd_table)
+
+    # The integration figures: tests' `NAME: N cycles` lines among others, examples/platform's
+    # JSON lines (its first line not a frame).
+    run_dir = os.path.join(tmp, "integration")
+    outputs = {
+        "device": "[ RUN ] x\nframe 0: 73673 cycles\nframe 1: 71425 cycles\n not: 5 cycles\n",
+        "frames": "a: 1 cycles\nb: 2 cycles\nc: 3 cycles trailing\nd: 1234567 cycles\n",
+        "styles": "accept_later: 81494 cycles\nlt_adapter: 1390802 cycles\n",
+        "platform-city": '{"hw": "x"}\n{"frame": 1, "cycles": 73488, "interrupt_ns": 75768.5, '
+        '"pixels": 14400, "wrong_records": 0}\n{"frame": 2, "cycles": 71082, '
+        '"interrupt_ns": 148050.25, "pixels": 14400, "wrong_records": 2}\n',
+        "platform-kitchen": '{"frame": 1, "cycles": 259352, "interrupt_ns": 274872.0, '
+        '"pixels": 1000000, "wrong_records": 0}\n{"frame": 2, "cycles": 221908, '
+        '"interrupt_ns": 1497980.5, "pixels": 1000000, "wrong_records": 0}\n',
+    }
+    for sub, text in outputs.items():
+        os.makedirs(os.path.join(run_dir, sub))
+        with open(os.path.join(run_dir, sub, "stdout.txt"), "w") as f:
+            f.write(text)
+    compare("integration", run_dir, docs_tables.integration_table)
+
 for f in failures:
     print("FAIL:", f)
 sys.exit(1 if failures else 0)
