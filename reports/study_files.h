@@ -1,6 +1,6 @@
 // What the study tables (study_tables.h) share: a run's results.csv read as rows of cells by
-// column name, a run's text files, and numbers written as the docs' tables write them (Python's
-// formatting, so that a table reads the same whichever side rendered it while both exist).
+// column name, a run's text files, and numbers written as the docs' tables write them (the
+// formats of the Python renderers they replaced, so that the docs' tables read as before).
 #pragma once
 
 #include <map>
@@ -24,8 +24,8 @@ double cell_number(const CsvRow& row, const std::string& column, const std::stri
 // A whole text file; an InputError naming it when it cannot be read.
 std::string read_text_file(const std::string& path);
 
-// The median of `v` (the mean of the middle two when their number is even, as Python's
-// statistics.median); an InputError saying `what` has no value when `v` is empty.
+// The median of `v` (the mean of the middle two when their number is even); an InputError saying
+// `what` has no value when `v` is empty.
 double median(std::vector<double> v, const std::string& what);
 
 // 1234.5 -> "1,234" (rounded half to even, as Python's round()).

@@ -32,7 +32,7 @@ json read_json_file(const fs::path& path) {
 std::string column_value(const json& v) {
   if (v.is_boolean()) return v.get<bool>() ? "on" : "off";
   if (v.is_string()) return v.get<std::string>();
-  if (v.is_null()) return "None";  // as Python's str() wrote it
+  if (v.is_null()) return "None";  // as the Python renderer wrote it
   return v.dump();
 }
 
@@ -69,7 +69,7 @@ Keyed point_reports(const fs::path& dir, const std::vector<std::string>& keys) {
   return out;
 }
 
-// Sampled runs against their full ones, row by row (docs_tables.py's SampledTally).
+// Sampled runs against their full ones, row by row.
 struct Tally {
   std::vector<double> errors, speedups;
   std::vector<std::string> missed;
