@@ -86,6 +86,7 @@ StudyRun read_run(YamlMap& m) {
     if (!one_of({"paper", "ablation", "bvh"}, r.reproduce))
       m.fail("reproduce", "expected paper, ablation or bvh");
     r.sample = m.get<std::string>("sample", "");
+    if (m.has("sweep_file")) r.file = existing_file(m, "sweep_file", "sweep file");
   } else if (r.kind == "animate") {
     read_animate(m, r);
   } else {
@@ -247,7 +248,8 @@ std::string describe_run(const StudyRun& r) {
   }
   if (r.kind == "sweep") s = "rtsim sweep " + source_relative(r.file);
   if (r.kind == "reproduce")
-    s = "rtsim reproduce" + (r.reproduce == "paper" ? std::string() : " --" + r.reproduce);
+    s = "rtsim reproduce" + (r.reproduce == "paper" ? std::string() : " --" + r.reproduce) +
+        (r.file.empty() ? std::string() : " --sweep " + source_relative(r.file));
   if (r.kind == "animate")
     s = fmt::format("rtsim animate {} --hw {} --times {}", source_relative(r.file),
                     source_relative(r.hw), r.times);

@@ -187,6 +187,69 @@ TEST(Cli, AStudyRunsProgramsFromTheSourceTreeOnceAndTabulatesWhatTheyPrint) {
   fs::remove_all(dir);
 }
 
+// A study of a reproduction (a contention ablation of the city at 32x18: two variants, culling
+// off and on), a sweep and a program, its table the ablation's report.
+fs::path mixed_study(const fs::path& dir) {
+  const fs::path src = test::source_dir();
+  const std::string city = (src / "configs/scenes/city.yaml").string();
+  write(
+      dir / "abl.yaml",
+      "name: abl\nscenes: [" + city + "]\nhw: " + (src / "configs/hw/ideal.yaml").string() +
+          "\nvariants:\n  ideal: {}\n  all: {hw: " + (src / "configs/hw/tni-paper.yaml").string() +
+          "}\naxes:\n  run.lvb: [off, on]\nmetrics: [frame_ms_all]\n");
+  write(dir / "sw.yaml", "name: sw\nscenes: [" + city +
+                             "]\nhw: " + (src / "configs/hw/small.yaml").string() +
+                             "\nset: {scene.resolution: [32, 18]}\naxes:\n  hw.trv.l1.size_kb: "
+                             "[2, 8]\nmetrics: [cycles_total]\n");
+  write(dir / "p.sh", "echo 'a: 42 cycles'\n");
+  write(dir / "doc.md", "<!-- generated: mixed -->\n<!-- end generated: mixed -->\n");
+  write(dir / "mixed.yaml",
+        "id: mixed\ndoc: doc.md\nruns:\n  - dir: abl\n    reproduce: ablation\n    sweep_file: "
+        "abl.yaml\n    set: [run.width=32, run.height=18]\n  - dir: sw\n    sweep: sw.yaml\n    "
+        "plots: false\n  - dir: p\n    program: [/bin/sh, " +
+            (dir / "p.sh").string() +
+            "]\ntable:\n  renderer: copy_markdown\n  file: abl/ablation.md\n  from: Sweep\n");
+  return dir / "mixed.yaml";
+}
+
+TEST(Cli, AStudyEmitsItsRunsJobArraysAndAJobThatGathersThemIntoTheSameTable) {
+  const fs::path dir = test::temp_dir("cli_study_slurm");
+  const std::string study = mixed_study(dir).string();
+  const fs::path out = dir / "slurm";
+  ASSERT_EQ(run("study " + study + " --out " + (dir / "local").string() + " --jobs 2").code, 0);
+  const RunResult r = run("study " + study + " --out " + out.string() + " --emit slurm");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  // study.sh submits the reproduction's array and the sweep's, then the gathering job after them.
+  const std::string submit = slurp(out / "study.sh");
+  const std::string arrays = " '" + (out / "abl/ablation/sweep.sbatch").string() + "' '" +
+                             (out / "sw/sweep.sbatch").string() + "'; do";
+  EXPECT_NE(submit.find("for array in" + arrays), std::string::npos) << submit;
+  EXPECT_NE(submit.find("--dependency=afterok$after} '" + (out / "study.sbatch").string() + "'"),
+            std::string::npos)
+      << submit;
+  EXPECT_NE(slurp(out / "abl/ablation/sweep.sbatch").find("#SBATCH --array=0-3\n"),
+            std::string::npos);
+  const std::string gather = slurp(out / "study.sbatch");
+  EXPECT_NE(gather.find("study '" + study + "' --out '" + out.string() + "' --jobs 1\n"),
+            std::string::npos)
+      << gather;
+  EXPECT_FALSE(fs::exists(out / "table.md"));
+  EXPECT_FALSE(fs::exists(out / "p")) << "a program runs in the gathering job";
+  // The cluster, played here: each array task, then the gathering job (a bash script whose
+  // #SBATCH lines are comments) simulates nothing and writes the local run's table.
+  for (const auto& [sub, points] : {std::pair{"abl/ablation", 4}, std::pair{"sw", 2}})
+    for (int i = 0; i < points; ++i)
+      ASSERT_EQ(run(fmt::format("sweep --out {} --point {}", (out / sub).string(), i)).code, 0);
+  const RunResult g = test::run_command("bash " + (out / "study.sbatch").string());
+  ASSERT_EQ(g.code, 0) << g.out << g.err;
+  EXPECT_NE(g.out.find("4 points, 4 already done, running 0"), std::string::npos) << g.out;
+  EXPECT_EQ(slurp(out / "table.md"), slurp(dir / "local/table.md"));
+  EXPECT_EQ(slurp(out / "p/stdout.txt"), "a: 42 cycles\n");
+  expect_input_error("study " + study + " --out " + out.string() + " --emit slurm --write-doc",
+                     {"--emit", "--write-doc"});
+  fs::remove_all(dir);
+}
+
 TEST(Cli, StudyListNamesEveryShippedStudyWithItsDocAndCost) {
   const RunResult r = run("study --list");
   ASSERT_EQ(r.code, 0) << r.err;
