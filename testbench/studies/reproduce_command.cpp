@@ -5,6 +5,7 @@
 // (reports/ablation_report.h) beside the paper's Table 6. This file runs the sweeps and gathers
 // their outputs; the reports are composed in reports/.
 #include "common/error.h"
+#include "kernels/names.h"
 #include "reports/ablation_report.h"
 #include "reports/bvh_report.h"
 #include "reports/output_files.h"
@@ -341,7 +342,7 @@ int run_bvh_study(const ReproduceArgs& a) {
 
 std::string reproduce_sweep_dir(const ReproduceArgs& a) {
   if (a.ablation) return (fs::path(a.out) / "ablation").string();
-  if (a.bvh) return (fs::path(a.out) / "bvh").string();
+  if (a.bvh) return (fs::path(a.out) / kBvhFamily).string();
   return a.out;
 }
 

@@ -5,6 +5,7 @@
 // each run's job array and a job that gathers them (testbench/studies/slurm.h). The table comes
 // from the report layer (reports/study_tables.h).
 #include "common/error.h"
+#include "kernels/names.h"
 #include "reports/output_files.h"
 #include "reports/study_files.h"
 #include "reports/study_tables.h"
@@ -80,7 +81,7 @@ ReproduceArgs reproduce_args(const StudyRun& r, const std::string& dir, int jobs
   a.sweep = r.file;
   a.variants = r.variants;
   a.ablation = r.reproduce == "ablation";
-  a.bvh = r.reproduce == "bvh";
+  a.bvh = r.reproduce == kBvhFamily;
   a.jobs = jobs;
   a.sample = r.sample;
   a.set = r.set;

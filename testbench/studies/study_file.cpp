@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "common/yaml_reader.h"
+#include "kernels/names.h"
 
 #include <fmt/format.h>
 
@@ -83,7 +84,7 @@ StudyRun read_run(YamlMap& m) {
     r.plots = m.get<bool>("plots", true);
   } else if (r.kind == "reproduce") {
     r.reproduce = m.require<std::string>("reproduce");
-    if (!one_of({"paper", "ablation", "bvh"}, r.reproduce))
+    if (!one_of({"paper", "ablation", kBvhFamily}, r.reproduce))
       m.fail("reproduce", "expected paper, ablation or bvh");
     r.sample = m.get<std::string>("sample", "");
     if (m.has("sweep_file")) r.file = existing_file(m, "sweep_file", "sweep file");
