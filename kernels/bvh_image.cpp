@@ -1,6 +1,7 @@
 // The acceleration structure's name, id and traits, and the node formats' encode and decode, as
 // the registry (kernels/bvh_format.h) answers them; the kd-tree is the one structure not in it.
 #include "kernels/bvh_image.h"
+#include "kernels/names.h"
 
 #include "kernels/bvh_format.h"
 #include "kernels/memory_image.h"
@@ -11,8 +12,6 @@ namespace rtsim {
 
 namespace {
 
-constexpr const char* kKdTreeName = "kdtree";
-
 const BvhNodeFormat& format_of(Accel a, const char* what) {
   if (const BvhNodeFormat* f = bvh_formats().find(a)) return *f;
   throw std::invalid_argument(std::string(what) + ": " + to_string(a) +
@@ -22,19 +21,19 @@ const BvhNodeFormat& format_of(Accel a, const char* what) {
 }  // namespace
 
 std::vector<RegisteredName> accel_names() {
-  std::vector<RegisteredName> names{{kKdTreeName, "the paper's kd-tree, 8 B nodes"}};
+  std::vector<RegisteredName> names{{kKdTreeFamily, "the paper's kd-tree, 8 B nodes"}};
   for (const RegisteredName& n : bvh_formats().names()) names.push_back(n);
   return names;
 }
 
 std::string to_string(Accel a) {
-  if (!is_bvh(a)) return kKdTreeName;
+  if (!is_bvh(a)) return kKdTreeFamily;
   const BvhNodeFormat* f = bvh_formats().find(a);
   return f ? f->name() : "accel " + std::to_string(uint32_t(a));
 }
 
 Accel parse_accel(const std::string& name, const std::string& key) {
-  if (name == kKdTreeName) return Accel::kKdTree;
+  if (name == kKdTreeFamily) return Accel::kKdTree;
   if (const BvhNodeFormat* f = bvh_formats().find(name)) return Accel(f->traits().id);
   throw std::invalid_argument(key + ": expected " + quoted_names(accel_names()) + ", got '" + name +
                               "'");

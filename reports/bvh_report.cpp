@@ -1,5 +1,6 @@
 #include "reports/bvh_report.h"
 
+#include "kernels/names.h"
 #include "reports/report_format.h"
 
 #include <fmt/format.h>
@@ -125,7 +126,7 @@ json runs_json(const std::vector<BvhStudyRun>& runs) {
     for (const auto& [k, v] : r.figures) f[k] = finite_or_null(v);
     out.push_back({{"scene", r.scene},
                    {"accel", r.accel},
-                   {"culling", r.culling},
+                   {kCulling, r.culling},
                    {"resolution", {r.width, r.height}},
                    {"figures", f}});
   }

@@ -1,5 +1,6 @@
 #include "reports/run_report.h"
 
+#include "kernels/names.h"
 #include "reports/output_files.h"
 #include "reports/report_format.h"
 
@@ -101,7 +102,7 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
 }
 
 const nlohmann::json& structure_section(const nlohmann::json& report) {
-  return report.contains("bvh") ? report["bvh"] : report["kdtree"];
+  return report.contains(kBvhFamily) ? report[kBvhFamily] : report[kKdTreeFamily];
 }
 
 std::string cache_hit_rate_metric(const nlohmann::json& cache) {
@@ -114,7 +115,7 @@ std::string stats_csv(const nlohmann::json& r) {
   std::string out = "name,value\n";
   for (const char* key :
        {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow", "frame_ms", "rays",
-        "per_light", "lvb", "kdtree", "bvh", "reference_check", "stats"})
+        "per_light", "lvb", kKdTreeFamily, kBvhFamily, "reference_check", "stats"})
     if (r.contains(key)) flatten(r[key], key, out);
   return out;
 }
@@ -148,7 +149,7 @@ void scene_table(std::ostringstream& md, const json& r) {
   const json& scene = r["scene"];
   const json& kd = structure_section(r);
   md << "## Scene (as the paper's Table 3)\n\n| triangles | lights | "
-     << (r.contains("bvh") ? r["accel"].get<std::string>() : std::string("kd-tree"))
+     << (r.contains(kBvhFamily) ? r["accel"].get<std::string>() : std::string("kd-tree"))
      << " nodes | leaves | "
         "non-empty leaves | max depth | memory image |\n|---|---|---|---|---|---|---|\n";
   md << fmt::format("| {} | {} | {} | {} | {} | {} | {:.1f} MB |\n\n",

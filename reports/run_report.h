@@ -33,15 +33,15 @@ struct RunHost {
 
 // report.json: the parts other modules describe (scene, kd-tree, resolved configuration, the LVB
 // section, the reference check; each JSON, or null) with the run's figures and host time.
-// `structure`: the acceleration structure's sections, {"kdtree": ...} or {"accel": ..., "bvh":
-// ...}.
+// `structure`: the acceleration structure's section, named by its family (kernels/names.h), and a
+// BVH's "accel".
 nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json& structure,
                                const nlohmann::json& config, const nlohmann::json& lvb,
                                const RunFigures& figures, const nlohmann::json& check,
                                const RunHost& host);
 
-// A report's acceleration structure section: "bvh" on a BVH machine, else "kdtree" (both give
-// nodes, leaves, nonempty_leaves and max_depth).
+// A report's acceleration structure section: the BVH's on a BVH machine, else the kd-tree's (both
+// give nodes, leaves, nonempty_leaves and max_depth).
 const nlohmann::json& structure_section(const nlohmann::json& report);
 
 // "name,value" rows: every simulated figure (results, per-light counts, LVB statistics, every

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -63,7 +64,10 @@ std::string read_text_file(const std::string& path) {
 }
 
 std::vector<CsvRow> read_results_csv(const std::string& run_dir) {
-  const std::string file = (fs::path(run_dir) / "results.csv").string();
+  return read_csv_file((fs::path(run_dir) / "results.csv").string());
+}
+
+std::vector<CsvRow> read_csv_file(const std::string& file) {
   const std::vector<std::vector<std::string>> records = csv_records(read_text_file(file));
   if (records.empty()) throw InputError(file + ": expected a header line");
   std::vector<CsvRow> rows;
@@ -94,6 +98,13 @@ double cell_number(const CsvRow& row, const std::string& column, const std::stri
     throw InputError(
         fmt::format("{}: column '{}': expected a number, got '{}'", file, column, text));
   return v;
+}
+
+double median(std::vector<double> v, const std::string& what) {
+  if (v.empty()) throw InputError(what + ": no value to take the median of");
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
 }
 
 std::string fmt_int(double v) { return grouped(int64_t(std::nearbyint(v))); }

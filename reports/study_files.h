@@ -1,6 +1,6 @@
 // What the study tables (study_tables.h) share: a run's results.csv read as rows of cells by
-// column name, a run's text files, and numbers written as the docs' tables write them (Python's
-// formatting, so that a table reads the same whichever side rendered it while both exist).
+// column name, a run's text files, and numbers written as the docs' tables write them (the
+// formats of the Python renderers they replaced, so that the docs' tables read as before).
 #pragma once
 
 #include <map>
@@ -12,8 +12,10 @@ namespace rtsim::report {
 // One results.csv row: cell text by column name ("" for an empty cell).
 using CsvRow = std::map<std::string, std::string>;
 
-// RUN_DIR/results.csv's rows in file order (quoted cells as the sweep writes them); an InputError
-// naming the file when it is missing or a row has more cells than the header.
+// A CSV file's rows in file order (quoted cells as the sweep writes them); an InputError naming
+// the file when it is missing or a row has more cells than the header.
+std::vector<CsvRow> read_csv_file(const std::string& path);
+// RUN_DIR/results.csv's rows.
 std::vector<CsvRow> read_results_csv(const std::string& run_dir);
 // The cell of `column`; an InputError naming the file and the column when there is none.
 const std::string& cell(const CsvRow& row, const std::string& column, const std::string& file);
@@ -21,6 +23,10 @@ const std::string& cell(const CsvRow& row, const std::string& column, const std:
 double cell_number(const CsvRow& row, const std::string& column, const std::string& file);
 // A whole text file; an InputError naming it when it cannot be read.
 std::string read_text_file(const std::string& path);
+
+// The median of `v` (the mean of the middle two when their number is even); an InputError saying
+// `what` has no value when `v` is empty.
+double median(std::vector<double> v, const std::string& what);
 
 // 1234.5 -> "1,234" (rounded half to even, as Python's round()).
 std::string fmt_int(double v);

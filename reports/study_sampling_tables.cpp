@@ -32,7 +32,7 @@ json read_json_file(const fs::path& path) {
 std::string column_value(const json& v) {
   if (v.is_boolean()) return v.get<bool>() ? "on" : "off";
   if (v.is_string()) return v.get<std::string>();
-  if (v.is_null()) return "None";  // as Python's str() wrote it
+  if (v.is_null()) return "None";  // as the Python renderer wrote it
   return v.dump();
 }
 
@@ -69,13 +69,7 @@ Keyed point_reports(const fs::path& dir, const std::vector<std::string>& keys) {
   return out;
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : (v[n / 2 - 1] + v[n / 2]) / 2;
-}
-
-// Sampled runs against their full ones, row by row (docs_tables.py's SampledTally).
+// Sampled runs against their full ones, row by row.
 struct Tally {
   std::vector<double> errors, speedups;
   std::vector<std::string> missed;
@@ -108,7 +102,7 @@ struct Tally {
                     (*r)["host"]["seconds"]["total"].get<double>());
     }
     speedups.insert(speedups.end(), ups.begin(), ups.end());
-    out.push_back(ups.empty() ? "-" : fmt::format("{:.1f}x", median(ups)));
+    out.push_back(ups.empty() ? "-" : fmt::format("{:.1f}x", median(ups, "speedups")));
     return out;
   }
 
@@ -124,7 +118,7 @@ struct Tally {
         n, what, *std::max_element(errors.begin(), errors.end()),
         std::count_if(errors.begin(), errors.end(), [](double e) { return e <= 2; }), n,
         held.at("total"), n, missed.empty() ? "" : " (missed: " + missed_list + ")",
-        held.at("primary"), held.at("shadow"), median(speedups),
+        held.at("primary"), held.at("shadow"), median(speedups, "speedups"),
         *std::min_element(speedups.begin(), speedups.end()),
         *std::max_element(speedups.begin(), speedups.end()));
   }

@@ -3,7 +3,9 @@
 #include "reports/study_tables.h"
 
 #include "common/error.h"
+#include "reports/study_animation_tables.h"
 #include "reports/study_files.h"
+#include "reports/study_integration_table.h"
 #include "reports/study_sampling_tables.h"
 
 #include <fmt/format.h>
@@ -141,11 +143,6 @@ const std::vector<std::string>& study_renderers() {
   return names;
 }
 
-bool study_renderer_ported(const std::string& renderer) {
-  return renderer == "cache_table" || renderer == "knob_table" || renderer == "copy_markdown" ||
-         renderer == "sampling_table" || renderer == "sampling_sweeps_table";
-}
-
 const std::vector<std::string>& study_column_formats() {
   static const std::vector<std::string> formats{"int", "pct", "1"};
   return formats;
@@ -158,14 +155,14 @@ std::string render_study_table(const StudyTable& t, const std::string& run_dir) 
     if (t.renderer == "copy_markdown") return copy_markdown(t, run_dir);
     if (t.renderer == "sampling_table") return sampling_table(t, run_dir);
     if (t.renderer == "sampling_sweeps_table") return sampling_sweeps_table(t, run_dir);
+    if (t.renderer == "animation_table") return animation_table(t, run_dir);
+    if (t.renderer == "animation_hd_table") return animation_hd_table(t, run_dir);
+    if (t.renderer == "integration_table") return integration_table(t, run_dir);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("{}: a run's report lacks what the {} needs: {}", run_dir,
                                  t.renderer, e.what()));
   }
-  throw InputError(
-      fmt::format("table renderer '{}' is not in C++ yet (scripts/docs_tables.py "
-                  "draws it)",
-                  t.renderer));
+  throw InputError(fmt::format("no table renderer '{}'", t.renderer));
 }
 
 }  // namespace rtsim::report

@@ -23,22 +23,30 @@ struct SampledSweep {
   std::string label;
 };
 
+// A row of an integration table: the figures a program run printed (RUN/stdout.txt), the row's
+// text, how its cells are read ("cycles": the `NAME: N cycles` lines; "named_cycles": the same,
+// their names appended to the text; "platform": examples/platform's JSON frame lines) and the
+// command that printed them.
+struct ProgramFigure {
+  std::string run, figure, cells, by;
+};
+
 // A study's table: the renderer's name and its arguments (those it does not use stay empty).
 struct StudyTable {
   std::string renderer;
-  std::string key, label, baseline;  // cache_table
+  std::string key, baseline;         // cache_table
+  std::string label;                 // cache_table, animation_table, animation_hd_table
   std::vector<StudyColumn> columns;  // cache_table
   std::string file, from;            // copy_markdown: a report of the run, from a heading on
   std::string sub;                   // sampling_table: where each run's points are
   std::vector<SampledSweep> sweeps;  // sampling_sweeps_table
   std::vector<std::string> scenes;   // animation_table, animation_hd_table: a run per scene
-  std::string small;                 // animation_hd_table: the 480x270 study's directory
+  std::string small, small_label;    // animation_hd_table: the smaller study's directory, size
+  std::vector<ProgramFigure> rows;   // integration_table
 };
 
-// The renderers a study file may name, and whether this layer renders each (the others are still
-// drawn by scripts/docs_tables.py).
+// The renderers a study file may name.
 const std::vector<std::string>& study_renderers();
-bool study_renderer_ported(const std::string& renderer);
 // The formats a StudyColumn may name.
 const std::vector<std::string>& study_column_formats();
 

@@ -278,6 +278,11 @@ void add_params_and_reproduce(CLI::App& app, Commands& c) {
       ->add_option("--variants", c.reproduce.variants,
                    "Only these of the sweep's variants (off,paper,exact: the paper's 9 runs)")
       ->delimiter(',');
+  c.reproduce_cmd
+      ->add_option("--emit", c.reproduce.emit,
+                   "Write the sweep's job script and manifest instead of running; this command "
+                   "again without it writes the report")
+      ->check(CLI::IsMember({"slurm"}));
 }
 
 void add_study(CLI::App& app, Commands& c) {

@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "common/host_clock.h"
+#include "kernels/names.h"
 
 #include <fmt/format.h>
 
@@ -126,8 +127,9 @@ nlohmann::json bvh_json(const BvhConfig& c, const BvhStats& s) {
 
 nlohmann::json structure_json(const PreparedScene& p) {
   if (is_bvh(p.accel))
-    return {{"accel", to_string(p.accel)}, {"bvh", bvh_json(p.bvh_config, p.bvh.stats)}};
-  return {{"kdtree", kdtree_json(p.kdtree_params, p.tree.stats)}};
+    return {{"accel", to_string(p.accel)},
+            {structure_family(true), bvh_json(p.bvh_config, p.bvh.stats)}};
+  return {{structure_family(false), kdtree_json(p.kdtree_params, p.tree.stats)}};
 }
 
 }  // namespace rtsim

@@ -54,7 +54,8 @@ inline uint16_t mask_value(uint32_t hit_tri, uint16_t occluded) {
 nlohmann::json scene_json(const PreparedScene& p);
 nlohmann::json kdtree_json(const KdTreeParams& p, const KdTreeStats& s);
 nlohmann::json bvh_json(const BvhConfig& c, const BvhStats& s);
-// The structure's section of a report: {"kdtree": ...} or {"bvh": ...}, with "accel".
+// The structure's section of a report, named by its family (kernels/names.h); a BVH's with
+// "accel", its format.
 nlohmann::json structure_json(const PreparedScene& p);
 
 }  // namespace rtsim

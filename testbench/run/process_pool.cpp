@@ -14,28 +14,52 @@
 
 namespace rtsim {
 
-pid_t spawn_self(const std::vector<std::string>& args, const std::string& log) {
-  // argv is built before the fork: the child only makes system calls.
-  std::vector<char*> argv{const_cast<char*>("rtsim")};
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
+namespace {
+
+// Starts `path` with `argv` (ends with nullptr) in `dir` (empty: here), its stdout into `out`
+// and its stderr into `err` (the same file when they are equal); it gets SIGTERM when this
+// process dies, so none runs on orphaned.
+pid_t spawn(const char* path, const std::vector<char*>& argv, const std::string& dir,
+            const std::string& out, const std::string& err) {
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
-  if (pid == 0) {
+  if (pid == 0) {  // the child only makes system calls
     prctl(PR_SET_PDEATHSIG, SIGTERM);
     if (getppid() != parent) _exit(127);  // the parent died before the signal was asked for
-    const int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd >= 0) {
-      dup2(fd, 1);
-      dup2(fd, 2);
-      close(fd);
-    }
-    // The running binary itself, even if the file was rebuilt or removed meanwhile.
-    execv("/proc/self/exe", argv.data());
+    if (!dir.empty() && chdir(dir.c_str()) != 0) _exit(127);
+    const int fd = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int efd = err == out ? fd : open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) dup2(fd, 1);
+    if (efd >= 0) dup2(efd, 2);
+    if (fd > 2) close(fd);
+    if (efd > 2 && efd != fd) close(efd);
+    execv(path, argv.data());
     _exit(127);
   }
   return pid;
+}
+
+std::vector<char*> c_args(const std::string& first, const std::vector<std::string>& rest) {
+  std::vector<char*> argv{const_cast<char*>(first.c_str())};
+  for (const std::string& a : rest) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  return argv;
+}
+
+}  // namespace
+
+pid_t spawn_self(const std::vector<std::string>& args, const std::string& log) {
+  // The running binary itself, even if the file was rebuilt or removed meanwhile.
+  static const std::string name = "rtsim";
+  return spawn("/proc/self/exe", c_args(name, args), "", log, log);
+}
+
+pid_t spawn_program(const std::vector<std::string>& argv, const std::string& dir,
+                    const std::string& out, const std::string& err) {
+  if (argv.empty()) throw std::runtime_error("spawn_program: no program");
+  const std::vector<std::string> rest(argv.begin() + 1, argv.end());
+  return spawn(argv[0].c_str(), c_args(argv[0], rest), dir, out, err);
 }
 
 std::string describe_exit(int status) {

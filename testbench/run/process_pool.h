@@ -1,6 +1,6 @@
-// Child processes of this binary: work that cannot share this process (SystemC elaborates once
-// per process) runs as a fresh `rtsim ...` whose output goes to a log file and which dies with
-// this process, at most a given number at once.
+// Child processes: work that cannot share this process (SystemC elaborates once per process) runs
+// as a fresh `rtsim ...` whose output goes to a log file and which dies with this process, at most
+// a given number at once; a study's programs of the build run the same way.
 #pragma once
 
 #include <sys/types.h>
@@ -15,6 +15,10 @@ namespace rtsim {
 // Starts this very binary (argv[0] "rtsim") with `args`, its stdout and stderr into `log`; the
 // child gets SIGTERM when this process dies, so none runs on orphaned.
 pid_t spawn_self(const std::vector<std::string>& args, const std::string& log);
+// Starts the program argv[0] (a path) with `argv` in directory `dir`, its stdout into `out` and
+// its stderr into `err`; it too gets SIGTERM when this process dies.
+pid_t spawn_program(const std::vector<std::string>& argv, const std::string& dir,
+                    const std::string& out, const std::string& err);
 
 // A waitpid status as "exit code N" or "killed by signal N".
 std::string describe_exit(int status);

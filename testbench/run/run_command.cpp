@@ -367,13 +367,7 @@ ModelFrame simulate_model_frame(const RunConfig& c, const PreparedScene& p,
     return m;
   }
   std::optional<PassKeeping> keep;
-  if (!pass_file.empty()) {
-    // What the pass depends on: everything but the sample.
-    nlohmann::json key = run_config_json(c);
-    for (auto it = key["run"].begin(); it != key["run"].end();)
-      it = it.key().rfind("sample", 0) == 0 ? key["run"].erase(it) : std::next(it);
-    keep = PassKeeping{pass_file, key.dump()};
-  }
+  if (!pass_file.empty()) keep = PassKeeping{pass_file, pass_key(c)};
   m.sampled = run_sampled(
       c.run.sample, p, c, [&](const SamplePlan& plan) { return simulate_run(c, p, hooks, &plan); },
       [&] { m.ref = reference_frame(p, c.run); }, keep ? &*keep : nullptr);

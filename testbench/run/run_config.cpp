@@ -1,6 +1,7 @@
 #include "testbench/run/run_config.h"
 
 #include "config_loader/hw_config.h"
+#include "kernels/names.h"
 
 #include <fmt/format.h>
 
@@ -161,8 +162,8 @@ RunConfig resolve_run_config(const RunSources& src) {
         "run.accel: {} needs a machine whose traversal units walk {} (hw.structure: {}); {} has "
         "structure: {} (configs/hw/bvh-tni.yaml walks BVHs, configs/hw/tni-paper.yaml the kd-tree)",
         to_string(c.run.accel), is_bvh(c.run.accel) ? "a BVH" : "the kd-tree",
-        is_bvh(c.run.accel) ? "bvh" : "kdtree", c.hw_file.empty() ? "the hardware" : c.hw_file,
-        c.hw.structure == model::Structure::kBvh ? "bvh" : "kdtree"));
+        structure_family(is_bvh(c.run.accel)), c.hw_file.empty() ? "the hardware" : c.hw_file,
+        structure_family(c.hw.structure == model::Structure::kBvh)));
   check_sampled(c);
   return c;
 }

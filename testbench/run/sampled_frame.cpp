@@ -123,6 +123,13 @@ double SampledRun::fraction_needed() const {
                                             settings.target_pct);
 }
 
+std::string pass_key(const RunConfig& c) {
+  nlohmann::json key = run_config_json(c);
+  for (auto it = key["run"].begin(); it != key["run"].end();)
+    it = it.key().rfind("sample", 0) == 0 ? key["run"].erase(it) : std::next(it);
+  return key.dump();
+}
+
 SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, const RunConfig& c,
                        const WindowSimulation& simulate, const std::function<void()>& while_passing,
                        const PassKeeping* keep) {

@@ -80,6 +80,10 @@ SampledRun run_sampled(const SampleSettings& settings, const PreparedScene& p, c
                        const std::function<void()>& while_passing = {},
                        const PassKeeping* keep = nullptr);
 
+// What a run's pass depends on, the key it is kept under (PassKeeping): the run's configuration
+// without its sample settings (a full run's and its sampled runs' are the same).
+std::string pass_key(const RunConfig& c);
+
 // The fraction a frame sampled at `fraction` with a 95% half-interval of `ci95_pct` % needs for
 // `target_pct` %, with a tenth to spare, in (fraction, 1]: a stratum at least one unit smaller.
 double fraction_for_target(double fraction, double ci95_pct, double target_pct);

@@ -5,6 +5,7 @@
 // (reports/ablation_report.h) beside the paper's Table 6. This file runs the sweeps and gathers
 // their outputs; the reports are composed in reports/.
 #include "common/error.h"
+#include "kernels/names.h"
 #include "reports/ablation_report.h"
 #include "reports/bvh_report.h"
 #include "reports/output_files.h"
@@ -13,6 +14,7 @@
 #include "reports/reproduction_report.h"
 #include "testbench/run/run_config.h"
 #include "testbench/sampling/sample_regression.h"
+#include "testbench/studies/slurm.h"
 #include "testbench/studies/study_commands.h"
 #include "testbench/studies/sweep.h"
 #include "testbench/studies/sweep_results.h"
@@ -49,6 +51,14 @@ void prepare(const ReproduceArgs& a, std::vector<std::string>& extra) {
   if (a.height) extra.push_back(fmt::format("run.height={}", a.height));
   if (!a.sample.empty()) extra.push_back("run.sample=" + checked_sample_option(a.sample));
   for (const std::string& o : a.set) extra.push_back(o);
+}
+
+// With --emit slurm: the sweep's job array in its directory, and what to do after it.
+int emit_reproduction(const SweepSpec& spec, const ReproduceArgs& a, const char* report) {
+  const int code = emit_slurm(spec, reproduce_sweep_dir(a));
+  if (code == 0)
+    fmt::print("after the job, this command again (without --emit) writes {}\n", report);
+  return code;
 }
 
 std::map<std::string, PaperScene> paper_tables() {
@@ -257,8 +267,9 @@ int run_ablation(const ReproduceArgs& a) {
   std::vector<std::string> extra;
   prepare(a, extra);
   const SweepSpec spec = load_ablation_sweep(a, extra);
+  if (!a.emit.empty()) return emit_reproduction(spec, a, output::kAblationMd);
   const std::map<std::string, PaperScene> paper = paper_tables();
-  const std::string dir = (fs::path(a.out) / "ablation").string();
+  const std::string dir = reproduce_sweep_dir(a);
   const int sweep_code = run_sweep_points(spec, dir, a.jobs, true);
   report::AblationInput in;
   in.sweep_file = spec.file;
@@ -307,7 +318,8 @@ int run_bvh_study(const ReproduceArgs& a) {
   const std::string file =
       a.sweep.empty() ? std::string(RTSIM_CONFIGS_DIR) + "/sweeps/bvh-study.yaml" : a.sweep;
   const SweepSpec spec = load_sweep(file, extra, a.variants);
-  const std::string dir = (fs::path(a.out) / "bvh").string();
+  if (!a.emit.empty()) return emit_reproduction(spec, a, output::kBvhStudyMd);
+  const std::string dir = reproduce_sweep_dir(a);
   const int sweep_code = run_sweep_points(spec, dir, a.jobs, true);
   report::BvhStudyInput in;
   in.sweep_file = spec.file;
@@ -328,6 +340,12 @@ int run_bvh_study(const ReproduceArgs& a) {
 
 }  // namespace
 
+std::string reproduce_sweep_dir(const ReproduceArgs& a) {
+  if (a.ablation) return (fs::path(a.out) / "ablation").string();
+  if (a.bvh) return (fs::path(a.out) / kBvhFamily).string();
+  return a.out;
+}
+
 int run_reproduce(const ReproduceArgs& a) {
   if (a.ablation) return run_ablation(a);
   if (a.bvh) return run_bvh_study(a);
@@ -337,6 +355,7 @@ int run_reproduce(const ReproduceArgs& a) {
                                ? std::string(RTSIM_CONFIGS_DIR) + "/sweeps/paper-reproduction.yaml"
                                : a.sweep;
   const SweepSpec spec = load_sweep(file, extra, a.variants);
+  if (!a.emit.empty()) return emit_reproduction(spec, a, output::kReproductionMd);
   const std::map<std::string, PaperScene> paper = paper_tables();
   const int sweep_code = run_sweep_points(spec, a.out, a.jobs, true);
   const report::ReportText r = report::reproduction_report(gather_setups(spec, a.out), paper);

@@ -1,12 +1,15 @@
 // rtsim study: the runs behind a generated block of a doc (a study file,
 // testbench/studies/study_file.h) and the table they give. Each run is the command it names, called
-// in this process (a sweep's points, a reproduction, an animation), so a study resumes as they do:
-// a second sitting runs only what has no result yet. The table comes from the report layer
-// (reports/study_tables.h).
+// in this process (a sweep's points, a reproduction, an animation, a program of the build), so a
+// study resumes as they do: a second sitting runs only what has no result yet. With --emit slurm,
+// each run's job array and a job that gathers them (testbench/studies/slurm.h). The table comes
+// from the report layer (reports/study_tables.h).
 #include "common/error.h"
+#include "kernels/names.h"
 #include "reports/output_files.h"
 #include "reports/study_files.h"
 #include "reports/study_tables.h"
+#include "testbench/run/process_pool.h"
 #include "testbench/studies/slurm.h"
 #include "testbench/studies/study_commands.h"
 #include "testbench/studies/study_file.h"
@@ -18,6 +21,8 @@
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
+
+#include <sys/wait.h>
 
 namespace fs = std::filesystem;
 
@@ -34,16 +39,60 @@ std::string describe(const StudySpec& s) {
 int list_studies() {
   for (const std::string& file : study_files()) {
     const StudySpec s = load_study(file);
-    fmt::print("{:20} {:22} ~{:g} min   {}{}\n", s.id, source_relative(s.doc), s.minutes,
-               describe(s),
-               report::study_renderer_ported(s.table.renderer) ? "" : " (table: Python)");
+    fmt::print("{:20} {:22} ~{:g} min   {}\n", s.id, source_relative(s.doc), s.minutes,
+               describe(s));
   }
   return 0;
 }
 
+// A program of the build (its path in the source tree) run from the source tree, its output in
+// DIR/stdout.txt (kept: a second sitting does not run it again), its errors in DIR/stderr.txt.
+int run_program(const StudyRun& r, const std::string& dir) {
+  // Absolute: the program runs elsewhere.
+  const fs::path out = fs::absolute(fs::path(dir) / "stdout.txt");
+  if (fs::exists(out)) return 0;
+  std::vector<std::string> argv = r.program;
+  argv[0] = (fs::path(RTSIM_DEFAULT_SOURCE_DIR) / argv[0]).string();
+  if (!fs::exists(argv[0]))
+    throw InputError(fmt::format("{}: not found (build it first)", argv[0]));
+  fs::create_directories(dir);
+  const std::string tmp = out.string() + ".tmp";
+  const std::string err = (out.parent_path() / "stderr.txt").string();
+  int status = 0;
+  waitpid(spawn_program(argv, RTSIM_DEFAULT_SOURCE_DIR, tmp, err), &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    fmt::print(stderr, "rtsim: error: {} ended with {}; {} says why\n", describe_run(r),
+               describe_exit(status), err);
+    return WIFEXITED(status) && WEXITSTATUS(status) != 0 ? WEXITSTATUS(status) : 1;
+  }
+  fs::rename(tmp, out);
+  return 0;
+}
+
+// The run's directory: OUT/DIR, or OUT itself.
+std::string run_dir(const StudyRun& r, const std::string& out) {
+  return r.dir.empty() ? out : (fs::path(out) / r.dir).string();
+}
+
+ReproduceArgs reproduce_args(const StudyRun& r, const std::string& dir, int jobs,
+                             const std::string& emit) {
+  ReproduceArgs a;
+  a.out = dir;
+  a.sweep = r.file;
+  a.variants = r.variants;
+  a.ablation = r.reproduce == "ablation";
+  a.bvh = r.reproduce == kBvhFamily;
+  a.jobs = jobs;
+  a.sample = r.sample;
+  a.set = r.set;
+  a.emit = emit;
+  return a;
+}
+
 // One run of the study in OUT/DIR (a sweep or animation with --emit slurm: its job script).
 int run_one(const StudyRun& r, const std::string& out, int jobs, const std::string& emit) {
-  const std::string dir = r.dir.empty() ? out : (fs::path(out) / r.dir).string();
+  const std::string dir = run_dir(r, out);
+  if (r.kind == "program") return run_program(r, dir);
   if (r.kind == "sweep") {
     const SweepSpec spec = load_sweep(r.file, r.set, r.variants);
     if (emit == "slurm") return emit_slurm(spec, dir);
@@ -64,29 +113,13 @@ int run_one(const StudyRun& r, const std::string& out, int jobs, const std::stri
     a.sample = r.sample;
     return run_animate(a);
   }
-  ReproduceArgs a;
-  a.out = dir;
-  a.variants = r.variants;
-  a.ablation = r.reproduce == "ablation";
-  a.bvh = r.reproduce == "bvh";
-  a.jobs = jobs;
-  a.sample = r.sample;
-  a.set = r.set;
-  return run_reproduce(a);
+  return run_reproduce(reproduce_args(r, dir, jobs, emit));
 }
 
-// What a study cannot do yet, before anything runs.
-void check_runnable(const StudySpec& s, const std::string& emit) {
-  for (const StudyRun& r : s.runs) {
-    if (r.kind == "program")
-      throw InputError(
-          fmt::format("{}: runs programs of the build ({}): scripts/refresh-docs.py "
-                      "runs this study",
-                      s.file, describe_run(r)));
-    if (!emit.empty() && r.kind == "reproduce")
-      throw InputError(fmt::format("{}: --emit {}: a reproduction ({}) runs here only", s.file,
-                                   emit, describe_run(r)));
-  }
+// Where a run's job array is written with --emit slurm.
+std::string job_dir(const StudyRun& r, const std::string& out) {
+  const std::string dir = run_dir(r, out);
+  return r.kind == "reproduce" ? reproduce_sweep_dir(reproduce_args(r, dir, 1, "")) : dir;
 }
 
 std::string shell_line(const std::string& command) {
@@ -132,18 +165,17 @@ void replace_block(const std::string& doc, const std::string& id, const std::str
 
 // OUT/table.md, and with `write_doc` the doc's block (stamped) and the figure's copy.
 void write_table(const StudySpec& s, const StudyArgs& a, int jobs, double minutes) {
-  if (!report::study_renderer_ported(s.table.renderer)) {
-    fmt::print("study {}: table {} is drawn by scripts/refresh-docs.py\n", s.id, s.table.renderer);
-    return;
-  }
   const std::string table = report::render_study_table(s.table, a.out);
   write_file_atomic((fs::path(a.out) / "table.md").string(), table + "\n");
   fmt::print("study {}: table in {}/table.md\n", s.id, a.out);
   if (!a.write_doc) return;
-  const std::string note = fmt::format(
-      "_Generated by `rtsim study {}` (`{}`) from commit {} on {}; this sitting took {:.0f} min "
-      "with --jobs {}._",
-      s.id, describe(s), source_commit(), today(), minutes, jobs);
+  // A table of runs made earlier (--table-only: elsewhere, on a cluster) has no sitting to time.
+  const std::string sitting =
+      a.table_only ? ""
+                   : fmt::format("; this sitting took {:.0f} min with --jobs {}", minutes, jobs);
+  const std::string note =
+      fmt::format("_Generated by `rtsim study {}` (`{}`) from commit {} on {}{}._", s.id,
+                  describe(s), source_commit(), today(), sitting);
   replace_block(s.doc, s.id, note + "\n\n" + table);
   if (!s.figure_from.empty())
     fs::copy_file(fs::path(a.out) / s.figure_from, s.figure_to,
@@ -157,24 +189,28 @@ int run_study_command(const StudyArgs& a) {
   if (a.list) return list_studies();
   if (a.name.empty()) throw InputError("expected a study name (rtsim study --list) or file");
   if (a.out.empty()) throw InputError("--out DIR is required");
+  if (!a.emit.empty() && (a.table_only || a.write_doc))
+    throw InputError("--emit writes job scripts: without --table-only and --write-doc");
   const StudySpec s = load_study(study_file_of(a.name));
-  check_runnable(s, a.emit);
   const int jobs = s.jobs ? s.jobs : a.jobs;
   const auto start = std::chrono::steady_clock::now();
+  std::vector<std::string> arrays;  // with --emit: the runs' job arrays
   if (!a.table_only) {
     fs::create_directories(a.out);
     for (const StudyRun& r : s.runs) {
+      if (!a.emit.empty() && r.kind == "program") continue;  // it runs in the gathering job
       fmt::print("study {}: {}\n", s.id, describe_run(r));
       std::fflush(stdout);
       const int code = run_one(r, a.out, jobs, a.emit);
       if (code != 0) {
-        fmt::print(stderr, "rtsim: error: study {}: {} failed (exit {}); its log.txt say why\n",
-                   s.id, describe_run(r), code);
+        fmt::print(stderr, "rtsim: error: study {}: {} failed (exit {}){}\n", s.id, describe_run(r),
+                   code, r.kind == "program" ? "" : "; its points' log.txt say why");
         return code;
       }
+      if (!a.emit.empty()) arrays.push_back(job_dir(r, a.out));
     }
   }
-  if (!a.emit.empty()) return 0;
+  if (!a.emit.empty()) return emit_study_slurm(s.id, s.file, a.out, arrays);
   const double minutes =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() / 60;
   write_table(s, a, jobs, minutes);

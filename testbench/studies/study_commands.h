@@ -34,8 +34,11 @@ struct ReproduceArgs {
   int width = 0, height = 0;     // 0 = the setups' 1920x1080
   std::string sample;            // run.sample of every run (empty: full runs; docs/sampling.md)
   std::vector<std::string> set;  // --set PATH=VALUE overrides of every run (run.sample_seed=2)
+  std::string emit;  // "slurm": the sweep's job array instead of running (no report yet)
 };
 int run_reproduce(const ReproduceArgs& args);
+// Where the reproduction's sweep runs: OUT, OUT/ablation or OUT/bvh.
+std::string reproduce_sweep_dir(const ReproduceArgs& args);
 
 // rtsim study: the runs behind a doc's generated block and its table
 // (testbench/studies/study_file.h).

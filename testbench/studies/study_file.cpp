@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "common/yaml_reader.h"
+#include "kernels/names.h"
 
 #include <fmt/format.h>
 
@@ -83,9 +84,10 @@ StudyRun read_run(YamlMap& m) {
     r.plots = m.get<bool>("plots", true);
   } else if (r.kind == "reproduce") {
     r.reproduce = m.require<std::string>("reproduce");
-    if (!one_of({"paper", "ablation", "bvh"}, r.reproduce))
+    if (!one_of({"paper", "ablation", kBvhFamily}, r.reproduce))
       m.fail("reproduce", "expected paper, ablation or bvh");
     r.sample = m.get<std::string>("sample", "");
+    if (m.has("sweep_file")) r.file = existing_file(m, "sweep_file", "sweep file");
   } else if (r.kind == "animate") {
     read_animate(m, r);
   } else {
@@ -124,7 +126,28 @@ void read_sampled_sweeps(YamlMap& t, report::StudyTable& out) {
   }
 }
 
-report::StudyTable read_table(YamlMap& top) {
+// The run in directory `dir`, which must be of `kind`.
+const StudyRun& run_named(YamlMap& m, const std::string& key, const std::string& dir,
+                          const std::string& kind, const std::vector<StudyRun>& runs) {
+  for (const StudyRun& r : runs)
+    if (r.dir == dir && r.kind == kind) return r;
+  m.fail(key, fmt::format("'{}': expected the dir of a run with {}", dir, kind));
+}
+
+// An integration table's rows, each the figures of a program run.
+void read_program_rows(YamlMap& t, const std::vector<StudyRun>& runs, report::StudyTable& out) {
+  for (YamlMap& r : t.list_of_maps("rows")) {
+    report::ProgramFigure f{r.require<std::string>("run"), r.require<std::string>("figure"),
+                            r.require<std::string>("cells"), ""};
+    f.by = describe_run(run_named(r, "run", f.run, "program", runs));
+    if (!one_of({"cycles", "named_cycles", "platform"}, f.cells))
+      r.fail("cells", "expected cycles, named_cycles or platform");
+    r.finish();
+    out.rows.push_back(f);
+  }
+}
+
+report::StudyTable read_table(YamlMap& top, const std::vector<StudyRun>& runs) {
   YamlMap t = top.map("table");
   report::StudyTable out;
   out.renderer = t.require<std::string>("renderer");
@@ -140,9 +163,16 @@ report::StudyTable read_table(YamlMap& top) {
   }
   if (out.renderer == "sampling_table") out.sub = t.get<std::string>("sub", "");
   if (out.renderer == "sampling_sweeps_table") read_sampled_sweeps(t, out);
-  if (out.renderer == "animation_table" || out.renderer == "animation_hd_table")
+  if (out.renderer == "animation_table" || out.renderer == "animation_hd_table") {
     out.scenes = strings(t, "scenes");
-  if (out.renderer == "animation_hd_table") out.small = t.require<std::string>("small");
+    for (const std::string& s : out.scenes) run_named(t, "scenes", s, "animate", runs);
+    out.label = t.require<std::string>("label");
+  }
+  if (out.renderer == "animation_hd_table") {
+    out.small = t.require<std::string>("small");
+    out.small_label = t.require<std::string>("small_label");
+  }
+  if (out.renderer == "integration_table") read_program_rows(t, runs, out);
   t.finish();
   return out;
 }
@@ -185,7 +215,7 @@ StudySpec load_study(const std::string& path) {
       if (s.runs[i].dir == s.runs[j].dir)
         top.fail("runs",
                  fmt::format("runs {} and {} share the directory '{}'", j, i, s.runs[i].dir));
-  s.table = read_table(top);
+  s.table = read_table(top, s.runs);
   if (top.has("figure")) {
     YamlMap f = top.map("figure");
     s.figure_from = f.require<std::string>("from");
@@ -219,7 +249,8 @@ std::string describe_run(const StudyRun& r) {
   }
   if (r.kind == "sweep") s = "rtsim sweep " + source_relative(r.file);
   if (r.kind == "reproduce")
-    s = "rtsim reproduce" + (r.reproduce == "paper" ? std::string() : " --" + r.reproduce);
+    s = "rtsim reproduce" + (r.reproduce == "paper" ? std::string() : " --" + r.reproduce) +
+        (r.file.empty() ? std::string() : " --sweep " + source_relative(r.file));
   if (r.kind == "animate")
     s = fmt::format("rtsim animate {} --hw {} --times {}", source_relative(r.file),
                     source_relative(r.hw), r.times);

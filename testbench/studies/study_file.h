@@ -15,8 +15,9 @@ namespace rtsim {
 struct StudyRun {
   std::string dir;        // sub-directory of the study's output ("": the study's directory)
   std::string kind;       // "sweep", "reproduce", "animate" or "program"
-  std::string file;       // sweep: the sweep file; animate: the scene file
-  std::string reproduce;  // reproduce: "paper", "ablation" or "bvh"
+  std::string file;       // sweep: the sweep file; animate: the scene file; reproduce: the
+                          // sweep file instead of the shipped one (empty: the shipped one)
+  std::string reproduce;  // reproduce: paper, ablation or the BVH study (kBvhFamily)
   std::vector<std::string> variants;           // sweep, reproduce: only these variants (empty: all)
   std::vector<std::string> set;                // --set PATH=VALUE overrides of every point
   std::string sample;                          // reproduce, animate: --sample F (empty: full runs)

@@ -1,5 +1,6 @@
 #include "testbench/studies/sweep_metrics.h"
 
+#include "kernels/names.h"
 #include "model/accelerator_units.h"
 #include "reports/run_report.h"
 
@@ -155,8 +156,8 @@ bool is_sweep_metric(const std::string& name) {
   for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz",
                           "cycles_total_ci95", "cycles_primary_ci95", "cycles_shadow_ci95"})
     if (name == key) return true;
-  for (const char* key :
-       {"frame_ms", "rays", "per_light", "lvb", "kdtree", "bvh", "scene", "stats", "sample"})
+  for (const char* key : {"frame_ms", "rays", "per_light", "lvb", kKdTreeFamily, kBvhFamily,
+                          "scene", "stats", "sample"})
     if (head == key && name.size() > head.size() + 1) return true;
   return false;
 }
