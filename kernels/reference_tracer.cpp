@@ -1,6 +1,7 @@
 #include "kernels/reference_tracer.h"
 
 #include "kernels/light_samples.h"
+#include "kernels/path_sampling.h"
 
 #include "common/error.h"
 
@@ -170,46 +171,58 @@ struct Worker {
   float offset;
   TraceStats stats;
 
-  // Shades a hit: shadow rays to every sample of every light (unless culled), then an optional
-  // mirror bounce. `pixel` and `depth` place the area lights' samples (kernels/light_samples.h).
-  Vec3 shade(const Ray& ray, const Hit& hit, uint32_t pixel, int depth, PixelRecord* rec) {
-    const image::TriangleRecord tri = image.triangle(hit.tri);
-    const image::MaterialRecord mat = image.material(tri.material);
-    const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
+  // The direct light at a hit: shadow rays to every sample of every light (unless culled), the
+  // samples placed by (pixel, `light_key`). Counted per light, and in `bounce` when given; the
+  // primary hit's occlusion and culling bits go to `rec` when given.
+  Vec3 direct(const SurfacePoint& sp, const Vec3& diffuse, const Hit& hit, uint32_t pixel,
+              uint32_t light_key, PixelRecord* rec, BounceCounters* bounce) {
     const uint32_t lvb = image.leaf(hit.leaf).lvb;
     if (rec) rec->lvb = lvb;
-    Vec3 color = kAmbient * mat.diffuse;
+    Vec3 color(0.f);
     for (uint32_t i = 0; i < image.header().light_count; ++i) {
       const image::LightRecord light = image.light(i);
       LightCounters& lc = stats.per_light[i];
       const bool culled = opt.cull_with_lvb && !((lvb >> i) & 1u);
       if (culled && rec) rec->culled |= uint16_t(1u << i);
       uint32_t blocked_samples = 0;
-      color += light_term(sp, mat.diffuse, light, pixel, uint32_t(depth), i,
-                          [&](uint32_t, const Vec3& point) {
-                            const Ray shadow = shadow_ray(sp, point, offset);
-                            ++lc.shadow_rays;
-                            if (culled) {
-                              ++lc.culled;
-                              if (opt.verify_culls && tracer.occluded(shadow)) {
-                                ++lc.wrong_culls;
-                                if (tracer.occluded_by_leaf(shadow, hit.leaf))
-                                  ++lc.wrong_culls_own_leaf;
-                              }
-                              return false;
-                            }
-                            ++lc.traced;
-                            ++stats.shadow_rays_traced;
-                            const bool blocked = tracer.occluded(shadow, &stats.any);
-                            lc.occluded += blocked;
-                            blocked_samples += blocked;
-                            return blocked;
-                          });
+      color +=
+          light_term(sp, diffuse, light, pixel, light_key, i, [&](uint32_t, const Vec3& point) {
+            const Ray shadow = shadow_ray(sp, point, offset);
+            ++lc.shadow_rays;
+            if (bounce) ++bounce->shadow_rays;
+            if (culled) {
+              ++lc.culled;
+              if (bounce) ++bounce->culled;
+              if (opt.verify_culls && tracer.occluded(shadow)) {
+                ++lc.wrong_culls;
+                if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
+              }
+              return false;
+            }
+            ++lc.traced;
+            ++stats.shadow_rays_traced;
+            const bool blocked = tracer.occluded(shadow, &stats.any);
+            lc.occluded += blocked;
+            if (bounce) bounce->occluded += blocked;
+            blocked_samples += blocked;
+            return blocked;
+          });
       if (rec) {
         rec->occluded_samples[i] = uint16_t(blocked_samples);
         if (blocked_samples == light.samples) rec->occluded |= uint16_t(1u << i);
       }
     }
+    return color;
+  }
+
+  // Whitted: the ambient term and the direct light, then an optional mirror bounce. `pixel` and
+  // `depth` place the area lights' samples (kernels/light_samples.h).
+  Vec3 shade(const Ray& ray, const Hit& hit, uint32_t pixel, int depth, PixelRecord* rec) {
+    const image::TriangleRecord tri = image.triangle(hit.tri);
+    const image::MaterialRecord mat = image.material(tri.material);
+    const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
+    Vec3 color = kAmbient * mat.diffuse;
+    color += direct(sp, mat.diffuse, hit, pixel, uint32_t(depth), rec, nullptr);
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
       const Ray refl = reflection_ray(sp, ray.d, offset);
       ++stats.reflection_rays;
@@ -224,15 +237,64 @@ struct Worker {
     return color;
   }
 
+  // Path: sample `sample` of the pixel. At each hit the direct light of its diffuse part (1 -
+  // reflectance of it), then, below max_depth, a mirror bounce with the reflectance's probability,
+  // else a cosine-weighted diffuse one (the throughput times the diffuse colour); a ray that
+  // leaves the scene brings the background. The primary hit fills `rec` on the first sample.
+  Vec3 path(Ray ray, uint32_t pixel, uint32_t sample, PixelRecord* rec) {
+    const uint32_t max_depth = uint32_t(opt.max_depth);
+    Vec3 radiance(0.f), throughput(1.f);
+    for (uint32_t bounce = 0;; ++bounce) {
+      BounceCounters& b = stats.bounces[bounce];
+      ++b.rays;
+      const Hit hit = tracer.closest_hit(ray, &stats.closest);
+      if (rec) rec->hit = hit;
+      if (hit.tri == kNoHit) return radiance + throughput * kBackground;
+      ++b.hits;
+      const image::TriangleRecord tri = image.triangle(hit.tri);
+      const image::MaterialRecord mat = image.material(tri.material);
+      const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
+      const Vec3 lit =
+          direct(sp, mat.diffuse, hit, pixel, path_light_key(sample, bounce, max_depth), rec, &b);
+      radiance += throughput * ((1.f - mat.reflectance) * lit);
+      rec = nullptr;
+      if (bounce == max_depth) return radiance;
+      if (path_random(pixel, sample, bounce, kPathLobe) < mat.reflectance) {
+        ray = reflection_ray(sp, ray.d, offset);
+      } else {
+        const Vec3 d = cosine_direction(sp.n, path_random(pixel, sample, bounce, kPathU1),
+                                        path_random(pixel, sample, bounce, kPathU2));
+        ray = diffuse_ray(sp, d, offset);
+        throughput *= mat.diffuse;
+      }
+      if (int(bounce) + 1 >= opt.roulette_depth) {
+        const float q = std::min(1.f, std::max({throughput.x, throughput.y, throughput.z}));
+        if (path_random(pixel, sample, bounce, kPathRoulette) >= q) return radiance;
+        throughput /= q;
+      }
+    }
+  }
+
   void run_rows(const PinholeCamera& cam, int y0, int y1, TraceResult& out) {
     for (int y = y0; y < y1; ++y) {
       for (int x = 0; x < cam.width(); ++x) {
         const size_t idx = size_t(y) * cam.width() + x;
         PixelRecord& rec = out.pixels[idx];
         const Ray ray = cam.ray(x, y);
+        Vec3 c = kBackground;
+        if (opt.integrator == Integrator::kPath) {
+          // Every sample's primary ray is the pixel's centre ray (no pixel filter: the samples
+          // integrate the light a hit gathers), traced again as the machine does.
+          Vec3 sum(0.f);
+          for (int k = 0; k < opt.spp; ++k)
+            sum += path(ray, uint32_t(idx), uint32_t(k), k == 0 ? &rec : nullptr);
+          c = sum / float(opt.spp);
+          for (int k = 0; k < 3; ++k) out.radiance[3 * idx + k] = c[k];
+          for (int k = 0; k < 3; ++k) out.rgb[3 * idx + k] = to_display(c[k]);
+          continue;
+        }
         ++stats.primary_rays;
         rec.hit = tracer.closest_hit(ray, &stats.closest);
-        Vec3 c = kBackground;
         if (rec.hit.tri != kNoHit) {
           ++stats.primary_hits;
           c = shade(ray, rec.hit, uint32_t(idx), 0, &rec);
@@ -248,6 +310,12 @@ struct Worker {
 TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptions& opt) const {
   if (opt.width <= 0 || opt.height <= 0)
     throw InputError(fmt::format("resolution {}x{} is not positive", opt.width, opt.height));
+  const bool paths = opt.integrator == Integrator::kPath;
+  if (paths && (opt.spp < 1 || opt.max_depth < 0 || opt.max_depth > 64 || opt.roulette_depth < 1))
+    throw InputError(
+        fmt::format("path integrator: spp {}, max_depth {}, roulette_depth {}: "
+                    "expected spp >= 1, max_depth in [0, 64], roulette_depth >= 1",
+                    opt.spp, opt.max_depth, opt.roulette_depth));
   const auto start = std::chrono::steady_clock::now();
   const PinholeCamera cam(camera, opt.width, opt.height);
   TraceResult out;
@@ -255,6 +323,8 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
   out.height = opt.height;
   out.pixels.assign(size_t(opt.width) * opt.height, PixelRecord{});
   out.rgb.assign(size_t(opt.width) * opt.height * 3, 0);
+  if (paths) out.radiance.assign(size_t(opt.width) * opt.height * 3, 0.f);
+  const size_t bounces = paths ? size_t(opt.max_depth) + 1 : 0;
 
   int threads =
       opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));
@@ -265,6 +335,7 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
   for (int i = 0; i < threads; ++i) {
     workers.push_back(Worker{*this, image_, opt, offset, {}});
     workers.back().stats.per_light.assign(h_.light_count, {});
+    workers.back().stats.bounces.assign(bounces, {});
   }
   // Interleaved bands of rows balance the load; each pixel is independent, so the result
   // does not depend on the thread count.
@@ -280,7 +351,13 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
 
   TraceStats& s = out.stats;
   s.per_light.assign(h_.light_count, {});
+  s.bounces.assign(bounces, {});
   for (const Worker& w : workers) {
+    for (size_t b = 0; b < bounces; ++b) s.bounces[b].add(w.stats.bounces[b]);
+    if (paths) {  // a path's primary rays are its bounce 0
+      s.primary_rays += w.stats.bounces[0].rays;
+      s.primary_hits += w.stats.bounces[0].hits;
+    }
     s.primary_rays += w.stats.primary_rays;
     s.primary_hits += w.stats.primary_hits;
     s.reflection_rays += w.stats.reflection_rays;

@@ -17,9 +17,19 @@
 
 namespace rtsim {
 
+// How a pixel's light is gathered: Whitted's (one primary ray, a shadow ray per light sample,
+// mirror bounces, an ambient term) or a path tracer's (`spp` paths a pixel, each a diffuse or
+// mirror bounce at every hit with next-event shadow rays to every light sample there).
+enum class Integrator { kWhitted, kPath };
+
 struct TracerOptions {
   int width = 0, height = 0;
-  int reflection_depth = 0;     // mirror bounces for materials with reflectance > 0
+  Integrator integrator = Integrator::kWhitted;
+  int reflection_depth = 0;  // Whitted: mirror bounces for materials with reflectance > 0
+  // Path: paths per pixel; bounces after the primary hit (every hit, the primary's included, has
+  // its shadow rays); Russian roulette on the bounces from `roulette_depth` on (a path survives
+  // with the probability of its throughput's largest channel, at most 1, and is reweighted).
+  int spp = 1, max_depth = 3, roulette_depth = 2;
   int threads = 0;              // 0 = every core
   bool cull_with_lvb = false;   // skip shadow rays whose leaf's LVB bit is 0
   bool verify_culls = false;    // trace culled shadow rays anyway and count the wrong ones
@@ -55,12 +65,26 @@ struct LightCounters {
   uint64_t wrong_culls_own_leaf = 0;  // ... of which a triangle of the hit's own leaf blocks
 };
 
+// A path's bounce (0: the primary ray): the rays traced there, those that hit, and the shadow rays
+// of its hits (decided: traced or culled), culled and found occluded.
+struct BounceCounters {
+  uint64_t rays = 0, hits = 0, shadow_rays = 0, culled = 0, occluded = 0;
+  void add(const BounceCounters& o) {
+    rays += o.rays;
+    hits += o.hits;
+    shadow_rays += o.shadow_rays;
+    culled += o.culled;
+    occluded += o.occluded;
+  }
+};
+
 struct TraceStats {
   uint64_t primary_rays = 0, primary_hits = 0;
   uint64_t reflection_rays = 0, reflection_hits = 0;
   uint64_t shadow_rays_traced = 0;
   std::vector<LightCounters> per_light;
   TraversalCounters closest, any;  // closest-hit (primary, reflection) and any-hit (shadow) work
+  std::vector<BounceCounters> bounces;  // path: by bounce, 0 to max_depth (Whitted: empty)
   double seconds = 0;
   int threads = 1;
 };
@@ -69,6 +93,7 @@ struct TraceResult {
   int width = 0, height = 0;
   std::vector<PixelRecord> pixels;  // row-major, row 0 at the top
   std::vector<uint8_t> rgb;         // 8-bit sRGB-ish colour, 3 bytes per pixel
+  std::vector<float> radiance;      // path: linear RGB per pixel, the mean of its paths
   TraceStats stats;
 };
 

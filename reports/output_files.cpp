@@ -57,12 +57,15 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, i
   write_npy_u16(path, data, std::vector<size_t>{size_t(height), size_t(width)});
 }
 
-void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
-                   const std::vector<size_t>& shape) {
-  // A Python tuple: "(h, w)", and "(n,)" for one dimension.
-  std::string header = fmt::format("{{'descr': '<u2', 'fortran_order': False, 'shape': ({}{}), }}",
-                                   fmt::join(shape, ", "), shape.size() == 1 ? "," : "");
-  // The magic, version and length take 10 bytes; pad so the data starts 64-byte aligned.
+namespace {
+
+// A .npy file's magic, version 1.0, and its header for `descr` (NumPy's type string) and `shape`
+// (a Python tuple: "(h, w)", and "(n,)" for one dimension), padded so the data start 64-byte
+// aligned.
+std::string npy_header(const char* descr, const std::vector<size_t>& shape) {
+  std::string header = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}{}), }}",
+                                   descr, fmt::join(shape, ", "), shape.size() == 1 ? "," : "");
+  // The magic, version and length take 10 bytes.
   const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
   header.append(total - 10 - header.size() - 1, ' ');
   header.push_back('\n');
@@ -70,10 +73,28 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
   const uint16_t hlen = static_cast<uint16_t>(header.size());
   out.push_back(char(hlen & 0xff));
   out.push_back(char(hlen >> 8));
-  out += header;
+  return out + header;
+}
+
+}  // namespace
+
+void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
+                   const std::vector<size_t>& shape) {
+  std::string out = npy_header("<u2", shape);
   for (uint16_t v : data) {
     out.push_back(char(v & 0xff));
     out.push_back(char(v >> 8));
+  }
+  write_file_atomic(path, out);
+}
+
+void write_npy_f32(const std::string& path, const std::vector<float>& data,
+                   const std::vector<size_t>& shape) {
+  std::string out = npy_header("<f4", shape);
+  for (float v : data) {
+    uint32_t bits;
+    std::memcpy(&bits, &v, 4);
+    for (int k = 0; k < 4; ++k) out.push_back(char((bits >> (8 * k)) & 0xff));
   }
   write_file_atomic(path, out);
 }

@@ -26,7 +26,8 @@ inline constexpr const char* kRenderJson = "render.json";
 inline constexpr const char* kMaskNpy = "mask.npy";
 inline constexpr const char* kCulledNpy = "culled.npy";
 inline constexpr const char* kVisibilityNpy = "visibility.npy";
-inline constexpr const char* kLvbJson = "lvb.json";  // rtsim lvb
+inline constexpr const char* kRadianceNpy = "radiance.npy";  // a path-traced frame's, (H, W, 3)
+inline constexpr const char* kLvbJson = "lvb.json";          // rtsim lvb
 // A sweep (rtsim sweep, reproduce, animate): points/<id>/ holds each point's run and its row.
 inline constexpr const char* kPointsDir = "points";
 inline constexpr const char* kRowJson = "row.json";
@@ -64,6 +65,9 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
 // The uint16 values of a .npy file written by write_npy_u16 (any shape, flattened); empty when
 // the file is missing or too short to be one.
 std::vector<uint16_t> read_npy_u16(const std::string& path);
+// NumPy .npy, little-endian float32, row-major (the last dimension varies fastest).
+void write_npy_f32(const std::string& path, const std::vector<float>& data,
+                   const std::vector<size_t>& shape);
 // 8-bit RGB PNG.
 void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height);
 

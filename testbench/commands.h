@@ -18,6 +18,8 @@ struct RenderArgs {
   PrepareOptions prepare;
   int threads = 0;
   int reflection_depth = 0;
+  std::string integrator = "whitted";  // or "path" (TracerOptions)
+  int spp = 1, max_depth = 3, roulette_depth = 2;
 };
 int run_render(const RenderArgs& args);
 

@@ -82,6 +82,19 @@ void add_render(CLI::App& app, Commands& c) {
       ->check(CLI::Range(0, 1024));
   c.render_cmd->add_option("--reflections", c.render.reflection_depth, "Mirror reflection depth")
       ->check(CLI::Range(0, 16));
+  c.render_cmd
+      ->add_option("--integrator", c.render.integrator,
+                   "whitted (one ray a pixel, shadow rays, mirrors) or path (diffuse and mirror "
+                   "bounces with shadow rays at every hit)")
+      ->check(CLI::IsMember({"whitted", "path"}));
+  c.render_cmd->add_option("--spp", c.render.spp, "Path: paths per pixel")
+      ->check(CLI::Range(1, 65536));
+  c.render_cmd->add_option("--max-depth", c.render.max_depth, "Path: bounces after the primary hit")
+      ->check(CLI::Range(0, 64));
+  c.render_cmd
+      ->add_option("--roulette-depth", c.render.roulette_depth,
+                   "Path: Russian roulette on the bounces from this one on")
+      ->check(CLI::Range(1, 65));
   add_prepare_options(c.render_cmd, c.render.prepare);
 }
 

@@ -12,6 +12,45 @@
 
 namespace rtsim {
 
+namespace {
+
+// render.json's `path`: the integrator's settings, the frame's mean radiance and, by bounce, the
+// rays, hits and shadow rays (decided, culled, occluded).
+nlohmann::json path_json(const RenderArgs& args, const TraceResult& r) {
+  nlohmann::json bounces = nlohmann::json::array();
+  for (const BounceCounters& b : r.stats.bounces)
+    bounces.push_back({{"rays", b.rays},
+                       {"hits", b.hits},
+                       {"shadow_rays", b.shadow_rays},
+                       {"culled", b.culled},
+                       {"occluded", b.occluded}});
+  double sum[3] = {0, 0, 0};
+  for (size_t i = 0; i < r.radiance.size(); ++i) sum[i % 3] += r.radiance[i];
+  const double pixels = double(r.width) * r.height;
+  return {{"spp", args.spp},
+          {"max_depth", args.max_depth},
+          {"roulette_depth", args.roulette_depth},
+          {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
+          {"bounces", bounces}};
+}
+
+// mask.npy (the primary hit and its occluded lights per pixel) and visibility.npy (per pixel and
+// light, the occluded shadow rays, samples, of the primary hit).
+void write_masks(const std::filesystem::path& out, const TraceResult& r, size_t lights) {
+  std::vector<uint16_t> mask(r.pixels.size());
+  std::vector<uint16_t> visibility(r.pixels.size() * lights);
+  for (size_t i = 0; i < r.pixels.size(); ++i) {
+    mask[i] = mask_value(r.pixels[i].hit.tri, r.pixels[i].occluded);
+    for (size_t l = 0; l < lights; ++l)
+      visibility[i * lights + l] = r.pixels[i].occluded_samples[l];
+  }
+  write_npy_u16((out / output::kMaskNpy).string(), mask, r.height, r.width);
+  write_npy_u16((out / output::kVisibilityNpy).string(), visibility,
+                {size_t(r.height), size_t(r.width), lights});
+}
+
+}  // namespace
+
 int run_render(const RenderArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   std::optional<Activity> doing(std::in_place,
@@ -24,18 +63,13 @@ int run_render(const RenderArgs& args) {
   opt.height = p.scene.height;
   opt.threads = args.threads;
   opt.reflection_depth = args.reflection_depth;
+  const bool paths = args.integrator == "path";
+  opt.integrator = paths ? Integrator::kPath : Integrator::kWhitted;
+  opt.spp = args.spp;
+  opt.max_depth = args.max_depth;
+  opt.roulette_depth = args.roulette_depth;
   const ReferenceTracer tracer(*p.image);
   const TraceResult r = tracer.trace_frame(p.scene.camera, opt);
-
-  std::vector<uint16_t> mask(r.pixels.size());
-  for (size_t i = 0; i < r.pixels.size(); ++i)
-    mask[i] = mask_value(r.pixels[i].hit.tri, r.pixels[i].occluded);
-  // Per pixel and light: the occluded shadow rays (samples) of the primary hit.
-  const size_t lights = p.scene.lights.size();
-  std::vector<uint16_t> visibility(r.pixels.size() * lights);
-  for (size_t i = 0; i < r.pixels.size(); ++i)
-    for (size_t l = 0; l < lights; ++l)
-      visibility[i * lights + l] = r.pixels[i].occluded_samples[l];
 
   const TraceStats& s = r.stats;
   uint64_t shadow = 0;
@@ -47,6 +81,7 @@ int run_render(const RenderArgs& args) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json j = {{"command", "render"},
                       {"scene", scene_json(p)},
+                      {"integrator", args.integrator},
                       {"reflection_depth", args.reflection_depth},
                       {"rays",
                        {{"primary", s.primary_rays},
@@ -71,20 +106,22 @@ int run_render(const RenderArgs& args) {
                         {"trace", s.seconds},
                         {"total", total}}}};
   j.update(structure_json(p));
+  if (paths) j["path"] = path_json(args, r);
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
   write_png_rgb((out / output::kRenderPng).string(), r.rgb, r.width, r.height);
-  write_npy_u16((out / output::kMaskNpy).string(), mask, r.height, r.width);
-  write_npy_u16((out / output::kVisibilityNpy).string(), visibility,
-                {size_t(r.height), size_t(r.width), lights});
+  write_masks(out, r, p.scene.lights.size());
+  if (paths)
+    write_npy_f32((out / output::kRadianceNpy).string(), r.radiance,
+                  {size_t(r.height), size_t(r.width), 3});
   write_json((out / output::kRenderJson).string(), j);
   fmt::print(
       "{}: {} triangles, {} lights, {}x{}: {} primary ({} hit), {} shadow, {} reflection rays in "
-      "{:.2f} s ({} threads)\n  wrote {}/render.png, mask.npy, visibility.npy, render.json\n",
+      "{:.2f} s ({} threads)\n  wrote {}/render.png, mask.npy, visibility.npy{}, render.json\n",
       p.scene.name, p.scene.triangles.size(), p.scene.lights.size(), r.width, r.height,
-      s.primary_rays, s.primary_hits, shadow, s.reflection_rays, s.seconds, s.threads,
-      out.string());
+      s.primary_rays, s.primary_hits, shadow, s.reflection_rays, s.seconds, s.threads, out.string(),
+      paths ? ", radiance.npy" : "");
   return 0;
 }
 

@@ -67,6 +67,35 @@ TEST(Cli, RenderWritesImageMaskAndStatistics) {
   fs::remove_all(out);
 }
 
+// render --integrator path: radiance.npy (H, W, 3) float32, render.json's per-bounce counts; bad
+// path settings exit 2 before anything is written.
+TEST(Cli, RenderTracesPathsAndRefusesBadSettings) {
+  const fs::path out = test::temp_dir("cli_render_path");
+  const std::string scene = (test::source_dir() / "configs/scenes/city.yaml").string();
+  const RunResult r = run("render " + scene + " --out " + out.string() +
+                          " --width 40 --height 24 --integrator path --spp 2 --max-depth 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "render.json"));
+  EXPECT_EQ(j["integrator"], "path");
+  ASSERT_EQ(j["path"]["bounces"].size(), 3u);
+  EXPECT_EQ(j["path"]["bounces"][0]["rays"], 40 * 24 * 2);
+  EXPECT_EQ(j["rays"]["primary"], 40 * 24 * 2);
+  const std::string npy = slurp(out / "radiance.npy");
+  ASSERT_GT(npy.size(), 10u);
+  const size_t header_len = uint8_t(npy[8]) | (uint8_t(npy[9]) << 8);
+  EXPECT_NE(npy.find("'descr': '<f4'"), std::string::npos);
+  EXPECT_NE(npy.find("'shape': (24, 40, 3)"), std::string::npos);
+  EXPECT_EQ(npy.size(), 10 + header_len + 4 * 40 * 24 * 3);
+  for (const char* bad :
+       {"--integrator photon", "--integrator path --spp 0", "--integrator path --max-depth -1"}) {
+    const fs::path none = out / "bad";
+    const RunResult e = run("render " + scene + " --out " + none.string() + " " + bad);
+    EXPECT_EQ(e.code, 2) << bad;
+    EXPECT_FALSE(fs::exists(none)) << bad;
+  }
+  fs::remove_all(out);
+}
+
 // Without --out, render, lvb and run write to out/<scene stem>-<command> under the working
 // directory; a rerun from a config.json must name its directory.
 TEST(Cli, WithoutOutCommandsWriteUnderOutNamedAfterTheScene) {
