@@ -195,6 +195,7 @@ struct Worker {
               if (bounce) ++bounce->culled;
               if (opt.verify_culls && tracer.occluded(shadow)) {
                 ++lc.wrong_culls;
+                if (bounce) ++bounce->wrong_culls;
                 if (tracer.occluded_by_leaf(shadow, hit.leaf)) ++lc.wrong_culls_own_leaf;
               }
               return false;

@@ -66,15 +66,17 @@ struct LightCounters {
 };
 
 // A path's bounce (0: the primary ray): the rays traced there, those that hit, and the shadow rays
-// of its hits (decided: traced or culled), culled and found occluded.
+// of its hits (decided: traced or culled), culled, found occluded, and culled but in fact occluded
+// (verify_culls only).
 struct BounceCounters {
-  uint64_t rays = 0, hits = 0, shadow_rays = 0, culled = 0, occluded = 0;
+  uint64_t rays = 0, hits = 0, shadow_rays = 0, culled = 0, occluded = 0, wrong_culls = 0;
   void add(const BounceCounters& o) {
     rays += o.rays;
     hits += o.hits;
     shadow_rays += o.shadow_rays;
     culled += o.culled;
     occluded += o.occluded;
+    wrong_culls += o.wrong_culls;
   }
 };
 

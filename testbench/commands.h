@@ -4,6 +4,7 @@
 #pragma once
 
 #include "kernels/lvb.h"
+#include "kernels/reference_tracer.h"
 #include "testbench/run/pipeline.h"
 #include "testbench/run/run_command.h"
 #include "testbench/studies/study_commands.h"
@@ -12,14 +13,31 @@
 
 namespace rtsim {
 
+// How render and lvb trace the frame (TracerOptions): Whitted's, or paths (--integrator path).
+struct IntegratorArgs {
+  std::string integrator = "whitted";  // or "path"
+  int spp = 1, max_depth = 3, roulette_depth = 2;
+  bool paths() const { return integrator == "path"; }
+  void apply(TracerOptions& o) const {
+    o.integrator = paths() ? Integrator::kPath : Integrator::kWhitted;
+    o.spp = spp;
+    o.max_depth = max_depth;
+    o.roulette_depth = roulette_depth;
+  }
+};
+
+// render.json's and lvb.json's `path` of a path-traced frame: the integrator's settings, the
+// frame's mean radiance and, by bounce, rays, hits and shadow rays (decided, culled, occluded, and
+// with --verify culled but in fact occluded).
+nlohmann::json bounces_json(const IntegratorArgs& a, const TraceResult& r);
+
 struct RenderArgs {
   std::string scene;
   std::string out;
   PrepareOptions prepare;
   int threads = 0;
   int reflection_depth = 0;
-  std::string integrator = "whitted";  // or "path" (TracerOptions)
-  int spp = 1, max_depth = 3, roulette_depth = 2;
+  IntegratorArgs integrator;
 };
 int run_render(const RenderArgs& args);
 
@@ -37,6 +55,8 @@ struct LvbArgs {
   LvbParams lvb;
   bool verify = false;
   int threads = 0;
+  IntegratorArgs
+      integrator;  // path: the shadow rays of every bounce's hits are decided and verified
 };
 int run_lvb(const LvbArgs& args);
 

@@ -133,6 +133,7 @@ int run_lvb(const LvbArgs& args) {
   opt.threads = args.threads;
   opt.cull_with_lvb = true;
   opt.verify_culls = args.verify;
+  args.integrator.apply(opt);
   const TraceResult r = ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
   std::vector<uint16_t> mask(r.pixels.size()), culled(r.pixels.size());
   for (size_t i = 0; i < r.pixels.size(); ++i) {
@@ -154,7 +155,9 @@ int run_lvb(const LvbArgs& args) {
   std::filesystem::create_directories(out);
   write_npy_u16((out / output::kMaskNpy).string(), mask, r.height, r.width);
   write_npy_u16((out / output::kCulledNpy).string(), culled, r.height, r.width);
-  write_json((out / output::kLvbJson).string(), lvb_json(p, lp, lvb, r, args.verify, total));
+  nlohmann::json j = lvb_json(p, lp, lvb, r, args.verify, total);
+  if (args.integrator.paths()) j["path"] = bounces_json(args.integrator, r);
+  write_json((out / output::kLvbJson).string(), j);
   fmt::print("\nwrote {}/{}, culled.npy, mask.npy\n", out.string(), output::kLvbJson);
   return 0;
 }

@@ -74,6 +74,20 @@ struct Commands {
            *reproduce_cmd = nullptr, *study_cmd = nullptr;
 };
 
+// --integrator and the path's settings (render, lvb).
+void add_integrator_options(CLI::App* cmd, rtsim::IntegratorArgs& a) {
+  cmd->add_option("--integrator", a.integrator,
+                  "whitted (one ray a pixel, shadow rays, mirrors) or path (diffuse and mirror "
+                  "bounces with shadow rays at every hit)")
+      ->check(CLI::IsMember({"whitted", "path"}));
+  cmd->add_option("--spp", a.spp, "Path: paths per pixel")->check(CLI::Range(1, 65536));
+  cmd->add_option("--max-depth", a.max_depth, "Path: bounces after the primary hit")
+      ->check(CLI::Range(0, 64));
+  cmd->add_option("--roulette-depth", a.roulette_depth,
+                  "Path: Russian roulette on the bounces from this one on")
+      ->check(CLI::Range(1, 65));
+}
+
 void add_render(CLI::App& app, Commands& c) {
   c.render_cmd = app.add_subcommand("render", "Render a scene with the reference tracer");
   c.render_cmd->add_option("scene", c.render.scene, "Scene description (YAML)")->required();
@@ -82,19 +96,7 @@ void add_render(CLI::App& app, Commands& c) {
       ->check(CLI::Range(0, 1024));
   c.render_cmd->add_option("--reflections", c.render.reflection_depth, "Mirror reflection depth")
       ->check(CLI::Range(0, 16));
-  c.render_cmd
-      ->add_option("--integrator", c.render.integrator,
-                   "whitted (one ray a pixel, shadow rays, mirrors) or path (diffuse and mirror "
-                   "bounces with shadow rays at every hit)")
-      ->check(CLI::IsMember({"whitted", "path"}));
-  c.render_cmd->add_option("--spp", c.render.spp, "Path: paths per pixel")
-      ->check(CLI::Range(1, 65536));
-  c.render_cmd->add_option("--max-depth", c.render.max_depth, "Path: bounces after the primary hit")
-      ->check(CLI::Range(0, 64));
-  c.render_cmd
-      ->add_option("--roulette-depth", c.render.roulette_depth,
-                   "Path: Russian roulette on the bounces from this one on")
-      ->check(CLI::Range(1, 65));
+  add_integrator_options(c.render_cmd, c.render.integrator);
   add_prepare_options(c.render_cmd, c.render.prepare);
 }
 
@@ -129,6 +131,7 @@ void add_lvb(CLI::App& app, Commands& c) {
       ->check(CLI::Range(0, 1024));
   c.lvb_cmd->add_option("--lvb-threads", c.lvb.lvb.threads, "Host threads for preprocessing")
       ->check(CLI::Range(1, 1024));
+  add_integrator_options(c.lvb_cmd, c.lvb.integrator);
   add_prepare_options(c.lvb_cmd, c.lvb.prepare);
 }
 

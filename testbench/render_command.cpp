@@ -12,27 +12,28 @@
 
 namespace rtsim {
 
-namespace {
+namespace {}  // namespace
 
-// render.json's `path`: the integrator's settings, the frame's mean radiance and, by bounce, the
-// rays, hits and shadow rays (decided, culled, occluded).
-nlohmann::json path_json(const RenderArgs& args, const TraceResult& r) {
+nlohmann::json bounces_json(const IntegratorArgs& a, const TraceResult& r) {
   nlohmann::json bounces = nlohmann::json::array();
   for (const BounceCounters& b : r.stats.bounces)
     bounces.push_back({{"rays", b.rays},
                        {"hits", b.hits},
                        {"shadow_rays", b.shadow_rays},
                        {"culled", b.culled},
-                       {"occluded", b.occluded}});
+                       {"occluded", b.occluded},
+                       {"wrong_culls", b.wrong_culls}});
   double sum[3] = {0, 0, 0};
   for (size_t i = 0; i < r.radiance.size(); ++i) sum[i % 3] += r.radiance[i];
   const double pixels = double(r.width) * r.height;
-  return {{"spp", args.spp},
-          {"max_depth", args.max_depth},
-          {"roulette_depth", args.roulette_depth},
+  return {{"spp", a.spp},
+          {"max_depth", a.max_depth},
+          {"roulette_depth", a.roulette_depth},
           {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
           {"bounces", bounces}};
 }
+
+namespace {
 
 // mask.npy (the primary hit and its occluded lights per pixel) and visibility.npy (per pixel and
 // light, the occluded shadow rays, samples, of the primary hit).
@@ -63,11 +64,8 @@ int run_render(const RenderArgs& args) {
   opt.height = p.scene.height;
   opt.threads = args.threads;
   opt.reflection_depth = args.reflection_depth;
-  const bool paths = args.integrator == "path";
-  opt.integrator = paths ? Integrator::kPath : Integrator::kWhitted;
-  opt.spp = args.spp;
-  opt.max_depth = args.max_depth;
-  opt.roulette_depth = args.roulette_depth;
+  const bool paths = args.integrator.paths();
+  args.integrator.apply(opt);
   const ReferenceTracer tracer(*p.image);
   const TraceResult r = tracer.trace_frame(p.scene.camera, opt);
 
@@ -81,7 +79,7 @@ int run_render(const RenderArgs& args) {
   const double total = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json j = {{"command", "render"},
                       {"scene", scene_json(p)},
-                      {"integrator", args.integrator},
+                      {"integrator", args.integrator.integrator},
                       {"reflection_depth", args.reflection_depth},
                       {"rays",
                        {{"primary", s.primary_rays},
@@ -106,7 +104,7 @@ int run_render(const RenderArgs& args) {
                         {"trace", s.seconds},
                         {"total", total}}}};
   j.update(structure_json(p));
-  if (paths) j["path"] = path_json(args, r);
+  if (paths) j["path"] = bounces_json(args.integrator, r);
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);

@@ -96,6 +96,30 @@ TEST(Cli, RenderTracesPathsAndRefusesBadSettings) {
   fs::remove_all(out);
 }
 
+// lvb --verify on a path-traced frame decides and verifies the shadow rays of every bounce's hits:
+// the exact mode culls no visible light at any bounce, and the bounces add up to the per-light
+// counts.
+TEST(Cli, LvbVerifiesTheShadowRaysOfEveryBounce) {
+  const fs::path out = test::temp_dir("cli_lvb_path");
+  const RunResult r = run(
+      "lvb " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --out " +
+      out.string() + " --width 64 --height 36 --integrator path --spp 2 --max-depth 2 --verify");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "lvb.json"));
+  ASSERT_EQ(j["path"]["bounces"].size(), 3u);
+  uint64_t decided = 0, culled = 0, per_light = 0;
+  for (const nlohmann::json& b : j["path"]["bounces"]) {
+    EXPECT_EQ(b["wrong_culls"], 0);
+    decided += b["shadow_rays"].get<uint64_t>();
+    culled += b["culled"].get<uint64_t>();
+  }
+  for (const nlohmann::json& l : j["per_light"]) per_light += l["shadow_rays"].get<uint64_t>();
+  EXPECT_EQ(decided, per_light);
+  EXPECT_GT(j["path"]["bounces"][1]["culled"].get<uint64_t>(), 0u);  // bounce hits are culled too
+  EXPECT_GT(culled, 0u);
+  fs::remove_all(out);
+}
+
 // Without --out, render, lvb and run write to out/<scene stem>-<command> under the working
 // directory; a rerun from a config.json must name its directory.
 TEST(Cli, WithoutOutCommandsWriteUnderOutNamedAfterTheScene) {
