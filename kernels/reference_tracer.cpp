@@ -12,6 +12,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <thread>
+#include <tuple>
 #include <type_traits>
 
 namespace rtsim {
@@ -170,12 +171,13 @@ struct Worker {
   const TracerOptions& opt;
   float offset;
   TraceStats stats;
+  std::vector<CulledRay> culled_rays;  // keep_culled
 
   // The direct light at a hit: shadow rays to every sample of every light (unless culled), the
   // samples placed by (pixel, `light_key`). Counted per light, and in `bounce` when given; the
   // primary hit's occlusion and culling bits go to `rec` when given.
   Vec3 direct(const SurfacePoint& sp, const Vec3& diffuse, const Hit& hit, uint32_t pixel,
-              uint32_t light_key, PixelRecord* rec, BounceCounters* bounce) {
+              uint32_t light_key, PixelRecord* rec, BounceCounters* bounce, CulledRay where = {}) {
     const uint32_t lvb = image.leaf(hit.leaf).lvb;
     if (rec) rec->lvb = lvb;
     Vec3 color(0.f);
@@ -186,13 +188,20 @@ struct Worker {
       if (culled && rec) rec->culled |= uint16_t(1u << i);
       uint32_t blocked_samples = 0;
       color +=
-          light_term(sp, diffuse, light, pixel, light_key, i, [&](uint32_t, const Vec3& point) {
+          light_term(sp, diffuse, light, pixel, light_key, i, [&](uint32_t k, const Vec3& point) {
             const Ray shadow = shadow_ray(sp, point, offset);
             ++lc.shadow_rays;
             if (bounce) ++bounce->shadow_rays;
             if (culled) {
               ++lc.culled;
               if (bounce) ++bounce->culled;
+              if (opt.keep_culled) {
+                where.light = uint16_t(i);
+                where.light_sample = k;
+                where.origin = shadow.o;
+                where.target = point;
+                culled_rays.push_back(where);
+              }
               if (opt.verify_culls && tracer.occluded(shadow)) {
                 ++lc.wrong_culls;
                 if (bounce) ++bounce->wrong_culls;
@@ -223,7 +232,10 @@ struct Worker {
     const image::MaterialRecord mat = image.material(tri.material);
     const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
     Vec3 color = kAmbient * mat.diffuse;
-    color += direct(sp, mat.diffuse, hit, pixel, uint32_t(depth), rec, nullptr);
+    CulledRay where;
+    where.pixel = pixel;
+    where.bounce = uint16_t(depth);
+    color += direct(sp, mat.diffuse, hit, pixel, uint32_t(depth), rec, nullptr, where);
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
       const Ray refl = reflection_ray(sp, ray.d, offset);
       ++stats.reflection_rays;
@@ -255,8 +267,12 @@ struct Worker {
       const image::TriangleRecord tri = image.triangle(hit.tri);
       const image::MaterialRecord mat = image.material(tri.material);
       const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
-      const Vec3 lit =
-          direct(sp, mat.diffuse, hit, pixel, path_light_key(sample, bounce, max_depth), rec, &b);
+      CulledRay where;
+      where.pixel = pixel;
+      where.sample = sample;
+      where.bounce = uint16_t(bounce);
+      const Vec3 lit = direct(sp, mat.diffuse, hit, pixel,
+                              path_light_key(sample, bounce, max_depth), rec, &b, where);
       radiance += throughput * ((1.f - mat.reflectance) * lit);
       rec = nullptr;
       if (bounce == max_depth) return radiance;
@@ -306,6 +322,16 @@ struct Worker {
   }
 };
 
+// The workers' culled rays, in the rays' order (the threads' bands interleave).
+void gather_culled(const std::vector<Worker>& workers, std::vector<CulledRay>& out) {
+  for (const Worker& w : workers) out.insert(out.end(), w.culled_rays.begin(), w.culled_rays.end());
+  const auto key = [](const CulledRay& c) {
+    return std::tuple(c.pixel, c.sample, c.bounce, c.light, c.light_sample);
+  };
+  std::sort(out.begin(), out.end(),
+            [&](const CulledRay& a, const CulledRay& b) { return key(a) < key(b); });
+}
+
 }  // namespace
 
 TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptions& opt) const {
@@ -334,7 +360,7 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
   std::vector<Worker> workers;
   workers.reserve(threads);
   for (int i = 0; i < threads; ++i) {
-    workers.push_back(Worker{*this, image_, opt, offset, {}});
+    workers.push_back(Worker{*this, image_, opt, offset, {}, {}});
     workers.back().stats.per_light.assign(h_.light_count, {});
     workers.back().stats.bounces.assign(bounces, {});
   }
@@ -378,6 +404,7 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
     }
   }
   s.threads = threads;
+  if (opt.keep_culled) gather_culled(workers, out.culled_rays);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
 }

@@ -33,6 +33,7 @@ struct TracerOptions {
   int threads = 0;              // 0 = every core
   bool cull_with_lvb = false;   // skip shadow rays whose leaf's LVB bit is 0
   bool verify_culls = false;    // trace culled shadow rays anyway and count the wrong ones
+  bool keep_culled = false;     // keep every culled shadow ray (TraceResult::culled_rays)
   float shadow_offset = 1e-5f;  // shadow/reflection origin offset, relative to the scene diagonal
 };
 
@@ -91,11 +92,22 @@ struct TraceStats {
   int threads = 1;
 };
 
+// A shadow ray the LVB culled: where it was cast from (its hit's pixel, path sample and bounce) and
+// the segment it would have tested, from `origin` to the light sample `target`.
+struct CulledRay {
+  uint32_t pixel = 0, sample = 0;
+  uint16_t bounce = 0, light = 0;
+  uint32_t light_sample = 0;
+  Vec3 origin{0.f}, target{0.f};
+};
+
 struct TraceResult {
   int width = 0, height = 0;
   std::vector<PixelRecord> pixels;  // row-major, row 0 at the top
   std::vector<uint8_t> rgb;         // 8-bit sRGB-ish colour, 3 bytes per pixel
   std::vector<float> radiance;      // path: linear RGB per pixel, the mean of its paths
+  // keep_culled: every culled shadow ray, by pixel, then sample, bounce, light and light sample.
+  std::vector<CulledRay> culled_rays;
   TraceStats stats;
 };
 

@@ -59,11 +59,11 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data, i
 
 namespace {
 
-// A .npy file's magic, version 1.0, and its header for `descr` (NumPy's type string) and `shape`
-// (a Python tuple: "(h, w)", and "(n,)" for one dimension), padded so the data start 64-byte
-// aligned.
-std::string npy_header(const char* descr, const std::vector<size_t>& shape) {
-  std::string header = fmt::format("{{'descr': '{}', 'fortran_order': False, 'shape': ({}{}), }}",
+// A .npy file's magic, version 1.0, and its header for `descr` (NumPy's dtype as a Python literal:
+// "'<u2'", or a structured type's list) and `shape` (a Python tuple: "(h, w)", and "(n,)" for one
+// dimension), padded so the data start 64-byte aligned.
+std::string npy_header(const std::string& descr, const std::vector<size_t>& shape) {
+  std::string header = fmt::format("{{'descr': {}, 'fortran_order': False, 'shape': ({}{}), }}",
                                    descr, fmt::join(shape, ", "), shape.size() == 1 ? "," : "");
   // The magic, version and length take 10 bytes.
   const size_t total = (10 + header.size() + 1 + 63) / 64 * 64;
@@ -80,7 +80,7 @@ std::string npy_header(const char* descr, const std::vector<size_t>& shape) {
 
 void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
                    const std::vector<size_t>& shape) {
-  std::string out = npy_header("<u2", shape);
+  std::string out = npy_header("'<u2'", shape);
   for (uint16_t v : data) {
     out.push_back(char(v & 0xff));
     out.push_back(char(v >> 8));
@@ -88,9 +88,14 @@ void write_npy_u16(const std::string& path, const std::vector<uint16_t>& data,
   write_file_atomic(path, out);
 }
 
+void write_npy_records(const std::string& path, const std::string& descr, size_t count,
+                       const std::string& bytes) {
+  write_file_atomic(path, npy_header(descr, {count}) + bytes);
+}
+
 void write_npy_f32(const std::string& path, const std::vector<float>& data,
                    const std::vector<size_t>& shape) {
-  std::string out = npy_header("<f4", shape);
+  std::string out = npy_header("'<f4'", shape);
   for (float v : data) {
     uint32_t bits;
     std::memcpy(&bits, &v, 4);

@@ -68,6 +68,10 @@ std::vector<uint16_t> read_npy_u16(const std::string& path);
 // NumPy .npy, little-endian float32, row-major (the last dimension varies fastest).
 void write_npy_f32(const std::string& path, const std::vector<float>& data,
                    const std::vector<size_t>& shape);
+// NumPy .npy of `count` records of a structured dtype, `descr` its Python literal ("[('x', '<f4'),
+// ...]"), `bytes` the records packed little-endian as the dtype lays them out.
+void write_npy_records(const std::string& path, const std::string& descr, size_t count,
+                       const std::string& bytes);
 // 8-bit RGB PNG.
 void write_png_rgb(const std::string& path, const std::vector<uint8_t>& rgb, int width, int height);
 

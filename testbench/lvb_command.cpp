@@ -134,6 +134,7 @@ int run_lvb(const LvbArgs& args) {
   opt.cull_with_lvb = true;
   opt.verify_culls = args.verify;
   args.integrator.apply(opt);
+  opt.keep_culled = !args.culled_rays.empty();
   const TraceResult r = ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
   std::vector<uint16_t> mask(r.pixels.size()), culled(r.pixels.size());
   for (size_t i = 0; i < r.pixels.size(); ++i) {
@@ -157,6 +158,7 @@ int run_lvb(const LvbArgs& args) {
   write_npy_u16((out / output::kCulledNpy).string(), culled, r.height, r.width);
   nlohmann::json j = lvb_json(p, lp, lvb, r, args.verify, total);
   if (args.integrator.paths()) j["path"] = bounces_json(args.integrator, r);
+  if (opt.keep_culled) write_culled_rays(args.culled_rays, r.culled_rays);
   write_json((out / output::kLvbJson).string(), j);
   fmt::print("\nwrote {}/{}, culled.npy, mask.npy\n", out.string(), output::kLvbJson);
   return 0;

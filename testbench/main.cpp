@@ -132,6 +132,9 @@ void add_lvb(CLI::App& app, Commands& c) {
   c.lvb_cmd->add_option("--lvb-threads", c.lvb.lvb.threads, "Host threads for preprocessing")
       ->check(CLI::Range(1, 1024));
   add_integrator_options(c.lvb_cmd, c.lvb.integrator);
+  c.lvb_cmd->add_option("--culled-rays", c.lvb.culled_rays,
+                        "Write every culled shadow ray (origin, light sample point, light, bounce) "
+                        "to this .npy");
   add_prepare_options(c.lvb_cmd, c.lvb.prepare);
 }
 

@@ -103,7 +103,8 @@ TEST(Cli, LvbVerifiesTheShadowRaysOfEveryBounce) {
   const fs::path out = test::temp_dir("cli_lvb_path");
   const RunResult r = run(
       "lvb " + (test::source_dir() / "configs/scenes/city.yaml").string() + " --out " +
-      out.string() + " --width 64 --height 36 --integrator path --spp 2 --max-depth 2 --verify");
+      out.string() + " --width 64 --height 36 --integrator path --spp 2 --max-depth 2 --verify" +
+      " --culled-rays " + (out / "culled_rays.npy").string());
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json j = nlohmann::json::parse(slurp(out / "lvb.json"));
   ASSERT_EQ(j["path"]["bounces"].size(), 3u);
@@ -117,6 +118,20 @@ TEST(Cli, LvbVerifiesTheShadowRaysOfEveryBounce) {
   EXPECT_EQ(decided, per_light);
   EXPECT_GT(j["path"]["bounces"][1]["culled"].get<uint64_t>(), 0u);  // bounce hits are culled too
   EXPECT_GT(culled, 0u);
+  // --culled-rays: a 40-byte record per culled ray, its bounce at bytes 8-9.
+  const std::string npy = slurp(out / "culled_rays.npy");
+  ASSERT_GT(npy.size(), 10u);
+  const size_t data = 10 + (uint8_t(npy[8]) | (uint8_t(npy[9]) << 8));
+  EXPECT_NE(npy.find("('origin', '<f4', (3,))"), std::string::npos);
+  ASSERT_EQ(npy.size(), data + 40 * culled);
+  std::vector<uint64_t> by_bounce(3, 0);
+  for (size_t k = 0; k < culled; ++k) {
+    const size_t at = data + 40 * k + 8;
+    const uint16_t bounce = uint8_t(npy[at]) | (uint8_t(npy[at + 1]) << 8);
+    ASSERT_LT(bounce, 3u);
+    ++by_bounce[bounce];
+  }
+  for (size_t b = 0; b < 3; ++b) EXPECT_EQ(by_bounce[b], j["path"]["bounces"][b]["culled"]);
   fs::remove_all(out);
 }
 
