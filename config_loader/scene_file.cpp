@@ -129,7 +129,9 @@ void load_procedural(YamlMap& g, Scene& scene) {
                                  "at most {} (fewer blocks or segments)",
                                  c.blocks, c.sphere_segments, n, kMaxCityTriangles));
   p.finish();
+  const std::string name = scene.name;  // the scene file's (or its stem), not the city's own
   make_city(c, scene);
+  scene.name = name;
 }
 
 // `simplify: {triangles: N}`: the entry's triangles (one material) decimated to at most N.
