@@ -10,7 +10,7 @@ each under /usr/bin/time -v for the process's peak resident set:
 - `rtsim run --hw configs/hw/tni-paper.yaml` (the kd-tree machine; culling on, Whitted) and
   `rtsim run --hw configs/hw/bvh-tni.yaml --accel BVH`: report.json's host seconds of load,
   structure, LVB, memory image and simulation, the rays the traversal units started, and the
-  memory estimate the run checked before its frame (report.json host.memory_estimate_bytes);
+  memory estimate the run checked before its frame (report.json host.memory_estimate_mb);
 - with --path, `rtsim render --integrator path --spp 1 --max-depth 3` (the reference tracer).
 It only runs the binary and tabulates: stage seconds and peaks per scene, and each stage's
 exponent k in cost = c * triangles^k, a least-squares line through (log triangles, log cost).
@@ -70,7 +70,7 @@ def run(args, scene, accel):
         "seconds": s,
         "rays": rays,
         "per_ray_us": 1e6 * s["simulate"] / rays,
-        "estimate": r["host"].get("memory_estimate_bytes"),
+        "estimate": r["host"].get("memory_estimate_mb", 0) * 2**20,
         "cycles": r["cycles_total"],
     }
 
