@@ -110,7 +110,15 @@ STAGES = [  # (label, what it is read from)
     ("peak info BVH MB", lambda m: m["info_bvh"]["rss"] / 2**20),
     ("peak run kd MB", lambda m: m["kd"]["rss"] / 2**20),
     ("peak run BVH MB", lambda m: m["bvh"]["rss"] / 2**20),
+    ("run kd wall s", lambda m: m["kd"]["wall"]),
+    ("run BVH wall s", lambda m: m["bvh"]["wall"]),
+    ("cycles kd", lambda m: m["kd"]["cycles"]),
+    ("cycles BVH", lambda m: m["bvh"]["cycles"]),
 ]
+
+
+def num(v):
+    return f"{v:,.0f}" if v >= 100 else f"{v:.3g}"
 
 
 def table(rows, args):
@@ -123,19 +131,25 @@ def table(rows, args):
         label = label.replace("BVH", args.bvh)
         vals = [get(r) for r in rows]
         k = fit(tris, vals)
-        cells = " | ".join(f"{v:.3g}" for v in vals)
+        cells = " | ".join(num(v) for v in vals)
         out.append(f"| {label} | {cells} | {'' if k is None else f'{k:.2f}'} |")
     if all("path" in r for r in rows):
         vals = [r["path"]["seconds"]["trace"] for r in rows]
         out.append(
             "| path 1 spp trace s | "
-            + " | ".join(f"{v:.3g}" for v in vals)
+            + " | ".join(num(v) for v in vals)
+            + f" | {fit(tris, vals):.2f} |"
+        )
+        vals = [r["path"]["wall"] for r in rows]
+        out.append(
+            "| render path wall s | "
+            + " | ".join(num(v) for v in vals)
             + f" | {fit(tris, vals):.2f} |"
         )
         vals = [r["path"]["rss"] / 2**20 for r in rows]
         out.append(
             "| peak render path MB | "
-            + " | ".join(f"{v:.3g}" for v in vals)
+            + " | ".join(num(v) for v in vals)
             + f" | {fit(tris, vals):.2f} |"
         )
     out.append("")
