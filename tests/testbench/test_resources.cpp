@@ -37,7 +37,7 @@ TEST(Resources, TheEstimateGrowsWithThePixelsAndNamesItsParts) {
 
 TEST(Resources, ANeedAboveTheRoomIsAnInputErrorNamingTheEstimateAndTheLimit) {
   const model::AcceleratorConfig hw;
-  const MemoryRoom room{5'000'000'000, "the address-space limit (ulimit -v) (1.0 GB of 6.0 GB)"};
+  const MemoryRoom room{5000000000, "the address-space limit (ulimit -v) (1.0 GB of 6.0 GB)"};
   check_memory(run_memory_need(hw, frame(1920, 1080), false), room);  // fits: no throw
   try {
     check_memory(run_memory_need(hw, frame(16384, 16384), false), room);
@@ -62,14 +62,14 @@ TEST(Resources, ThePeakAddsTheHeldStructuresToTheLargerPhase) {
   const model::AcceleratorConfig hw;
   MemoryNeed need = run_memory_need(hw, p.scene, false);
   const uint64_t frame_bytes = need.total();
-  add_scene_memory(p, true, true, 1'000'000, need);
+  add_scene_memory(p, true, true, 1000000, need);
   ASSERT_EQ(need.transient.size(), 1u);
   const uint64_t lvb = need.transient[0].second;
   EXPECT_EQ(lvb, lvb_working_bytes(1000, 1500, 4000, true));
   EXPECT_LT(lvb_working_bytes(1000, 1500, 4000, false), lvb);  // exact mode keeps origin boxes
   uint64_t held = 0;
   for (const auto& part : need.held) held += part.second;
-  EXPECT_GE(held, 1'000'000 + 1000 * sizeof(Triangle) + 4000 * sizeof(uint32_t));
+  EXPECT_GE(held, 1000000 + 1000 * sizeof(Triangle) + 4000 * sizeof(uint32_t));
   EXPECT_EQ(need.total(), std::max(lvb, frame_bytes));
   EXPECT_EQ(need.peak(), std::max(held + need.total(), need.peak_so_far));
   need.peak_so_far = need.peak() + 1;  // a build that peaked higher than the rest of the run
