@@ -8,8 +8,9 @@
 namespace rtsim {
 
 // The city's scale knob is `blocks`: its triangles grow as about 122 blocks^2 with the default
-// spheres (blocks 8: 9,602; 28: 101,922; 90: 1,008,362; 181: 4,037,500). The bounds keep a city
-// within 32-bit triangle indices and this machine's memory (docs/scale.md measures 4 M).
+// spheres (blocks 8: 9,602; 28: 101,922; 90: 1,008,362; 181: 4,037,500). The triangle bound keeps
+// a city well within 32-bit triangle and reference indices; whether a frame of it fits the
+// machine is the run's memory check (testbench/run/resources.h; docs/scale.md measures 4 M).
 inline constexpr int kMaxCityBlocks = 1024;
 inline constexpr uint64_t kMaxCityTriangles = uint64_t(1) << 24;  // 16,777,216
 

@@ -63,14 +63,12 @@ size_t sample_words(const Scene& scene) {
   return (bits + 63) / 64;
 }
 
-}  // namespace
-
-namespace {
 uint64_t sum(const std::vector<std::pair<std::string, uint64_t>>& parts) {
   uint64_t n = 0;
   for (const auto& part : parts) n += part.second;
   return n;
 }
+
 }  // namespace
 
 uint64_t MemoryNeed::total() const { return std::max(sum(transient), sum(parts)); }
