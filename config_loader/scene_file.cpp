@@ -120,12 +120,18 @@ void load_procedural(YamlMap& g, Scene& scene) {
   const std::string kind = p.get<std::string>("kind", "city");
   if (kind != "city") p.fail("kind", "expected 'city'");
   CityParams c;
-  c.blocks = p.get_in_range("blocks", c.blocks, 1, 64);
+  c.blocks = p.get_in_range("blocks", c.blocks, 1, kMaxCityBlocks);
   c.seed = uint32_t(p.get_in_range<int64_t>("seed", c.seed, 0, 0xffffffffll));
   c.sphere_segments = p.get_in_range("sphere_segments", c.sphere_segments, 4, 256);
   c.lights = p.get_in_range("lights", c.lights, 1, kMaxLights);
+  if (const uint64_t n = city_triangles(c); n > kMaxCityTriangles)
+    p.fail("blocks", fmt::format("blocks {} with sphere_segments {} make {} triangles; expected "
+                                 "at most {} (fewer blocks or segments)",
+                                 c.blocks, c.sphere_segments, n, kMaxCityTriangles));
   p.finish();
+  const std::string name = scene.name;  // the scene file's (or its stem), not the city's own
   make_city(c, scene);
+  scene.name = name;
 }
 
 // `simplify: {triangles: N}`: the entry's triangles (one material) decimated to at most N.

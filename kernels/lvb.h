@@ -93,6 +93,10 @@ struct LvbChange {
 LvbChange lvb_change(const Scene& before, const Scene& now);
 
 LvbResult compute_lvb(const Scene& scene, const KdTree& tree, const LvbParams& params);
+// The bytes compute_lvb allocates while it runs, its words included: double-precision copies of
+// the triangles, each leaf's view and regions, each reference's boxes (two in exact mode). For a
+// memory estimate before the work (testbench/run/resources.h).
+uint64_t lvb_working_bytes(size_t triangles, size_t leaves, size_t refs, bool exact);
 // The same computation once more, counting which bits a lazy rebuild would redo after `change`
 // and that work (a pass of its own, so compute_lvb's seconds stay those of the full rebuild).
 LvbLazyStats lvb_lazy_stats(const Scene& scene, const KdTree& tree, const LvbParams& params,

@@ -383,4 +383,12 @@ bool Preprocessor::pair_blocks(Query& q, uint32_t l, Counters& c) const {
 }
 
 }  // namespace lvb_detail
+
+uint64_t lvb_working_bytes(size_t triangles, size_t leaves, size_t refs, bool exact) {
+  const uint64_t per_leaf = sizeof(lvb_detail::LeafView::Leaf) + (exact ? 3 : 2) * sizeof(DBox) +
+                            sizeof(uint32_t);  // view, cell and geometry (+ origin region), word
+  const uint64_t per_ref = (exact ? 2 : 1) * sizeof(DBox);  // in_cell_ (+ origin_)
+  return triangles * sizeof(lvb_detail::TriangleInfo) + leaves * per_leaf + refs * per_ref;
+}
+
 }  // namespace rtsim

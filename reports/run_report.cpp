@@ -96,7 +96,8 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
                           {"total", host.total}}},
                         {"rays_per_second", sim > 0 ? double(rays) / sim : 0.0},
                         {"cycles_per_second", sim > 0 ? double(r.cycles_total) / sim : 0.0},
-                        {"peak_memory_mb", host.peak_memory_mb}}}};
+                        {"peak_memory_mb", host.peak_memory_mb},
+                        {"memory_estimate_mb", host.memory_estimate_mb}}}};
   j.update(structure);
   return j;
 }

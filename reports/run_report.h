@@ -29,6 +29,7 @@ struct RunFigures {
 struct RunHost {
   double load = 0, kdtree = 0, image = 0, lvb = 0, simulate = 0, total = 0;
   double peak_memory_mb = 0;
+  double memory_estimate_mb = 0;  // the peak the run expected before its frame (resources.h)
 };
 
 // report.json: the parts other modules describe (scene, kd-tree, resolved configuration, the LVB

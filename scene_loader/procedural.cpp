@@ -183,10 +183,23 @@ void add_city_lights_and_camera(int lights, double w, Rng& rng, Scene& scene) {
 
 }  // namespace
 
+uint64_t city_triangles(const CityParams& params) {
+  const uint64_t b = uint64_t(std::max(params.blocks, 0));
+  const uint64_t s = uint64_t(std::max(params.sphere_segments, 0));
+  const uint64_t spheres = (b * b + 1) / 2 + b;  // on every other roof, and one per street
+  return 2 + 10 * b * b + spheres * 2 * s * (s / 2 > 0 ? s / 2 - 1 : 0);
+}
+
 void make_city(const CityParams& params, Scene& scene) {
-  check_range("blocks", params.blocks, 1, 64);
+  check_range("blocks", params.blocks, 1, kMaxCityBlocks);
   check_range("sphere_segments", params.sphere_segments, 4, 256);
   check_range("lights", params.lights, 1, kMaxLights);
+  if (const uint64_t n = city_triangles(params); n > kMaxCityTriangles)
+    throw InputError("procedural city: 'blocks' " + std::to_string(params.blocks) +
+                     " with 'sphere_segments' " + std::to_string(params.sphere_segments) +
+                     " make " + std::to_string(n) + " triangles; expected at most " +
+                     std::to_string(kMaxCityTriangles));
+  scene.triangles.reserve(scene.triangles.size() + size_t(city_triangles(params)));
 
   Rng rng(params.seed);
   const int n = params.blocks;

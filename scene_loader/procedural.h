@@ -7,8 +7,15 @@
 
 namespace rtsim {
 
+// The city's scale knob is `blocks`: its triangles grow as about 122 blocks^2 with the default
+// spheres (blocks 8: 9,602; 28: 101,922; 90: 1,008,362; 181: 4,037,500). The triangle bound keeps
+// a city well within 32-bit triangle and reference indices; whether a frame of it fits the
+// machine is the run's memory check (testbench/run/resources.h; docs/scale.md measures 4 M).
+inline constexpr int kMaxCityBlocks = 1024;
+inline constexpr uint64_t kMaxCityTriangles = uint64_t(1) << 24;  // 16,777,216
+
 struct CityParams {
-  int blocks = 8;            // the city is blocks x blocks buildings (1..64)
+  int blocks = 8;            // the city is blocks x blocks buildings (1..kMaxCityBlocks)
   uint32_t seed = 1;         // same seed -> identical scene
   int sphere_segments = 16;  // segments around each sphere (4..256); it has segments/2 stacks
   int lights = 4;            // point lights above the city (1..15)
@@ -33,7 +40,11 @@ struct CityParams {
 // Taylor series (libm's may differ in the last bit between machines); needs IEEE arithmetic
 // without FMA contraction, which the build sets (-ffp-contract=off).
 //
-// Throws InputError when a parameter is outside its range.
+// Throws InputError when a parameter is outside its range or the city would have more than
+// kMaxCityTriangles triangles.
 void make_city(const CityParams& params, Scene& scene);
+
+// The number of triangles make_city makes with `params` (the formula above), without making them.
+uint64_t city_triangles(const CityParams& params);
 
 }  // namespace rtsim

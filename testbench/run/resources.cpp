@@ -1,6 +1,7 @@
 #include "testbench/run/resources.h"
 
 #include "common/error.h"
+#include "kernels/lvb.h"
 #include "kernels/reference_tracer.h"
 #include "model/units/frame_buffer.h"
 
@@ -62,12 +63,38 @@ size_t sample_words(const Scene& scene) {
   return (bits + 63) / 64;
 }
 
-}  // namespace
-
-uint64_t MemoryNeed::total() const {
+uint64_t sum(const std::vector<std::pair<std::string, uint64_t>>& parts) {
   uint64_t n = 0;
   for (const auto& part : parts) n += part.second;
   return n;
+}
+
+}  // namespace
+
+uint64_t MemoryNeed::total() const { return std::max(sum(transient), sum(parts)); }
+
+uint64_t MemoryNeed::peak() const { return std::max(sum(held) + total(), peak_so_far); }
+
+uint64_t resident_bytes() { return proc_kb("/proc/self/status", "VmRSS"); }
+
+void add_scene_memory(const PreparedScene& p, bool lvb, bool exact_lvb, uint64_t program_bytes,
+                      MemoryNeed& need) {
+  const auto bytes = [](const auto& v) { return uint64_t(v.capacity()) * sizeof(v[0]); };
+  const bool bvh = is_bvh(p.accel);
+  const uint64_t triangles = bytes(p.scene.triangles);
+  const uint64_t structure = bvh ? bytes(p.bvh.nodes) + bytes(p.bvh.leaves) + bytes(p.bvh.prims)
+                                 : bytes(p.tree.nodes) + bytes(p.tree.leaves) + bytes(p.tree.prims);
+  const uint64_t image = p.image ? bytes(p.image->bytes()) : 0;
+  need.held.push_back({"the triangles", triangles});
+  need.held.push_back({"the acceleration structure", structure});
+  need.held.push_back({"the memory image", image});
+  need.held.push_back({"the program and its libraries", program_bytes});
+  need.peak_so_far = proc_kb("/proc/self/status", "VmHWM");
+  if (!lvb) return;
+  const size_t leaves = bvh ? p.bvh.leaves.size() : p.tree.leaves.size();
+  const size_t refs = bvh ? p.bvh.prims.size() : p.tree.prims.size();
+  need.transient.push_back({"the light visibility bits' computation",
+                            lvb_working_bytes(p.scene.triangles.size(), leaves, refs, exact_lvb)});
 }
 
 MemoryNeed run_memory_need(const model::AcceleratorConfig& hw, const Scene& scene, bool check) {
@@ -130,7 +157,8 @@ MemoryRoom memory_room() {
 void check_memory(const MemoryNeed& need, const MemoryRoom& room) {
   const uint64_t total = need.total();
   if (total <= room.bytes) return;
-  std::vector<std::pair<std::string, uint64_t>> parts = need.parts;
+  std::vector<std::pair<std::string, uint64_t>> parts =
+      sum(need.transient) > sum(need.parts) ? need.transient : need.parts;
   std::sort(parts.begin(), parts.end(),
             [](const auto& a, const auto& b) { return a.second > b.second; });
   std::string list;

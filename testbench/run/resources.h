@@ -7,6 +7,7 @@
 
 #include "model/accelerator_config.h"
 #include "scene/scene.h"
+#include "testbench/run/pipeline.h"
 
 #include <cstdint>
 #include <string>
@@ -17,14 +18,28 @@ namespace rtsim {
 
 struct MemoryNeed {
   std::string what;                                     // "a 16384x16384 frame"
-  std::vector<std::pair<std::string, uint64_t>> parts;  // what takes it, bytes
-  uint64_t total() const;
+  std::vector<std::pair<std::string, uint64_t>> parts;  // what takes it, bytes, still to allocate
+  // Allocated and freed again before the parts are allocated (the LVB computation's working set).
+  std::vector<std::pair<std::string, uint64_t>> transient;
+  // Allocated already when the check is made (the room is what is left beside them): part of the
+  // run's peak, not of the check.
+  std::vector<std::pair<std::string, uint64_t>> held;
+  uint64_t peak_so_far = 0;  // the process's peak resident set at the check (a build's transients)
+  uint64_t total() const;    // the most allocated at once after the check: max(transient, parts)
+  uint64_t peak() const;     // the run's expected peak: max(peak so far, held + total())
 };
 
 // `rtsim run`: the model's per-pixel state (frame buffer, its copy in the result, record order,
 // records in simulated memory) and the host's (pixels, report planes), with the reference trace
 // when `check`.
 MemoryNeed run_memory_need(const model::AcceleratorConfig& hw, const Scene& scene, bool check);
+// Adds what the prepared scene holds (held: its triangles, its structure's nodes, leaves and
+// triangle lists, the memory image, and `program_bytes`, the resident set before the scene was
+// loaded), when `lvb` the LVB computation's working set (transient), and the peak so far.
+void add_scene_memory(const PreparedScene& p, bool lvb, bool exact_lvb, uint64_t program_bytes,
+                      MemoryNeed& need);
+// The process's resident set now (VmRSS), in bytes; 0 where /proc is missing.
+uint64_t resident_bytes();
 // `rtsim render`: the reference tracer's pixels and the outputs made from them.
 MemoryNeed render_memory_need(const Scene& scene);
 

@@ -385,12 +385,17 @@ int run_model(const RunArgs& args) {
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
   // ran.
+  const uint64_t program_bytes = resident_bytes();  // before the scene: code, libraries, config
   std::optional<Activity> doing(std::in_place,
                                 "loading the scene and building its acceleration structure");
   PreparedScene p = prepare_scene(c.scene_file, {c.scene_root, scene_overrides(c.scene_set),
                                                  c.run.width, c.run.height, c.run.accel});
-  check_memory(run_memory_need(c.hw, p.scene, c.run.check));
+  MemoryNeed need = run_memory_need(c.hw, p.scene, c.run.check);
+  add_scene_memory(p, c.run.lvb, c.run.lvb_params.self_occlusion == LvbSelfOcclusion::kTest,
+                   program_bytes, need);
+  check_memory(need);
   RunHost host;
+  host.memory_estimate_mb = double(need.peak()) / (1 << 20);
   doing.emplace("computing the light visibility bits");
   const nlohmann::json lvb_json = c.run.lvb ? compute_run_lvb(c, p, host.lvb) : nullptr;
 

@@ -99,7 +99,10 @@ TEST(Cli, ValuesThatWouldMakeNoImageAreRejected) {
                      {"null.yaml:3", "resolution", "no value"});
   write(dir / "range.yaml", "geometry:\n  - procedural: {kind: city, blocks: -3}\n");
   expect_input_error("info " + (dir / "range.yaml").string(),
-                     {"range.yaml:2", "procedural.blocks", "[1, 64]"});
+                     {"range.yaml:2", "procedural.blocks", "[1, 1024]"});
+  write(dir / "huge.yaml", "geometry:\n  - procedural: {kind: city, blocks: 400}\n");
+  expect_input_error("info " + (dir / "huge.yaml").string(),
+                     {"huge.yaml:2", "procedural.blocks", "at most 16777216"});
   write(dir / "verts.yaml", "geometry:\n  - triangles: {vertices: {a: 1}, indices: [[0, 1, 2]]}\n");
   expect_input_error("info " + (dir / "verts.yaml").string(),
                      {"verts.yaml:2", "vertices", "expected a list"});

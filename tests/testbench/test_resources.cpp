@@ -3,11 +3,13 @@
 #include "testbench/run/resources.h"
 
 #include "common/error.h"
+#include "kernels/lvb.h"
 #include "tests/test_util.h"
 #include "tests/testbench/cli_util.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 
 namespace rtsim {
@@ -35,7 +37,7 @@ TEST(Resources, TheEstimateGrowsWithThePixelsAndNamesItsParts) {
 
 TEST(Resources, ANeedAboveTheRoomIsAnInputErrorNamingTheEstimateAndTheLimit) {
   const model::AcceleratorConfig hw;
-  const MemoryRoom room{5'000'000'000, "the address-space limit (ulimit -v) (1.0 GB of 6.0 GB)"};
+  const MemoryRoom room{5000000000, "the address-space limit (ulimit -v) (1.0 GB of 6.0 GB)"};
   check_memory(run_memory_need(hw, frame(1920, 1080), false), room);  // fits: no throw
   try {
     check_memory(run_memory_need(hw, frame(16384, 16384), false), room);
@@ -46,6 +48,32 @@ TEST(Resources, ANeedAboveTheRoomIsAnInputErrorNamingTheEstimateAndTheLimit) {
                              "address-space limit", "leaves 5.0 GB", "lower the resolution"})
       EXPECT_NE(m.find(part), std::string::npos) << part << " not in: " << m;
   }
+}
+
+// The run's peak: what the prepared scene holds plus the larger of the LVB computation's working
+// set (freed before the frame) and the frame's state, or the build's peak if that was higher.
+TEST(Resources, ThePeakAddsTheHeldStructuresToTheLargerPhase) {
+  PreparedScene p;
+  p.scene = frame(64, 32);
+  p.scene.triangles.resize(1000);
+  p.tree.nodes.resize(3000);
+  p.tree.leaves.resize(1500);
+  p.tree.prims.resize(4000);
+  const model::AcceleratorConfig hw;
+  MemoryNeed need = run_memory_need(hw, p.scene, false);
+  const uint64_t frame_bytes = need.total();
+  add_scene_memory(p, true, true, 1000000, need);
+  ASSERT_EQ(need.transient.size(), 1u);
+  const uint64_t lvb = need.transient[0].second;
+  EXPECT_EQ(lvb, lvb_working_bytes(1000, 1500, 4000, true));
+  EXPECT_LT(lvb_working_bytes(1000, 1500, 4000, false), lvb);  // exact mode keeps origin boxes
+  uint64_t held = 0;
+  for (const auto& part : need.held) held += part.second;
+  EXPECT_GE(held, 1000000 + 1000 * sizeof(Triangle) + 4000 * sizeof(uint32_t));
+  EXPECT_EQ(need.total(), std::max(lvb, frame_bytes));
+  EXPECT_EQ(need.peak(), std::max(held + need.total(), need.peak_so_far));
+  need.peak_so_far = need.peak() + 1;  // a build that peaked higher than the rest of the run
+  EXPECT_EQ(need.peak(), need.peak_so_far);
 }
 
 // A sweep's points running at once share the machine: each counts on its share of the available
