@@ -173,14 +173,15 @@ struct Worker {
   TraceStats stats;
   std::vector<CulledRay> culled_rays;  // keep_culled
 
-  // The direct light at a hit: shadow rays to every sample of every light (unless culled), the
-  // samples placed by (pixel, `light_key`). Counted per light, and in `bounce` when given; the
+  // `color` plus the direct light at a hit, light by light (the model composes its pixels in this
+  // order: floats add up in it), from shadow rays to every sample of every light (unless culled),
+  // the samples placed by (pixel, `light_key`). Counted per light, and in `bounce` when given; the
   // primary hit's occlusion and culling bits go to `rec` when given.
-  Vec3 direct(const SurfacePoint& sp, const Vec3& diffuse, const Hit& hit, uint32_t pixel,
-              uint32_t light_key, PixelRecord* rec, BounceCounters* bounce, CulledRay where = {}) {
+  Vec3 direct(Vec3 color, const SurfacePoint& sp, const Vec3& diffuse, const Hit& hit,
+              uint32_t pixel, uint32_t light_key, PixelRecord* rec, BounceCounters* bounce,
+              CulledRay where = {}) {
     const uint32_t lvb = image.leaf(hit.leaf).lvb;
     if (rec) rec->lvb = lvb;
-    Vec3 color(0.f);
     for (uint32_t i = 0; i < image.header().light_count; ++i) {
       const image::LightRecord light = image.light(i);
       LightCounters& lc = stats.per_light[i];
@@ -231,11 +232,11 @@ struct Worker {
     const image::TriangleRecord tri = image.triangle(hit.tri);
     const image::MaterialRecord mat = image.material(tri.material);
     const SurfacePoint sp = surface_point(ray, hit.t, tri.v0, tri.v1, tri.v2);
-    Vec3 color = kAmbient * mat.diffuse;
     CulledRay where;
     where.pixel = pixel;
     where.bounce = uint16_t(depth);
-    color += direct(sp, mat.diffuse, hit, pixel, uint32_t(depth), rec, nullptr, where);
+    Vec3 color = direct(kAmbient * mat.diffuse, sp, mat.diffuse, hit, pixel, uint32_t(depth), rec,
+                        nullptr, where);
     if (mat.reflectance > 0.f && depth < opt.reflection_depth) {
       const Ray refl = reflection_ray(sp, ray.d, offset);
       ++stats.reflection_rays;
@@ -271,7 +272,7 @@ struct Worker {
       where.pixel = pixel;
       where.sample = sample;
       where.bounce = uint16_t(bounce);
-      const Vec3 lit = direct(sp, mat.diffuse, hit, pixel,
+      const Vec3 lit = direct(Vec3(0.f), sp, mat.diffuse, hit, pixel,
                               path_light_key(sample, bounce, max_depth), rec, &b, where);
       radiance += throughput * ((1.f - mat.reflectance) * lit);
       rec = nullptr;

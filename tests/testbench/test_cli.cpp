@@ -136,6 +136,20 @@ TEST(Cli, LvbVerifiesTheShadowRaysOfEveryBounce) {
   fs::remove_all(out);
 }
 
+// The README's default job: the city at its own 640x360 on the paper's machine, pixel for pixel the
+// reference tracer's (a change in the order the reference adds its floats in shows here first).
+TEST(Cli, TheDefaultJobsFrameIsTheReferencesBitForBit) {
+  const fs::path out = test::temp_dir("cli_default_job");
+  const RunResult r = run("run " + (test::source_dir() / "configs/scenes/city.yaml").string() +
+                          " --hw " + (test::source_dir() / "configs/hw/tni-paper.yaml").string() +
+                          " --check --no-plots --quiet --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(slurp(out / "report.json"));
+  EXPECT_EQ(j["reference_check"]["pixels"], 640 * 360);
+  EXPECT_EQ(j["reference_check"]["mismatched_pixels"], 0);
+  fs::remove_all(out);
+}
+
 // Without --out, render, lvb and run write to out/<scene stem>-<command> under the working
 // directory; a rerun from a config.json must name its directory.
 TEST(Cli, WithoutOutCommandsWriteUnderOutNamedAfterTheScene) {
