@@ -5,9 +5,11 @@
 // are traced in.
 #pragma once
 
+#include "kernels/integrator.h"
 #include "kernels/light_samples.h"
 #include "kernels/shading.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -56,6 +58,40 @@ inline Ray diffuse_ray(const SurfacePoint& s, const Vec3& direction, float offse
   r.o = s.p + offset * s.n;
   r.d = direction;
   return r;
+}
+
+// The lobe a path takes at a hit below max_depth: the mirror with the material's reflectance as
+// its probability, else the diffuse one (whose bounce multiplies the throughput by the diffuse
+// colour).
+inline bool path_mirror(uint32_t pixel, uint32_t sample, uint32_t bounce, float reflectance) {
+  return path_random(pixel, sample, bounce, kPathLobe) < reflectance;
+}
+
+// The ray a path goes on with from its hit `s` at `bounce` (below max_depth), reached by a ray of
+// direction `incoming`: the mirror's, or a cosine-weighted diffuse one, which multiplies
+// `throughput` by the diffuse colour. `mirror` (if given) says which.
+inline Ray path_bounce(const SurfacePoint& s, const Vec3& incoming, const Vec3& diffuse,
+                       float reflectance, uint32_t pixel, uint32_t sample, uint32_t bounce,
+                       float offset, Vec3& throughput, bool* mirror = nullptr) {
+  const bool m = path_mirror(pixel, sample, bounce, reflectance);
+  if (mirror) *mirror = m;
+  if (m) return reflection_ray(s, incoming, offset);
+  throughput *= diffuse;
+  return diffuse_ray(s,
+                     cosine_direction(s.n, path_random(pixel, sample, bounce, kPathU1),
+                                      path_random(pixel, sample, bounce, kPathU2)),
+                     offset);
+}
+
+// Russian roulette after the lobe at `bounce`, from roulette_depth on: false when the path ends
+// there, else true with `throughput` reweighted by the survival probability.
+inline bool path_survives(Vec3& throughput, uint32_t pixel, uint32_t sample, uint32_t bounce,
+                          const PathSettings& s) {
+  if (int(bounce) + 1 < s.roulette_depth) return true;
+  const float q = std::min(1.f, std::max({throughput.x, throughput.y, throughput.z}));
+  if (path_random(pixel, sample, bounce, kPathRoulette) >= q) return false;
+  throughput /= q;
+  return true;
 }
 
 }  // namespace rtsim

@@ -256,7 +256,7 @@ struct Worker {
   // else a cosine-weighted diffuse one (the throughput times the diffuse colour); a ray that
   // leaves the scene brings the background. The primary hit fills `rec` on the first sample.
   Vec3 path(Ray ray, uint32_t pixel, uint32_t sample, PixelRecord* rec) {
-    const uint32_t max_depth = uint32_t(opt.max_depth);
+    const uint32_t max_depth = uint32_t(opt.path.max_depth);
     Vec3 radiance(0.f), throughput(1.f);
     for (uint32_t bounce = 0;; ++bounce) {
       BounceCounters& b = stats.bounces[bounce];
@@ -277,19 +277,9 @@ struct Worker {
       radiance += throughput * ((1.f - mat.reflectance) * lit);
       rec = nullptr;
       if (bounce == max_depth) return radiance;
-      if (path_random(pixel, sample, bounce, kPathLobe) < mat.reflectance) {
-        ray = reflection_ray(sp, ray.d, offset);
-      } else {
-        const Vec3 d = cosine_direction(sp.n, path_random(pixel, sample, bounce, kPathU1),
-                                        path_random(pixel, sample, bounce, kPathU2));
-        ray = diffuse_ray(sp, d, offset);
-        throughput *= mat.diffuse;
-      }
-      if (int(bounce) + 1 >= opt.roulette_depth) {
-        const float q = std::min(1.f, std::max({throughput.x, throughput.y, throughput.z}));
-        if (path_random(pixel, sample, bounce, kPathRoulette) >= q) return radiance;
-        throughput /= q;
-      }
+      ray = path_bounce(sp, ray.d, mat.diffuse, mat.reflectance, pixel, sample, bounce, offset,
+                        throughput);
+      if (!path_survives(throughput, pixel, sample, bounce, opt.path)) return radiance;
     }
   }
 
@@ -304,9 +294,9 @@ struct Worker {
           // Every sample's primary ray is the pixel's centre ray (no pixel filter: the samples
           // integrate the light a hit gathers), traced again as the machine does.
           Vec3 sum(0.f);
-          for (int k = 0; k < opt.spp; ++k)
+          for (int k = 0; k < opt.path.spp; ++k)
             sum += path(ray, uint32_t(idx), uint32_t(k), k == 0 ? &rec : nullptr);
-          c = sum / float(opt.spp);
+          c = sum / float(opt.path.spp);
           for (int k = 0; k < 3; ++k) out.radiance[3 * idx + k] = c[k];
           for (int k = 0; k < 3; ++k) out.rgb[3 * idx + k] = to_display(c[k]);
           continue;
@@ -339,11 +329,8 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
   if (opt.width <= 0 || opt.height <= 0)
     throw InputError(fmt::format("resolution {}x{} is not positive", opt.width, opt.height));
   const bool paths = opt.integrator == Integrator::kPath;
-  if (paths && (opt.spp < 1 || opt.max_depth < 0 || opt.max_depth > 64 || opt.roulette_depth < 1))
-    throw InputError(
-        fmt::format("path integrator: spp {}, max_depth {}, roulette_depth {}: "
-                    "expected spp >= 1, max_depth in [0, 64], roulette_depth >= 1",
-                    opt.spp, opt.max_depth, opt.roulette_depth));
+  if (paths && !opt.path.invalid().empty())
+    throw InputError("path integrator: " + opt.path.invalid());
   const auto start = std::chrono::steady_clock::now();
   const PinholeCamera cam(camera, opt.width, opt.height);
   TraceResult out;
@@ -352,7 +339,7 @@ TraceResult ReferenceTracer::trace_frame(const Camera& camera, const TracerOptio
   out.pixels.assign(size_t(opt.width) * opt.height, PixelRecord{});
   out.rgb.assign(size_t(opt.width) * opt.height * 3, 0);
   if (paths) out.radiance.assign(size_t(opt.width) * opt.height * 3, 0.f);
-  const size_t bounces = paths ? size_t(opt.max_depth) + 1 : 0;
+  const size_t bounces = paths ? size_t(opt.path.max_depth) + 1 : 0;
 
   int threads =
       opt.threads > 0 ? opt.threads : int(std::max(1u, std::thread::hardware_concurrency()));

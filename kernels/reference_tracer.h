@@ -6,6 +6,7 @@
 #include "kernels/bvh_format.h"
 #include "kernels/bvh_traversal.h"
 #include "kernels/camera.h"
+#include "kernels/integrator.h"
 #include "kernels/memory_image.h"
 #include "kernels/ray.h"
 #include "kernels/shading.h"
@@ -17,19 +18,11 @@
 
 namespace rtsim {
 
-// How a pixel's light is gathered: Whitted's (one primary ray, a shadow ray per light sample,
-// mirror bounces, an ambient term) or a path tracer's (`spp` paths a pixel, each a diffuse or
-// mirror bounce at every hit with next-event shadow rays to every light sample there).
-enum class Integrator { kWhitted, kPath };
-
 struct TracerOptions {
   int width = 0, height = 0;
   Integrator integrator = Integrator::kWhitted;
-  int reflection_depth = 0;  // Whitted: mirror bounces for materials with reflectance > 0
-  // Path: paths per pixel; bounces after the primary hit (every hit, the primary's included, has
-  // its shadow rays); Russian roulette on the bounces from `roulette_depth` on (a path survives
-  // with the probability of its throughput's largest channel, at most 1, and is reweighted).
-  int spp = 1, max_depth = 3, roulette_depth = 2;
+  int reflection_depth = 0;     // Whitted: mirror bounces for materials with reflectance > 0
+  PathSettings path;            // Path: kernels/integrator.h
   int threads = 0;              // 0 = every core
   bool cull_with_lvb = false;   // skip shadow rays whose leaf's LVB bit is 0
   bool verify_culls = false;    // trace culled shadow rays anyway and count the wrong ones

@@ -25,6 +25,8 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   ctx.pool = &pool;
   ctx.faults = &faults;
   ctx.clock = Clock(cfg.clock_ghz);
+  ctx.integrator = cfg.integrator;
+  ctx.path = cfg.path;
   build_memory(image, image_memory_bytes, memory_target);
   build_units();
   bind_ray_path();
@@ -34,7 +36,7 @@ Accelerator::Netlist::Netlist(Accelerator& top_, const AcceleratorConfig& config
   register_stats();
   DeviceInfo info;
   info.record_stride = record_stride(cfg);
-  info.levels = cfg.reflection_depth + 1;
+  info.levels = cfg.entries_per_pixel();  // entries per pixel
   info.order = cfg.order == RayOrder::kTiles ? 1u : 0u;
   info.tile = uint32_t(cfg.tile);
   info.memory_bytes = dram ? dram->store_bytes() : 0;

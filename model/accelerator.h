@@ -44,6 +44,15 @@
 
 namespace rtsim::model {
 
+// A path-traced frame's bounce (0: the primary rays): its rays shaded and their hits; the shadow
+// rays from its hits decided (emitted or culled), culled, finished and blocked; and the cycles in
+// flight of its rays and of its shadow rays, summed over the rays.
+struct BounceFigures {
+  uint64_t rays = 0, hits = 0;
+  uint64_t shadow_decisions = 0, shadow_culled = 0, shadow_rays = 0, shadow_occluded = 0;
+  uint64_t ray_cycles = 0, shadow_cycles = 0;
+};
+
 // The figures of a finished frame. The pixels' colours are composed on the host from `frame`.
 struct AcceleratorResult {
   FrameBuffer frame;
@@ -51,6 +60,8 @@ struct AcceleratorResult {
   double clock_ghz = 1.0;
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
+  uint64_t bounce_rays = 0;            // a path's diffuse bounces
+  std::vector<BounceFigures> bounces;  // a path-traced frame's, by bounce (else empty)
   // The primary phase by batches of RayGenerator::kBatchRays rays in issue order: from a batch's
   // first issue to the next's (the last: to the last primary retirement). They add up to
   // cycles_primary: the units a sampled frame estimates from (issue 38, docs/sampling.md).

@@ -24,6 +24,8 @@ void AcceleratorConfig::validate() const {
         "unit)");
   if (reflection_depth < 0 || reflection_depth > 8)
     throw std::invalid_argument("reflection_depth: expected 0..8");
+  if (integrator == Integrator::kPath && !path.invalid().empty())
+    throw std::invalid_argument("path: " + path.invalid());
   memory_dram().validate();
 }
 

@@ -3,6 +3,7 @@
 // (configs/README.md gives each default's source).
 #pragma once
 
+#include "kernels/integrator.h"
 #include "model/memory/cache.h"
 #include "model/memory/client_caches.h"
 #include "model/memory/crossbar.h"
@@ -110,7 +111,15 @@ struct AcceleratorConfig {
   int tile = 8;
   uint64_t watchdog_cycles = 100000;  // stop when nothing moved for this long
   int reflection_depth = 0;           // mirror bounces for materials with reflectance > 0
+  // The frame's integrator: Whitted's, or paths with `path`'s settings (kernels/integrator.h).
+  Integrator integrator = Integrator::kWhitted;
+  PathSettings path;
 
+  // Frame entries, hit records, per pixel (model/units/frame_buffer.h): one per bounce of a
+  // Whitted frame, one per hit along each path of a path-traced one.
+  uint32_t entries_per_pixel() const {
+    return uint32_t(integrator == Integrator::kPath ? path.entries() : reflection_depth + 1);
+  }
   // Throws std::invalid_argument naming the field.
   void validate() const;
   // The memory as the accelerator uses it: `dram` with one L2 line per request.
@@ -146,8 +155,8 @@ DescribeOf<U, UnitTypeConfig> describe(V& v, U& u, bool has_l2, uint32_t max_cou
             [&] { describe(v, u.link); });
 }
 
-// Every field a hardware file sets, once (model/sim/config_description.h). lvb_culling and
-// reflection_depth come from the run settings, not from the hardware file.
+// Every field a hardware file sets, once (model/sim/config_description.h). lvb_culling,
+// reflection_depth, integrator and path come from the run settings, not from the hardware file.
 template <class V, class C>
 DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {
   v.number("clock_ghz", c.clock_ghz, 0.01, 100, "GHz", "the accelerator clock");

@@ -17,7 +17,7 @@ MemoryLayout memory_layout(const AcceleratorConfig& config, uint64_t image_bytes
   l.fb_base = frame_buffer_after(image_base, image_bytes);
   l.record_stride = record_stride(config);
   l.fb_bytes = regs::frame_buffer_bytes(uint32_t(std::max(width, 0)), uint32_t(std::max(height, 0)),
-                                        config.reflection_depth + 1, l.record_stride);
+                                        config.entries_per_pixel(), l.record_stride);
   return l;
 }
 
@@ -73,7 +73,8 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   frame = FrameBuffer{};
   frame.width = p.width;
   frame.height = p.height;
-  frame.levels = cfg.reflection_depth + 1;
+  frame.levels = ctx.paths() ? cfg.path.max_depth + 1 : cfg.reflection_depth + 1;
+  frame.paths = ctx.paths() ? cfg.path.spp : 1;
   frame.allocate(ctx.light_samples);
   records = record_region(cfg, p);
   if (hooks.statistics == SimulationHooks::Statistics::kPerFrame) reset_stats(begin);
@@ -127,6 +128,7 @@ void Accelerator::sample(std::vector<DetailWindow> windows, WarmSource warm) {
         "a sampled frame's culling unit reads the records from memory (records_per_cycle > 0, "
         "write_records)";
   if (config.reflection_depth > 0) why = "a sampled frame has no reflections";
+  if (config.integrator != Integrator::kWhitted) why = "a sampled frame is a Whitted frame";
   if (warm && !net_->dram) why = "functional warming reads the built-in memory";
   if (!why.empty()) report_error(kReportConfig, std::string(name()) + ": sampling: " + why);
   net_->windows = std::move(windows);
@@ -231,9 +233,8 @@ AcceleratorResult Accelerator::result() {
   out.cycles_primary =
       n.ctx.clock.to_cycles(n.ctx.clock.edge_at_or_after(n.phases.primary_end())) - first;
   out.cycles_shadow = out.cycles_total - out.cycles_primary;
-  out.primary_windows =
-      windows_of(n.ctx.clock, n.generator->windows(), uint64_t(n.job.width) * n.job.height,
-                 n.generator->window_starts(), n.phases.primary_end());
+  out.primary_windows = windows_of(n.ctx.clock, n.generator->windows(), n.generator->total(),
+                                   n.generator->window_starts(), n.phases.primary_end());
   out.shadow_windows = windows_of(n.ctx.clock, n.culling->windows(), n.frame.pixels.size(),
                                   n.culling->window_starts(), n.end);
   if (n.windows.empty()) {  // a whole frame: one window each
@@ -243,12 +244,28 @@ AcceleratorResult Accelerator::result() {
     out.primary_windows.clear();
     out.shadow_windows.clear();
   }
+  out.bounces.resize(n.culling->per_bounce().size());
   for (uint32_t s = 0; s < n.cfg.shading.count; ++s) {
     const ShadingStats& u = n.shading(s).stats();
     out.primary_rays += u.primary_rays;
     out.primary_hits += u.primary_hits;
     out.reflection_rays += u.reflection_rays;
+    out.bounce_rays += u.bounce_rays;
     out.shadow_rays += u.shadow_rays;
+    for (size_t b = 0; b < out.bounces.size(); ++b) {
+      const BounceStats& from = n.shading(s).bounces()[b];
+      BounceFigures& to = out.bounces[b];
+      to.rays += from.rays;
+      to.hits += from.hits;
+      to.ray_cycles += from.ray_cycles;
+      to.shadow_rays += from.shadow_rays;
+      to.shadow_occluded += from.shadow_occluded;
+      to.shadow_cycles += from.shadow_cycles;
+    }
+  }
+  for (size_t b = 0; b < out.bounces.size(); ++b) {
+    out.bounces[b].shadow_decisions = n.culling->per_bounce()[b].decisions;
+    out.bounces[b].shadow_culled = n.culling->per_bounce()[b].culled;
   }
   for (const LightStats& l : n.culling->per_light()) {
     out.shadow_generated.push_back(l.generated);

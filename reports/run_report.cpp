@@ -61,7 +61,7 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
     per_light.push_back({{"shadow_rays", r.shadow_generated[l] + r.shadow_culled[l]},
                          {"generated", r.shadow_generated[l]},
                          {"culled", r.shadow_culled[l]}});
-  const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
+  const uint64_t rays = r.primary_rays + r.reflection_rays + r.bounce_rays + r.shadow_rays;
   const double sim = host.simulate;
   nlohmann::json j = {{"schema", kRunReportSchema},
                       {"command", "run"},
@@ -98,6 +98,10 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
                         {"cycles_per_second", sim > 0 ? double(r.cycles_total) / sim : 0.0},
                         {"peak_memory_mb", host.peak_memory_mb},
                         {"memory_estimate_mb", host.memory_estimate_mb}}}};
+  if (!r.path.is_null()) {
+    j["path"] = r.path;
+    j["rays"]["bounce"] = r.bounce_rays;
+  }
   j.update(structure);
   return j;
 }
@@ -116,7 +120,7 @@ std::string stats_csv(const nlohmann::json& r) {
   std::string out = "name,value\n";
   for (const char* key :
        {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow", "frame_ms", "rays",
-        "per_light", "lvb", kKdTreeFamily, kBvhFamily, "reference_check", "stats"})
+        "per_light", "path", "lvb", kKdTreeFamily, kBvhFamily, "reference_check", "stats"})
     if (r.contains(key)) flatten(r[key], key, out);
   return out;
 }
@@ -317,6 +321,32 @@ void check_host_and_figures(std::ostringstream& md, const json& r) {
 
 }  // namespace
 
+// A path-traced frame by bounce: its rays, their hits and cycles in flight, and the shadow (NEE)
+// rays from its hits, culled and traced.
+void path_table(std::ostringstream& md, const json& r) {
+  const json& p = r["path"];
+  md << fmt::format(
+      "## Path-traced frame by bounce ({} spp, max depth {}, Russian roulette from bounce {})\n\n"
+      "| bounce | rays | hits | cycles in flight per ray | shadow rays | culled | rate | traced | "
+      "occluded | cycles in flight per shadow ray |\n|---|---|---|---|---|---|---|---|---|---|\n",
+      p["spp"].get<int>(), p["max_depth"].get<int>(), p["roulette_depth"].get<int>());
+  const auto mean = [](double sum, double n) {
+    return n > 0 ? fmt::format("{:.1f}", sum / n) : std::string("n/a");
+  };
+  const json& bounces = p["bounces"];
+  for (size_t b = 0; b < bounces.size(); ++b) {
+    const json& x = bounces[b];
+    const double rays = x["rays"].get<double>(), shadow = x["shadow_rays"].get<double>(),
+                 traced = x["traced"].get<double>();
+    md << fmt::format(
+        "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |\n", b, num(rays),
+        num(x["hits"].get<double>()), mean(x["ray_cycles"].get<double>(), rays), num(shadow),
+        num(x["culled"].get<double>()), pct(x["culled"].get<double>(), shadow), num(traced),
+        num(x["occluded"].get<double>()), mean(x["shadow_cycles"].get<double>(), traced));
+  }
+  md << "\n";
+}
+
 std::string run_report_markdown(const nlohmann::json& r) {
   std::ostringstream md;
   const bool lvb = r["config"]["run"]["lvb"].get<bool>();
@@ -324,6 +354,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
   scene_table(md, r);
   if (lvb) culled_leaves_table(md, r);
   culled_rays_table(md, r);
+  if (r.contains("path")) path_table(md, r);
   frame_time_table(md, r);
   units_table(md, r);
   memory_tables(md, r);

@@ -18,8 +18,10 @@ struct RunFigures {
   double clock_ghz = 1.0;
   uint64_t cycles_total = 0, cycles_primary = 0, cycles_shadow = 0;
   uint64_t primary_rays = 0, primary_hits = 0, reflection_rays = 0, shadow_rays = 0;
+  uint64_t bounce_rays = 0;                               // a path's diffuse bounces
   std::vector<uint64_t> shadow_generated, shadow_culled;  // per light
-  nlohmann::json stats;                                   // every named statistic
+  nlohmann::json path;   // a path-traced frame's settings and figures by bounce; else null
+  nlohmann::json stats;  // every named statistic
   // The unit types ({key, label, count, stats}) and caches ({key, unit, label, level}) the
   // reports list, in their order: reports iterate these, they name no unit.
   nlohmann::json units, caches;

@@ -16,13 +16,11 @@ namespace rtsim {
 // How render and lvb trace the frame (TracerOptions): Whitted's, or paths (--integrator path).
 struct IntegratorArgs {
   std::string integrator = "whitted";  // or "path"
-  int spp = 1, max_depth = 3, roulette_depth = 2;
+  PathSettings path;
   bool paths() const { return integrator == "path"; }
   void apply(TracerOptions& o) const {
     o.integrator = paths() ? Integrator::kPath : Integrator::kWhitted;
-    o.spp = spp;
-    o.max_depth = max_depth;
-    o.roulette_depth = roulette_depth;
+    o.path = path;
   }
 };
 

@@ -15,6 +15,8 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <string>
+#include <type_traits>
 
 namespace {
 
@@ -74,18 +76,39 @@ struct Commands {
            *reproduce_cmd = nullptr, *study_cmd = nullptr;
 };
 
-// --integrator and the path's settings (render, lvb).
-void add_integrator_options(CLI::App* cmd, rtsim::IntegratorArgs& a) {
-  cmd->add_option("--integrator", a.integrator,
-                  "whitted (one ray a pixel, shadow rays, mirrors) or path (diffuse and mirror "
-                  "bounces with shadow rays at every hit)")
+// --integrator and the path's settings (render, lvb, run): `set(key, value)` with the run
+// settings' key (run.integrator, run.spp, run.max_depth, run.roulette_depth).
+template <class Set>
+void add_integrator_options(CLI::App* cmd, Set set) {
+  cmd->add_option_function<std::string>(
+         "--integrator", [set](const std::string& v) { set("integrator", v); },
+         "whitted (one ray a pixel, shadow rays, mirrors) or path (diffuse and mirror bounces "
+         "with shadow rays at every hit)")
       ->check(CLI::IsMember({"whitted", "path"}));
-  cmd->add_option("--spp", a.spp, "Path: paths per pixel")->check(CLI::Range(1, 65536));
-  cmd->add_option("--max-depth", a.max_depth, "Path: bounces after the primary hit")
+  cmd->add_option_function<int>(
+         "--spp", [set](int v) { set("spp", v); }, "Path: paths per pixel")
+      ->check(CLI::Range(1, 65536));
+  cmd->add_option_function<int>(
+         "--max-depth", [set](int v) { set("max_depth", v); },
+         "Path: bounces after the primary hit")
       ->check(CLI::Range(0, 64));
-  cmd->add_option("--roulette-depth", a.roulette_depth,
-                  "Path: Russian roulette on the bounces from this one on")
+  cmd->add_option_function<int>(
+         "--roulette-depth", [set](int v) { set("roulette_depth", v); },
+         "Path: Russian roulette on the bounces from this one on")
       ->check(CLI::Range(1, 65));
+}
+
+void add_integrator_options(CLI::App* cmd, rtsim::IntegratorArgs& a) {
+  add_integrator_options(cmd, [&a](const std::string& key, const auto& v) {
+    if constexpr (std::is_same_v<std::decay_t<decltype(v)>, std::string>) {
+      a.integrator = v;
+    } else {
+      int& to = key == "spp"         ? a.path.spp
+                : key == "max_depth" ? a.path.max_depth
+                                     : a.path.roulette_depth;
+      to = v;
+    }
+  });
 }
 
 void add_render(CLI::App& app, Commands& c) {
@@ -169,6 +192,8 @@ void add_run(CLI::App& app, Commands& c) {
       "Simulate this fraction of the frame's units in detail and estimate its cycles with 95% "
       "intervals (run.sample; docs/sampling.md)");
   add_accel_option(c.run_cmd, [&c](const std::string& v) { c.run.sources.run_flags["accel"] = v; });
+  add_integrator_options(
+      c.run_cmd, [&c](const std::string& key, const auto& v) { c.run.sources.run_flags[key] = v; });
   c.run_cmd
       ->add_option("--scene-root", c.run.sources.scene_root,
                    "Directory that relative geometry paths resolve against")

@@ -26,9 +26,9 @@ nlohmann::json bounces_json(const IntegratorArgs& a, const TraceResult& r) {
   double sum[3] = {0, 0, 0};
   for (size_t i = 0; i < r.radiance.size(); ++i) sum[i % 3] += r.radiance[i];
   const double pixels = double(r.width) * r.height;
-  return {{"spp", a.spp},
-          {"max_depth", a.max_depth},
-          {"roulette_depth", a.roulette_depth},
+  return {{"spp", a.path.spp},
+          {"max_depth", a.path.max_depth},
+          {"roulette_depth", a.path.roulette_depth},
           {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
           {"bounces", bounces}};
 }

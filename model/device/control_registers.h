@@ -36,8 +36,8 @@ struct FrameProgram {
 // What the configuration fixes and the read-only registers show.
 struct DeviceInfo {
   uint32_t record_stride = 64;
-  uint32_t levels = 1;
-  uint32_t order = 1;  // regs::kOrder
+  uint32_t levels = 1;  // hit records per pixel (AcceleratorConfig::entries_per_pixel)
+  uint32_t order = 1;   // regs::kOrder
   uint32_t tile = 8;
   uint64_t memory_bytes = 0;  // the built-in memory's size; 0: the platform's, not checked
   bool lvb_culling = true;    // CULLING's reset value

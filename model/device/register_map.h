@@ -33,7 +33,7 @@ enum Offset : uint32_t {
   kHeight = 0x03c,        // RW pixels
   kCulling = 0x040,       // RW bit 0: LVB shadow-ray culling on
   kRecordStride = 0x044,  // RO bytes per hit record in the frame buffer
-  kLevels = 0x048,        // RO hit records per pixel (1 + the reflection depth)
+  kLevels = 0x048,        // RO hit records per pixel: 1 + reflections, or spp x (1 + max_depth)
   kOrder = 0x04c,         // RO record order within a level: 0 scanline, 1 square tiles
   kTile = 0x050,          // RO tile side in pixels (kOrder 1)
   kFbBytesLo = 0x054,     // RO bytes the frame buffer takes at the programmed resolution

@@ -21,11 +21,15 @@ struct PixelState {
   uint16_t culled = 0;  // bit i: the shadow rays to light i were culled (not generated)
 };
 
-// One entry per pixel and bounce: entry level * width * height + pixel holds the hit of the
-// pixel's ray after `level` mirror reflections (level 0: the primary ray).
+// One entry per pixel, path and bounce: entry (path * levels + level) * width * height + pixel
+// holds the hit of the pixel's ray after `level` bounces (level 0: the primary ray) on its path
+// `path` (a Whitted frame has one path a pixel, whose bounces are mirror reflections). An entry's
+// `entry / (width * height)` is the key its area lights' samples are placed by: the reflection
+// depth, or path_light_key (kernels/path_sampling.h).
 struct FrameBuffer {
   int width = 0, height = 0;
-  int levels = 1;
+  int levels = 1;  // entries along a path: 1 + reflection depth, or 1 + max_depth
+  int paths = 1;   // paths per pixel (spp of a path-traced frame)
   std::vector<PixelState> pixels;
   // Lights with several samples (area lights): one occlusion bit per entry, light and sample, so
   // the pixels can be composed in the reference tracer's sample order.
@@ -36,7 +40,7 @@ struct FrameBuffer {
 
   size_t pixel_count() const { return size_t(width) * height; }
   void allocate(const std::vector<uint32_t>& light_samples) {
-    pixels.assign(pixel_count() * levels, PixelState{});
+    pixels.assign(pixel_count() * levels * paths, PixelState{});
     samples = light_samples;
     first_bit.assign(samples.size(), 0);
     uint32_t bits = 0;
@@ -68,11 +72,19 @@ struct FrameBuffer {
         if (samples[l] > 1 && occluded_samples(e, l) == samples[l])
           pixels[e].occluded |= uint16_t(1u << l);
   }
-  uint32_t entry(uint32_t pixel, int level) const {
-    return uint32_t(size_t(level) * pixel_count() + pixel);
+  uint32_t entry(uint32_t pixel, int level, int path = 0) const {
+    return uint32_t((size_t(path) * levels + level) * pixel_count() + pixel);
   }
-  PixelState& at(uint32_t pixel, int level) { return pixels[entry(pixel, level)]; }
-  const PixelState& at(uint32_t pixel, int level) const { return pixels[entry(pixel, level)]; }
+  uint32_t pixel_of(uint32_t entry) const { return uint32_t(entry % pixel_count()); }
+  uint32_t key_of(uint32_t entry) const { return uint32_t(entry / pixel_count()); }
+  uint32_t level_of(uint32_t entry) const { return key_of(entry) % uint32_t(levels); }
+  uint32_t path_of(uint32_t entry) const { return key_of(entry) / uint32_t(levels); }
+  PixelState& at(uint32_t pixel, int level, int path = 0) {
+    return pixels[entry(pixel, level, path)];
+  }
+  const PixelState& at(uint32_t pixel, int level, int path = 0) const {
+    return pixels[entry(pixel, level, path)];
+  }
 };
 
 }  // namespace rtsim::model

@@ -2,6 +2,7 @@
 // image's layout, the clock and the numeric constants of the traversal (the reference tracer's).
 #pragma once
 
+#include "kernels/integrator.h"
 #include "kernels/memory_image.h"
 #include "model/sim/time.h"
 #include "model/units/image_faults.h"
@@ -30,6 +31,10 @@ struct ModelContext {
   // Per light: shadow rays per hit (1 for a point light). The light table's sample counts, read
   // once with the header, as a culling unit would hold them in registers.
   std::vector<uint32_t> light_samples;
+  // The frame's integrator (the configuration's): where a path goes on after a hit.
+  Integrator integrator = Integrator::kWhitted;
+  PathSettings path;
+  bool paths() const { return integrator == Integrator::kPath; }
 };
 
 }  // namespace rtsim::model

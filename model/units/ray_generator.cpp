@@ -36,7 +36,9 @@ void RayGenerator::begin_frame(const Camera& camera, int width, int height,
   width_ = width;
   height_ = height;
   inputs_.restart();
-  total_ = uint64_t(width) * uint64_t(height);
+  paths_ = ctx_.paths() ? uint32_t(ctx_.path.spp) : 1u;
+  path_stride_ = ctx_.paths() ? uint32_t(ctx_.path.max_depth + 1) * uint32_t(width * height) : 0u;
+  total_ = uint64_t(width) * uint64_t(height) * paths_;
   order_ = issue_order(width, height, order_kind_, tile_);
   windows_ = std::move(windows);
   if (windows_.empty()) windows_ = whole_frame(total_);
@@ -63,9 +65,14 @@ bool RayGenerator::cycle(Tick now) {
     RayQueueIn* f = inputs_.next_free();
     if (!f) break;
     if (next_ % kBatchRays == 0) starts_[window_].push_back(now);
+    // A pixel's paths one after another, each from the pixel's centre (as the reference traces
+    // them); its entry is the pixel's at bounce 0 of the path.
+    const uint32_t pixel = pixel_of(next_ / paths_), path = uint32_t(next_ % paths_);
+    ++next_;
     RayInfo info;
-    info.entry = pixel_of(next_++);  // bounce 0: the entry is the pixel
-    info.ray = camera_.ray(int(info.entry % width_), int(info.entry / width_));
+    info.entry = path * path_stride_ + pixel;
+    info.ray = camera_.ray(int(pixel % width_), int(pixel / width_));
+    info.born = now;
     f->push(ctx_.pool->create(info), now + clock().period(), now);
     ++issued_;
   }

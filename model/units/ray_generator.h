@@ -1,6 +1,7 @@
 // Ray generator: up to `rays_per_cycle` primary rays per cycle (the T&I engine's dispatcher issues
-// one), through pixel centres in scanline or square-tile order, dealt in turn to the TRV units'
-// input FIFOs (`to_trv`), as long as the ray pool has a free slot. The phase controller drives it
+// one), through pixel centres in scanline or square-tile order (a path-traced frame's `spp`
+// paths of a pixel one after another), dealt in turn to the TRV units' input FIFOs (`to_trv`), as
+// long as the ray pool has a free slot. The phase controller drives it
 // through the export `control`.
 #pragma once
 
@@ -48,6 +49,7 @@ class RayGenerator : public Unit, public PrimaryRays {
   // PrimaryRays.
   bool finished() const override { return next_ == limit_ && window_ + 1 >= windows_.size(); }
   uint64_t issued() const override { return issued_; }
+  uint64_t total() const { return total_; }  // primary rays in the frame
   void slot_freed(Tick now) override { wake(now); }
 
  protected:
@@ -68,10 +70,12 @@ class RayGenerator : public Unit, public PrimaryRays {
   // At the current window's end: goes on at the next window when the machine is empty.
   bool next_window();
 
-  uint64_t next_ = 0, total_ = 0;
-  uint64_t limit_ = 0;           // the current window's last ray to issue, plus one
-  uint64_t issued_ = 0;          // this frame
-  std::vector<uint32_t> order_;  // pixels in issue order
+  uint64_t next_ = 0, total_ = 0;  // rays in issue order
+  uint32_t paths_ = 1;             // per pixel
+  uint32_t path_stride_ = 0;       // entries from one of a pixel's paths to the next
+  uint64_t limit_ = 0;             // the current window's last ray to issue, plus one
+  uint64_t issued_ = 0;            // this frame
+  std::vector<uint32_t> order_;    // pixels in issue order
   std::vector<DetailWindow> windows_;
   size_t window_ = 0;
   std::vector<std::vector<Tick>> starts_;  // per window

@@ -15,19 +15,24 @@
 
 namespace rtsim::model {
 
-enum class RayType : uint8_t { kPrimary, kReflection, kShadow };
+// A path's rays after its primary are reflections (a mirror) or bounces (diffuse); its shadow
+// rays are its next-event rays.
+enum class RayType : uint8_t { kPrimary, kReflection, kShadow, kBounce };
 
 // What a ray is, written once by the block that makes it: the ray generator (primary rays), the
-// shadow culling unit (shadow rays) or a shading unit (a reflection, in its ray's slot).
+// shadow culling unit (shadow rays) or a shading unit (a reflection or bounce, in its ray's slot).
 struct RayInfo {
   Ray ray;
   RayType type = RayType::kPrimary;
-  // Its frame entry (model/units/frame_buffer.h): a primary or reflection ray's, its pixel at its
-  // bounce; a shadow ray's, the hit it tests. (A primary ray's entry is its pixel.)
+  // Its frame entry (model/units/frame_buffer.h): a primary, reflection or bounce ray's, its
+  // pixel's at its bounce on its path; a shadow ray's, the hit it tests. (A primary ray's entry
+  // is its pixel on its path.)
   uint32_t entry = 0;
-  uint8_t depth = 0;    // reflection bounces so far
-  uint8_t light = 0;    // shadow rays: which light
-  uint16_t sample = 0;  // shadow rays: which of the light's samples
+  uint8_t depth = 0;     // bounces so far (a shadow ray: its hit's)
+  uint8_t light = 0;     // shadow rays: which light
+  uint16_t sample = 0;   // shadow rays: which of the light's samples
+  Vec3 throughput{1.f};  // a path's ray: the weight of the light it brings back
+  Tick born = 0;         // when it was made (its time in flight ends when it is shaded)
 };
 
 // The stages that hold a ray while it waits for memory, each with its own entry below.

@@ -24,6 +24,7 @@ ShadowCullingUnit::ShadowCullingUnit(sc_core::sc_module_name name, const ModelCo
   hits.bind(*this);
   control.bind(*this);
   light_stats_.reserve(image::kMaxLights);
+  if (ctx.paths()) bounce_stats_.resize(size_t(ctx.path.max_depth) + 1);
   if (config.l1 != CullingL1::kOwn) return;
   if (!own_l1)
     report_error(kReportInternal,
@@ -165,6 +166,12 @@ void ShadowCullingUnit::next_entry() {
   while (entry_ < frame_->pixels.size() && frame_->pixels[entry_].hit.tri == kNoHit);
 }
 
+std::array<LightStats*, 2> ShadowCullingUnit::counted() {
+  LightStats* bounce =
+      bounce_stats_.empty() ? &scratch_ : &bounce_stats_[frame_->level_of(current())];
+  return {&light_stats_[light_], bounce};
+}
+
 void ShadowCullingUnit::advance() {
   if (++sample_ < ctx_.light_samples[light_]) return;
   next_light();
@@ -179,8 +186,10 @@ void ShadowCullingUnit::next_light() {
 void ShadowCullingUnit::cull_light() {
   // Every sample of the light: none is generated, all count as unoccluded.
   const uint32_t n = ctx_.light_samples[light_];
-  light_stats_[light_].decisions += n;
-  light_stats_[light_].culled += n;
+  for (LightStats* s : counted()) {
+    s->decisions += n;
+    s->culled += n;
+  }
   frame_->pixels[current()].culled |= uint16_t(1u << light_);
   next_light();
 }
@@ -219,19 +228,23 @@ bool ShadowCullingUnit::emit(const SurfacePoint& surface, Tick now) {
   }
   const image::LightRecord& light = latched_;
   const uint32_t entry = current();  // the frame entry (pixel and bounce)
-  const uint32_t pixels = uint32_t(frame_->pixel_count());
   RayInfo info;
   info.type = RayType::kShadow;
   info.entry = entry;
   info.light = uint8_t(light_);
   info.sample = uint16_t(sample_);
-  info.ray = shadow_ray(surface,
-                        light_sample_point(light, entry % pixels, entry / pixels, light_, sample_),
-                        ctx_.shadow_offset);
+  info.depth = uint8_t(frame_->level_of(entry));
+  info.born = now;
+  info.ray = shadow_ray(
+      surface,
+      light_sample_point(light, frame_->pixel_of(entry), frame_->key_of(entry), light_, sample_),
+      ctx_.shadow_offset);
   const uint32_t id = ctx_.pool->create(info);
   f->push(id, std::max(latched_ready_, now + clock().period()), now);
-  ++light_stats_[light_].decisions;
-  ++light_stats_[light_].generated;
+  for (LightStats* s : counted()) {
+    ++s->decisions;
+    ++s->generated;
+  }
   ++generated_;
   advance();
   return true;
@@ -337,6 +350,10 @@ void ShadowCullingUnit::register_stats(StatsRegistry& r, const std::string& pref
   registry_ = &r;
   prefix_ = prefix;
   register_lights();
+  for (size_t b = 0; b < bounce_stats_.size(); ++b) {
+    StatsRegistrar vb(r, prefix + ".bounce" + std::to_string(b));
+    describe_stats(vb, bounce_stats_[b]);
+  }
 }
 
 void ShadowCullingUnit::register_lights() {

@@ -29,6 +29,7 @@
 #include "model/units/model_context.h"
 #include "model/units/ray_ports.h"
 
+#include <array>
 #include <deque>
 #include <vector>
 
@@ -131,6 +132,8 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   const std::vector<std::vector<Tick>>& window_starts() const { return starts_; }
   // Per light, over every frame so far.
   const std::vector<LightStats>& per_light() const { return light_stats_; }
+  // Path-traced frames: by the bounce of the hit the rays leave from (else empty).
+  const std::vector<LightStats>& per_bounce() const { return bounce_stats_; }
   // Its statistics, and those of lights that later frames add.
   void register_stats(StatsRegistry& r, const std::string& prefix);
   // Where it stands (for the watchdog's report).
@@ -157,7 +160,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   void advance();                      // the next (hit, light, sample)
   void next_light();                   // the next (hit, light) pair
   void cull_light();                   // the current light's bit is 0: all its samples culled
-  void next_entry();                   // the next hit
+  // The counters a decision on the current (hit, light) pair adds to: its light's and its
+  // bounce's (a scratch one in a Whitted frame).
+  std::array<LightStats*, 2> counted();
+  void next_entry();  // the next hit
   bool cycle_unlimited(Tick now);
   bool cycle_limited(Tick now);
   bool request_records(Tick now);  // memory reads for the coming entries; true if any issued
@@ -200,8 +206,10 @@ class ShadowCullingUnit : public Unit, public FillListener, public ShadedHits, p
   bool light_latched_ = false;
   image::LightRecord latched_;
   Tick latched_ready_ = 0;
-  std::vector<LightStats> light_stats_;  // its capacity never changes: counters stay put
-  uint64_t generated_ = 0;               // shadow rays emitted this frame
+  std::vector<LightStats> light_stats_;   // its capacity never changes: counters stay put
+  std::vector<LightStats> bounce_stats_;  // sized once
+  LightStats scratch_;
+  uint64_t generated_ = 0;  // shadow rays emitted this frame
   StatsRegistry* registry_ = nullptr;
   std::string prefix_;
   size_t registered_lights_ = 0;

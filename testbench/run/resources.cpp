@@ -99,7 +99,7 @@ void add_scene_memory(const PreparedScene& p, bool lvb, bool exact_lvb, uint64_t
 
 MemoryNeed run_memory_need(const model::AcceleratorConfig& hw, const Scene& scene, bool check) {
   const uint64_t pixels = uint64_t(scene.width) * uint64_t(scene.height);
-  const uint64_t entries = pixels * uint64_t(hw.reflection_depth + 1);
+  const uint64_t entries = pixels * uint64_t(hw.entries_per_pixel());
   const uint64_t stride = std::max<uint64_t>(64, hw.memory_dram().request_bytes);
   const uint64_t entry_bytes = sizeof(model::PixelState) + 8 * sample_words(scene);
   MemoryNeed n;
@@ -110,6 +110,8 @@ MemoryNeed run_memory_need(const model::AcceleratorConfig& hw, const Scene& scen
   n.parts.push_back({"the pixel order", 3 * 4 * pixels});
   n.parts.push_back({"the image and report planes", pixels * (3 + 4 + 2 * scene.lights.size())});
   if (check) n.parts.push_back({"the reference check", pixels * (sizeof(PixelRecord) + 3)});
+  if (hw.integrator == Integrator::kPath)  // radiance, the model's and the reference's
+    n.parts.push_back({"the radiance planes", pixels * 3 * sizeof(float) * (check ? 2 : 1)});
   return n;
 }
 

@@ -13,6 +13,7 @@
 #include "reports/plots.h"
 #include "reports/run_report.h"
 #include "testbench/run/progress.h"
+#include "testbench/run/reference_check.h"
 #include "testbench/run/resources.h"
 #include "testbench/run/sampled_frame.h"
 #include "testbench/run/simulate.h"
@@ -29,16 +30,6 @@ namespace rtsim {
 
 namespace {
 
-// The golden model's frame with the run's settings.
-TraceResult reference_frame(const PreparedScene& p, const RunSettings& run) {
-  TracerOptions opt;
-  opt.width = p.scene.width;
-  opt.height = p.scene.height;
-  opt.cull_with_lvb = run.lvb;
-  opt.reflection_depth = run.reflections;
-  return ReferenceTracer(*p.image).trace_frame(p.scene.camera, opt);
-}
-
 // The pixels a sampled frame simulated (its windows, in issue order); empty: every pixel.
 std::vector<bool> simulated_pixels(const RunConfig& c, const PreparedScene& p,
                                    const SamplePlan* plan) {
@@ -49,42 +40,6 @@ std::vector<bool> simulated_pixels(const RunConfig& c, const PreparedScene& p,
   for (const model::DetailWindow& w : plan->windows)
     for (uint64_t k = w.begin; k < w.end; ++k) in[order[k]] = true;
   return in;
-}
-
-// --check: the golden model over the same image; every pixel the model simulated must match bit
-// for bit (a sampled frame's: those of its windows).
-nlohmann::json reference_check(const TraceResult& ref, const SimulatedFrame& r,
-                               const std::vector<bool>& simulated, uint64_t& mismatches) {
-  uint64_t compared = 0;
-  for (size_t i = 0; i < ref.pixels.size(); ++i) {
-    if (!simulated.empty() && !simulated[i]) continue;
-    ++compared;
-    const PixelRecord& a = ref.pixels[i];
-    const model::PixelState& b = r.frame.pixels[i];
-    // Per light, the occluded samples too (visibility.npy).
-    bool same_counts = true;
-    for (uint32_t l = 0; l < r.frame.samples.size(); ++l)
-      same_counts &= a.occluded_samples[l] == r.frame.occluded_samples(uint32_t(i), l);
-    const bool same =
-        a.hit.tri == b.hit.tri &&
-        (a.hit.tri == kNoHit || (a.hit.t == b.hit.t && a.hit.leaf == b.hit.leaf &&
-                                 a.occluded == b.occluded && a.culled == b.culled && same_counts));
-    if (!same && ++mismatches <= 5)
-      fmt::print(
-          stderr,
-          "pixel {}: reference tri {} t {} occluded {:#x}; model tri {} t {} occluded {:#x}\n", i,
-          a.hit.tri, a.hit.t, a.occluded, b.hit.tri, b.hit.t, b.occluded);
-  }
-  uint64_t culled_diff = 0;
-  for (size_t l = 0; l < r.shadow_culled.size(); ++l)
-    culled_diff += r.shadow_culled[l] != ref.stats.per_light[l].culled;
-  if (!simulated.empty())  // a sampled frame's image and counts are the reference's
-    return {{"pixels", compared}, {"mismatched_pixels", mismatches}};
-  if (ref.rgb != r.rgb || culled_diff) ++mismatches;
-  return {{"pixels", compared},
-          {"mismatched_pixels", mismatches},
-          {"image_identical", ref.rgb == r.rgb},
-          {"culled_counts_identical", culled_diff == 0}};
 }
 
 // Every model statistic's unit and meaning: name,unit,description.
@@ -182,6 +137,31 @@ PixelPlanes pixel_planes(const TraceResult& ref) {
   return planes;
 }
 
+// report.json's `path` of a path-traced frame: the settings, the mean radiance and, by bounce, the
+// rays and their hits, the shadow rays from its hits (decided, culled, traced, occluded) and the
+// cycles in flight of both kinds (summed over the rays; report.md gives the means).
+nlohmann::json path_json(const RunSettings& run, const SimulatedFrame& r) {
+  if (r.bounces.empty()) return nullptr;
+  nlohmann::json bounces = nlohmann::json::array();
+  for (const model::BounceFigures& b : r.bounces)
+    bounces.push_back({{"rays", b.rays},
+                       {"hits", b.hits},
+                       {"shadow_rays", b.shadow_decisions},
+                       {"culled", b.shadow_culled},
+                       {"traced", b.shadow_rays},
+                       {"occluded", b.shadow_occluded},
+                       {"ray_cycles", b.ray_cycles},
+                       {"shadow_cycles", b.shadow_cycles}});
+  double sum[3] = {0, 0, 0};
+  for (size_t i = 0; i < r.radiance.size(); ++i) sum[i % 3] += r.radiance[i];
+  const double pixels = double(r.radiance.size() / 3);
+  return {{"spp", run.path.spp},
+          {"max_depth", run.path.max_depth},
+          {"roulette_depth", run.path.roulette_depth},
+          {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
+          {"bounces", bounces}};
+}
+
 RunFigures figures_of(const SimulatedFrame& r) {
   RunFigures f;
   f.clock_ghz = r.clock_ghz;
@@ -191,6 +171,7 @@ RunFigures figures_of(const SimulatedFrame& r) {
   f.primary_rays = r.primary_rays;
   f.primary_hits = r.primary_hits;
   f.reflection_rays = r.reflection_rays;
+  f.bounce_rays = r.bounce_rays;
   f.shadow_rays = r.shadow_rays;
   f.shadow_generated = r.shadow_generated;
   f.shadow_culled = r.shadow_culled;
@@ -224,6 +205,8 @@ void write_run_outputs(const std::filesystem::path& out, const PreparedScene& p,
   const int w = p.scene.width, h = p.scene.height;
   write_json((out / output::kConfigJson).string(), config);
   write_png_rgb((out / output::kRenderPng).string(), r.rgb, w, h);
+  if (!r.radiance.empty())
+    write_npy_f32((out / output::kRadianceNpy).string(), r.radiance, {size_t(h), size_t(w), 3});
   write_npy_u16((out / output::kMaskNpy).string(), planes.mask, h, w);
   write_npy_u16((out / output::kCulledNpy).string(), planes.culled, h, w);
   write_npy_u16((out / output::kVisibilityNpy).string(), planes.visibility,
@@ -272,30 +255,18 @@ void print_summary(const RunConfig& c, const PreparedScene& p, const SimulatedFr
                    double sim_seconds, const std::string& out, bool plots) {
   uint64_t culled_rays = 0;
   for (uint64_t x : r.shadow_culled) culled_rays += x;
-  const uint64_t rays = r.primary_rays + r.reflection_rays + r.shadow_rays;
+  const uint64_t rays = r.primary_rays + r.reflection_rays + r.bounce_rays + r.shadow_rays;
   fmt::print(
       "{}: {}x{}, LVB {}: {} cycles ({:.3f} ms at {} GHz), {} {} cycles; {} rays ({} shadow, {} "
       "culled) simulated in {:.1f} s ({:.0f} rays/s)\n  wrote {}/report.json, report.md, "
       "stats.csv, glossary.csv, batches.csv, config.json, render.png, mask.npy, culled.npy, "
-      "visibility.npy{}\n",
+      "visibility.npy{}{}\n",
       p.scene.name, p.scene.width, p.scene.height, c.run.lvb ? "on" : "off", r.cycles_total,
       double(r.cycles_total) / (r.clock_ghz * 1e6), r.clock_ghz,
       c.hw.schedule == model::Schedule::kTwoPhase ? "shadow phase" : "after the last primary ray",
       r.cycles_shadow, rays, r.shadow_rays, culled_rays, sim_seconds,
-      sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out, plots ? ", plots" : "");
-}
-
-// --check's line: a sampled frame's compares the pixels its windows simulated.
-void print_check(const nlohmann::json& check) {
-  if (!check.contains("image_identical")) {
-    fmt::print("reference check: {} of the {} pixels simulated differ\n",
-               check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>());
-    return;
-  }
-  fmt::print("reference check: {} of {} pixels differ, image {}, culled counts {}\n",
-             check["mismatched_pixels"].get<uint64_t>(), check["pixels"].get<uint64_t>(),
-             check["image_identical"].get<bool>() ? "identical" : "DIFFERENT",
-             check["culled_counts_identical"].get<bool>() ? "identical" : "DIFFERENT");
+      sim_seconds > 0 ? double(rays) / sim_seconds : 0.0, out,
+      r.radiance.empty() ? "" : ", radiance.npy", plots ? ", plots" : "");
 }
 
 // A sampled figure never goes without its interval.
@@ -349,6 +320,22 @@ void warn_expansion(const SampledRun& s) {
   }
 }
 
+// The image and the frame buffer fit the accelerator's memory (else its registers would refuse the
+// frame): a path-traced frame needs spp x (1 + max_depth) hit records a pixel.
+void check_device_memory(const RunConfig& c, const PreparedScene& p) {
+  const model::MemoryLayout l =
+      model::memory_layout(c.hw, p.image->bytes().size(), p.scene.width, p.scene.height);
+  const uint64_t capacity = uint64_t(c.hw.dram.capacity_mib) << 20;
+  if (l.end() <= capacity) return;
+  throw InputError(fmt::format(
+      "hw.dram.capacity_mib: {} MiB cannot hold the memory image ({:.1f} MiB) and the frame buffer "
+      "of {} hit records a pixel at {}x{} ({:.1f} MiB{}); expected at least {} MiB",
+      c.hw.dram.capacity_mib, double(l.image_bytes) / (1 << 20), c.hw.entries_per_pixel(),
+      p.scene.width, p.scene.height, double(l.fb_bytes) / (1 << 20),
+      c.hw.integrator == Integrator::kPath ? ": run.spp x (1 + run.max_depth)" : "",
+      (l.end() + (1 << 20) - 1) >> 20));
+}
+
 // The model's frame: whole, or sampled (with the reference tracer's frame, which a sampled frame
 // reports its pixels and counts from, traced while the functional pass runs).
 struct ModelFrame {
@@ -394,6 +381,7 @@ int run_model(const RunArgs& args) {
   add_scene_memory(p, c.run.lvb, c.run.lvb_params.self_occlusion == LvbSelfOcclusion::kTest,
                    program_bytes, need);
   check_memory(need);
+  check_device_memory(c, p);
   RunHost host;
   host.memory_estimate_mb = double(need.peak()) / (1 << 20);
   doing.emplace("computing the light visibility bits");
@@ -427,8 +415,10 @@ int run_model(const RunArgs& args) {
   host.image = p.build_seconds - p.structure_seconds();
   host.total = seconds_since(t0);
   host.peak_memory_mb = double(usage.ru_maxrss) / 1024.0;
+  RunFigures figures = figures_of(r);
+  figures.path = path_json(c.run, r);
   nlohmann::json report =
-      run_report_json(scene_json(p), structure, config, lvb_json, figures_of(r), check, host);
+      run_report_json(scene_json(p), structure, config, lvb_json, figures, check, host);
   if (m.sampled) {
     add_sampled(report, c, *m.sampled, p.scene.width, out);
     report["host"]["seconds"]["functional_pass"] = m.sampled->pass_seconds;

@@ -90,6 +90,15 @@ RunSettings read_run_settings(YamlMap m) {
   r.lvb_params.frustum_test = read_choice(m, "lvb_frustum_test", r.lvb_params.frustum_test,
                                           {LvbFrustumTest::kOverlap, LvbFrustumTest::kContained});
   r.reflections = m.get_in_range("reflections", r.reflections, 0, 8);
+  r.integrator =
+      read_choice(m, "integrator", r.integrator, {Integrator::kWhitted, Integrator::kPath});
+  r.path.spp = m.get_in_range("spp", r.path.spp, 1, 65536);
+  r.path.max_depth = m.get_in_range("max_depth", r.path.max_depth, 0, 64);
+  r.path.roulette_depth = m.get_in_range("roulette_depth", r.path.roulette_depth, 1, 65);
+  if (r.integrator == Integrator::kPath && r.reflections > 0)
+    m.fail("reflections",
+           "a path-traced frame's mirrors are lobes of its paths: expected 0 with "
+           "integrator: path (max_depth bounds every bounce)");
   r.width = m.get_in_range("width", r.width, 0, 16384);
   r.height = m.get_in_range("height", r.height, 0, 16384);
   r.check = m.get<bool>("check", r.check);
@@ -116,6 +125,7 @@ void check_sampled(const RunConfig& c) {
         "the culling unit to read the hit records from memory (hw.culling.records_per_cycle > "
         "0 and hw.shading.write_records: true)";
   if (c.hw.reflection_depth > 0) why = "no reflections (run.reflections: 0)";
+  if (c.run.integrator != Integrator::kWhitted) why = "a Whitted frame (run.integrator: whitted)";
   if (why) throw InputError(fmt::format("run.sample: a sampled frame needs {}", why));
 }
 
@@ -157,6 +167,8 @@ RunConfig resolve_run_config(const RunSources& src) {
       YamlMap::from_node(run_node, run_file, src.config_file.empty() ? "" : "run", run_ov));
   c.hw.lvb_culling = c.run.lvb;
   c.hw.reflection_depth = c.run.reflections;
+  c.hw.integrator = c.run.integrator;
+  c.hw.path = c.run.path;
   if (is_bvh(c.run.accel) != (c.hw.structure == model::Structure::kBvh))
     throw InputError(fmt::format(
         "run.accel: {} needs a machine whose traversal units walk {} (hw.structure: {}); {} has "
@@ -215,6 +227,7 @@ nlohmann::json run_settings_json(const RunSettings& r) {
                       {"lvb_self_occlusion", to_string(r.lvb_params.self_occlusion)},
                       {"lvb_frustum_test", to_string(r.lvb_params.frustum_test)},
                       {"reflections", r.reflections},
+                      {"integrator", to_string(r.integrator)},
                       {"width", r.width},
                       {"height", r.height},
                       {"check", r.check},
@@ -222,6 +235,11 @@ nlohmann::json run_settings_json(const RunSettings& r) {
                       {"tlm_checks", r.tlm_checks},
                       {"time_resolution_ps", r.time_resolution_ps}};
   if (r.lvb_lazy_since) j["lvb_lazy_since"] = *r.lvb_lazy_since;
+  if (r.integrator == Integrator::kPath) {
+    j["spp"] = r.path.spp;
+    j["max_depth"] = r.path.max_depth;
+    j["roulette_depth"] = r.path.roulette_depth;
+  }
   if (r.sample.fraction > 0) {
     j["sample"] = r.sample.fraction;
     j["sample_unit"] = r.sample.unit;

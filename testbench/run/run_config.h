@@ -26,7 +26,10 @@ struct RunSettings {
   Accel accel = Accel::kKdTree;  // the acceleration structure (the paper's kd-tree by default)
   bool lvb = true;               // shadow-ray culling with the precomputed LVB words
   LvbParams lvb_params;          // method, bounds, self-occlusion (the exact mode by default)
-  int reflections = 0;           // mirror bounces
+  int reflections = 0;           // mirror bounces (Whitted)
+  // Whitted's frames, or path-traced ones with `path`'s settings (kernels/integrator.h)
+  Integrator integrator = Integrator::kWhitted;
+  PathSettings path;
   // 0 = the scene file's resolution (which --set scene.resolution changes)
   int width = 0, height = 0;
   bool check = false;       // compare every pixel with the reference tracer

@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "kernels/light_samples.h"
+#include "kernels/path_sampling.h"
 #include "model/device/device_driver.h"
 #include "model/sim/report.h"
 
@@ -111,12 +112,65 @@ SimulatedFrame simulate_frame(const model::AcceleratorConfig& config, const Memo
   } catch (const sc_core::sc_report& r) {
     rethrow(r);
   }
-  out.rgb = compose_pixels(out.frame, image);
+  if (config.integrator == Integrator::kPath)
+    out.radiance = compose_paths(out.frame, image, config.path);
+  out.rgb = out.radiance.empty() ? compose_pixels(out.frame, image) : display_bytes(out.radiance);
   return out;
 }
 
+namespace {
+
+// An entry's direct light: each light's term in turn onto `color` (the reference's order), its
+// samples blocked as the entry's shadow rays found.
+Vec3 direct_light(Vec3 color, const model::FrameBuffer& frame, const MemoryImage& image,
+                  uint32_t entry) {
+  const model::PixelState& px = frame.pixels[entry];
+  for (uint32_t l = 0; l < image.header().light_count; ++l)
+    color += light_term(
+        px.surface, px.diffuse, image.light(l), frame.pixel_of(entry), frame.key_of(entry), l,
+        [&](uint32_t k, const Vec3&) { return frame.sample_occluded(entry, l, k); });
+  return color;
+}
+
+}  // namespace
+
+std::vector<float> compose_paths(const model::FrameBuffer& frame, const MemoryImage& image,
+                                 const PathSettings& settings) {
+  std::vector<float> radiance(frame.pixel_count() * 3, 0.f);
+  for (uint32_t i = 0; i < frame.pixel_count(); ++i) {
+    Vec3 sum(0.f);
+    for (int path = 0; path < frame.paths; ++path) {
+      // The reference's path (kernels/reference_tracer.cpp) with the frame's entries for its
+      // traces: the same decisions, from the same numbers, on the same floats.
+      Vec3 light(0.f), throughput(1.f);
+      for (uint32_t bounce = 0;; ++bounce) {
+        const uint32_t entry = frame.entry(i, int(bounce), path);
+        const model::PixelState& px = frame.pixels[entry];
+        if (px.hit.tri == kNoHit) {
+          light = light + throughput * kBackground;
+          break;
+        }
+        light +=
+            throughput * ((1.f - px.reflectance) * direct_light(Vec3(0.f), frame, image, entry));
+        if (int(bounce) == settings.max_depth) break;
+        if (!path_mirror(i, uint32_t(path), bounce, px.reflectance)) throughput *= px.diffuse;
+        if (!path_survives(throughput, i, uint32_t(path), bounce, settings)) break;
+      }
+      sum += light;
+    }
+    const Vec3 c = sum / float(frame.paths);
+    for (int k = 0; k < 3; ++k) radiance[3 * size_t(i) + k] = c[k];
+  }
+  return radiance;
+}
+
+std::vector<uint8_t> display_bytes(const std::vector<float>& radiance) {
+  std::vector<uint8_t> rgb(radiance.size());
+  for (size_t k = 0; k < radiance.size(); ++k) rgb[k] = to_display(radiance[k]);
+  return rgb;
+}
+
 std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const MemoryImage& image) {
-  const image::Header& h = image.header();
   std::vector<uint8_t> rgb(frame.pixel_count() * 3, 0);
   for (uint32_t i = 0; i < frame.pixel_count(); ++i) {
     Vec3 reflected = kBackground;
@@ -126,12 +180,7 @@ std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const Memor
         reflected = kBackground;
         continue;
       }
-      Vec3 c = kAmbient * px.diffuse;
-      const uint32_t entry = frame.entry(i, level);
-      for (uint32_t l = 0; l < h.light_count; ++l)
-        c +=
-            light_term(px.surface, px.diffuse, image.light(l), i, uint32_t(level), l,
-                       [&](uint32_t k, const Vec3&) { return frame.sample_occluded(entry, l, k); });
+      Vec3 c = direct_light(kAmbient * px.diffuse, frame, image, frame.entry(i, level));
       if (px.reflectance > 0.f && level + 1 < frame.levels)
         c = (1.f - px.reflectance) * c + px.reflectance * reflected;
       reflected = c;

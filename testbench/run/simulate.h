@@ -12,7 +12,8 @@
 namespace rtsim {
 
 struct SimulatedFrame : model::AcceleratorResult {
-  std::vector<uint8_t> rgb;  // composed on the host (compose_pixels)
+  std::vector<uint8_t> rgb;     // composed on the host (compose_pixels, compose_paths)
+  std::vector<float> radiance;  // a path-traced frame's linear RGB per pixel (compose_paths)
 };
 
 // Simulates one frame of `camera` over `image` at width x height, with SystemC's time resolution
@@ -33,5 +34,11 @@ void run_simulation();
 // The pixels, composed exactly as the reference tracer composes them: the local colour of each
 // hit, blended with its reflection's from the deepest bounce up; 8-bit sRGB, row by row.
 std::vector<uint8_t> compose_pixels(const model::FrameBuffer& frame, const MemoryImage& image);
+
+// A path-traced frame's pixels, the mean of their paths as the reference tracer gathers them (the
+// same order of float operations): linear RGB, row by row. display_bytes makes them 8-bit sRGB.
+std::vector<float> compose_paths(const model::FrameBuffer& frame, const MemoryImage& image,
+                                 const PathSettings& settings);
+std::vector<uint8_t> display_bytes(const std::vector<float>& radiance);
 
 }  // namespace rtsim

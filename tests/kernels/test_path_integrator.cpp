@@ -32,8 +32,8 @@ struct City {
     o.width = 64;
     o.height = 36;
     o.integrator = Integrator::kPath;
-    o.spp = spp;
-    o.max_depth = max_depth;
+    o.path.spp = spp;
+    o.path.max_depth = max_depth;
     o.threads = threads;
     return ReferenceTracer(*image).trace_frame(scene.camera, o);
   }
@@ -94,10 +94,10 @@ TEST(PathIntegrator, BadSettingsAreRefused) {
   o.width = 8;
   o.height = 8;
   o.integrator = Integrator::kPath;
-  o.spp = 0;
+  o.path.spp = 0;
   EXPECT_THROW(ReferenceTracer(*city.image).trace_frame(city.scene.camera, o), InputError);
-  o.spp = 1;
-  o.max_depth = -1;
+  o.path.spp = 1;
+  o.path.max_depth = -1;
   EXPECT_THROW(ReferenceTracer(*city.image).trace_frame(city.scene.camera, o), InputError);
 }
 
