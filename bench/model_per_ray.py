@@ -1,16 +1,19 @@
 #!/usr/bin/env python3
 """The model's host time per simulated ray, kd-tree machine against BVH machines (issue 37's
-goal: a BVH within 1.5x of the kd-tree's time per ray on robots).
+goal: a BVH within 1.5x of the kd-tree's time per ray on robots), and path-traced frames against
+Whitted frames (issue 52's goal: within 1.5x, 480x270 on tni-paper.yaml).
 
     python3 bench/model_per_ray.py [--build build] [--scene configs/scenes/robots.yaml]
         [--width 480 --height 270] [--runs 3] [--accel bvh2,bvh4,bvh8,cwbvh8]
+        [--integrators whitted,path]
 
 Each run is `rtsim run` pinned to one core, culling on (the exact mode): the kd-tree on
 configs/hw/tni-paper.yaml, each BVH format on configs/hw/bvh-tni.yaml. A ray is one the traversal
-units started (primary, shadow and reflection rays: the statistic report.json's `units` names as
-`rays`); the time is report.json's host.seconds.simulate. The setups alternate within a round, so
-a slow phase of the machine hits all of them; medians over --runs rounds, and each BVH's ratio to
-the kd-tree.
+units started (primary, shadow, reflection and bounce rays: the statistic report.json's `units`
+names as `rays`); the time is report.json's host.seconds.simulate. A path-traced frame traces 1
+path a pixel, 3 bounces (run.integrator: path). The setups (structure x integrator) alternate
+within a round, so a slow phase of the machine hits all of them; medians over --runs rounds, and
+each setup's ratio to the first (the kd-tree's Whitted frame).
 """
 import argparse
 import json
@@ -22,12 +25,13 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def run(args, accel):
+def run(args, accel, integrator):
     hw = "configs/hw/tni-paper.yaml" if accel == "kdtree" else "configs/hw/bvh-tni.yaml"
     with tempfile.TemporaryDirectory() as out:
         cmd = ["taskset", "-c", "0", os.path.join(args.build, "rtsim"), "run", args.scene]
         cmd += ["--hw", hw, "--accel", accel, "--width", str(args.width)]
         cmd += ["--height", str(args.height), "--out", out, "--no-plots", "--quiet"]
+        cmd += ["--integrator", integrator]
         subprocess.run(cmd, cwd=ROOT, check=True)
         with open(os.path.join(out, "report.json")) as f:
             r = json.load(f)
@@ -49,25 +53,32 @@ def main():
     p.add_argument("--height", type=int, default=270)
     p.add_argument("--runs", type=int, default=3)
     p.add_argument("--accel", default="bvh2,bvh4,bvh8,cwbvh8")
+    p.add_argument("--integrators", default="whitted")
     args = p.parse_args()
-    setups = ["kdtree"] + [a for a in args.accel.split(",") if a]
-    per_ray = {a: [] for a in setups}
+    structures = ["kdtree"] + [a for a in args.accel.split(",") if a]
+    integrators = [i for i in args.integrators.split(",") if i]
+    setups = [(a, i) for a in structures for i in integrators]
+    per_ray = {s: [] for s in setups}
     facts = {}
     for k in range(args.runs):
-        for a in setups:
-            seconds, rays, cycles = run(args, a)
-            per_ray[a].append(seconds / rays)
-            facts[a] = (rays, cycles)
+        for s in setups:
+            seconds, rays, cycles = run(args, *s)
+            per_ray[s].append(seconds / rays)
+            facts[s] = (rays, cycles)
             print(
-                f"round {k + 1}: {a}: {seconds:.2f} s, {rays:,} rays, {cycles:,} cycles", flush=True
+                f"round {k + 1}: {s[0]} {s[1]}: {seconds:.2f} s, {rays:,} rays, {cycles:,} cycles",
+                flush=True,
             )
-    base = statistics.median(per_ray["kdtree"])
+    base = statistics.median(per_ray[setups[0]])
     print(f"\n{os.path.basename(args.scene)} {args.width}x{args.height}, medians of {args.runs}:")
-    print("| structure | rays | cycles | host us per ray | vs kd-tree |\n|---|---|---|---|---|")
-    for a in setups:
-        m = statistics.median(per_ray[a])
-        rays, cycles = facts[a]
-        print(f"| {a} | {int(rays):,} | {cycles:,} | {1e6 * m:.2f} | {m / base:.2f}x |")
+    print(
+        "| structure | frame | rays | cycles | host us per ray | vs the first |\n"
+        "|---|---|---|---|---|---|"
+    )
+    for s in setups:
+        m = statistics.median(per_ray[s])
+        rays, cycles = facts[s]
+        print(f"| {s[0]} | {s[1]} | {int(rays):,} | {cycles:,} | {1e6 * m:.2f} | {m / base:.2f}x |")
 
 
 if __name__ == "__main__":

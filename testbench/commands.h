@@ -29,11 +29,6 @@ struct IntegratorArgs {
 // with --verify culled but in fact occluded).
 nlohmann::json bounces_json(const IntegratorArgs& a, const TraceResult& r);
 
-// --culled-rays FILE: every culled shadow ray of the frame (CulledRay), a record each in a .npy of
-// a structured dtype: pixel, sample, bounce, light, light_sample (u4, u4, u2, u2, u4), origin and
-// target (3 x f4 each): the segment an outside tracer can test to check the cull.
-void write_culled_rays(const std::string& path, const std::vector<CulledRay>& rays);
-
 struct RenderArgs {
   std::string scene;
   std::string out;

@@ -4,6 +4,7 @@
 #include "kernels/reference_tracer.h"
 #include "reports/output_files.h"
 #include "testbench/commands.h"
+#include "testbench/run/culled_rays.h"
 #include "testbench/run/resources.h"
 
 #include <fmt/format.h>
@@ -118,27 +119,6 @@ nlohmann::json lvb_json(const PreparedScene& p, const LvbParams& lp, const LvbRe
 }
 
 }  // namespace
-
-void write_culled_rays(const std::string& path, const std::vector<CulledRay>& rays) {
-  std::string bytes;
-  bytes.reserve(rays.size() * 40);
-  const auto put = [&bytes](const void* p, size_t n) {  // the host is little-endian (x86-64)
-    bytes.append(static_cast<const char*>(p), n);
-  };
-  for (const CulledRay& c : rays) {
-    put(&c.pixel, 4);
-    put(&c.sample, 4);
-    put(&c.bounce, 2);
-    put(&c.light, 2);
-    put(&c.light_sample, 4);
-    for (const Vec3* v : {&c.origin, &c.target})
-      for (int k = 0; k < 3; ++k) put(&(*v)[k], 4);
-  }
-  write_npy_records(path,
-                    "[('pixel', '<u4'), ('sample', '<u4'), ('bounce', '<u2'), ('light', '<u2'), "
-                    "('light_sample', '<u4'), ('origin', '<f4', (3,)), ('target', '<f4', (3,))]",
-                    rays.size(), bytes);
-}
 
 int run_lvb(const LvbArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();

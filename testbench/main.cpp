@@ -207,6 +207,9 @@ void add_run(CLI::App& app, Commands& c) {
   c.run_cmd->add_option("--mem-trace", c.run.mem_trace_file,
                         "Write a CSV of the memory transactions at the TLM-2.0 boundary (cycle, "
                         "initiator, address, bytes, op, latency)");
+  c.run_cmd->add_option("--culled-rays", c.run.culled_rays,
+                        "Write every shadow ray the culling unit culled (origin, light sample "
+                        "point, light, bounce) to this .npy");
   c.run_cmd->add_option(
       "--trace-window", c.run.trace_window,
       "Cycles START:END to trace with --trace and --mem-trace (default 0:100000)");

@@ -12,6 +12,7 @@
 #include "reports/output_files.h"
 #include "reports/plots.h"
 #include "reports/run_report.h"
+#include "testbench/run/culled_rays.h"
 #include "testbench/run/progress.h"
 #include "testbench/run/reference_check.h"
 #include "testbench/run/resources.h"
@@ -368,6 +369,13 @@ ModelFrame simulate_model_frame(const RunConfig& c, const PreparedScene& p,
 int run_model(const RunArgs& args) {
   const auto t0 = std::chrono::steady_clock::now();
   RunConfig c = resolve_run_config(args.sources);
+  if (!args.culled_rays.empty()) {
+    if (c.run.sample.fraction > 0)
+      throw InputError(
+          "--culled-rays: a sampled frame simulates part of its rays; expected a "
+          "whole frame (no run.sample)");
+    check_writable("--culled-rays", args.culled_rays);
+  }
   if (c.run.sample.grow) return run_grown(args, c, run_config_json(c));
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
@@ -423,6 +431,8 @@ int run_model(const RunArgs& args) {
     add_sampled(report, c, *m.sampled, p.scene.width, out);
     report["host"]["seconds"]["functional_pass"] = m.sampled->pass_seconds;
   }
+  if (!args.culled_rays.empty())
+    write_culled_rays(args.culled_rays, culled_rays(r.frame, *p.image));
   write_run_outputs(out, p, r, m.sampled ? pixel_planes(*m.ref) : pixel_planes(r), config, report);
   std::string plots_note;
   if (c.run.plots) plots_note = make_plots("run", out.string());

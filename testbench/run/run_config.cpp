@@ -194,6 +194,10 @@ void check_writable(const char* flag, const std::string& file, const std::string
 
 }  // namespace
 
+void check_writable(const char* flag, const std::string& file) {
+  check_writable(flag, file, file + ".part.probe");
+}
+
 TraceWindow parse_trace_window(const std::string& window) {
   TraceWindow w;
   if (window.empty()) return w;

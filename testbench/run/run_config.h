@@ -67,6 +67,9 @@ nlohmann::json run_config_json(const RunConfig& c);
 std::vector<ConfigOverride> scene_overrides(const std::vector<std::string>& scene_set);
 nlohmann::json run_settings_json(const RunSettings& r);
 
+// `flag` FILE will be writable at the end of the run; an InputError otherwise.
+void check_writable(const char* flag, const std::string& file);
+
 // --trace-window START:END (cycles, END exclusive; default 0:100000); bad input is an InputError.
 struct TraceWindow {
   uint64_t start = 0, end = 100000;

@@ -164,11 +164,12 @@ void read_metrics_and_reports(YamlMap& top, SweepSpec& s) {
     if (s.metrics.empty()) top.fail("metrics", "expected at least one metric");
     for (const std::string& m : s.metrics)
       if (!is_sweep_metric(m))
-        top.fail("metrics", fmt::format("'{}': expected a metric name (configs/README.md) or a "
-                                        "dotted path into report.json (cycles_*, frame_ms.*, "
-                                        "rays.*, per_light.*, lvb.*, kdtree.*, scene.*, stats.*, "
-                                        "sample.*)",
-                                        m));
+        top.fail("metrics",
+                 fmt::format("'{}': expected a metric name (configs/README.md) or a "
+                             "dotted path into report.json (cycles_*, frame_ms.*, "
+                             "rays.*, per_light.*, path.*, lvb.*, kdtree.*, scene.*, stats.*, "
+                             "sample.*)",
+                             m));
   } else {
     s.metrics = kDefaultSweepMetrics;
   }

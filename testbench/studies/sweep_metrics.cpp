@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <limits>
+#include <optional>
+#include <utility>
 
 namespace rtsim {
 
@@ -43,6 +45,33 @@ std::vector<std::string> cache_metrics(const json& cache, const json& units) {
   return unit_metrics(units, unit, cache_hit_rate_metric(cache).substr(unit.size()));
 }
 
+// bounce<N>_<tail> (a path-traced run's bounce N): N and the tail, or nullopt.
+std::optional<std::pair<size_t, std::string>> bounce_metric(const std::string& name) {
+  if (name.rfind("bounce", 0) != 0) return std::nullopt;
+  const size_t digits = name.find_first_not_of("0123456789", 6);
+  if (digits == 6 || digits == std::string::npos || digits - 6 > 2 || name[digits] != '_')
+    return std::nullopt;
+  const std::string tail = name.substr(digits + 1);
+  if (tail != "rays" && tail != "culled_rate" && tail != "cycles_per_ray") return std::nullopt;
+  return std::pair(size_t(std::stoul(name.substr(6, digits - 6))), tail);
+}
+
+// The rays of a path-traced run's later bounces by kind, and its bounce<N>_* figures (NaN for a
+// Whitted run, or past max_depth); nullopt for another name.
+std::optional<double> path_metric(const std::string& name, const json& r) {
+  if (name == "rays_reflection") return json_number(r, "rays.reflection");
+  if (name == "rays_bounce") return json_number(r, "rays.bounce");
+  const auto b = bounce_metric(name);
+  if (!b) return std::nullopt;
+  const std::string at = "path.bounces." + std::to_string(b->first) + ".";
+  const double rays = json_number(r, at + "rays");
+  if (b->second == "rays") return rays;
+  if (b->second == "cycles_per_ray")
+    return rays > 0 ? json_number(r, at + "ray_cycles") / rays : kNaN;
+  const double shadow = json_number(r, at + "shadow_rays");
+  return shadow > 0 ? json_number(r, at + "culled") / shadow : kNaN;
+}
+
 }  // namespace
 
 double sweep_metric(const std::string& name, const json& r) {
@@ -67,6 +96,7 @@ double sweep_metric(const std::string& name, const json& r) {
   }
   if (name == "rays_primary") return json_number(r, "rays.primary");
   if (name == "rays_shadow") return json_number(r, "rays.shadow");
+  if (const std::optional<double> v = path_metric(name, r)) return *v;
   if (name == "shadow_culled") return sum("per_light", "culled");
   if (name == "shadow_culled_rate") {
     const double all = sum("per_light", "shadow_rays");
@@ -151,12 +181,13 @@ bool is_sweep_metric(const std::string& name) {
     return v;
   }();
   if (std::find(named.begin(), named.end(), name) != named.end()) return true;
+  if (name == "rays_reflection" || name == "rays_bounce" || bounce_metric(name)) return true;
   const std::string head = name.substr(0, name.find('.'));
   // A sampled run's estimates carry their 95% half-intervals (docs/sampling.md).
   for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz",
                           "cycles_total_ci95", "cycles_primary_ci95", "cycles_shadow_ci95"})
     if (name == key) return true;
-  for (const char* key : {"frame_ms", "rays", "per_light", "lvb", kKdTreeFamily, kBvhFamily,
+  for (const char* key : {"frame_ms", "rays", "per_light", "path", "lvb", kKdTreeFamily, kBvhFamily,
                           "scene", "stats", "sample"})
     if (head == key && name.size() > head.size() + 1) return true;
   return false;

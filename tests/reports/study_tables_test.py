@@ -258,4 +258,54 @@ with tempfile.TemporaryDirectory() as tmp:
     # A study that has not run: one error naming the directory it looked for.
     render_error(rtsim, "sampling", os.path.join(tmp, "nothing"), ["full/points"])
 
+# The path-traced frames study (reports/study_paths_table.h): one scene on one machine, Whitted and
+# path-traced frames, culling off / paper / exact; a Whitted frame has no bounces ("-").
+with tempfile.TemporaryDirectory() as tmp:
+    cols = ["point", "scene", "variant", "run.integrator", "cycles_total", "rays_primary"]
+    cols += ["rays_reflection", "rays_bounce", "rays_shadow", "shadow_culled_rate"]
+    cols += [f"bounce{b}_culled_rate" for b in range(4)]
+    cols += ["bounce0_cycles_per_ray", "bounce1_cycles_per_ray", "dram_bytes_per_ray"]
+    cols += ["traversal_l1_hit_rate", "traversal_l2_hit_rate", "failure"]
+    data = []
+    for culling, whitted, path in (("off", 1000, 4000), ("paper", 990, 4000), ("exact", 900, 4200)):
+        base = {"scene": "s", "variant": "kd-" + culling, "rays_primary": 100}
+        base.update({"rays_reflection": 0, "dram_bytes_per_ray": 12.34})
+        base.update({"traversal_l1_hit_rate": 0.9, "traversal_l2_hit_rate": 0.5})
+        data.append(
+            dict(base, **{"run.integrator": "whitted", "cycles_total": whitted, "rays_shadow": 200})
+        )
+        data.append(
+            dict(
+                base,
+                **{"run.integrator": "path", "cycles_total": path, "rays_shadow": 300},
+                rays_reflection=5,
+                rays_bounce=45,
+                bounce0_culled_rate=0.25,
+                bounce1_culled_rate=0.125,
+                bounce2_culled_rate=0.5,
+                bounce3_culled_rate=0,
+                bounce0_cycles_per_ray=1234.4,
+                bounce1_cycles_per_ray=99.5,
+            )
+        )
+    for k, d in enumerate(data):
+        d["point"] = k
+        d["shadow_culled_rate"] = 0.1 if d["variant"] == "kd-exact" else 0.0
+    write_csv(os.path.join(tmp, "results.csv"), cols, data)
+    got = render(rtsim, "paths", tmp)
+    expect_lines(
+        "paths",
+        got,
+        [
+            "| s | kd | whitted | 100 | 0 | 200 | 1,000 | -1.0% | -10.0% | 10.0% |",
+            "| s | kd | path | 100 | 50 | 300 | 4,000 | +0.0% | +5.0% | 10.0% |",
+            "| s | kd | whitted | - | - | - | - | - | - | 12.3 | 90.0% | 50.0% |",
+            "| s | kd | path | 25.0% | 12.5% | 50.0% | 0.0% | 1,234 | 100 | 12.3 | 90.0% | 50.0% |",
+        ],
+    )
+    write_csv(
+        os.path.join(tmp, "results.csv"), cols, [d for d in data if d["variant"] != "kd-paper"]
+    )
+    render_error(rtsim, "paths", tmp, ["results.csv", "culling paper"])
+
 finish()

@@ -100,6 +100,32 @@ TEST(CliPaths, AreaLightSamplesFollowThePathAndBounce) {
   fs::remove_all(dir);
 }
 
+// --culled-rays: the shadow rays the model's culling unit culled are the reference tracer's, byte
+// for byte (rtsim lvb writes the reference's), on every bounce.
+TEST(CliPaths, TheModelCullsTheReferencesShadowRays) {
+  const fs::path dir = test::temp_dir("cli_paths_culled");
+  const std::string city = source("configs/scenes/city.yaml");
+  const std::string frame = " --width 96 --height 54 --integrator path --spp 2 --culled-rays ";
+  RunResult r = run("lvb " + city + " --out " + (dir / "lvb").string() + frame +
+                    (dir / "reference.npy").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  r = run("run " + city + " --hw " + source("configs/hw/tni-paper.yaml") +
+          " --no-plots --quiet --out " + (dir / "run").string() + frame +
+          (dir / "model.npy").string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string reference = slurp(dir / "reference.npy"), model = slurp(dir / "model.npy");
+  const nlohmann::json rep = nlohmann::json::parse(slurp(dir / "run" / "report.json"));
+  uint64_t culled = 0;
+  for (const nlohmann::json& l : rep["per_light"]) culled += l["culled"].get<uint64_t>();
+  EXPECT_GT(culled, 0u);
+  EXPECT_EQ(model.size() - model.find('\n') - 1, 40 * culled);  // a record per culled ray
+  EXPECT_TRUE(model == reference) << "the model's culled rays differ from the reference's";
+  expect_input_error("run " + city + " --hw " + source("configs/hw/tni-paper.yaml") +
+                         " --sample 0.5 --culled-rays " + (dir / "x.npy").string(),
+                     {"--culled-rays", "sampled"});
+  fs::remove_all(dir);
+}
+
 TEST(CliPaths, PathRunsTheMachineCannotHoldAreRefused) {
   const fs::path dir = test::temp_dir("cli_paths_bad");
   const std::string head = "run " + source("configs/scenes/city.yaml") + " --hw " +

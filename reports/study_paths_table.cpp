@@ -1,0 +1,127 @@
+#include "reports/study_paths_table.h"
+
+#include "common/error.h"
+#include "reports/study_files.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <tuple>
+#include <vector>
+
+namespace rtsim::report {
+
+namespace {
+
+// A point: its scene, machine (the variant's name before its last '-') and integrator.
+using Frame = std::tuple<std::string, std::string, std::string>;
+
+struct Points {
+  std::vector<Frame> frames;                           // in the order they first appear
+  std::map<std::pair<Frame, std::string>, CsvRow> by;  // (frame, culling) -> row
+  std::string file;
+};
+
+Points read_points(const std::string& run_dir) {
+  Points p;
+  p.file = (std::filesystem::path(run_dir) / "results.csv").string();
+  for (const CsvRow& r : read_results_csv(run_dir)) {
+    const std::string& variant = cell(r, "variant", p.file);
+    const size_t dash = variant.rfind('-');
+    if (dash == std::string::npos)
+      throw InputError(
+          fmt::format("{}: variant '{}': expected MACHINE-off, -paper or -exact", p.file, variant));
+    const Frame f{cell(r, "scene", p.file), variant.substr(0, dash),
+                  cell(r, "run.integrator", p.file)};
+    if (std::find(p.frames.begin(), p.frames.end(), f) == p.frames.end()) p.frames.push_back(f);
+    p.by[{f, variant.substr(dash + 1)}] = r;
+  }
+  return p;
+}
+
+// The row of a frame with a culling mode; an InputError when the sweep lacks it or it failed.
+const CsvRow& row(const Points& p, const Frame& f, const char* culling) {
+  const auto it = p.by.find({f, culling});
+  if (it == p.by.end())
+    throw InputError(fmt::format("{}: no point of {} on {} ({}) with culling {}", p.file,
+                                 std::get<0>(f), std::get<1>(f), std::get<2>(f), culling));
+  if (!cell(it->second, "failure", p.file).empty())
+    throw InputError(fmt::format("{}: the point of {} on {} ({}) with culling {} failed: {}",
+                                 p.file, std::get<0>(f), std::get<1>(f), std::get<2>(f), culling,
+                                 cell(it->second, "failure", p.file)));
+  return it->second;
+}
+
+// A cell written as `format` does, or "-" when it is empty (a Whitted frame has no bounces).
+template <class Format>
+std::string maybe(const CsvRow& r, const std::string& metric, const std::string& file,
+                  Format format) {
+  return cell(r, metric, file).empty() ? "-" : format(cell_number(r, metric, file));
+}
+
+std::string frames_table(const Points& p) {
+  const std::vector<std::string> head{"scene",
+                                      "machine",
+                                      "frame",
+                                      "primary rays",
+                                      "later rays",
+                                      "shadow rays (off)",
+                                      "cycles, no culling",
+                                      "paper",
+                                      "exact",
+                                      "culled (exact)"};
+  std::string out = table_row(head) + "\n" + table_rule(head.size());
+  for (const Frame& f : p.frames) {
+    const CsvRow &off = row(p, f, "off"), &paper = row(p, f, "paper"), &exact = row(p, f, "exact");
+    const double cycles = cell_number(off, "cycles_total", p.file);
+    const auto change = [&](const CsvRow& r) {
+      return fmt::format("{:+.1f}%", 100 * (cell_number(r, "cycles_total", p.file) / cycles - 1));
+    };
+    const double later =
+        cell_number(off, "rays_reflection", p.file) +
+        (cell(off, "rays_bounce", p.file).empty() ? 0.0 : cell_number(off, "rays_bounce", p.file));
+    out += "\n" + table_row({std::get<0>(f), std::get<1>(f), std::get<2>(f),
+                             fmt_int(cell_number(off, "rays_primary", p.file)), fmt_int(later),
+                             fmt_int(cell_number(off, "rays_shadow", p.file)), fmt_int(cycles),
+                             change(paper), change(exact),
+                             fmt_pct(cell_number(exact, "shadow_culled_rate", p.file))});
+  }
+  return out;
+}
+
+std::string bounces_table(const Points& p) {
+  std::vector<std::string> head{"scene", "machine", "frame"};
+  for (int b = 0; b < 4; ++b) head.push_back(fmt::format("culled, bounce {}", b));
+  for (int b = 0; b < 2; ++b) head.push_back(fmt::format("cycles per ray, bounce {}", b));
+  for (const char* h : {"DRAM bytes per ray", "traversal L1 hits", "traversal L2 hits"})
+    head.push_back(h);
+  std::string out = table_row(head) + "\n" + table_rule(head.size());
+  for (const Frame& f : p.frames) {
+    const CsvRow &off = row(p, f, "off"), &exact = row(p, f, "exact");
+    std::vector<std::string> cells{std::get<0>(f), std::get<1>(f), std::get<2>(f)};
+    for (int b = 0; b < 4; ++b)
+      cells.push_back(maybe(exact, fmt::format("bounce{}_culled_rate", b), p.file, fmt_pct));
+    for (int b = 0; b < 2; ++b)
+      cells.push_back(maybe(off, fmt::format("bounce{}_cycles_per_ray", b), p.file, fmt_int));
+    cells.push_back(fmt_1(cell_number(off, "dram_bytes_per_ray", p.file)));
+    cells.push_back(fmt_pct(cell_number(off, "traversal_l1_hit_rate", p.file)));
+    cells.push_back(fmt_pct(cell_number(off, "traversal_l2_hit_rate", p.file)));
+    out += "\n" + table_row(cells);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::string paths_table(const std::string& run_dir) {
+  const Points p = read_points(run_dir);
+  return frames_table(p) +
+         "\n\nBy bounce (the shadow rays from the bounce's hits culled in the exact mode; the "
+         "rays' mean cycles in flight, made to shaded, without culling) and the memory figures "
+         "of the frames without culling:\n\n" +
+         bounces_table(p);
+}
+
+}  // namespace rtsim::report
