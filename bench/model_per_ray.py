@@ -5,15 +5,18 @@ Whitted frames (issue 52's goal: within 1.5x, 480x270 on tni-paper.yaml).
 
     python3 bench/model_per_ray.py [--build build] [--scene configs/scenes/robots.yaml]
         [--width 480 --height 270] [--runs 3] [--accel bvh2,bvh4,bvh8,cwbvh8]
-        [--integrators whitted,path]
+        [--integrators whitted,path:0,path]
 
 Each run is `rtsim run` pinned to one core, culling on (the exact mode): the kd-tree on
 configs/hw/tni-paper.yaml, each BVH format on configs/hw/bvh-tni.yaml. A ray is one the traversal
 units started (primary, shadow, reflection and bounce rays: the statistic report.json's `units`
 names as `rays`); the time is report.json's host.seconds.simulate. A path-traced frame traces 1
-path a pixel, 3 bounces (run.integrator: path). The setups (structure x integrator) alternate
-within a round, so a slow phase of the machine hits all of them; medians over --runs rounds, and
-each setup's ratio to the first (the kd-tree's Whitted frame).
+path a pixel, 3 bounces (run.integrator: path), or D bounces (path:D): path:0 traces the Whitted
+frame's rays through the path machinery, the control for its overhead. The table gives each
+setup's DRAM reads per ray too: the simulated memory traffic a ray makes the host simulate. The
+setups (structure x integrator) alternate within a round, so a slow phase of the machine hits all
+of them; medians over --runs rounds, and each setup's ratio to the first (the kd-tree's Whitted
+frame).
 """
 import argparse
 import json
@@ -26,12 +29,13 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 def run(args, accel, integrator):
+    name, _, depth = integrator.partition(":")
     hw = "configs/hw/tni-paper.yaml" if accel == "kdtree" else "configs/hw/bvh-tni.yaml"
     with tempfile.TemporaryDirectory() as out:
         cmd = ["taskset", "-c", "0", os.path.join(args.build, "rtsim"), "run", args.scene]
         cmd += ["--hw", hw, "--accel", accel, "--width", str(args.width)]
         cmd += ["--height", str(args.height), "--out", out, "--no-plots", "--quiet"]
-        cmd += ["--integrator", integrator]
+        cmd += ["--integrator", name] + (["--max-depth", depth] if depth else [])
         subprocess.run(cmd, cwd=ROOT, check=True)
         with open(os.path.join(out, "report.json")) as f:
             r = json.load(f)
@@ -40,7 +44,8 @@ def run(args, accel, integrator):
     for part in next(u["rays"] for u in r["units"] if "rays" in u).split("."):
         node = node[part]
     rays = node
-    return r["host"]["seconds"]["simulate"], rays, r["cycles_total"]
+    dram = r["stats"]["dram"]["reads"]
+    return r["host"]["seconds"]["simulate"], rays, r["cycles_total"], dram
 
 
 def main():
@@ -62,9 +67,9 @@ def main():
     facts = {}
     for k in range(args.runs):
         for s in setups:
-            seconds, rays, cycles = run(args, *s)
+            seconds, rays, cycles, dram = run(args, *s)
             per_ray[s].append(seconds / rays)
-            facts[s] = (rays, cycles)
+            facts[s] = (rays, cycles, dram)
             print(
                 f"round {k + 1}: {s[0]} {s[1]}: {seconds:.2f} s, {rays:,} rays, {cycles:,} cycles",
                 flush=True,
@@ -72,13 +77,16 @@ def main():
     base = statistics.median(per_ray[setups[0]])
     print(f"\n{os.path.basename(args.scene)} {args.width}x{args.height}, medians of {args.runs}:")
     print(
-        "| structure | frame | rays | cycles | host us per ray | vs the first |\n"
-        "|---|---|---|---|---|---|"
+        "| structure | frame | rays | cycles | DRAM reads per ray | host us per ray "
+        "| vs the first |\n|---|---|---|---|---|---|---|"
     )
     for s in setups:
         m = statistics.median(per_ray[s])
-        rays, cycles = facts[s]
-        print(f"| {s[0]} | {s[1]} | {int(rays):,} | {cycles:,} | {1e6 * m:.2f} | {m / base:.2f}x |")
+        rays, cycles, dram = facts[s]
+        print(
+            f"| {s[0]} | {s[1]} | {int(rays):,} | {cycles:,} | {dram / rays:.2f} | {1e6 * m:.2f} "
+            f"| {m / base:.2f}x |"
+        )
 
 
 if __name__ == "__main__":

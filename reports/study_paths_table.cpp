@@ -119,7 +119,7 @@ std::string paths_table(const std::string& run_dir) {
   const Points p = read_points(run_dir);
   return frames_table(p) +
          "\n\nBy bounce (the shadow rays from the bounce's hits culled in the exact mode; the "
-         "rays' mean cycles in flight, made to shaded, without culling) and the memory figures "
+         "rays' mean cycles\nin flight, made to shaded, without culling) and the memory figures "
          "of the frames without culling:\n\n" +
          bounces_table(p);
 }

@@ -1,8 +1,7 @@
 // Ray generator: up to `rays_per_cycle` primary rays per cycle (the T&I engine's dispatcher issues
-// one), through pixel centres in scanline or square-tile order (a path-traced frame's `spp`
-// paths of a pixel one after another), dealt in turn to the TRV units' input FIFOs (`to_trv`), as
-// long as the ray pool has a free slot. The phase controller drives it
-// through the export `control`.
+// one), through pixel centres in scanline or square-tile order (a path-traced frame's `spp` paths
+// of a pixel one after another), dealt in turn to the TRV units' input FIFOs (`to_trv`), as long
+// as the ray pool has a free slot. The phase controller drives it through the export `control`.
 #pragma once
 
 #include "kernels/camera.h"

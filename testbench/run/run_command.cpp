@@ -24,6 +24,7 @@
 #include <sys/resource.h>
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 
@@ -324,6 +325,12 @@ void warn_expansion(const SampledRun& s) {
 // The image and the frame buffer fit the accelerator's memory (else its registers would refuse the
 // frame): a path-traced frame needs spp x (1 + max_depth) hit records a pixel.
 void check_device_memory(const RunConfig& c, const PreparedScene& p) {
+  const uint64_t entries =
+      uint64_t(p.scene.width) * uint64_t(p.scene.height) * c.hw.entries_per_pixel();
+  if (entries > UINT32_MAX)  // a frame entry is a 32-bit index (model/units/frame_buffer.h)
+    throw InputError(fmt::format(
+        "run.spp: {} hit records a pixel at {}x{} are {} frame entries; expected at most {}",
+        c.hw.entries_per_pixel(), p.scene.width, p.scene.height, entries, UINT32_MAX));
   const model::MemoryLayout l =
       model::memory_layout(c.hw, p.image->bytes().size(), p.scene.width, p.scene.height);
   const uint64_t capacity = uint64_t(c.hw.dram.capacity_mib) << 20;
