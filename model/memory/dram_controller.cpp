@@ -40,6 +40,7 @@ DramController::DramController(const DramConfig& config)
       refreshing_(refresh_->first_due() != kDramNever) {
   add_rules();
   channels_.resize(config_.channels);
+  next_.resize(config_.channels);
   for (Channel& ch : channels_) {
     ch.banks.resize(config_.banks);
     ch.queue.reserve(config_.queue_size);
@@ -112,7 +113,7 @@ void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   if (refreshing_ && ch.queue.empty()) catch_up_refresh(a.channel, r.arrival_cycle);
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
-    ch.next_cycle = choose(ch).cycle;
+    rechoose(a.channel);
   } else {
     ch.overflow.push_back(r);  // invisible to the scheduler until it enters the queue
     ++stats_.queue_full_events;
@@ -228,16 +229,13 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
   const uint64_t last = now / config_.tCK_ps;  // the last command cycle at or before now
   for (uint32_t i = 0; i < channels_.size(); ++i) {
     Channel& ch = channels_[i];
-    // next_cycle is the choice made after the channel last changed (a command or a request):
-    // a channel whose next command lies beyond `last` would choose it again.
+    // next_[i] is the choice made after the channel last changed (a command or a request): it
+    // stands until the channel changes, and one beyond `last` waits for a later call.
     if (ch.next_cycle > last) continue;
-    for (;;) {
-      const Choice c = choose(ch);
-      if (c.cycle == kDramNever || c.cycle > last) {
-        ch.next_cycle = c.cycle;
-        break;
-      }
+    while (next_[i].cycle != kDramNever && next_[i].cycle <= last) {
+      const Choice c = next_[i];  // issue() changes the channel, then its choice is made again
       issue(i, c);
+      rechoose(i);
     }
   }
   while (!completions_.empty() && completions_.top().time <= now) {

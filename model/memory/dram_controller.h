@@ -230,6 +230,13 @@ class DramController {
     const Choice pick = scheduler_->choose(ch);
     return refreshing_ ? refresh_->arbitrate(ch, pick) : pick;
   }
+  // Chooses channel i's next command after it changed (a request queued, a command issued), and
+  // keeps the choice: until the channel changes again it stands, so advance() issues it without
+  // choosing again.
+  void rechoose(uint32_t i) {
+    next_[i] = choose(channels_[i]);
+    channels_[i].next_cycle = next_[i].cycle;
+  }
   void catch_up_refresh(uint32_t channel_index, uint64_t until);
   void issue(uint32_t channel_index, const Choice& c);
   void issue_refresh(uint32_t channel_index, const Choice& c);
@@ -251,6 +258,7 @@ class DramController {
   std::unique_ptr<DramRefreshPolicy> refresh_;
   bool refreshing_;
   std::vector<Channel> channels_;
+  std::vector<Choice> next_;  // per channel: choose() of its state as it is (rechoose)
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;
   Tick now_ = 0;  // latest advance()
   uint64_t next_seq_ = 0;
