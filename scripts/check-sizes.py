@@ -30,6 +30,15 @@ def source_files(root):
                 yield os.path.join(base, f)
 
 
+def is_digit_separator(text, i):
+    """Whether the ' at i separates the digits of a number (1'000'000, 0xff'ff): the word before it
+    starts with a digit (u8'x', L'x' and a character after a name are literals)."""
+    j = i
+    while j > 0 and (text[j - 1].isalnum() or text[j - 1] == "_"):
+        j -= 1
+    return j < i and text[j].isdigit() and i + 1 < len(text) and text[i + 1].isalnum()
+
+
 def blank_comments_and_literals(text):
     """The text with comments, string and character literals replaced by spaces (newlines kept)."""
     out = []
@@ -52,6 +61,9 @@ def blank_comments_and_literals(text):
             j = n if end < 0 else end + len(m.group(1)) + 2
             out.append(re.sub(r"[^\n]", " ", text[i:j]))
             i = j
+        elif c == "'" and is_digit_separator(text, i):
+            out.append(c)
+            i += 1
         elif c in "\"'":
             j = i + 1
             while j < n and text[j] != c and text[j] != "\n":
