@@ -40,6 +40,7 @@ DramController::DramController(const DramConfig& config)
       refreshing_(refresh_->first_due() != kDramNever) {
   add_rules();
   channels_.resize(config_.channels);
+  picks_.resize(config_.channels);
   next_.resize(config_.channels);
   for (Channel& ch : channels_) {
     ch.banks.resize(config_.banks);
@@ -113,7 +114,8 @@ void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   if (refreshing_ && ch.queue.empty()) catch_up_refresh(a.channel, r.arrival_cycle);
   if (ch.queue.size() < config_.queue_size) {
     ch.queue.push_back(r);
-    rechoose(a.channel);
+    // A refresh caught up above leaves an empty queue's pick (none) as it was.
+    rechoose_added(a.channel, ch.queue.size() - 1);
   } else {
     ch.overflow.push_back(r);  // invisible to the scheduler until it enters the queue
     ++stats_.queue_full_events;

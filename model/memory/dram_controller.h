@@ -224,17 +224,23 @@ class DramController {
            ch.overflow.size() < config_.input_queue;
   }
   void add_rules();
-  // The policies' pick at the earliest cycle with a legal command. Without refresh the refresh
-  // policy would return the pick unchanged: the call is skipped (host time).
-  Choice choose(const Channel& ch) {
-    const Choice pick = scheduler_->choose(ch);
-    return refreshing_ ? refresh_->arbitrate(ch, pick) : pick;
-  }
   // Chooses channel i's next command after it changed (a request queued, a command issued), and
   // keeps the choice: until the channel changes again it stands, so advance() issues it without
   // choosing again.
   void rechoose(uint32_t i) {
-    next_[i] = choose(channels_[i]);
+    picks_[i] = scheduler_->choose(channels_[i]);
+    settle(i);
+  }
+  // The same after request `added` joined channel i's queue, nothing else having changed: the
+  // scheduler weighs the new request against its pick (DramScheduler::add).
+  void rechoose_added(uint32_t i, size_t added) {
+    picks_[i] = scheduler_->add(channels_[i], picks_[i], added);
+    settle(i);
+  }
+  // The refresh policy's say on the scheduler's pick: the command at the earliest cycle with a
+  // legal one. Without refresh it would return the pick unchanged: the call is skipped (host time).
+  void settle(uint32_t i) {
+    next_[i] = refreshing_ ? refresh_->arbitrate(channels_[i], picks_[i]) : picks_[i];
     channels_[i].next_cycle = next_[i].cycle;
   }
   void catch_up_refresh(uint32_t channel_index, uint64_t until);
@@ -258,7 +264,8 @@ class DramController {
   std::unique_ptr<DramRefreshPolicy> refresh_;
   bool refreshing_;
   std::vector<Channel> channels_;
-  std::vector<Choice> next_;  // per channel: choose() of its state as it is (rechoose)
+  // Per channel, of its state as it is (rechoose): the scheduler's pick, and the command to issue.
+  std::vector<Choice> picks_, next_;
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;
   Tick now_ = 0;  // latest advance()
   uint64_t next_seq_ = 0;

@@ -26,6 +26,14 @@ class DramScheduler {
   virtual ~DramScheduler() = default;
   // The pick at the earliest cycle with a legal proposal; cycle kDramNever for an empty queue.
   virtual DramChoice choose(const DramChannel& ch) = 0;
+  // choose(ch) once request `added` (the queue's last) has joined a queue whose pick was
+  // `before`, nothing else having changed: a policy may weigh the one new proposal instead of
+  // every one. By default it chooses again.
+  virtual DramChoice add(const DramChannel& ch, const DramChoice& before, size_t added) {
+    (void)before;
+    (void)added;
+    return choose(ch);
+  }
 };
 
 }  // namespace rtsim::model
