@@ -2,12 +2,14 @@
 // all-bank refresh and bank groups (GT200's timings, tCK 1.25 ns, unless a test changes them).
 #include "model/memory/dram_config.h"
 #include "model/memory/dram_controller.h"
+#include "model/memory/dram_policies.h"
 #include "model/memory/dram_rows.h"
 #include "tests/model/memory/dram_test_util.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -318,6 +320,51 @@ TEST(DramPolicies, EveryCombinationServesEveryRequestLegally) {
           EXPECT_EQ(f.name == "none", st.refreshes == 0u);
           expect_legal(trace, c);
         }
+}
+
+// A scheduler weighing an arrival against its pick (DramScheduler::add) picks what weighing every
+// proposal again picks, on random channels: banks open on a few rows, random earliest cycles, a
+// queue of reads and writes to them with at most one request between its bursts.
+TEST(DramPolicies, AnArrivalIsWeighedAsEveryProposalAgain) {
+  for (const RegisteredName& name : dram_scheduler_names()) {
+    SCOPED_TRACE(name.name);
+    const DramConfig c = gt200();
+    const std::unique_ptr<DramScheduler> s = dram_schedulers().make(name.name, c);
+    uint64_t x = 99;
+    const auto next = [&x](uint64_t n) {
+      x = x * 6364136223846793005u + 1442695040888963407u;  // an LCG: the same channels each time
+      return (x >> 33) % n;
+    };
+    for (int trial = 0; trial < 20000; ++trial) {
+      DramChannel ch;
+      ch.banks.resize(c.banks);
+      for (DramBank& b : ch.banks) {
+        b.open = next(3) != 0;
+        b.row = next(3);
+        for (uint64_t& e : b.earliest) e = next(40);
+      }
+      for (uint64_t& e : ch.earliest) e = next(40);
+      ch.free_from = next(30);
+      const size_t n = 1 + next(16);
+      // The request between its bursts, if any: never the one that arrives.
+      const size_t owner = n > 1 && next(4) == 0 ? next(n - 1) : n;
+      for (size_t i = 0; i < n; ++i) {
+        const uint64_t arrival = next(4) * 1000;  // ties in arrival go by enqueue order
+        ch.queue.push_back(DramRequest{i, i, arrival, arrival / 1000, uint32_t(next(c.banks)),
+                                       next(3), 0, i == owner ? 1u : 0u, false, next(3) == 0});
+      }
+      const DramRequest added = ch.queue.back();
+      ch.queue.pop_back();
+      const DramChoice before = s->choose(ch);
+      ch.queue.push_back(added);
+      const DramChoice want = s->choose(ch), got = s->add(ch, before, n - 1);
+      ASSERT_EQ(got.cycle, want.cycle) << "trial " << trial;
+      if (want.cycle == kDramNever) continue;
+      ASSERT_EQ(got.index, want.index) << "trial " << trial;
+      ASSERT_EQ(got.command, want.command) << "trial " << trial;
+      ASSERT_EQ(got.bank, want.bank) << "trial " << trial;
+    }
+  }
 }
 
 // The functional mode's DRAM (DramRows) finds a bank as the controller leaves it and costs what the
