@@ -1,0 +1,72 @@
+// The Micron method's DRAM energy (model/memory/dram_energy.h) in closed form: DRAMPower's DDR3
+// device (MICRON_1Gb_DDR3-1600_8bit_G, the worked example of ../shared/docs/energy-params.md,
+// section 4) term by term, an ACT and PRE pair against TN-41-01's own form of it, and a scripted
+// pattern (row hits, misses, an idle refresh interval) against the sum worked out by hand.
+#include "model/memory/dram_energy.h"
+
+#include <gtest/gtest.h>
+
+namespace rtsim::model {
+namespace {
+
+// One x8 DDR3-1600 device: 1.5 V; IDD0 70, IDD2N 45, IDD3N 45, IDD4R 140, IDD4W 145, IDD5 170 mA;
+// tCK 1.25 ns, RAS 28, RC 38, RFC 88 cycles, BL8 = 4 cycles of the data bus.
+DramCurrents ddr3() { return {1.5, 70, 45, 45, 140, 145, 170}; }
+DramEnergyTiming ddr3_timing(uint32_t devices = 1) { return {1.25, 28, 38, 88, 4, devices}; }
+
+TEST(DramEnergy, EachCommandCostsWhatTheWorkedExampleGives) {
+  DramActivity one;
+  one.activates = one.precharges = one.read_bursts = one.write_bursts = one.refreshes = 1;
+  const DramEnergy e = dram_energy(ddr3(), ddr3_timing(), one);
+  EXPECT_DOUBLE_EQ(e.activate, 1312.5);  // 1.3125 nJ
+  EXPECT_DOUBLE_EQ(e.precharge, 468.75);
+  EXPECT_DOUBLE_EQ(e.read, 712.5);  // 11.1 pJ a bit of the burst's 64
+  EXPECT_DOUBLE_EQ(e.write, 750.0);
+  EXPECT_DOUBLE_EQ(e.refresh, 20625.0);
+  EXPECT_DOUBLE_EQ(e.background, 0.0);  // no cycle of either state
+  // The background: 67.5 mW (IDD2N = IDD3N here), 84.375 pJ a cycle in either state.
+  DramActivity idle;
+  idle.active_cycles = 3;
+  idle.precharged_cycles = 5;
+  EXPECT_DOUBLE_EQ(dram_energy(ddr3(), ddr3_timing(), idle).background, 8 * 84.375);
+}
+
+// TN-41-01 prices an ACT and its PRE together: VDD x tCK x (IDD0 x nRC - IDD3N x nRAS - IDD2N x
+// nRP), the same energy when tRC = tRAS + tRP; a currents set with IDD2N != IDD3N tells the two
+// background currents apart.
+TEST(DramEnergy, AnActivateAndItsPrechargeAreTn4101sPair) {
+  DramCurrents c = ddr3();
+  c.idd2n = 32;
+  DramActivity pair;
+  pair.activates = pair.precharges = 1;
+  const DramEnergyTiming t = ddr3_timing();
+  const DramEnergy e = dram_energy(c, t, pair);
+  const double tn4101 = c.vdd * t.tck_ns * (c.idd0 * 38 - c.idd3n * 28 - c.idd2n * (38 - 28));
+  EXPECT_NEAR(e.activate + e.precharge, tn4101, 1e-9);
+}
+
+// A channel of two devices: 10 row hits (reads), 4 misses (ACT, read, PRE), 2 writes to the open
+// row, then an idle refresh interval (one REF, every bank closed). Its time: 300 cycles with a
+// row open, 6,000 with every bank closed. Every part and the total, by hand.
+TEST(DramEnergy, AScriptedPatternCostsItsTermsByHand) {
+  DramActivity a;
+  a.read_bursts = 10 + 4;
+  a.write_bursts = 2;
+  a.activates = a.precharges = 4;
+  a.refreshes = 1;
+  a.active_cycles = 300;
+  a.precharged_cycles = 6000;
+  const DramEnergy e = dram_energy(ddr3(), ddr3_timing(2), a);
+  EXPECT_DOUBLE_EQ(e.activate, 2 * 4 * 1312.5);
+  EXPECT_DOUBLE_EQ(e.precharge, 2 * 4 * 468.75);
+  EXPECT_DOUBLE_EQ(e.read, 2 * 14 * 712.5);
+  EXPECT_DOUBLE_EQ(e.write, 2 * 2 * 750.0);
+  EXPECT_DOUBLE_EQ(e.refresh, 2 * 20625.0);
+  EXPECT_DOUBLE_EQ(e.background, 2 * 6300 * 84.375);
+  EXPECT_DOUBLE_EQ(e.total(),
+                   e.activate + e.precharge + e.read + e.write + e.refresh + e.background);
+  EXPECT_DOUBLE_EQ(e.total(), 10500 + 3750 + 19950 + 3000 + 41250 + 1063125);
+}
+
+}  // namespace
+}  // namespace rtsim::model
