@@ -1,7 +1,8 @@
-// Path-traced frames on the model (rtsim run --integrator path): the kd-tree and the BVH machines,
-// in two phases and in one, with culling on and off, trace the reference tracer's paths: the same
-// radiance bit for bit and the same counts at every bounce; and a path run the machine or the
-// settings cannot hold is one line and exit code 2, with nothing written.
+// Path-traced frames on the model (rtsim run --integrator path): the kd-tree machine and the BVH
+// machine on every node format, in two phases and in one, with culling on and off, trace the
+// reference tracer's paths: the same radiance bit for bit and the same counts at every bounce;
+// and a path run the machine or the settings cannot hold is one line and exit code 2, with
+// nothing written.
 #include "tests/test_util.h"
 #include "tests/testbench/cli_util.h"
 
@@ -62,7 +63,7 @@ void expect_the_references_paths(const nlohmann::json& rep, bool culling, int ma
 TEST(CliPaths, EveryMachineTracesTheReferencesPaths) {
   const fs::path dir = test::temp_dir("cli_paths");
   const std::string city = source("configs/scenes/city.yaml");
-  const std::string size = " --width 96 --height 54 --spp 2";
+  const std::string size = " --width 64 --height 36 --spp 2";
   struct Case {
     const char* name;
     std::string args;
@@ -73,13 +74,16 @@ TEST(CliPaths, EveryMachineTracesTheReferencesPaths) {
       {"kd-tree, culling off", "--hw " + source("configs/hw/tni-paper.yaml") + " --lvb off", false},
       {"kd-tree, one phase",
        "--hw " + source("configs/hw/tni-paper.yaml") + " --set hw.schedule=one-phase", true},
+      {"bvh2", "--hw " + source("configs/hw/bvh-tni.yaml") + " --accel bvh2", true},
+      {"bvh4", "--hw " + source("configs/hw/bvh-tni.yaml") + " --accel bvh4", true},
+      {"bvh8", "--hw " + source("configs/hw/bvh-tni.yaml") + " --accel bvh8", true},
       {"cwbvh8", "--hw " + source("configs/hw/bvh-tni.yaml") + " --accel cwbvh8", true},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     const nlohmann::json rep = run_paths(city, c.args + size, dir / "run");
     expect_the_references_paths(rep, c.culling, 3);
-    EXPECT_EQ(rep["rays"]["primary"], 96 * 54 * 2);
+    EXPECT_EQ(rep["rays"]["primary"], 64 * 36 * 2);
     EXPECT_TRUE(fs::exists(dir / "run" / "radiance.npy"));
   }
   fs::remove_all(dir);
