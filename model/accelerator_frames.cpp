@@ -104,6 +104,7 @@ void Accelerator::Netlist::reset_stats(Tick at) {
   culling->finish_accounting(at);
   for (RayUnit* u : ray_units) u->finish_accounting(at);
   for (RayFifo* f : fifos) f->finish_accounting(at);
+  if (dram) dram->settle_active(at);
   stats.reset();
   stats_begin = at;
 }
@@ -222,6 +223,7 @@ AcceleratorResult Accelerator::result() {
     n.culling->finish_accounting(n.end);
     for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
     for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
+    if (n.dram) n.dram->settle_active(n.end);
     n.frame.close_samples();
     n.stats_span = n.end > n.stats_begin ? n.end - n.stats_begin : 0;
     n.collected = true;

@@ -95,6 +95,9 @@ class Dram : public Calendar::Client, public sc_core::sc_module {
 
   const DramController& engine() const { return engine_; }
   const DramStats& stats() const { return engine_.stats(); }
+  // The active cycles up to `now` (DramController::settle_active): at a span's end, and before a
+  // reset of the statistics.
+  void settle_active(Tick now) { engine_.settle_active(now); }
   // The engine's statistics, and <prefix>.held_back with a bounded input queue.
   void register_stats(StatsRegistry& registry, const std::string& prefix) const;
 

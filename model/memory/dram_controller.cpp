@@ -41,6 +41,8 @@ DramController::DramController(const DramConfig& config)
   add_rules();
   channels_.resize(config_.channels);
   picks_.resize(config_.channels);
+  open_banks_.assign(config_.channels, 0);
+  open_since_.assign(config_.channels, 0);
   next_.resize(config_.channels);
   for (Channel& ch : channels_) {
     ch.banks.resize(config_.banks);
@@ -152,6 +154,7 @@ void DramController::issue_refresh(uint32_t channel_index, const Choice& c) {
          kNoRequest);
   if (c.command == Command::kPrecharge) {
     b.open = false;
+    bank_closed(channel_index, c.cycle);
     ++stats_.precharges;
   } else {
     ++stats_.refreshes;
@@ -183,10 +186,12 @@ void DramController::issue(uint32_t channel_index, const Choice& c) {
     case Command::kActivate:
       b.open = true;
       b.row = r.row;
+      bank_opened(channel_index, c.cycle);
       ++stats_.activates;
       break;
     case Command::kPrecharge:
       b.open = false;
+      bank_closed(channel_index, c.cycle);
       ++stats_.precharges;
       break;
     case Command::kRefresh: break;  // only issue_refresh issues REF
@@ -217,6 +222,7 @@ void DramController::complete(uint32_t channel_index, const Choice& c) {
     stamp(ch, r.bank, Command::kPrecharge, cycle);
     record(cycle, channel_index, r.bank, Command::kPrecharge, r.row, 0, r.id);
     b.open = false;
+    bank_closed(channel_index, cycle);
     ++stats_.precharges;
   }
   ch.queue.erase(ch.queue.begin() + std::ptrdiff_t(c.index));
@@ -255,6 +261,24 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
     stats_.bytes += config_.request_bytes;
     stats_.latency_sum_ps += p.time - p.arrival;
     stats_.last_completion_ps = std::max(stats_.last_completion_ps, p.time);
+  }
+}
+
+void DramController::bank_opened(uint32_t channel, uint64_t cycle) {
+  if (open_banks_[channel]++ == 0) open_since_[channel] = cycle;
+}
+
+void DramController::bank_closed(uint32_t channel, uint64_t cycle) {
+  if (--open_banks_[channel] == 0 && cycle > open_since_[channel])
+    stats_.active_cycles += cycle - open_since_[channel];
+}
+
+void DramController::settle_active(Tick now) {
+  const uint64_t cycle = now / config_.tCK_ps;
+  for (uint32_t i = 0; i < channels_.size(); ++i) {
+    if (open_banks_[i] == 0 || cycle <= open_since_[i]) continue;
+    stats_.active_cycles += cycle - open_since_[i];
+    open_since_[i] = cycle;
   }
 }
 

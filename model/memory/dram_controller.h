@@ -95,6 +95,9 @@ struct DramStats {
   uint64_t bytes_written = 0;             // completed writes * request_bytes
   uint64_t last_write_completion_ps = 0;  // data in of the latest completed write
   uint64_t refreshes = 0;                 // REF commands (refresh: all-bank)
+  // Summed over channels: cycles with a row open in some bank (active standby); the rest of a
+  // channel's cycles it has every bank closed (precharge standby). The energy's background.
+  uint64_t active_cycles = 0;
 
   double row_hit_rate() const;
   double bandwidth_gbps() const;  // read bandwidth: bytes / (last completion - first arrival)
@@ -125,6 +128,8 @@ void describe_stats(V& v, const DramStats& s, uint32_t channels, bool refresh) {
   v.counter("writes", s.writes, "count", "write requests completed");
   v.counter("write_bursts", s.write_bursts, "count", "WR commands (one burst each)");
   v.counter("bytes_written", s.bytes_written, "bytes", "bytes written (completed requests)");
+  v.counter("active_cycles", s.active_cycles, "cycles",
+            "DRAM cycles with a row open, summed over channels (the rest: every bank closed)");
   if (refresh)
     v.counter("refreshes", s.refreshes, "count",
               "REF commands (refresh: all-bank; up to each channel's last request)");
@@ -187,6 +192,9 @@ class DramController {
   // Issues every command legal up to `now` and appends the completions with data ready <= now,
   // in (time, enqueue order).
   void advance(Tick now, std::vector<Completion>& done);
+  // Counts the cycles up to `now` that channels with a row open have spent so: a span's
+  // active_cycles are complete once this ran at its end (and at its start, before a reset).
+  void settle_active(Tick now);
   bool idle() const { return next_event_time() == kUnknown; }
   // Requests waiting per channel, and the next command's cycle (for the watchdog's report).
   std::string state() const;
@@ -266,6 +274,11 @@ class DramController {
   std::vector<Channel> channels_;
   // Per channel, of its state as it is (rechoose): the scheduler's pick, and the command to issue.
   std::vector<Choice> picks_, next_;
+  // Per channel: banks with a row open, and the cycle since which some has been (active_cycles).
+  std::vector<uint32_t> open_banks_;
+  std::vector<uint64_t> open_since_;
+  void bank_opened(uint32_t channel, uint64_t cycle);
+  void bank_closed(uint32_t channel, uint64_t cycle);
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;
   Tick now_ = 0;  // latest advance()
   uint64_t next_seq_ = 0;

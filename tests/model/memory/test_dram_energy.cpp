@@ -1,8 +1,12 @@
 // The Micron method's DRAM energy (model/memory/dram_energy.h) in closed form: DRAMPower's DDR3
 // device (MICRON_1Gb_DDR3-1600_8bit_G, the worked example of ../shared/docs/energy-params.md,
-// section 4) term by term, an ACT and PRE pair against TN-41-01's own form of it, and a scripted
-// pattern (row hits, misses, an idle refresh interval) against the sum worked out by hand.
+// section 4) term by term, an ACT and PRE pair against TN-41-01's own form of it, a scripted
+// pattern (row hits, misses, an idle refresh interval) against the sum worked out by hand, and the
+// controller's count of the cycles with a row open.
 #include "model/memory/dram_energy.h"
+
+#include "model/memory/dram_controller.h"
+#include "tests/model/memory/dram_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -66,6 +70,46 @@ TEST(DramEnergy, AScriptedPatternCostsItsTermsByHand) {
   EXPECT_DOUBLE_EQ(e.total(),
                    e.activate + e.precharge + e.read + e.write + e.refresh + e.background);
   EXPECT_DOUBLE_EQ(e.total(), 10500 + 3750 + 19950 + 3000 + 41250 + 1063125);
+}
+
+// The controller counts the background's state as its commands change it (DramStats::
+// active_cycles): a read to a closed bank opens it at its ACT; under the closed-page policy its
+// auto-precharge closes it, under the open page it stays open until settle_active. A second
+// bank of the channel opened meanwhile adds no cycle (the channel is active once); a bank of
+// another channel adds its own.
+TEST(DramEnergy, TheControllerCountsTheCyclesWithARowOpen) {
+  using namespace dram_test;
+  for (const char* policy : {"closed", "open"}) {
+    SCOPED_TRACE(policy);
+    DramConfig c = gt200();
+    c.row_policy = policy;
+    DramController e(c);
+    std::vector<DramController::CommandRecord> trace;
+    e.set_command_trace(&trace);
+    e.enqueue(0, 0, 1);
+    e.enqueue(kBank1, 0, 2);  // another bank of channel 0
+    e.enqueue(kChan1, 0, 3);  // channel 1
+    drain(e);
+    const Tick end = 1000 * kTck;
+    e.settle_active(end);
+    // By channel: the first ACT, and the last PRE (the open page has none).
+    uint64_t expected = 0;
+    for (uint32_t ch : {0u, 1u}) {
+      Tick first_act = kUnknown, last_pre = 0;
+      for (const auto& r : trace) {
+        if (r.channel != ch) continue;
+        if (r.command == Cmd::kActivate) first_act = std::min(first_act, r.time);
+        if (r.command == Cmd::kPrecharge) last_pre = std::max(last_pre, r.time);
+      }
+      ASSERT_NE(first_act, kUnknown);
+      const Tick close = std::string(policy) == "open" ? end : last_pre;
+      EXPECT_GE(close - first_act, Tick(c.tRAS) * kTck);  // a row stays open tRAS at least
+      expected += (close - first_act) / kTck;
+    }
+    EXPECT_EQ(e.stats().active_cycles, expected);
+    e.settle_active(end);  // nothing more to count up to the same time
+    EXPECT_EQ(e.stats().active_cycles, expected);
+  }
 }
 
 }  // namespace
