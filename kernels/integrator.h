@@ -21,8 +21,6 @@ struct PathSettings {
   // Russian roulette on the bounces from this one on: a path survives with the probability of its
   // throughput's largest channel, at most 1, and is reweighted.
   int roulette_depth = 2;
-  // A frame's entries per pixel: one per path and hit along it.
-  int entries() const { return spp * (max_depth + 1); }
   // "" when in range, else what is wrong.
   std::string invalid() const {
     if (spp >= 1 && spp <= 65536 && max_depth >= 0 && max_depth <= 64 && roulette_depth >= 1)

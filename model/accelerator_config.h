@@ -115,11 +115,14 @@ struct AcceleratorConfig {
   Integrator integrator = Integrator::kWhitted;
   PathSettings path;
 
-  // Frame entries, hit records, per pixel (model/units/frame_buffer.h): one per bounce of a
-  // Whitted frame, one per hit along each path of a path-traced one.
-  uint32_t entries_per_pixel() const {
-    return uint32_t(integrator == Integrator::kPath ? path.entries() : reflection_depth + 1);
+  // A frame's entries (model/units/frame_buffer.h): per path, one per bounce (1 + the reflection
+  // depth of a Whitted frame, 1 + max_depth of a path-traced one); paths per pixel (spp, or 1);
+  // and so hit records per pixel.
+  int levels() const {
+    return integrator == Integrator::kPath ? path.max_depth + 1 : reflection_depth + 1;
   }
+  int paths_per_pixel() const { return integrator == Integrator::kPath ? path.spp : 1; }
+  uint32_t entries_per_pixel() const { return uint32_t(levels() * paths_per_pixel()); }
   // Throws std::invalid_argument naming the field.
   void validate() const;
   // The memory as the accelerator uses it: `dram` with one L2 line per request.

@@ -73,8 +73,8 @@ void Accelerator::Netlist::begin_frame(const FrameProgram& p, Tick at) {
   frame = FrameBuffer{};
   frame.width = p.width;
   frame.height = p.height;
-  frame.levels = ctx.paths() ? cfg.path.max_depth + 1 : cfg.reflection_depth + 1;
-  frame.paths = ctx.paths() ? cfg.path.spp : 1;
+  frame.levels = cfg.levels();
+  frame.paths = cfg.paths_per_pixel();
   frame.allocate(ctx.light_samples);
   records = record_region(cfg, p);
   if (hooks.statistics == SimulationHooks::Statistics::kPerFrame) reset_stats(begin);

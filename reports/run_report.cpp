@@ -106,6 +106,18 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
   return j;
 }
 
+nlohmann::json path_section(const PathSettings& settings, const std::vector<float>& radiance,
+                            nlohmann::json bounces) {
+  double sum[3] = {0, 0, 0};
+  for (size_t i = 0; i < radiance.size(); ++i) sum[i % 3] += radiance[i];
+  const double pixels = double(radiance.size() / 3);
+  return {{"spp", settings.spp},
+          {"max_depth", settings.max_depth},
+          {"roulette_depth", settings.roulette_depth},
+          {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
+          {"bounces", std::move(bounces)}};
+}
+
 const nlohmann::json& structure_section(const nlohmann::json& report) {
   return report.contains(kBvhFamily) ? report[kBvhFamily] : report[kKdTreeFamily];
 }

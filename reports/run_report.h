@@ -2,6 +2,8 @@
 // paper's shape) and stats.csv. Both are pure functions of the JSON, so they can be regenerated.
 #pragma once
 
+#include "kernels/integrator.h"
+
 #include <nlohmann/json.hpp>
 
 #include <cstdint>
@@ -42,6 +44,11 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
                                const nlohmann::json& config, const nlohmann::json& lvb,
                                const RunFigures& figures, const nlohmann::json& check,
                                const RunHost& host);
+
+// The `path` section of a path-traced frame's report (render.json, lvb.json, report.json): its
+// settings, the frame's mean radiance (`radiance`: linear RGB per pixel) and `bounces`.
+nlohmann::json path_section(const PathSettings& settings, const std::vector<float>& radiance,
+                            nlohmann::json bounces);
 
 // A report's acceleration structure section: the BVH's on a BVH machine, else the kd-tree's (both
 // give nodes, leaves, nonempty_leaves and max_depth).

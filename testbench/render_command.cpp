@@ -1,6 +1,7 @@
 // rtsim render: the reference tracer over a whole frame -> render.png, mask.npy, render.json.
 #include "kernels/reference_tracer.h"
 #include "reports/output_files.h"
+#include "reports/run_report.h"
 #include "testbench/commands.h"
 #include "testbench/run/resources.h"
 
@@ -12,8 +13,6 @@
 
 namespace rtsim {
 
-namespace {}  // namespace
-
 nlohmann::json bounces_json(const IntegratorArgs& a, const TraceResult& r) {
   nlohmann::json bounces = nlohmann::json::array();
   for (const BounceCounters& b : r.stats.bounces)
@@ -23,14 +22,7 @@ nlohmann::json bounces_json(const IntegratorArgs& a, const TraceResult& r) {
                        {"culled", b.culled},
                        {"occluded", b.occluded},
                        {"wrong_culls", b.wrong_culls}});
-  double sum[3] = {0, 0, 0};
-  for (size_t i = 0; i < r.radiance.size(); ++i) sum[i % 3] += r.radiance[i];
-  const double pixels = double(r.width) * r.height;
-  return {{"spp", a.path.spp},
-          {"max_depth", a.path.max_depth},
-          {"roulette_depth", a.path.roulette_depth},
-          {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
-          {"bounces", bounces}};
+  return path_section(a.path, r.radiance, std::move(bounces));
 }
 
 namespace {

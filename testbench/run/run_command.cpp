@@ -154,14 +154,7 @@ nlohmann::json path_json(const RunSettings& run, const SimulatedFrame& r) {
                        {"occluded", b.shadow_occluded},
                        {"ray_cycles", b.ray_cycles},
                        {"shadow_cycles", b.shadow_cycles}});
-  double sum[3] = {0, 0, 0};
-  for (size_t i = 0; i < r.radiance.size(); ++i) sum[i % 3] += r.radiance[i];
-  const double pixels = double(r.radiance.size() / 3);
-  return {{"spp", run.path.spp},
-          {"max_depth", run.path.max_depth},
-          {"roulette_depth", run.path.roulette_depth},
-          {"mean_radiance", {sum[0] / pixels, sum[1] / pixels, sum[2] / pixels}},
-          {"bounces", bounces}};
+  return path_section(run.path, r.radiance, std::move(bounces));
 }
 
 RunFigures figures_of(const SimulatedFrame& r) {
