@@ -75,6 +75,14 @@ void DramConfig::validate() const {
     fail("burst_length", "must be at least beats_per_clock (" + std::to_string(beats_per_clock) +
                              "), got " + std::to_string(burst_length));
   validate_policies(*this);
+  for (const auto& [rail, currents] :
+       {std::pair{"core", &power.core}, {"aux", &power.aux}, {"io", &power.io}}) {
+    try {
+      currents->validate_pair(tRAS, tRC);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("DramConfig.power.") + rail + "." + e.what());
+    }
+  }
   // GPGPU-Sim's derived write turnarounds subtract WL (gpu-sim.h memory_config::init()); both
   // must stay >= 1 cycle.
   if (WL + 1 >= tRCD)

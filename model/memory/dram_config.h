@@ -20,6 +20,7 @@
 //   holds 64 bursts = 2 KB per channel, and 16 KB of addresses cover one row in every channel.
 #pragma once
 
+#include "model/memory/dram_energy.h"
 #include "model/memory/line_source.h"
 #include "model/sim/config_description.h"
 
@@ -106,6 +107,9 @@ struct DramConfig {
   uint32_t tREFI = 0;                 // REF -> REF, channel (refresh interval)
   uint32_t tRFC = 0;                  // REF -> ACT, channel (refresh cycle time)
   std::string address_mapping;
+  // The devices' supplies and currents, which price the command stream (dram_energy.h); each
+  // preset's are sourced in its file. They change no timing.
+  DramPower power;
 
   uint32_t burst_bytes() const { return bus_bytes * burst_length; }
   uint32_t burst_cycles() const { return burst_length / beats_per_clock; }
@@ -118,6 +122,10 @@ struct DramConfig {
   // channels * bus_bytes * beats_per_clock / tCK, in GB/s (bytes per ns).
   double peak_bandwidth_gbps() const {
     return double(channels) * bus_bytes * beats_per_clock * 1000.0 / double(tCK_ps);
+  }
+  // The timing the energy terms use (dram_energy.h).
+  DramEnergyTiming energy_timing() const {
+    return {double(tCK_ps) / 1000.0, tRAS, tRC, tRFC, burst_cycles(), power.devices};
   }
 
   // Throws std::invalid_argument naming the offending field.
@@ -169,6 +177,8 @@ DescribeOf<C, DramConfig> describe(V& v, C& c) {
                "when a refresh's PRE and REF go before the scheduler's pick");
   v.number("tREFI", c.tREFI, 0, 1000000, "tCK", "refresh interval (refresh: all-bank)");
   v.number("tRFC", c.tRFC, 0, 100000, "tCK", "REF -> ACT, channel (refresh: all-bank)");
+  v.section("power", "the devices' supplies and datasheet currents (energy only)",
+            [&] { describe(v, c.power); });
 }
 
 // The preset called `name` (configs/dram/NAME.yaml, dram_presets.cpp); unknown names throw

@@ -112,5 +112,55 @@ TEST(DramEnergy, TheControllerCountsTheCyclesWithARowOpen) {
   }
 }
 
+// A part of several rails (LPDDR4's VDD2, VDD1 and VDDQ) costs each rail's terms, summed; the
+// devices are the part's. A rail of 0 V costs nothing.
+TEST(DramEnergy, APartSumsItsRails) {
+  DramPower p;
+  p.devices = 2;
+  p.core = ddr3();
+  p.aux = ddr3();
+  p.aux.vdd = 1.8;
+  DramActivity a;
+  a.activates = a.precharges = a.read_bursts = 3;
+  a.active_cycles = 70;
+  a.precharged_cycles = 30;
+  const DramEnergy both = dram_energy(p, ddr3_timing(7), a);  // 7: the part's devices win
+  const DramEnergy core = dram_energy(p.core, ddr3_timing(2), a),
+                   aux = dram_energy(p.aux, ddr3_timing(2), a);
+  EXPECT_DOUBLE_EQ(both.total(), core.total() + aux.total());
+  EXPECT_DOUBLE_EQ(aux.total(), core.total() * 1.8 / 1.5);
+  EXPECT_DOUBLE_EQ(both.read, 2 * 3 * 712.5 * (1 + 1.8 / 1.5));
+}
+
+// A current below the background it adds to is refused, naming the rail and the key; an ACT's
+// term alone may be negative (GDDR3's IDD0 is below its IDD3N) while the ACT+PRE pair is not.
+TEST(DramEnergy, ANegativeEnergyIsRefused) {
+  DramConfig c = dram_preset("gddr3-gt200");
+  EXPECT_LT(c.power.core.idd0, c.power.core.idd3n);
+  EXPECT_NO_THROW(c.validate());
+  DramActivity act;
+  act.activates = 1;
+  EXPECT_LT(dram_energy(c.power, c.energy_timing(), act).activate, 0);
+  act.precharges = 1;
+  EXPECT_GT(dram_energy(c.power, c.energy_timing(), act).total(), 0);
+  c.power.core.idd0 = 100;
+  try {
+    c.validate();
+    ADD_FAILURE() << "an activation below the background validated";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("DramConfig.power.core.idd0"), std::string::npos)
+        << e.what();
+  }
+  c = dram_preset("lpddr4-3200");
+  c.power.io.idd4r = 0.5;  // below VDDQ's IDD3N
+  RangeCheck check("hw.dram");
+  try {
+    describe(check, c);
+    ADD_FAILURE() << "a read below the background passed";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("hw.dram.power.io: idd4r"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace rtsim::model

@@ -21,14 +21,22 @@ namespace {
 // Every field a hardware file may set, as text: the comparison is field by field.
 struct Fields {
   std::map<std::string, std::string> v;
+  std::string prefix;  // of a nested section's keys
   template <class T>
   void number(const char* k, const T& x, double, double, const char*, const char*) {
-    v[k] = std::to_string(x);
+    v[prefix + k] = std::to_string(x);
   }
-  void text(const char* k, const std::string& x, const char*) { v[k] = x; }
+  void text(const char* k, const std::string& x, const char*) { v[prefix + k] = x; }
   void registered(const char* k, const std::string& x, const std::vector<RegisteredName>&,
                   const char*) {
-    v[k] = x;
+    v[prefix + k] = x;
+  }
+  template <class F, class G = void (*)()>
+  void section(const char* k, const char*, F&& body, G&& = {}) {
+    const std::string saved = prefix;
+    prefix += std::string(k) + ".";
+    body();
+    prefix = saved;
   }
 };
 
