@@ -71,6 +71,13 @@ void Accelerator::Netlist::build_memory(const MemoryImage* image, uint64_t image
   }
   if (dram) memory_socket().bind(dram->socket);
   if (!hooks.mem_trace.file.empty()) memory->interconnect().port().open_trace(hooks.mem_trace);
+  if (!hooks.dram_commands.file.empty()) {
+    if (!dram)
+      report_error(kReportTrace, hooks.dram_commands.file +
+                                     ": the DRAM commands are the built-in memory's, and the "
+                                     "platform binds its own");
+    dram->open_command_trace(hooks.dram_commands);
+  }
 }
 
 void Accelerator::Netlist::build_units() {

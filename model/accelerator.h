@@ -77,6 +77,9 @@ struct AcceleratorResult {
   nlohmann::json stats;  // every named statistic
   // The unit types and the caches a report lists (model/accelerator_units.h).
   nlohmann::json units, caches;
+  // The frame priced (model/energy/energy_model.h, report.json's `energy`); null for a sampled
+  // frame or with `energy: none`.
+  nlohmann::json energy;
   std::map<std::string, StatsRegistry::Glossary> glossary;  // ... with its unit and meaning
 };
 
@@ -97,6 +100,9 @@ struct SimulationHooks {
   uint64_t progress_cycles = 20000;
   TraceRequest trace;      // a VCD of FIFOs and unit busy signals
   TraceRequest mem_trace;  // a CSV of the memory transactions
+  // A CSV of the commands the built-in memory's controllers issue (model/memory/
+  // dram_command_trace.h), over the statistics' span: rtsim/trace without the built-in memory.
+  TraceRequest dram_commands;
   // A TLM-2.0 base-protocol checker (model/memory/tlm_checker.h, `<top>.tlm_checker`) between the
   // memory port and the memory: a violation is rtsim/tlm.
   bool tlm_checks = false;

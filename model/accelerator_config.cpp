@@ -1,5 +1,8 @@
 #include "model/accelerator_config.h"
 
+#include "common/error.h"
+#include "model/energy/energy_config.h"
+
 #include <stdexcept>
 #include <string>
 
@@ -8,6 +11,13 @@ namespace rtsim::model {
 void AcceleratorConfig::validate() const {
   RangeCheck check;
   describe(check, *this);
+  if (energy != "none") {
+    try {
+      energy_config(energy);
+    } catch (const InputError& e) {
+      throw std::invalid_argument(std::string("energy: ") + e.what());
+    }
+  }
   const UnitTypeConfig& walk = traversal();
   if (list.l2.line_bytes != walk.l2.line_bytes || ist.l2.line_bytes != walk.l2.line_bytes)
     throw std::invalid_argument(

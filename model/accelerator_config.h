@@ -106,6 +106,9 @@ struct AcceleratorConfig {
   // one). 0: unbounded, the ideal.
   uint32_t write_buffer = 64;
   bool lvb_culling = true;
+  // The energy file that prices the frame (model/energy/energy_config.h): an embedded node's name
+  // or a path; "none": no pricing. 65 nm: GT200's node, whose memory system the machine takes.
+  std::string energy = "65nm";
   RayOrder order = RayOrder::kTiles;
   Schedule schedule = Schedule::kTwoPhase;
   int tile = 8;
@@ -171,6 +174,9 @@ DescribeOf<C, AcceleratorConfig> describe(V& v, C& c) {
            {{"two-phase", Schedule::kTwoPhase}, {"one-phase", Schedule::kOnePhase}},
            "all primary rays, then all shadow rays (the paper's Table 6); or shadow rays as soon "
            "as their hit is shaded");
+  v.text("energy", c.energy,
+         "the energy file pricing the frame: a node of configs/energy/ (65nm, 45nm) or a path to "
+         "one; none: no energy figures");
   v.number("watchdog_cycles", c.watchdog_cycles, 1000, double(uint64_t(1) << 40), "cycles",
            "an error naming the stuck FIFOs and units after this long without progress");
   v.choice("structure", c.structure, {{"kdtree", Structure::kKdTree}, {"bvh", Structure::kBvh}},

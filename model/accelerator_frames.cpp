@@ -1,4 +1,5 @@
 #include "model/accelerator_netlist.h"
+#include "model/energy/energy_model.h"
 
 #include "kernels/bvh_format.h"
 
@@ -105,8 +106,29 @@ void Accelerator::Netlist::reset_stats(Tick at) {
   for (RayUnit* u : ray_units) u->finish_accounting(at);
   for (RayFifo* f : fifos) f->finish_accounting(at);
   if (dram) dram->settle_active(at);
+  if (dram) dram->restart_command_trace();  // its rows are what the counters count
   stats.reset();
   stats_begin = at;
+}
+
+void Accelerator::Netlist::close_traces() {
+  if (trace) trace->close();
+  memory->interconnect().port().close_trace();
+  if (dram) dram->close_command_trace();
+}
+
+void Accelerator::Netlist::collect() {
+  close_traces();
+  // The frame ends with the last retirement (the watchdog's last look may come later).
+  end = phases.end();
+  generator->finish_accounting(end);
+  culling->finish_accounting(end);
+  for (RayUnit* u : ray_units) u->finish_accounting(end);
+  for (RayFifo* f : fifos) f->finish_accounting(end);
+  if (dram) dram->settle_active(end);
+  frame.close_samples();
+  stats_span = end > stats_begin ? end - stats_begin : 0;
+  collected = true;
 }
 
 void Accelerator::Netlist::check_frame_end() {
@@ -214,20 +236,7 @@ AcceleratorResult Accelerator::result() {
     report_error(kReportTlm, std::string(n.checker->name()) + ": " +
                                  std::to_string(n.checker->open_transactions()) +
                                  " transactions never ended");
-  if (!n.collected) {
-    if (n.trace) n.trace->close();
-    n.memory->interconnect().port().close_trace();
-    // The frame ends with the last retirement (the watchdog's last look may come later).
-    n.end = n.phases.end();
-    n.generator->finish_accounting(n.end);
-    n.culling->finish_accounting(n.end);
-    for (RayUnit* u : n.ray_units) u->finish_accounting(n.end);
-    for (RayFifo* f : n.fifos) f->finish_accounting(n.end);
-    if (n.dram) n.dram->settle_active(n.end);
-    n.frame.close_samples();
-    n.stats_span = n.end > n.stats_begin ? n.end - n.stats_begin : 0;
-    n.collected = true;
-  }
+  if (!n.collected) n.collect();
   AcceleratorResult out;
   out.clock_ghz = n.cfg.clock_ghz;
   const uint64_t first = n.ctx.clock.to_cycles(n.frame_begin);
@@ -276,6 +285,14 @@ AcceleratorResult Accelerator::result() {
   out.stats = n.stats.values();
   out.units = report_units(n.cfg);
   out.caches = report_caches(n.cfg);
+  // Priced over the time the statistics span (a sampled frame's windows are not a frame's work).
+  if (n.cfg.energy != "none" && n.windows.empty()) {
+    const FrameEnergy e = price_frame(n.cfg, energy_config(n.cfg.energy), out.stats,
+                                      double(n.stats_span) / 1000.0, out.primary_rays);
+    const uint64_t rays =
+        out.primary_rays + out.reflection_rays + out.bounce_rays + out.shadow_rays;
+    out.energy = energy_json(e, n.cfg.dram, rays);
+  }
   out.glossary = n.stats.glossary();
   out.frame = n.frame;
   return out;

@@ -42,6 +42,10 @@ struct Accelerator::Netlist : FrameEngine, CacheWarmer {
   void reset_stats(Tick at);
   // The frame is over once every ray retired and its records' writes are answered.
   void check_frame_end();
+  // Writes out the VCD, the memory trace and the DRAM commands, each under its name.
+  void close_traces();
+  // After the frame: the traces closed, the time-weighted statistics closed at its end.
+  void collect();
   // CacheWarmer (model/accelerator_warming.cpp).
   void read(WalkRead kind, uint32_t traversal, uint64_t addr, uint32_t bytes) override;
   uint32_t traversal_units() const override { return cfg.traversal().count; }

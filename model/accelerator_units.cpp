@@ -16,14 +16,27 @@ namespace {
 std::deque<RayUnitType> built_in() {
   // The types' work counters (their totals), with the per-ray figures they give; here, not
   // globals, so that a type registered by another file's static initialiser finds them built.
-  const std::vector<WorkCounter> trv_work = {{"node_fetches", "nodes_per_ray"},
-                                             {"rays_started", nullptr}};
-  const std::vector<WorkCounter> bvh_work = {
-      {"node_fetches", "nodes_per_ray"}, {"box_tests", nullptr},    {"leaves", nullptr},
-      {"rays_started", nullptr},         {"stack_pushes", nullptr}, {"stack_pops", nullptr},
-      {"stack_spills", nullptr},         {"stack_refills", nullptr}};
-  const std::vector<WorkCounter> list_work = {{"leaves", "leaves_per_ray"}, {"prims", nullptr}};
-  const std::vector<WorkCounter> ist_work = {{"tests", "tests_per_ray"}, {"hits", nullptr}};
+  const std::vector<WorkCounter> trv_work = {{"node_fetches", "nodes_per_ray", "kd_step"},
+                                             {"rays_started", nullptr, "ray_setup"}};
+  const std::vector<WorkCounter> bvh_work = {{"node_fetches", "nodes_per_ray"},
+                                             {"box_tests", nullptr, "box_test"},
+                                             {"leaves"},
+                                             {"rays_started", nullptr, "ray_setup"},
+                                             {"stack_pushes"},
+                                             {"stack_pops"},
+                                             {"stack_spills"},
+                                             {"stack_refills"}};
+  const std::vector<WorkCounter> list_work = {{"leaves", "leaves_per_ray"},
+                                              {"prims", nullptr, "list_entry"}};
+  const std::vector<WorkCounter> ist_work = {{"tests", "tests_per_ray", "triangle_test"},
+                                             {"hits", nullptr, "triangle_hit"}};
+  // Every hit is shaded; a path's bounce is sampled at the hit it leaves.
+  const std::vector<WorkCounter> shading_work = {{"primary_rays"},
+                                                 {"primary_hits", nullptr, "shade"},
+                                                 {"reflection_rays"},
+                                                 {"reflection_hits", nullptr, "shade"},
+                                                 {"bounce_hits", nullptr, "shade"},
+                                                 {"bounce_rays", nullptr, "bounce_sample"}};
   return {
       {kTrvStage, "trv", "TRV", kTrvRank, &AcceleratorConfig::trv, kTrvStage,
        [](const char* name, const UnitBuild& b, uint32_t i) -> std::unique_ptr<RayUnit> {
@@ -49,7 +62,7 @@ std::deque<RayUnitType> built_in() {
        [](const char* name, const UnitBuild& b, uint32_t) -> std::unique_ptr<RayUnit> {
          return std::make_unique<ShadingUnit>(name, b.ctx, b.cfg.shading, b.frame, b.records);
        },
-       std::nullopt},
+       std::nullopt, shading_work, &work_totals<ShadingUnit>},
   };
 }
 

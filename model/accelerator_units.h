@@ -48,11 +48,14 @@ struct UnitBuild {
   const HitRecordRegion& records;
 };
 
-// A counter of a type's units that its totals sum (`<key>.total.<counter>`), and the figure per
-// ray it gives, if any: a sweep metric, the total over the rays the machine's walks started.
+// A counter of a type's units that its totals sum (`<key>.total.<counter>`), the figure per ray
+// it gives, if any (a sweep metric, the total over the rays the machine's walks started), and the
+// operation that prices each count, if any (model/energy/energy_config.h: an energy file's
+// `operations`).
 struct WorkCounter {
   const char* counter;
-  const char* per_ray;  // null: none
+  const char* per_ray = nullptr;  // null: none
+  const char* op = nullptr;       // null: not priced
 };
 
 using UnitList = std::vector<std::unique_ptr<RayUnit>>;
@@ -75,9 +78,9 @@ struct RayUnitType {
   std::unique_ptr<RayUnit> (*make)(const char* name, const UnitBuild& b, uint32_t index);
   // The machines that have this type: what their traversal units walk (any, for the others).
   std::optional<Structure> only_for;
-  // Its work: the counters its totals sum, with the per-ray figures they give (`totals` registers
-  // them, work_totals<its unit class>); and the counter of the rays it starts, which every per-ray
-  // figure divides (the traversal types'; null for the others).
+  // Its work: the counters its totals sum, with the per-ray figures they give and the operations
+  // that price them (`totals` registers them, work_totals<its unit class>); and the counter of the
+  // rays it starts, which every per-ray figure divides (the traversal types'; null for the others).
   std::vector<WorkCounter> work = {};
   WorkTotals totals = nullptr;
   const char* rays = nullptr;

@@ -98,6 +98,7 @@ nlohmann::json run_report_json(const nlohmann::json& scene, const nlohmann::json
                         {"cycles_per_second", sim > 0 ? double(r.cycles_total) / sim : 0.0},
                         {"peak_memory_mb", host.peak_memory_mb},
                         {"memory_estimate_mb", host.memory_estimate_mb}}}};
+  if (!r.energy.is_null()) j["energy"] = r.energy;
   if (!r.path.is_null()) {
     j["path"] = r.path;
     j["rays"]["bounce"] = r.bounce_rays;
@@ -130,9 +131,9 @@ std::string cache_hit_rate_metric(const nlohmann::json& cache) {
 
 std::string stats_csv(const nlohmann::json& r) {
   std::string out = "name,value\n";
-  for (const char* key :
-       {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow", "frame_ms", "rays",
-        "per_light", "path", "lvb", kKdTreeFamily, kBvhFamily, "reference_check", "stats"})
+  for (const char* key : {"clock_ghz", "cycles_total", "cycles_primary", "cycles_shadow",
+                          "frame_ms", "rays", "per_light", "path", "energy", "lvb", kKdTreeFamily,
+                          kBvhFamily, "reference_check", "stats"})
     if (r.contains(key)) flatten(r[key], key, out);
   return out;
 }
@@ -293,6 +294,41 @@ void memory_tables(std::ostringstream& md, const json& r) {
       json_number(r, "stats.dram.avg_latency_ns"));
 }
 
+// Where the frame's energy went (report.json's `energy`): each unit type's operations, each
+// cache, the links, the DRAM by command class and its background.
+void energy_table(std::ostringstream& md, const json& r) {
+  const json& e = r["energy"];
+  const double total = e["total_uj"].get<double>();
+  md << fmt::format(
+      "## Energy ({} node)\n\n| part | dynamic | static | share |\n|---|---|---|---|\n",
+      e["node"].get<std::string>());
+  const auto row = [&](const std::string& part, double dynamic, double leak) {
+    md << fmt::format("| {} | {:.3f} uJ | {:.3f} uJ | {} |\n", part, dynamic, leak,
+                      pct(dynamic + leak, total));
+  };
+  for (const json& u : e["units"])
+    row(u["label"].get<std::string>() + " operations", u["dynamic_uj"], 0);
+  for (const json& c : e["caches"])
+    row(c["label"].get<std::string>() + " " + c["level"].get<std::string>(), c["dynamic_uj"],
+        c["static_uj"]);
+  double links = 0;
+  for (const json& l : e["links"]) links += l["dynamic_uj"].get<double>();
+  row("crossbars", links, 0);
+  const json& d = e["dram"]["pj"];
+  const auto uj = [&](const char* k) { return d[k].get<double>() / 1e6; };
+  row("DRAM ACT+PRE", uj("activate") + uj("precharge"), 0);
+  row("DRAM reads", uj("read"), 0);
+  row("DRAM writes", uj("write"), 0);
+  row("DRAM refresh", uj("refresh"), 0);
+  row("DRAM background", 0, uj("background"));
+  md << fmt::format(
+      "\n{:.3f} uJ a frame ({:.3f} dynamic, {:.3f} static): {:.3f} W on average, {:.3f} nJ a ray, "
+      "energy-delay product {:.3f} uJ ms.\n\n",
+      total, e["dynamic_uj"].get<double>(), e["static_uj"].get<double>(),
+      e["average_power_w"].get<double>(), e["nj_per_ray"].get<double>(),
+      e["edp_uj_ms"].get<double>());
+}
+
 void check_host_and_figures(std::ostringstream& md, const json& r) {
   if (!r["reference_check"].is_null()) {
     const json& c = r["reference_check"];
@@ -370,6 +406,7 @@ std::string run_report_markdown(const nlohmann::json& r) {
   frame_time_table(md, r);
   units_table(md, r);
   memory_tables(md, r);
+  if (r.contains("energy")) energy_table(md, r);
   check_host_and_figures(md, r);
   return md.str();
 }

@@ -27,6 +27,7 @@ struct RunFigures {
   // The unit types ({key, label, count, stats}) and caches ({key, unit, label, level}) the
   // reports list, in their order: reports iterate these, they name no unit.
   nlohmann::json units, caches;
+  nlohmann::json energy;  // the frame priced (model/energy/energy_model.h); null: not priced
 };
 
 // Host seconds per step of a run, and its peak memory.

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+
 #include <cctype>
 #include <set>
 
@@ -65,6 +67,15 @@ std::vector<std::string> sweep_figure_files(const json& results) {
   for (const std::string& m : metrics)
     for (const std::string& a : axes)
       if (distinct(rows, a) >= 2) files.push_back(sanitize(m) + "_vs_" + sanitize(a) + ".png");
+  // Energy and time together, each series' optimum of either marked (reports/rtsim_plots/
+  // sweep_figures.py, energy_and_time).
+  const auto has = [&](const char* m) {
+    return std::find(metrics.begin(), metrics.end(), m) != metrics.end();
+  };
+  if (has("energy_uj") && has("frame_ms_all"))
+    for (const std::string& a : axes)
+      if (a != "scene" && distinct(rows, a) >= 2)
+        files.push_back("energy_and_time_vs_" + sanitize(a) + ".png");
   return files;
 }
 

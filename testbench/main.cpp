@@ -210,9 +210,12 @@ void add_run(CLI::App& app, Commands& c) {
   c.run_cmd->add_option("--culled-rays", c.run.culled_rays,
                         "Write every shadow ray the culling unit culled (origin, light sample "
                         "point, light, bounce) to this .npy");
-  c.run_cmd->add_option(
-      "--trace-window", c.run.trace_window,
-      "Cycles START:END to trace with --trace and --mem-trace (default 0:100000)");
+  c.run_cmd->add_option("--dram-commands", c.run.dram_commands,
+                        "Write a CSV of every DRAM command (time_ps, channel, bank, command, row, "
+                        "column, request) over the whole frame, or --trace-window's cycles");
+  c.run_cmd->add_option("--trace-window", c.run.trace_window,
+                        "Cycles START:END to trace with --trace, --mem-trace and --dram-commands "
+                        "(default 0:100000; --dram-commands: the whole frame)");
 }
 
 void add_sweep(CLI::App& app, Commands& c) {

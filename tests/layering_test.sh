@@ -69,14 +69,14 @@ for layer in sim memory units device; do
   done
 done
 # Every model file lives in a layer or is the accelerator (model/accelerator* and, beside it, its
-# functional mode, model/functional/).
+# functional mode, model/functional/, and its pricing, model/energy/).
 while IFS= read -r stray; do
-  violation "$stray" "a model file outside model/{sim,memory,units,device,functional}/ that is not the accelerator"
+  violation "$stray" "a model file outside model/{sim,memory,units,device,functional,energy}/ that is not the accelerator"
 done < <(find model -maxdepth 1 -type f \( -name '*.h' -o -name '*.cpp' \) ! -name 'accelerator*')
 while IFS= read -r stray; do
-  violation "$stray" "a model folder that is not a layer (sim, memory, units, device) or functional/"
+  violation "$stray" "a model folder that is not a layer (sim, memory, units, device), functional/ or energy/"
 done < <(find model -mindepth 1 -maxdepth 1 -type d ! -name sim ! -name memory ! -name units \
-           ! -name device ! -name functional)
+           ! -name device ! -name functional ! -name energy)
 # testbench/ leans one way too, by concern: sampling/ (the sample's statistics) below run/ (one
 # run, full or sampled) below studies/ (sweeps, reproductions, studies: many runs) below the
 # commands at its top level (main.cpp, commands.h and the commands of one scene: render, info, lvb).

@@ -39,7 +39,7 @@ void register_cache_totals(StatsRegistry& r, const std::string& prefix,
   std::vector<const CacheStats*> parts;
   for (const Cache* c : caches) parts.push_back(&c->stats());
   register_totals(r, prefix, "all of " + prefix + ": ", parts,
-                  {"accesses", "hits", "misses", "mshr_merges"},
+                  {"accesses", "hits", "misses", "mshr_merges", "fills"},
                   [](auto& v, const CacheStats& s) { describe_stats(v, s, false, false); });
   r.formula(
       prefix + ".hit_rate",

@@ -182,6 +182,7 @@ void Dram::activate() {
   const Tick now = calendar_.now();
   done_.clear();
   engine_.advance(now, done_);
+  if (commands_) commands_->drain_if_full();
   if (held_back_ && engine_.accepts(held_back_->get_address())) {
     // Taken now, or when it reaches memory if that is later (the END_REQ's time)
     tlm::tlm_generic_payload& p = *std::exchange(held_back_, nullptr);
@@ -210,6 +211,17 @@ void Dram::activate() {
   Tick next = engine_.next_event_time();
   if (!deliveries_.empty() && !awaiting_end_resp_) next = std::min(next, deliveries_.top().when);
   wake_for(next);
+}
+
+void Dram::open_command_trace(const TraceRequest& request) {
+  commands_ = std::make_unique<DramCommandTrace>(request, accel_clock_);
+  engine_.set_command_trace(commands_->buffer());
+}
+
+void Dram::close_command_trace() {
+  if (!commands_) return;
+  engine_.set_command_trace(nullptr);
+  commands_->close();
 }
 
 void Dram::wake_for(Tick t) {

@@ -37,6 +37,7 @@
 // Line addresses are byte addresses of request_bytes-aligned blocks (the cache line above).
 #pragma once
 
+#include "model/memory/dram_command_trace.h"
 #include "model/memory/dram_config.h"
 #include "model/memory/dram_controller.h"
 #include "model/memory/line_source.h"
@@ -100,6 +101,14 @@ class Dram : public Calendar::Client, public sc_core::sc_module {
   void settle_active(Tick now) { engine_.settle_active(now); }
   // The engine's statistics, and <prefix>.held_back with a bounded input queue.
   void register_stats(StatsRegistry& registry, const std::string& prefix) const;
+  // Every command the engine issues from now on into a CSV (model/memory/dram_command_trace.h;
+  // rtsim/trace if it cannot be written): started again with the statistics (restart), named at
+  // close, after which the engine records nothing more.
+  void open_command_trace(const TraceRequest& request);
+  void restart_command_trace() {
+    if (commands_) commands_->restart();
+  }
+  void close_command_trace();
 
  private:
   struct Requester {
@@ -144,6 +153,7 @@ class Dram : public Calendar::Client, public sc_core::sc_module {
   tlm::tlm_generic_payload* held_back_ = nullptr;  // its channel full: END_REQ not sent yet
   Tick held_back_arrival_ = 0;
   DramTargetStats target_stats_;
+  std::unique_ptr<DramCommandTrace> commands_;  // --dram-commands (null: none)
 };
 
 }  // namespace rtsim::model

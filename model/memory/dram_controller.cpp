@@ -43,6 +43,8 @@ DramController::DramController(const DramConfig& config)
   picks_.resize(config_.channels);
   open_banks_.assign(config_.channels, 0);
   open_since_.assign(config_.channels, 0);
+  stretch_end_.assign(config_.channels, 0);
+  counted_until_.assign(config_.channels, 0);
   next_.resize(config_.channels);
   for (Channel& ch : channels_) {
     ch.banks.resize(config_.banks);
@@ -265,12 +267,17 @@ void DramController::advance(Tick now, std::vector<Completion>& done) {
 }
 
 void DramController::bank_opened(uint32_t channel, uint64_t cycle) {
-  if (open_banks_[channel]++ == 0) open_since_[channel] = cycle;
+  if (open_banks_[channel]++ > 0) return;
+  open_since_[channel] = std::max(cycle, counted_until_[channel]);
+  stretch_end_[channel] = 0;
 }
 
 void DramController::bank_closed(uint32_t channel, uint64_t cycle) {
-  if (--open_banks_[channel] == 0 && cycle > open_since_[channel])
-    stats_.active_cycles += cycle - open_since_[channel];
+  stretch_end_[channel] = std::max(stretch_end_[channel], cycle);
+  if (--open_banks_[channel] > 0) return;
+  const uint64_t end = stretch_end_[channel];
+  if (end > open_since_[channel]) stats_.active_cycles += end - open_since_[channel];
+  counted_until_[channel] = std::max(counted_until_[channel], end);
 }
 
 void DramController::settle_active(Tick now) {
@@ -279,6 +286,7 @@ void DramController::settle_active(Tick now) {
     if (open_banks_[i] == 0 || cycle <= open_since_[i]) continue;
     stats_.active_cycles += cycle - open_since_[i];
     open_since_[i] = cycle;
+    counted_until_[i] = std::max(counted_until_[i], cycle);
   }
 }
 

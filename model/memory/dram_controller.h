@@ -275,8 +275,12 @@ class DramController {
   // Per channel, of its state as it is (rechoose): the scheduler's pick, and the command to issue.
   std::vector<Choice> picks_, next_;
   // Per channel: banks with a row open, and the cycle since which some has been (active_cycles).
+  // A closed-page row's auto-precharge is booked at a later cycle than commands issued after it,
+  // so closes come out of time order: a stretch with a row open ends at the latest close booked
+  // in it (stretch_end_), and a stretch that opens before the last one's end starts at that end
+  // (counted_until_), so no cycle is counted twice.
   std::vector<uint32_t> open_banks_;
-  std::vector<uint64_t> open_since_;
+  std::vector<uint64_t> open_since_, stretch_end_, counted_until_;
   void bank_opened(uint32_t channel, uint64_t cycle);
   void bank_closed(uint32_t channel, uint64_t cycle);
   std::priority_queue<Pending, std::vector<Pending>, std::greater<Pending>> completions_;

@@ -1,5 +1,7 @@
 #include "model/memory/dram_energy.h"
 
+#include <fmt/format.h>
+
 namespace rtsim::model {
 
 void DramCurrents::validate() const {
@@ -7,9 +9,9 @@ void DramCurrents::validate() const {
   const auto at_least = [](const char* key, double current, const char* base, double background) {
     if (current < background)
       throw std::invalid_argument(std::string(key) + ": expected at least " + base + " (" +
-                                  std::to_string(background) + " mA), got " +
-                                  std::to_string(current) + ": its energy over the background " +
-                                  "would be negative");
+                                  fmt::format("{:g}", background) + " mA), got " +
+                                  fmt::format("{:g}", current) +
+                                  ": its energy over the background " + "would be negative");
   };
   at_least("idd4r", idd4r, "idd3n", idd3n);
   at_least("idd4w", idd4w, "idd3n", idd3n);
@@ -23,7 +25,7 @@ void DramCurrents::validate_pair(uint32_t tRAS, uint32_t tRC) const {
   if (vdd != 0 && pair < 0)
     throw std::invalid_argument(
         "idd0: expected idd0 x tRC >= idd3n x tRAS + idd2n x (tRC - tRAS), got " +
-        std::to_string(idd0) +
+        fmt::format("{:g}", idd0) +
         " mA: an activation's energy over the background would be "
         "negative");
 }

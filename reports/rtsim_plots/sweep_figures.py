@@ -1,5 +1,7 @@
-"""Figures of a sweep: plots/<metric>_vs_<axis>.png (plots.py sweep). The sweep lists them in
-plots/index.md itself (reports/sweep_index.h, by the same names)."""
+"""Figures of a sweep: plots/<metric>_vs_<axis>.png (plots.py sweep), and with the metrics
+energy_uj and frame_ms_all, plots/energy_and_time_vs_<axis>.png (each series' energy-optimal and
+time-optimal values marked). The sweep lists them in plots/index.md itself (reports/sweep_index.h,
+by the same names)."""
 
 import json
 import math
@@ -232,3 +234,63 @@ def sweep(folder, written):
                 os.path.join(out, fname),
                 written,
             )
+    if "energy_uj" in metrics and "frame_ms_all" in metrics:
+        for axis in varying:
+            if axis == "scene":
+                continue
+            others = [b for b in varying if b != axis]
+            path = os.path.join(out, f"energy_and_time_vs_{sanitize(axis)}.png")
+            energy_and_time(rows, axis, distinct(rows, axis), others, title_extra, path, written)
+
+
+def optimum(points):
+    """The x of the smallest y (the first such x): the optimal value of an axis for a series."""
+    return min(sorted(points), key=lambda x: points[x])
+
+
+def energy_and_time(rows, axis, values, others, title_extra, path, written):
+    """Energy per frame and frame time against one axis, a panel each, one line per series, each
+    series' optimum ringed and named in the legend: the energy-optimal and the time-optimal value
+    of the axis, which need not be the same."""
+    numeric = all(is_number(v) for v in values)
+    keys = [json.dumps(v, sort_keys=True) for v in values]
+    series = {}
+    for row in rows:
+        combo = tuple(json.dumps(row.get(b), sort_keys=True) for b in others)
+        label = ", ".join(f"{b}={fmt_value(row.get(b))}" for b in others)
+        x = float(row[axis]) if numeric else keys.index(json.dumps(row[axis], sort_keys=True))
+        _, energy, time = series.setdefault(combo, (label, {}, {}))
+        if row.get("energy_uj") is not None and row.get("frame_ms_all") is not None:
+            energy[x] = row["energy_uj"]
+            time[x] = row["frame_ms_all"]
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(9, 7), layout="constrained", sharex=True)
+    for label, energy, time in list(series.values())[:MAX_SERIES]:
+        if not energy:
+            continue
+        xs = sorted(energy)
+        for ax, ys, what in ((top, energy, "energy"), (bottom, time, "time")):
+            best = optimum(ys)
+            name = fmt_value(values[int(best)]) if not numeric else fmt_value(best)
+            line = ax.plot(xs, [ys[x] for x in xs], marker="o")[0]
+            ax.plot(
+                [best],
+                [ys[best]],
+                marker="o",
+                markersize=14,
+                fillstyle="none",
+                color=line.get_color(),
+                label=f"{label or what}: {what}-optimal at {name}",
+            )
+    for ax, metric in ((top, "energy_uj"), (bottom, "frame_ms_all")):
+        ax.set_ylabel(labelled(metric) if metric != "energy_uj" else "energy per frame (uJ)")
+        ax.grid(alpha=0.3)
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    if not numeric:
+        bottom.set_xticks(range(len(values)), [fmt_value(v) for v in values])
+    elif len(values) <= 12:
+        bottom.set_xticks(values, [fmt_value(v) for v in values])
+    bottom.set_xlabel(labelled(axis))
+    top.set_title(
+        f"energy and time vs {axis} (ringed: each series' optimum)\n{title_extra}", fontsize=10
+    )
+    save(fig, path, written)

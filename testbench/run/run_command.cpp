@@ -52,14 +52,40 @@ std::string glossary_csv(const std::map<std::string, model::StatsRegistry::Gloss
   return csv;
 }
 
+// Whether `dir` (--dram-commands' directory) is one the run makes: not there yet, and the output
+// directory or one below it (made with the output directory).
+bool made_by_run(const std::filesystem::path& dir, const std::string& out) {
+  namespace fs = std::filesystem;
+  if (dir.empty() || fs::exists(dir)) return false;
+  fs::path d = fs::absolute(dir).lexically_normal(), o = fs::absolute(out).lexically_normal();
+  if (!d.has_filename()) d = d.parent_path();  // no trailing separator
+  if (!o.has_filename()) o = o.parent_path();
+  return std::mismatch(o.begin(), o.end(), d.begin(), d.end()).first == o.end();
+}
+
 model::SimulationHooks trace_hooks(const RunArgs& args) {
   model::SimulationHooks hooks;
-  if (!args.trace_window.empty() && args.trace_file.empty() && args.mem_trace_file.empty())
-    throw InputError("--trace-window needs --trace or --mem-trace");
+  if (!args.trace_window.empty() && args.trace_file.empty() && args.mem_trace_file.empty() &&
+      args.dram_commands.empty())
+    throw InputError("--trace-window needs --trace, --mem-trace or --dram-commands");
   if (!args.trace_file.empty())
     hooks.trace = parse_trace_request("--trace", args.trace_file, args.trace_window);
   if (!args.mem_trace_file.empty())
     hooks.mem_trace = parse_trace_request("--mem-trace", args.mem_trace_file, args.trace_window);
+  if (!args.dram_commands.empty()) {
+    // In a directory the run makes, its nearest existing ancestor must take it.
+    const std::filesystem::path file(args.dram_commands);
+    std::filesystem::path dir = file.parent_path();
+    if (made_by_run(dir, args.out))
+      while (!dir.empty() && !std::filesystem::exists(dir)) dir = dir.parent_path();
+    check_writable("--dram-commands", args.dram_commands,
+                   (dir / (file.filename().string() + ".part.probe")).string());
+    hooks.dram_commands.file = args.dram_commands;
+    // Without a window: the whole span of the statistics, whose dram.* counters its rows add to.
+    const TraceWindow w = parse_trace_window(args.trace_window);
+    hooks.dram_commands.start_cycle = w.start;
+    hooks.dram_commands.end_cycle = args.trace_window.empty() ? UINT64_MAX : w.end;
+  }
   return hooks;
 }
 
@@ -173,6 +199,7 @@ RunFigures figures_of(const SimulatedFrame& r) {
   f.stats = r.stats;
   f.units = r.units;
   f.caches = r.caches;
+  f.energy = r.energy;
   return f;
 }
 
@@ -364,11 +391,8 @@ ModelFrame simulate_model_frame(const RunConfig& c, const PreparedScene& p,
   return m;
 }
 
-}  // namespace
-
-int run_model(const RunArgs& args) {
-  const auto t0 = std::chrono::steady_clock::now();
-  RunConfig c = resolve_run_config(args.sources);
+// --culled-rays and --dram-commands are a whole frame's: not a sampled frame's.
+void check_whole_frame_outputs(const RunArgs& args, const RunConfig& c) {
   if (!args.culled_rays.empty()) {
     if (c.run.sample.fraction > 0)
       throw InputError(
@@ -376,6 +400,18 @@ int run_model(const RunArgs& args) {
           "whole frame (no run.sample)");
     check_writable("--culled-rays", args.culled_rays);
   }
+  if (!args.dram_commands.empty() && c.run.sample.fraction > 0)
+    throw InputError(
+        "--dram-commands: a sampled frame simulates part of its rays; expected a whole frame (no "
+        "run.sample)");
+}
+
+}  // namespace
+
+int run_model(const RunArgs& args) {
+  const auto t0 = std::chrono::steady_clock::now();
+  RunConfig c = resolve_run_config(args.sources);
+  check_whole_frame_outputs(args, c);
   if (c.run.sample.grow) return run_grown(args, c, run_config_json(c));
   model::SimulationHooks hooks = trace_hooks(args);
   // config.json keeps the settings as asked (0 = the scene's size); report.json has the size that
@@ -397,6 +433,8 @@ int run_model(const RunArgs& args) {
 
   const std::filesystem::path out(args.out);
   std::filesystem::create_directories(out);
+  if (const auto dir = std::filesystem::path(args.dram_commands).parent_path(); !dir.empty())
+    std::filesystem::create_directories(dir);
   ProgressLine progress(p.scene.name, !args.quiet);
   hooks.progress = [&](const model::Progress& pr) { progress.update(pr); };
   hooks.tlm_checks = c.run.tlm_checks;

@@ -16,6 +16,9 @@ struct RunArgs {
   bool quiet = false;  // no progress line, no summary
   std::string trace_file, mem_trace_file, trace_window;
   std::string culled_rays;  // every culled shadow ray to this .npy (culled_rays.h); "": none
+  // Every DRAM command (model/memory/dram_command_trace.h) to this CSV: the statistics' span, or
+  // --trace-window's; "": none.
+  std::string dram_commands;
   // A sampled run's functional pass kept between run.sample_grow's attempts (PassKeeping,
   // testbench/sampling/sample_pass_file.h): read when the file is there, else written. The
   // attempts' own.

@@ -180,9 +180,6 @@ RunConfig resolve_run_config(const RunSources& src) {
   return c;
 }
 
-namespace {
-
-// `probe` (a name beside the file) can be created: the file will be writable at the end of the run.
 void check_writable(const char* flag, const std::string& file, const std::string& probe) {
   if (std::FILE* f = std::fopen(probe.c_str(), "w")) {
     std::fclose(f);
@@ -191,8 +188,6 @@ void check_writable(const char* flag, const std::string& file, const std::string
   }
   throw InputError(fmt::format("{} {}: cannot write there", flag, file));
 }
-
-}  // namespace
 
 void check_writable(const char* flag, const std::string& file) {
   check_writable(flag, file, file + ".part.probe");

@@ -69,6 +69,8 @@ nlohmann::json run_settings_json(const RunSettings& r);
 
 // `flag` FILE will be writable at the end of the run; an InputError otherwise.
 void check_writable(const char* flag, const std::string& file);
+// The same, tried by creating `probe` (a name beside the file, or where its directory will be).
+void check_writable(const char* flag, const std::string& file, const std::string& probe);
 
 // --trace-window START:END (cycles, END exclusive; default 0:100000); bad input is an InputError.
 struct TraceWindow {

@@ -72,6 +72,34 @@ std::optional<double> path_metric(const std::string& name, const json& r) {
   return shadow > 0 ? json_number(r, at + "culled") / shadow : kNaN;
 }
 
+// The frame's energy (report.json's `energy`): its total and energy-delay product, and by
+// structure: the units' operations, the caches, the crossbars and the DRAM. NaN for a run not
+// priced; nullopt for another name.
+std::optional<double> energy_metric(const std::string& name, const json& r) {
+  static const char* const names[] = {
+      "energy_uj",         "edp",           "energy_dynamic_uj", "energy_static_uj",
+      "energy_nj_per_ray", "power_w",       "energy_units_uj",   "energy_caches_uj",
+      "energy_links_uj",   "energy_dram_uj"};
+  if (std::find(std::begin(names), std::end(names), name) == std::end(names)) return std::nullopt;
+  if (!r.contains("energy")) return kNaN;
+  const json& e = r["energy"];
+  const auto sum = [&](const char* list) {
+    double n = 0;
+    for (const json& p : e[list]) n += p["dynamic_uj"].get<double>() + p.value("static_uj", 0.0);
+    return n;
+  };
+  if (name == "energy_uj") return e["total_uj"].get<double>();
+  if (name == "edp") return e["edp_uj_ms"].get<double>();
+  if (name == "energy_dynamic_uj") return e["dynamic_uj"].get<double>();
+  if (name == "energy_static_uj") return e["static_uj"].get<double>();
+  if (name == "energy_nj_per_ray") return e["nj_per_ray"].get<double>();
+  if (name == "power_w") return e["average_power_w"].get<double>();
+  if (name == "energy_units_uj") return sum("units");
+  if (name == "energy_caches_uj") return sum("caches");
+  if (name == "energy_links_uj") return sum("links");
+  return e["dram"]["dynamic_uj"].get<double>() + e["dram"]["static_uj"].get<double>();
+}
+
 }  // namespace
 
 double sweep_metric(const std::string& name, const json& r) {
@@ -97,6 +125,7 @@ double sweep_metric(const std::string& name, const json& r) {
   if (name == "rays_primary") return json_number(r, "rays.primary");
   if (name == "rays_shadow") return json_number(r, "rays.shadow");
   if (const std::optional<double> v = path_metric(name, r)) return *v;
+  if (const std::optional<double> v = energy_metric(name, r)) return *v;
   if (name == "shadow_culled") return sum("per_light", "culled");
   if (name == "shadow_culled_rate") {
     const double all = sum("per_light", "shadow_rays");
@@ -182,13 +211,14 @@ bool is_sweep_metric(const std::string& name) {
   }();
   if (std::find(named.begin(), named.end(), name) != named.end()) return true;
   if (name == "rays_reflection" || name == "rays_bounce" || bounce_metric(name)) return true;
+  if (energy_metric(name, json::object())) return true;
   const std::string head = name.substr(0, name.find('.'));
   // A sampled run's estimates carry their 95% half-intervals (docs/sampling.md).
   for (const char* key : {"cycles_total", "cycles_primary", "cycles_shadow", "clock_ghz",
                           "cycles_total_ci95", "cycles_primary_ci95", "cycles_shadow_ci95"})
     if (name == key) return true;
-  for (const char* key : {"frame_ms", "rays", "per_light", "path", "lvb", kKdTreeFamily, kBvhFamily,
-                          "scene", "stats", "sample"})
+  for (const char* key : {"frame_ms", "rays", "per_light", "path", "energy", "lvb", kKdTreeFamily,
+                          kBvhFamily, "scene", "stats", "sample"})
     if (head == key && name.size() > head.size() + 1) return true;
   return false;
 }

@@ -153,7 +153,7 @@ TEST(Cli, MemoryTraceListsTheTransactionsOfTheWindow) {
   EXPECT_GT(rows, 0u);
   EXPECT_LT(rows, reads + writes);
   expect_input_error(city_run(out2, "--trace-window 1:2"),
-                     {"--trace-window needs --trace or --mem-trace"});
+                     {"--trace-window needs --trace, --mem-trace or --dram-commands"});
   fs::remove_all(out);
   fs::remove_all(out2);
 }

@@ -1,0 +1,53 @@
+// A frame's energy: the counts the model already keeps, priced (the accelerator's pricing mode,
+// beside its timing and its functional pass). Nothing here counts: the units' and caches' named
+// statistics give the work, the unit table's rows say which operation prices each counter
+// (accelerator_units.h, WorkCounter::op), the caches' and links' configurations give the arrays
+// and bytes, and the DRAM's command counts and cycles with a row open give its Micron terms
+// (dram_energy.h). docs/energy.md gives the model and its sources.
+//   dynamic: operations, SRAM reads and writes (fills), link bytes, DRAM commands
+//   static:  SRAM leakage over the frame, the DRAM's background
+#pragma once
+
+#include "model/accelerator_config.h"
+#include "model/energy/energy_config.h"
+#include "model/memory/dram_energy.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace rtsim::model {
+
+// One priced part of the machine: a unit type's operations, a cache level of a unit type, a
+// crossbar. pJ.
+struct EnergyPart {
+  std::string key;    // its statistics' prefix (trv, trv.l1, trv.icnt)
+  std::string label;  // its name in reports
+  std::string level;  // a cache's level (L1, L2); else empty
+  double dynamic_pj = 0, static_pj = 0;
+  uint64_t reads = 0, writes = 0;  // a cache's priced accesses and fills; a link's bytes in reads
+  double total_pj() const { return dynamic_pj + static_pj; }
+};
+
+struct FrameEnergy {
+  std::string node;  // the energy file's
+  double frame_ns = 0;
+  std::vector<EnergyPart> units, caches, links;
+  DramEnergy dram;  // its background is static, the rest dynamic
+  double dynamic_pj() const;
+  double static_pj() const;
+  double total_pj() const { return dynamic_pj() + static_pj(); }
+};
+
+// `stats`: the frame's named statistics (report.json's `stats`); `frame_ns`: the time they span;
+// `primary_rays`: the rays the generator made. A statistic the pricing needs and the model did
+// not register is an internal error.
+FrameEnergy price_frame(const AcceleratorConfig& cfg, const EnergyConfig& energy,
+                        const nlohmann::json& stats, double frame_ns, uint64_t primary_rays);
+
+// report.json's `energy`: the parts in uJ, their sums, average power and energy per ray
+// (`rays`: the frame's rays of every type).
+nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, uint64_t rays);
+
+}  // namespace rtsim::model
