@@ -227,6 +227,21 @@ Accelerator::TargetSocket& Accelerator::memory_host_socket() {
 
 uint64_t Accelerator::memory_bytes() const { return net_->memory_bytes; }
 
+namespace {
+
+// report.json's `energy` for a frame's result (model/energy/energy_model.h).
+nlohmann::json priced(const AcceleratorConfig& cfg, const AcceleratorResult& out, double frame_ns) {
+  PerRayType rays{};
+  rays[size_t(RayType::kPrimary)] = out.primary_rays;
+  rays[size_t(RayType::kReflection)] = out.reflection_rays;
+  rays[size_t(RayType::kShadow)] = out.shadow_rays;
+  rays[size_t(RayType::kBounce)] = out.bounce_rays;
+  const FrameEnergy e = price_frame(cfg, energy_config(cfg.energy), out.stats, frame_ns, rays);
+  return energy_json(e, cfg.dram, cfg.integrator);
+}
+
+}  // namespace
+
 AcceleratorResult Accelerator::result() {
   Netlist& n = *net_;
   if (!finished())
@@ -286,13 +301,8 @@ AcceleratorResult Accelerator::result() {
   out.units = report_units(n.cfg);
   out.caches = report_caches(n.cfg);
   // Priced over the time the statistics span (a sampled frame's windows are not a frame's work).
-  if (n.cfg.energy != "none" && n.windows.empty()) {
-    const FrameEnergy e = price_frame(n.cfg, energy_config(n.cfg.energy), out.stats,
-                                      double(n.stats_span) / 1000.0, out.primary_rays);
-    const uint64_t rays =
-        out.primary_rays + out.reflection_rays + out.bounce_rays + out.shadow_rays;
-    out.energy = energy_json(e, n.cfg.dram, rays);
-  }
+  if (n.cfg.energy != "none" && n.windows.empty())
+    out.energy = priced(n.cfg, out, double(n.stats_span) / 1000.0);
   out.glossary = n.stats.glossary();
   out.frame = n.frame;
   return out;

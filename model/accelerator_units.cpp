@@ -16,16 +16,23 @@ namespace {
 std::deque<RayUnitType> built_in() {
   // The types' work counters (their totals), with the per-ray figures they give; here, not
   // globals, so that a type registered by another file's static initialiser finds them built.
-  const std::vector<WorkCounter> trv_work = {{"node_fetches", "nodes_per_ray", "kd_step"},
-                                             {"rays_started", nullptr, "ray_setup"}};
-  const std::vector<WorkCounter> bvh_work = {{"node_fetches", "nodes_per_ray"},
-                                             {"box_tests", nullptr, "box_test"},
-                                             {"leaves"},
-                                             {"rays_started", nullptr, "ray_setup"},
-                                             {"stack_pushes"},
-                                             {"stack_pops"},
-                                             {"stack_spills"},
-                                             {"stack_refills"}};
+  // Node fetches by ray type share the walk-driven energy among ray types (model/energy/).
+  const std::vector<WorkCounter> by_type = {{"node_fetches_primary"},
+                                            {"node_fetches_reflection"},
+                                            {"node_fetches_shadow"},
+                                            {"node_fetches_bounce"}};
+  std::vector<WorkCounter> trv_work = {{"node_fetches", "nodes_per_ray", "kd_step"},
+                                       {"rays_started", nullptr, "ray_setup"}};
+  std::vector<WorkCounter> bvh_work = {{"node_fetches", "nodes_per_ray"},
+                                       {"box_tests", nullptr, "box_test"},
+                                       {"leaves"},
+                                       {"rays_started", nullptr, "ray_setup"},
+                                       {"stack_pushes"},
+                                       {"stack_pops"},
+                                       {"stack_spills"},
+                                       {"stack_refills"}};
+  for (std::vector<WorkCounter>* w : {&trv_work, &bvh_work})
+    w->insert(w->end(), by_type.begin(), by_type.end());
   const std::vector<WorkCounter> list_work = {{"leaves", "leaves_per_ray"},
                                               {"prims", nullptr, "list_entry"}};
   const std::vector<WorkCounter> ist_work = {{"tests", "tests_per_ray", "triangle_test"},

@@ -321,6 +321,12 @@ void energy_table(std::ostringstream& md, const json& r) {
   row("DRAM writes", uj("write"), 0);
   row("DRAM refresh", uj("refresh"), 0);
   row("DRAM background", 0, uj("background"));
+  md << "\n| ray type | rays | energy | per ray |\n|---|---|---|---|\n";
+  for (const auto& [type, t] : e["ray_types"].items())
+    md << fmt::format("| {} | {} | {:.3f} uJ | {:.3f} nJ |\n", type, num(t["rays"].get<double>()),
+                      t["uj"].get<double>(), t["nj_per_ray"].get<double>());
+  md << "\nBy ray type: what a type's rays alone cause, the walk-driven rest by their share of the "
+        "node fetches, the static energy by their share of the dynamic (docs/energy.md).\n";
   md << fmt::format(
       "\n{:.3f} uJ a frame ({:.3f} dynamic, {:.3f} static): {:.3f} W on average, {:.3f} nJ a ray, "
       "energy-delay product {:.3f} uJ ms.\n\n",

@@ -79,11 +79,11 @@ EnergyPart price_link(const EnergyConfig& e, const Stats& s, const std::string& 
 }
 
 void price_units(const AcceleratorConfig& cfg, const EnergyConfig& e, const Stats& s,
-                 uint64_t primary_rays, FrameEnergy& out) {
+                 FrameEnergy& out) {
   // The blocks outside the table: the generator makes each primary ray; the culling unit reads
   // an LVB bit per decision (culling on) and makes each shadow ray it does not cull.
   EnergyPart raygen{"raygen", "ray generator", ""};
-  raygen.dynamic_pj = double(primary_rays) * e.operation("ray_generation");
+  raygen.dynamic_pj = double(out.rays[size_t(RayType::kPrimary)]) * e.operation("ray_generation");
   out.units.push_back(raygen);
   for (const RayUnitType* t : unit_types(cfg)) {
     EnergyPart p{t->key, t->label, ""};
@@ -127,6 +127,39 @@ void price_memory(const AcceleratorConfig& cfg, const EnergyConfig& e, const Sta
   out.dram = dram_energy(d.power, d.energy_timing(), a);
 }
 
+// FrameEnergy::ray_type_pj: each type's own work, the walk-driven rest by node fetches, the
+// static energy by the dynamic shares.
+void share_by_ray_type(const AcceleratorConfig& cfg, const EnergyConfig& e, const Stats& s,
+                       FrameEnergy& out) {
+  constexpr size_t P = size_t(RayType::kPrimary), R = size_t(RayType::kReflection),
+                   S = size_t(RayType::kShadow), B = size_t(RayType::kBounce);
+  static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
+  std::array<double, kRayTypes> own{}, fetches{};
+  const double shade = e.operation("shade");
+  own[P] = out.units.front().dynamic_pj;  // the generator's
+  own[P] += s.get_or("shading.total.primary_hits", 0) * shade;
+  own[R] += s.get_or("shading.total.reflection_hits", 0) * shade;
+  own[B] += s.get_or("shading.total.bounce_hits", 0) * shade +
+            s.get_or("shading.total.bounce_rays", 0) * e.operation("bounce_sample");
+  own[S] += out.units.back().dynamic_pj;  // the culling unit's
+  const std::string walk = std::string(unit_types(cfg)[kTrvStage]->key) + ".total.node_fetches_";
+  double all_fetches = 0, all_own = 0;
+  for (size_t t = 0; t < kRayTypes; ++t) {
+    fetches[t] = s.get_or(walk + kNames[t], 0);
+    all_fetches += fetches[t];
+    all_own += own[t];
+  }
+  // A traversal type that does not split its fetches: its rays stand for them.
+  if (all_fetches == 0)
+    for (size_t t = 0; t < kRayTypes; ++t) all_fetches += fetches[t] = double(out.rays[t]);
+  const double rest = out.dynamic_pj() - all_own, leak = out.static_pj();
+  const double dynamic = out.dynamic_pj();
+  for (size_t t = 0; t < kRayTypes; ++t) {
+    const double d = own[t] + (all_fetches > 0 ? rest * fetches[t] / all_fetches : 0.0);
+    out.ray_type_pj[t] = d + (dynamic > 0 ? leak * d / dynamic : 0.0);
+  }
+}
+
 template <class F>
 double sum(const std::vector<EnergyPart>& parts, F f) {
   double s = 0;
@@ -147,13 +180,15 @@ double FrameEnergy::static_pj() const {
 }
 
 FrameEnergy price_frame(const AcceleratorConfig& cfg, const EnergyConfig& energy,
-                        const nlohmann::json& stats, double frame_ns, uint64_t primary_rays) {
+                        const nlohmann::json& stats, double frame_ns, const PerRayType& rays) {
   FrameEnergy out;
   out.node = energy.node;
   out.frame_ns = frame_ns;
+  out.rays = rays;
   const Stats s(stats);
-  price_units(cfg, energy, s, primary_rays, out);
+  price_units(cfg, energy, s, out);
   price_memory(cfg, energy, s, out);
+  share_by_ray_type(cfg, energy, s, out);
   return out;
 }
 
@@ -205,7 +240,19 @@ nlohmann::json dram_model_json(const DramConfig& d, double frame_ns) {
 
 }  // namespace
 
-nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, uint64_t rays) {
+nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, Integrator integrator) {
+  nlohmann::json by_type = nlohmann::json::object();
+  uint64_t rays = 0;
+  for (size_t t = 0; t < kRayTypes; ++t) {
+    static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
+    const bool nee = t == size_t(RayType::kShadow) && integrator == Integrator::kPath;
+    const double pj = e.ray_type_pj[t];
+    rays += e.rays[t];
+    by_type[nee ? "nee" : kNames[t]] = {
+        {"uj", pj / kPjPerUj},
+        {"rays", e.rays[t]},
+        {"nj_per_ray", e.rays[t] > 0 ? pj / 1000.0 / double(e.rays[t]) : 0.0}};
+  }
   const DramEnergy& d = e.dram;
   nlohmann::json levels = nlohmann::json::object();
   for (const EnergyPart& c : e.caches)
@@ -224,6 +271,7 @@ nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, uint64_
           {"caches", parts_json(e.caches, true)},
           {"cache_levels_uj", levels},
           {"links", parts_json(e.links, false)},
+          {"ray_types", by_type},
           {"dram",
            {{"dynamic_uj", (d.total() - d.background) / kPjPerUj},
             {"static_uj", d.background / kPjPerUj},

@@ -11,9 +11,11 @@
 #include "model/accelerator_config.h"
 #include "model/energy/energy_config.h"
 #include "model/memory/dram_energy.h"
+#include "model/units/ray_state.h"
 
 #include <nlohmann/json.hpp>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -35,19 +37,26 @@ struct FrameEnergy {
   double frame_ns = 0;
   std::vector<EnergyPart> units, caches, links;
   DramEnergy dram;  // its background is static, the rest dynamic
+  // By ray type (RayType's order), the frame's energy shared out (docs/energy.md, "By ray
+  // type"): what a type's rays alone cause (making a primary ray, shading a hit of the type,
+  // sampling a bounce, deciding and making a shadow ray); the walk-driven rest (traversal, LIST
+  // and IST operations, caches, crossbars, DRAM commands) by the type's share of the node fetches;
+  // the static energy by the type's share of the dynamic. They add up to total_pj().
+  std::array<double, kRayTypes> ray_type_pj{};
+  PerRayType rays{};  // the rays of each type the frame traced
   double dynamic_pj() const;
   double static_pj() const;
   double total_pj() const { return dynamic_pj() + static_pj(); }
 };
 
 // `stats`: the frame's named statistics (report.json's `stats`); `frame_ns`: the time they span;
-// `primary_rays`: the rays the generator made. A statistic the pricing needs and the model did
-// not register is an internal error.
+// `rays`: the rays of each type the frame traced (shadow rays: those not culled). A statistic the
+// pricing needs and the model did not register is an internal error.
 FrameEnergy price_frame(const AcceleratorConfig& cfg, const EnergyConfig& energy,
-                        const nlohmann::json& stats, double frame_ns, uint64_t primary_rays);
+                        const nlohmann::json& stats, double frame_ns, const PerRayType& rays);
 
-// report.json's `energy`: the parts in uJ, their sums, average power and energy per ray
-// (`rays`: the frame's rays of every type).
-nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, uint64_t rays);
+// report.json's `energy`: the parts in uJ, their sums, average power, energy per ray, and by ray
+// type (`nee`: a path-traced frame's shadow rays, next-event estimation).
+nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, Integrator integrator);
 
 }  // namespace rtsim::model

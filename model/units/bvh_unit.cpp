@@ -137,6 +137,7 @@ void BvhUnit::node_operation(uint32_t id, Tick now) {
   }
   t.node_chunk = 0;
   ++stats_.node_fetches;
+  ++stats_.node_fetches_by[size_t(r.info.type)];
   ++t.steps;
   stats_.box_tests += node.count;
   const uint32_t parent = walk.node;  // the step moves it on

@@ -47,6 +47,7 @@ DescribeOf<C, BvhWalkConfig> describe(V& v, C& c) {
 
 struct BvhStats {
   uint64_t node_fetches = 0;
+  PerRayType node_fetches_by{};  // the same, by ray type
   uint64_t node_operations = 0;
   uint64_t box_tests = 0;
   uint64_t leaves = 0;
@@ -62,6 +63,7 @@ struct BvhStats {
 template <class V>
 void describe_stats(V& v, const BvhStats& s) {
   v.counter("node_fetches", s.node_fetches, "count", "BVH nodes fetched");
+  describe_by_ray_type(v, "node_fetches", s.node_fetches_by, "BVH nodes fetched");
   v.counter("node_operations", s.node_operations, "count",
             "operations issued for nodes (two L1 lines and box_tests_per_cycle boxes each)");
   v.counter("box_tests", s.box_tests, "count", "ray-box tests");

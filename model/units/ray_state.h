@@ -10,7 +10,10 @@
 #include "kernels/traversal.h"
 #include "model/sim/time.h"
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace rtsim::model {
@@ -18,6 +21,17 @@ namespace rtsim::model {
 // A path's rays after its primary are reflections (a mirror) or bounces (diffuse); its shadow
 // rays are its next-event rays.
 enum class RayType : uint8_t { kPrimary, kReflection, kShadow, kBounce };
+inline constexpr size_t kRayTypes = 4;
+// Per ray type, a traversal unit's node fetches (<counter>_<name>: node_fetches_shadow): the split
+// by which a frame's walk-driven energy is shared among its ray types (model/energy/).
+using PerRayType = std::array<uint64_t, kRayTypes>;
+template <class V>
+void describe_by_ray_type(V& v, const char* counter, const PerRayType& n, const char* what) {
+  static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
+  for (size_t t = 0; t < kRayTypes; ++t)
+    v.counter(std::string(counter) + "_" + kNames[t], n[t], "count",
+              std::string(what) + " for " + kNames[t] + " rays");
+}
 
 // What a ray is, written once by the block that makes it: the ray generator (primary rays), the
 // shadow culling unit (shadow rays) or a shading unit (a reflection or bounce, in its ray's slot).

@@ -36,6 +36,7 @@ void TrvUnit::process(uint32_t id, Tick now) {
   const Tick ready = load(l1(), id, addr, image::kNodeBytes, bytes, now);
   if (ready == kUnknown) return;  // parked: the fetch counts when the node is read
   ++stats_.node_fetches;
+  ++stats_.node_fetches_by[size_t(r.info.type)];
   ++r.trv.steps;
   const KdNode node = image::decode_node(bytes);
   const Tick done_at = std::max(ready, now) + ctx_.clock.cycles(latency_);

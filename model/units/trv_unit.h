@@ -14,6 +14,7 @@ namespace rtsim::model {
 
 struct TrvStats {
   uint64_t node_fetches = 0;
+  PerRayType node_fetches_by{};  // the same, by ray type
   uint64_t rays_started = 0;
   uint64_t rays_done = 0;
 };
@@ -22,6 +23,7 @@ struct TrvStats {
 template <class V>
 void describe_stats(V& v, const TrvStats& s) {
   v.counter("node_fetches", s.node_fetches, "count", "kd-tree nodes fetched");
+  describe_by_ray_type(v, "node_fetches", s.node_fetches_by, "kd-tree nodes fetched");
   v.counter("rays_started", s.rays_started, "count", "rays that began traversal here");
   v.counter("rays_done", s.rays_done, "count", "rays whose traversal ended here");
 }

@@ -138,6 +138,39 @@ TEST(CliEnergy, ThePartsAddUpToTheTotal) {
   EXPECT_NEAR(e["edp_uj_ms"].get<double>(), total * ms, total * ms * 1e-6);
 }
 
+// The frame's energy shared by ray type adds up to the total, in a Whitted frame and in a
+// path-traced one (whose shadow rays are next-event estimation's: `nee`); a type's share is at
+// least what its rays alone cause (making a primary ray; deciding a shadow ray).
+void expect_ray_types_add_up(const nlohmann::json& rep, const std::vector<std::string>& types) {
+  const nlohmann::json& e = rep.at("energy");
+  double sum = 0;
+  ASSERT_EQ(e["ray_types"].size(), types.size());
+  for (const std::string& t : types) {
+    const nlohmann::json& part = e["ray_types"].at(t);
+    sum += part["uj"].get<double>();
+    EXPECT_EQ(part["rays"], rep["rays"].value(t == "nee" ? "shadow" : t, 0)) << t;
+  }
+  EXPECT_NEAR(sum, e["total_uj"].get<double>(), e["total_uj"].get<double>() * 1e-12);
+  EXPECT_GT(e["ray_types"]["primary"]["uj"].get<double>(),
+            e["units"][0]["dynamic_uj"].get<double>());
+  const std::string shadow = types[2];
+  EXPECT_GT(e["ray_types"][shadow]["uj"].get<double>(),
+            e["units"].back()["dynamic_uj"].get<double>());
+}
+
+TEST(CliEnergy, TheRayTypesAddUpToTheTotal) {
+  expect_ray_types_add_up(frame().report, {"primary", "reflection", "shadow", "bounce"});
+  const fs::path dir = test::temp_dir("cli_energy_path");
+  const RunResult r = run(
+      "run " + source("configs/scenes/city.yaml") + " --hw " + source("configs/hw/tni-paper.yaml") +
+      " --width 64 --height 36 --integrator path --no-plots --quiet --out " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json path = nlohmann::json::parse(slurp(dir / "report.json"));
+  expect_ray_types_add_up(path, {"primary", "reflection", "nee", "bounce"});
+  EXPECT_GT(path["energy"]["ray_types"]["bounce"]["uj"].get<double>(), 0);
+  fs::remove_all(dir);
+}
+
 // The same statistics priced again give the same figures; an L1 of k reads and w fills costs
 // k e_r + w e_w + its leakage over the frame.
 TEST(CliEnergy, PricingIsAFunctionOfTheCounts) {
@@ -145,20 +178,17 @@ TEST(CliEnergy, PricingIsAFunctionOfTheCounts) {
   const nlohmann::json& rep = frame().report;
   const model::EnergyConfig node = model::energy_config("65nm");
   const double ns = rep["energy"]["frame_ns"].get<double>();
-  const auto rays = [&] {
-    uint64_t n = 0;
-    for (const char* k : {"primary", "reflection", "shadow"}) n += rep["rays"][k].get<uint64_t>();
-    return n;
-  }();
-  const model::FrameEnergy again =
-      model::price_frame(cfg, node, rep["stats"], ns, rep["rays"]["primary"]);
-  EXPECT_EQ(model::energy_json(again, cfg.dram, rays), rep["energy"]);
+  model::PerRayType rays{};
+  rays[size_t(model::RayType::kPrimary)] = rep["rays"]["primary"];
+  rays[size_t(model::RayType::kShadow)] = rep["rays"]["shadow"];
+  rays[size_t(model::RayType::kReflection)] = rep["rays"]["reflection"];
+  const model::FrameEnergy again = model::price_frame(cfg, node, rep["stats"], ns, rays);
+  EXPECT_EQ(model::energy_json(again, cfg.dram, Integrator::kWhitted), rep["energy"]);
   nlohmann::json stats = rep["stats"];
   const uint64_t k = 1000, w = 250;
   stats["trv"]["l1"]["accesses"] = k;
   stats["trv"]["l1"]["fills"] = w;
-  const model::FrameEnergy bumped =
-      model::price_frame(cfg, node, stats, ns, rep["rays"]["primary"]);
+  const model::FrameEnergy bumped = model::price_frame(cfg, node, stats, ns, rays);
   const model::EnergyPart& l1 = bumped.caches.at(0);
   ASSERT_EQ(l1.key, "trv.l1");
   const double bank = double(cfg.trv.l1.size_bytes) / cfg.trv.l1.banks;
