@@ -285,11 +285,15 @@ def energy_and_time(rows, axis, values, others, title_extra, path, written):
         ax.set_ylabel(labelled(metric) if metric != "energy_uj" else "energy per frame (uJ)")
         ax.grid(alpha=0.3)
         ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8)
+    pow2 = numeric and all(v > 0 and math.log2(v) == round(math.log2(v)) for v in values)
+    if pow2:
+        bottom.set_xscale("log", base=2)
+        bottom.xaxis.set_minor_locator(NullLocator())
     if not numeric:
         bottom.set_xticks(range(len(values)), [fmt_value(v) for v in values])
     elif len(values) <= 12:
         bottom.set_xticks(values, [fmt_value(v) for v in values])
-    bottom.set_xlabel(labelled(axis))
+    bottom.set_xlabel(labelled(axis) + (" (log₂ scale)" if pow2 else ""))
     top.set_title(
         f"energy and time vs {axis} (ringed: each series' optimum)\n{title_extra}", fontsize=10
     )

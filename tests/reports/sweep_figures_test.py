@@ -90,6 +90,39 @@ class SweepFigures(fc.FigureTest):
         )
         self.assertNoMarkdown()  # plots/index.md is the sweep's (reports/sweep_index.cpp)
 
+    def test_energy_and_time_ring_each_series_optimum(self):
+        # Energy falls then rises with the size; time only falls: the optima differ.
+        energy = {4: 120.0, 8: 100.0, 16: 110.0}
+        time = {4: 3.0, 8: 2.0, 16: 1.5}
+        rows = []
+        for size, lvb in itertools.product([4, 8, 16], [False, True]):
+            scale = 0.9 if lvb else 1.0
+            rows.append(
+                {
+                    "scene": "city",
+                    SIZE: size,
+                    LVB: lvb,
+                    "energy_uj": energy[size] * scale,
+                    "frame_ms_all": time[size] * scale,
+                }
+            )
+        doc = results(rows, [SIZE, LVB])
+        doc["metrics"] = ["energy_uj", "frame_ms_all"]
+        self.write_json("results.json", doc)
+        figures = self.draw(sweep_figures.sweep)
+        top, bottom = figures[f"plots/energy_and_time_vs_{SIZE}.png"].axes
+        for ax, what, best in ((top, "energy", 8), (bottom, "time", 16)):
+            rings = [line for line in ax.get_lines() if not line.get_label().startswith("_")]
+            self.assertEqual(
+                [r.get_label() for r in rings],
+                [f"{LVB}={v}: {what}-optimal at {best}" for v in (False, True)],
+            )
+            for ring, scale in zip(rings, (1.0, 0.9)):
+                want = (energy if what == "energy" else time)[best] * scale
+                self.assertNumbers(list(ring.get_xdata()), [best], what)
+                self.assertNumbers(list(ring.get_ydata()), [want], what)
+        self.assertEqual(bottom.get_xscale(), "log", "sizes in powers of 2")
+
     def test_several_scenes_make_the_scene_an_axis(self):
         rng = random.Random(42)
         rows = [
