@@ -112,6 +112,10 @@ void price_memory(const AcceleratorConfig& cfg, const EnergyConfig& e, const Sta
     out.links.push_back(price_link(e, s, key + ".icnt", t->label, u.link,
                                    u.l2_sharing == L2Sharing::kUnit ? key : ""));
   }
+  // The culling unit's own L1 (culling.l1: own), a shading L1's configuration.
+  if (cfg.culling.l1 == CullingL1::kOwn)
+    out.caches.push_back(
+        price_cache(e, s, "culling.l1", "shadow culling", "L1", cfg.shading.l1, 1, out.frame_ns));
   out.links.push_back(price_link(e, s, "memory.icnt", "L2 to memory", cfg.memory_link, ""));
   if (!s.has("dram.activates")) return;  // a memory outside the model: not priced here
   const DramConfig& d = cfg.dram;
@@ -133,7 +137,6 @@ void share_by_ray_type(const AcceleratorConfig& cfg, const EnergyConfig& e, cons
                        FrameEnergy& out) {
   constexpr size_t P = size_t(RayType::kPrimary), R = size_t(RayType::kReflection),
                    S = size_t(RayType::kShadow), B = size_t(RayType::kBounce);
-  static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
   std::array<double, kRayTypes> own{}, fetches{};
   const double shade = e.operation("shade");
   own[P] = out.units.front().dynamic_pj;  // the generator's
@@ -145,7 +148,7 @@ void share_by_ray_type(const AcceleratorConfig& cfg, const EnergyConfig& e, cons
   const std::string walk = std::string(unit_types(cfg)[kTrvStage]->key) + ".total.node_fetches_";
   double all_fetches = 0, all_own = 0;
   for (size_t t = 0; t < kRayTypes; ++t) {
-    fetches[t] = s.get_or(walk + kNames[t], 0);
+    fetches[t] = s.get_or(walk + ray_type_name(t), 0);
     all_fetches += fetches[t];
     all_own += own[t];
   }
@@ -244,11 +247,10 @@ nlohmann::json energy_json(const FrameEnergy& e, const DramConfig& dram, Integra
   nlohmann::json by_type = nlohmann::json::object();
   uint64_t rays = 0;
   for (size_t t = 0; t < kRayTypes; ++t) {
-    static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
     const bool nee = t == size_t(RayType::kShadow) && integrator == Integrator::kPath;
     const double pj = e.ray_type_pj[t];
     rays += e.rays[t];
-    by_type[nee ? "nee" : kNames[t]] = {
+    by_type[nee ? "nee" : ray_type_name(t)] = {
         {"uj", pj / kPjPerUj},
         {"rays", e.rays[t]},
         {"nj_per_ray", e.rays[t] > 0 ? pj / 1000.0 / double(e.rays[t]) : 0.0}};

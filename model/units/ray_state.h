@@ -25,12 +25,15 @@ inline constexpr size_t kRayTypes = 4;
 // Per ray type, a traversal unit's node fetches (<counter>_<name>: node_fetches_shadow): the split
 // by which a frame's walk-driven energy is shared among its ray types (model/energy/).
 using PerRayType = std::array<uint64_t, kRayTypes>;
+inline const char* ray_type_name(size_t type) {
+  static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
+  return kNames[type];
+}
 template <class V>
 void describe_by_ray_type(V& v, const char* counter, const PerRayType& n, const char* what) {
-  static constexpr const char* kNames[kRayTypes] = {"primary", "reflection", "shadow", "bounce"};
   for (size_t t = 0; t < kRayTypes; ++t)
-    v.counter(std::string(counter) + "_" + kNames[t], n[t], "count",
-              std::string(what) + " for " + kNames[t] + " rays");
+    v.counter(std::string(counter) + "_" + ray_type_name(t), n[t], "count",
+              std::string(what) + " for " + ray_type_name(t) + " rays");
 }
 
 // What a ray is, written once by the block that makes it: the ray generator (primary rays), the

@@ -239,6 +239,21 @@ TEST(CliEnergy, TheLpddr4TracePricedAloneAgreesWithTheModel) {
   fs::remove_all(dir);
 }
 
+// The culling unit's own L1 (hw.culling.l1: own) is priced as the caches of the table are.
+TEST(CliEnergy, TheCullingUnitsOwnL1IsPriced) {
+  const fs::path dir = test::temp_dir("cli_energy_own_l1");
+  const RunResult r = run(
+      "run " + source("configs/scenes/city.yaml") + " --hw " + source("configs/hw/tni-paper.yaml") +
+      " --width 32 --height 18 --no-plots --quiet --set hw.culling.l1=own --out " + dir.string());
+  ASSERT_EQ(r.code, 0) << r.err;
+  const nlohmann::json rep = nlohmann::json::parse(slurp(dir / "report.json"));
+  const nlohmann::json& own = rep["energy"]["caches"].back();
+  EXPECT_EQ(own["key"], "culling.l1");
+  EXPECT_EQ(own["reads"], rep["stats"]["culling"]["l1"]["accesses"]);
+  EXPECT_GT(own["reads"].get<double>(), 0);
+  fs::remove_all(dir);
+}
+
 TEST(CliEnergy, BadEnergyFilesAreOneLine) {
   const fs::path dir = test::temp_dir("cli_energy_bad");
   const std::string base =
