@@ -22,6 +22,8 @@ run DIR reads DIR/report.json (and DIR/culled.npy when present) and writes:
   plot_time_breakdown.png   busy / stalled / idle as % of the unit cycles per unit type (summed over
                             units).
   plot_cache_hit_rates.png  hit rate per unit type and cache level, and the DRAM row-hit rate.
+  plot_energy.png           a priced run only (report.json's energy): each part's dynamic and static
+                            energy, and each ray type's share with its energy per ray.
   plot_sample.png           a sampled run only (report.json's sampled: true): the primary phase's,
                             the shadow phase's and the frame's cycles, each estimate with its 95%
                             interval as an error bar, and each measured unit's cycles per phase by

@@ -368,6 +368,8 @@ void check_host_and_figures(std::ostringstream& md, const json& r) {
            {"plot_time_breakdown.png", "busy, stalled and idle cycles per unit type"},
            {"plot_cache_hit_rates.png", "hit rates per unit type and cache level"}})
     md << fmt::format("- [{}]({}): {}\n", file, file, what);
+  if (r.contains("energy"))
+    md << "- [plot_energy.png](plot_energy.png): the frame's energy by part and by ray type\n";
   if (r.contains("sampled"))
     md << "- [plot_sample.png](plot_sample.png): each phase's estimate with its 95% interval as "
           "error bars, and the measured units' cycles\n";

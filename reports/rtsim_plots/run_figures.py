@@ -21,6 +21,7 @@ from rtsim_plots.common import (
     plt,
     save,
 )
+from rtsim_plots.energy_figures import parse_energy, plot_energy
 from rtsim_plots.files import CULLED_NPY, REPORT_JSON, SAMPLE_CSV
 
 
@@ -167,6 +168,7 @@ def parse_report(rep):
         units=units,
         caches=caches,
         dram=dram,
+        energy=parse_energy(rep),
     )
 
 
@@ -445,5 +447,7 @@ def run(folder, written):
     plot_culling(r, os.path.join(folder, "plot_culling.png"), written)
     plot_time_breakdown(r, os.path.join(folder, "plot_time_breakdown.png"), written)
     plot_cache_hit_rates(r, os.path.join(folder, "plot_cache_hit_rates.png"), written)
+    if r["energy"] is not None:
+        plot_energy(r, r["energy"], os.path.join(folder, "plot_energy.png"), written)
     if r["sample"] is not None:
         plot_sample(r, units, os.path.join(folder, "plot_sample.png"), written)

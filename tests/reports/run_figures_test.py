@@ -247,6 +247,67 @@ class RunFigures(fc.FigureTest):
         self.assertIn("(sampled, 95% interval unknown: too few units drawn)", title)
         self.assertIn("± ? (too few units)", fc.texts(figures["plot_sample.png"].axes[0])[0])
 
+    def test_energy_bars_are_the_reports_parts_and_ray_types(self):
+        rep, _ = self.write_run()
+        self.assertNotIn("plot_energy.png", self.draw(run_figures.run))  # not priced: no figure
+        rng = self.rng
+        part = lambda label, static: {  # noqa: E731
+            "label": label,
+            "level": "L1",
+            "dynamic_uj": rng.uniform(1, 100),
+            **({"static_uj": rng.uniform(0, 10)} if static else {}),
+        }
+        units = [part("TRV", False), part("IST", False)]
+        caches = [part("TRV", True), part("IST", True)]
+        links = [part("TRV", False), part("L2 to memory", False)]
+        types = {
+            t: {"uj": rng.uniform(1, 500), "nj_per_ray": rng.uniform(1, 90)}
+            for t in ("bounce", "primary", "nee")
+        }
+        rep["energy"] = {
+            "node": "65nm",
+            "total_uj": 1234.5,
+            "average_power_w": 7.5,
+            "units": units,
+            "caches": caches,
+            "links": links,
+            "dram": {"dynamic_uj": 55.0, "static_uj": 800.0},
+            "ray_types": types,
+        }
+        self.write_json("report.json", rep)
+        fig = self.draw(run_figures.run)["plot_energy.png"]
+        left, right = fig.axes
+        bars = [b for b in left.patches]
+        n = len(units) + len(caches) + 3
+        dynamic = [u["dynamic_uj"] for u in units + caches]
+        dynamic += [sum(link["dynamic_uj"] for link in links), 55.0, 0.0]
+        static = [0.0] * len(units) + [c["static_uj"] for c in caches] + [0.0, 0.0, 800.0]
+        self.assertNumbers([b.get_width() for b in bars[:n]], dynamic, "dynamic")
+        self.assertNumbers([b.get_width() for b in bars[n:]], static, "static")
+        self.assertEqual(
+            fc.yticks(left),
+            [
+                "TRV ops",
+                "IST ops",
+                "TRV L1",
+                "IST L1",
+                "crossbars",
+                "DRAM commands",
+                "DRAM background",
+            ],
+        )
+        self.assertEqual(fc.yticks(right), ["primary", "nee", "bounce"])  # a ray's life
+        self.assertNumbers(
+            [b.get_width() for b in right.patches],
+            [types[t]["uj"] for t in ("primary", "nee", "bounce")],
+            "ray types",
+        )
+        self.assertIn("1,234.5 uJ, 7.50 W", fig._suptitle.get_text())
+        rep["energy"]["ray_types"]["primary"] = {"uj": "x"}
+        self.write_json("report.json", rep)
+        with self.assertRaises(run_figures.InputError):
+            self.draw(run_figures.run)
+
     def test_a_full_run_has_no_sample_figure_and_no_interval(self):
         self.write_run()
         figures = self.draw(run_figures.run)

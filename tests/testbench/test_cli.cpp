@@ -385,7 +385,7 @@ TEST(Cli, RunWritesMarkdownCsvAndFigures) {
     EXPECT_EQ(n, rep["per_light"][l]["culled"].get<uint64_t>()) << "light " << l;
   }
   for (const char* png : {"render.png", "culled.png", "plot_culling.png", "plot_time_breakdown.png",
-                          "plot_cache_hit_rates.png"}) {
+                          "plot_cache_hit_rates.png", "plot_energy.png"}) {
     const std::string bytes = slurp(out / png);
     EXPECT_GT(bytes.size(), 1000u) << png;
     EXPECT_EQ(bytes.substr(1, 3), "PNG") << png;
