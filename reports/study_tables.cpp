@@ -4,6 +4,7 @@
 
 #include "common/error.h"
 #include "reports/study_animation_tables.h"
+#include "reports/study_energy_table.h"
 #include "reports/study_files.h"
 #include "reports/study_integration_table.h"
 #include "reports/study_paths_table.h"
@@ -138,15 +139,10 @@ std::string copy_markdown(const StudyTable& t, const std::string& run_dir) {
 }  // namespace
 
 const std::vector<std::string>& study_renderers() {
-  static const std::vector<std::string> names{"cache_table",
-                                              "knob_table",
-                                              "copy_markdown",
-                                              "sampling_table",
-                                              "sampling_sweeps_table",
-                                              "integration_table",
-                                              "animation_table",
-                                              "animation_hd_table",
-                                              "paths_table"};
+  static const std::vector<std::string> names{
+      "cache_table",           "knob_table",        "copy_markdown",   "sampling_table",
+      "sampling_sweeps_table", "integration_table", "animation_table", "animation_hd_table",
+      "paths_table",           "energy_table"};
   return names;
 }
 
@@ -166,6 +162,7 @@ std::string render_study_table(const StudyTable& t, const std::string& run_dir) 
     if (t.renderer == "animation_hd_table") return animation_hd_table(t, run_dir);
     if (t.renderer == "integration_table") return integration_table(t, run_dir);
     if (t.renderer == "paths_table") return paths_table(run_dir);
+    if (t.renderer == "energy_table") return energy_table(run_dir);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("{}: a run's report lacks what the {} needs: {}", run_dir,
                                  t.renderer, e.what()));

@@ -308,4 +308,62 @@ with tempfile.TemporaryDirectory() as tmp:
     )
     render_error(rtsim, "paths", tmp, ["results.csv", "culling paper"])
 
+
+# The energy study (reports/study_energy_table.h): one scene on one machine, Whitted and
+# path-traced frames on two DRAMs, culling off / paper / exact.
+with tempfile.TemporaryDirectory() as tmp:
+    parts = ["energy_units_uj", "energy_caches_uj", "energy_links_uj"]
+    parts += ["energy.dram.dynamic_uj", "energy.dram.static_uj"]
+    cols = ["point", "scene", "variant", "run.integrator", "hw.dram.preset", "frame_ms_all"]
+    cols += ["energy_uj", "edp", "power_w", "energy_nj_per_ray", "energy_static_uj"] + parts
+    cols += ["failure"]
+    data = []
+    # A frame's energy (uJ), time (ms), DRAM background and SRAM leakage (uJ) with each culling
+    # mode, before scaling by m: off 1000 uJ in 2 ms, its parts 10/20/5/15/50%, 51% static;
+    # paper -1% energy and time.
+    for integrator, dram, m, exact in (
+        ("whitted", "g3", 1, (900, 1.8, 450, 9)),
+        ("whitted", "lp4", 2, (950, 1.92, 490, 10)),
+        ("path", "g3", 4, (800, 1.5, 430, 8)),
+    ):
+        modes = (("off", 1000, 2.0, 500, 10), ("paper", 990, 1.98, 495, 10), ("exact",) + exact)
+        for culling, e, ms, bg, leak in modes:
+            r = {"scene": "s", "variant": "kd-" + culling, "run.integrator": integrator}
+            r.update({"hw.dram.preset": dram, "frame_ms_all": ms * m, "energy_uj": e * m})
+            r.update({"edp": e * ms * m * m, "power_w": e / ms / 1000})
+            r["energy_nj_per_ray"], r["energy_static_uj"] = 12.345 * m, (bg + leak) * m
+            r.update(zip(parts, [0.1 * e * m, 0.2 * e * m, 0.05 * e * m, 0.15 * e * m, bg * m]))
+            r[parts[0]] += (e - bg) * m - sum(r[k] for k in parts[:4])
+            data.append(r)
+    for k, d in enumerate(data):
+        d["point"] = k
+    write_csv(os.path.join(tmp, "results.csv"), cols, data)
+    got = render(rtsim, "energy", tmp)
+    check(got.count("| scene | machine | DRAM |") == 4, f"energy: two tables a frame:\n{got}")
+    expect_lines(
+        "energy",
+        got,
+        [
+            "| s | kd | g3 | 2.000 | 1,000 | 10.0% | 20.0% | 5.0% | 15.0% | 50.0% | 0.50 | 12.3 |",
+            "| s | kd | lp4 | 4.000 | 2,000 | 10.0% | 20.0% | 5.0% | 15.0% | 50.0% | 0.50 | 24.7 |",
+            "| s | kd | g3 | 8.000 | 4,000 | 10.0% | 20.0% | 5.0% | 15.0% | 50.0% | 0.50 | 49.4 |",
+            # EDP: 990 x 1.98 against 1000 x 2 is -1.98%, 900 x 1.8 -19%; the exact mode saves 100
+            # of 1000 uJ, 51 of them static (510 -> 459).
+            "| s | kd | g3 | -1.0% | -1.0% | -2.0% | -10.0% | -10.0% | -19.0% | -5.1 pt"
+            " | -4.9 pt |",
+            # 950 x 1.92 = 1824: -8.8%; 50 uJ saved, 10 of them static (510 -> 500).
+            "| s | kd | lp4 | -1.0% | -1.0% | -2.0% | -5.0% | -4.0% | -8.8% | -1.0 pt | -4.0 pt |",
+            # 800 x 1.5 = 1200: -40%; 200 uJ saved, 72 of them static (510 -> 438).
+            "| s | kd | g3 | -1.0% | -1.0% | -2.0% | -20.0% | -25.0% | -40.0% | -7.2 pt"
+            " | -12.8 pt |",
+        ],
+    )
+    whitted = got[: got.index("`path` frames without culling")]
+    check(whitted.count("| s | kd | g3 |") == 2, f"energy: Whitted tables:\n{whitted}")
+    data[5]["energy_static_uj"] = ""  # the lp4 Whitted frame's exact point
+    write_csv(os.path.join(tmp, "results.csv"), cols, data)
+    render_error(rtsim, "energy", tmp, ["results.csv", "energy_static_uj"])
+    write_csv(os.path.join(tmp, "results.csv"), cols, data[:4] + data[5:])
+    render_error(rtsim, "energy", tmp, ["results.csv", "lp4", "culling paper"])
+
 finish()
