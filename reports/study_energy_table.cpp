@@ -29,18 +29,14 @@ Points read_points(const std::string& run_dir) {
   Points p;
   p.file = (std::filesystem::path(run_dir) / "results.csv").string();
   for (const CsvRow& r : read_results_csv(run_dir)) {
-    const std::string& variant = cell(r, "variant", p.file);
-    const size_t dash = variant.rfind('-');
-    if (dash == std::string::npos)
-      throw InputError(
-          fmt::format("{}: variant '{}': expected MACHINE-off, -paper or -exact", p.file, variant));
-    const Frame f{cell(r, "scene", p.file), variant.substr(0, dash),
-                  cell(r, "run.integrator", p.file), cell(r, "hw.dram.preset", p.file)};
+    const auto [machine, culling] = machine_and_culling(r, p.file);
+    const Frame f{cell(r, "scene", p.file), machine, cell(r, "run.integrator", p.file),
+                  cell(r, "hw.dram.preset", p.file)};
     if (std::find(p.frames.begin(), p.frames.end(), f) == p.frames.end()) p.frames.push_back(f);
     const std::string& integrator = std::get<2>(f);
     if (std::find(p.integrators.begin(), p.integrators.end(), integrator) == p.integrators.end())
       p.integrators.push_back(integrator);
-    p.by[{f, variant.substr(dash + 1)}] = r;
+    p.by[{f, culling}] = r;
   }
   return p;
 }

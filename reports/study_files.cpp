@@ -89,6 +89,16 @@ const std::string& cell(const CsvRow& row, const std::string& column, const std:
   return it->second;
 }
 
+std::pair<std::string, std::string> machine_and_culling(const CsvRow& row,
+                                                        const std::string& file) {
+  const std::string& variant = cell(row, "variant", file);
+  const size_t dash = variant.rfind('-');
+  if (dash == std::string::npos)
+    throw InputError(
+        fmt::format("{}: variant '{}': expected MACHINE-off, -paper or -exact", file, variant));
+  return {variant.substr(0, dash), variant.substr(dash + 1)};
+}
+
 double cell_number(const CsvRow& row, const std::string& column, const std::string& file) {
   const std::string& text = cell(row, column, file);
   char* end = nullptr;

@@ -5,6 +5,7 @@
 
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace rtsim::report {
@@ -21,6 +22,9 @@ std::vector<CsvRow> read_results_csv(const std::string& run_dir);
 const std::string& cell(const CsvRow& row, const std::string& column, const std::string& file);
 // The cell as a number; an InputError naming the file and the column when it is not one.
 double cell_number(const CsvRow& row, const std::string& column, const std::string& file);
+// A culling study's variant, MACHINE-CULLING (kdtree-exact): {machine, culling}; an InputError
+// naming the file when the variant has no '-'.
+std::pair<std::string, std::string> machine_and_culling(const CsvRow& row, const std::string& file);
 // A whole text file; an InputError naming it when it cannot be read.
 std::string read_text_file(const std::string& path);
 
