@@ -44,13 +44,10 @@ Points read_points(const std::string& run_dir) {
 // The row of a frame with a culling mode; an InputError when the sweep lacks it or it failed.
 const CsvRow& row(const Points& p, const Frame& f, const char* culling) {
   const auto it = p.by.find({f, culling});
-  const std::string what = fmt::format("{} on {} ({}, {}) with culling {}", std::get<0>(f),
-                                       std::get<1>(f), std::get<2>(f), std::get<3>(f), culling);
-  if (it == p.by.end()) throw InputError(fmt::format("{}: no point of {}", p.file, what));
-  if (!cell(it->second, "failure", p.file).empty())
-    throw InputError(fmt::format("{}: the point of {} failed: {}", p.file, what,
-                                 cell(it->second, "failure", p.file)));
-  return it->second;
+  return finished_point(it == p.by.end() ? nullptr : &it->second,
+                        fmt::format("{} on {} ({}, {}) with culling {}", std::get<0>(f),
+                                    std::get<1>(f), std::get<2>(f), std::get<3>(f), culling),
+                        p.file);
 }
 
 // The frames without culling: time, energy and its parts (they add up to the energy), power and

@@ -99,6 +99,15 @@ std::pair<std::string, std::string> machine_and_culling(const CsvRow& row,
   return {variant.substr(0, dash), variant.substr(dash + 1)};
 }
 
+const CsvRow& finished_point(const CsvRow* found, const std::string& what,
+                             const std::string& file) {
+  if (!found) throw InputError(fmt::format("{}: no point of {}", file, what));
+  if (!cell(*found, "failure", file).empty())
+    throw InputError(
+        fmt::format("{}: the point of {} failed: {}", file, what, cell(*found, "failure", file)));
+  return *found;
+}
+
 double cell_number(const CsvRow& row, const std::string& column, const std::string& file) {
   const std::string& text = cell(row, column, file);
   char* end = nullptr;

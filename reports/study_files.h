@@ -25,6 +25,9 @@ double cell_number(const CsvRow& row, const std::string& column, const std::stri
 // A culling study's variant, MACHINE-CULLING (kdtree-exact): {machine, culling}; an InputError
 // naming the file when the variant has no '-'.
 std::pair<std::string, std::string> machine_and_culling(const CsvRow& row, const std::string& file);
+// The row of the point `what` names (`found`: null when the sweep has none); an InputError naming
+// the file when there is none or the point failed.
+const CsvRow& finished_point(const CsvRow* found, const std::string& what, const std::string& file);
 // A whole text file; an InputError naming it when it cannot be read.
 std::string read_text_file(const std::string& path);
 

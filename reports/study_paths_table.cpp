@@ -39,14 +39,10 @@ Points read_points(const std::string& run_dir) {
 // The row of a frame with a culling mode; an InputError when the sweep lacks it or it failed.
 const CsvRow& row(const Points& p, const Frame& f, const char* culling) {
   const auto it = p.by.find({f, culling});
-  if (it == p.by.end())
-    throw InputError(fmt::format("{}: no point of {} on {} ({}) with culling {}", p.file,
-                                 std::get<0>(f), std::get<1>(f), std::get<2>(f), culling));
-  if (!cell(it->second, "failure", p.file).empty())
-    throw InputError(fmt::format("{}: the point of {} on {} ({}) with culling {} failed: {}",
-                                 p.file, std::get<0>(f), std::get<1>(f), std::get<2>(f), culling,
-                                 cell(it->second, "failure", p.file)));
-  return it->second;
+  return finished_point(it == p.by.end() ? nullptr : &it->second,
+                        fmt::format("{} on {} ({}) with culling {}", std::get<0>(f), std::get<1>(f),
+                                    std::get<2>(f), culling),
+                        p.file);
 }
 
 // A cell written as `format` does, or "-" when it is empty (a Whitted frame has no bounces).
