@@ -12,24 +12,16 @@ Accelerator::result prices it) and host.seconds.total, and their ratios. Both se
 the same frame: the script checks that their cycles agree.
 """
 import argparse
-import json
 import os
 import statistics
-import subprocess
-import tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+from model_per_ray import ROOT, pinned_report
 
 
 def run(args, energy):
-    with tempfile.TemporaryDirectory() as out:
-        cmd = ["taskset", "-c", "0", os.path.join(args.build, "rtsim"), "run", args.scene]
-        cmd += ["--hw", "configs/hw/tni-paper.yaml", "--width", str(args.width)]
-        cmd += ["--height", str(args.height), "--out", out, "--no-plots", "--quiet"]
-        cmd += ["--set", f"hw.energy={energy}"]
-        subprocess.run(cmd, cwd=ROOT, check=True)
-        with open(os.path.join(out, "report.json")) as f:
-            r = json.load(f)
+    options = ["--hw", "configs/hw/tni-paper.yaml", "--width", str(args.width)]
+    options += ["--height", str(args.height), "--set", f"hw.energy={energy}"]
+    r = pinned_report(args.build, args.scene, options)
     s = r["host"]["seconds"]
     return s["simulate"], s["total"], r["cycles_total"]
 

@@ -28,17 +28,23 @@ import tempfile
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
+def pinned_report(build, scene, options):
+    """report.json of `rtsim run SCENE OPTIONS`, pinned to one core (energy_overhead.py uses it)."""
+    with tempfile.TemporaryDirectory() as out:
+        cmd = ["taskset", "-c", "0", os.path.join(build, "rtsim"), "run", scene]
+        cmd += options + ["--out", out, "--no-plots", "--quiet"]
+        subprocess.run(cmd, cwd=ROOT, check=True)
+        with open(os.path.join(out, "report.json")) as f:
+            return json.load(f)
+
+
 def run(args, accel, integrator):
     name, _, depth = integrator.partition(":")
     hw = "configs/hw/tni-paper.yaml" if accel == "kdtree" else "configs/hw/bvh-tni.yaml"
-    with tempfile.TemporaryDirectory() as out:
-        cmd = ["taskset", "-c", "0", os.path.join(args.build, "rtsim"), "run", args.scene]
-        cmd += ["--hw", hw, "--accel", accel, "--width", str(args.width)]
-        cmd += ["--height", str(args.height), "--out", out, "--no-plots", "--quiet"]
-        cmd += ["--integrator", name] + (["--max-depth", depth] if depth else [])
-        subprocess.run(cmd, cwd=ROOT, check=True)
-        with open(os.path.join(out, "report.json")) as f:
-            r = json.load(f)
+    options = ["--hw", hw, "--accel", accel, "--width", str(args.width)]
+    options += ["--height", str(args.height)]
+    options += ["--integrator", name] + (["--max-depth", depth] if depth else [])
+    r = pinned_report(args.build, args.scene, options)
     # The rays the report's per-ray figures divide: the traversal type's `rays` statistic.
     node = r["stats"]
     for part in next(u["rays"] for u in r["units"] if "rays" in u).split("."):

@@ -49,6 +49,12 @@ class Stats {
   const nlohmann::json& j_;
 };
 
+// The DRAM command cycles of a frame of `frame_ns`, per channel: the span its background is charged
+// over (and what the trace's pricing is told, dram_model_json).
+uint64_t dram_span_cycles(const DramConfig& d, double frame_ns) {
+  return uint64_t(frame_ns * 1000.0 / double(d.tCK_ps));
+}
+
 // A cache level: `instances` arrays of `c`, read per access and written per fill, leaking for
 // the frame.
 EnergyPart price_cache(const EnergyConfig& e, const Stats& s, const std::string& key,
@@ -126,7 +132,7 @@ void price_memory(const AcceleratorConfig& cfg, const EnergyConfig& e, const Sta
   a.write_bursts = uint64_t(s.get("dram.write_bursts"));
   a.refreshes = uint64_t(s.get_or("dram.refreshes", 0));  // registered when the DRAM refreshes
   a.active_cycles = uint64_t(s.get("dram.active_cycles"));
-  const uint64_t span = uint64_t(out.frame_ns * 1000.0 / double(d.tCK_ps)) * d.channels;
+  const uint64_t span = dram_span_cycles(d, out.frame_ns) * d.channels;
   a.precharged_cycles = span > a.active_cycles ? span - a.active_cycles : 0;
   out.dram = dram_energy(d.power, d.energy_timing(), a);
 }
@@ -238,7 +244,7 @@ nlohmann::json dram_model_json(const DramConfig& d, double frame_ns) {
           {"burst_cycles", t.burst_cycles},
           {"devices", t.devices},
           {"rails", rails},
-          {"span_cycles", uint64_t(frame_ns * 1000.0 / double(d.tCK_ps))}};
+          {"span_cycles", dram_span_cycles(d, frame_ns)}};
 }
 
 }  // namespace

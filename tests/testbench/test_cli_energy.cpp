@@ -7,6 +7,7 @@
 // energy file is one line and exit code 2.
 #include "model/accelerator_units.h"
 #include "model/energy/energy_model.h"
+#include "reports/run_report.h"
 #include "tests/test_util.h"
 #include "tests/testbench/cli_util.h"
 
@@ -21,12 +22,10 @@ namespace {
 
 std::string source(const char* file) { return (test::source_dir() / file).string(); }
 
-double stat(const nlohmann::json& stats, const std::string& dotted) {
-  const nlohmann::json* n = &stats;
-  size_t from = 0;
-  for (size_t dot; (dot = dotted.find('.', from)) != std::string::npos; from = dot + 1)
-    n = &n->at(dotted.substr(from, dot - from));
-  return n->at(dotted.substr(from)).get<double>();
+// `rtsim run` of the city on the paper's machine, with `args` (size, settings, --out).
+std::string city_run(const std::string& args) {
+  return "run " + source("configs/scenes/city.yaml") + " --hw " +
+         source("configs/hw/tni-paper.yaml") + " --no-plots --quiet " + args;
 }
 
 // The paper's machine (tni-paper.yaml states the defaults) on the city at 64x36; its report.
@@ -38,9 +37,7 @@ struct Frame {
 const Frame& frame() {
   static const Frame f = [] {
     const fs::path dir = test::temp_dir("cli_energy");
-    const RunResult r = run("run " + source("configs/scenes/city.yaml") + " --hw " +
-                            source("configs/hw/tni-paper.yaml") +
-                            " --width 64 --height 36 --no-plots --quiet --out " + dir.string());
+    const RunResult r = run(city_run("--width 64 --height 36 --out " + dir.string()));
     EXPECT_EQ(r.code, 0) << r.err;
     Frame out{model::AcceleratorConfig{}, nlohmann::json::parse(slurp(dir / "report.json"))};
     fs::remove_all(dir);
@@ -70,7 +67,8 @@ TEST(CliEnergy, EachPartIsItsCountsPriced) {
       const nlohmann::json& part = e["caches"][i++];
       const std::string key = std::string(t->key) + "." + level;
       ASSERT_EQ(part["key"], key);
-      const double k = stat(stats, key + ".accesses"), w = stat(stats, key + ".fills");
+      const double k = json_number(stats, key + ".accesses"),
+                   w = json_number(stats, key + ".fills");
       const double bank = double(c.size_bytes) / c.banks;
       const double e_r = node.read_pj.at(bank) * c.line_bytes / node.access_bytes;
       EXPECT_GT(k, 0);
@@ -88,7 +86,8 @@ TEST(CliEnergy, EachPartIsItsCountsPriced) {
     double expected = 0;
     for (const model::WorkCounter& w : t->work)
       if (w.op)
-        expected += stat(stats, std::string(t->key) + ".total." + w.counter) * node.operation(w.op);
+        expected +=
+            json_number(stats, std::string(t->key) + ".total." + w.counter) * node.operation(w.op);
     bool found = false;
     for (const nlohmann::json& u : e["units"])
       if (u["key"] == t->key) {
@@ -100,11 +99,11 @@ TEST(CliEnergy, EachPartIsItsCountsPriced) {
   }
   // The DRAM: its command counts and its cycles with a row open, by the Micron method.
   model::DramActivity a;
-  a.activates = uint64_t(stat(stats, "dram.activates"));
-  a.precharges = uint64_t(stat(stats, "dram.precharges"));
-  a.read_bursts = uint64_t(stat(stats, "dram.bursts"));
-  a.write_bursts = uint64_t(stat(stats, "dram.write_bursts"));
-  a.active_cycles = uint64_t(stat(stats, "dram.active_cycles"));
+  a.activates = uint64_t(json_number(stats, "dram.activates"));
+  a.precharges = uint64_t(json_number(stats, "dram.precharges"));
+  a.read_bursts = uint64_t(json_number(stats, "dram.bursts"));
+  a.write_bursts = uint64_t(json_number(stats, "dram.write_bursts"));
+  a.active_cycles = uint64_t(json_number(stats, "dram.active_cycles"));
   const uint64_t span = e["dram"]["model"]["span_cycles"].get<uint64_t>() * cfg.dram.channels;
   a.precharged_cycles = span - a.active_cycles;
   const model::DramEnergy d = model::dram_energy(cfg.dram.power, cfg.dram.energy_timing(), a);
@@ -161,9 +160,8 @@ void expect_ray_types_add_up(const nlohmann::json& rep, const std::vector<std::s
 TEST(CliEnergy, TheRayTypesAddUpToTheTotal) {
   expect_ray_types_add_up(frame().report, {"primary", "reflection", "shadow", "bounce"});
   const fs::path dir = test::temp_dir("cli_energy_path");
-  const RunResult r = run(
-      "run " + source("configs/scenes/city.yaml") + " --hw " + source("configs/hw/tni-paper.yaml") +
-      " --width 64 --height 36 --integrator path --no-plots --quiet --out " + dir.string());
+  const RunResult r =
+      run(city_run("--width 64 --height 36 --integrator path --out " + dir.string()));
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json path = nlohmann::json::parse(slurp(dir / "report.json"));
   expect_ray_types_add_up(path, {"primary", "reflection", "nee", "bounce"});
@@ -201,9 +199,8 @@ TEST(CliEnergy, PricingIsAFunctionOfTheCounts) {
 // Pricing changes no cycle; `energy: none` prices nothing.
 TEST(CliEnergy, PricingIsNotTiming) {
   const fs::path dir = test::temp_dir("cli_energy_none");
-  const RunResult r = run(
-      "run " + source("configs/scenes/city.yaml") + " --hw " + source("configs/hw/tni-paper.yaml") +
-      " --width 64 --height 36 --no-plots --quiet --set hw.energy=none --out " + dir.string());
+  const RunResult r =
+      run(city_run("--width 64 --height 36 --set hw.energy=none --out " + dir.string()));
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json none = nlohmann::json::parse(slurp(dir / "report.json"));
   EXPECT_FALSE(none.contains("energy"));
@@ -220,12 +217,11 @@ TEST(CliEnergy, TheLpddr4TracePricedAloneAgreesWithTheModel) {
   for (const char* policy : {"open", "closed"}) {
     SCOPED_TRACE(policy);
     const fs::path out = dir / policy;
-    const RunResult r = run("run " + source("configs/scenes/city.yaml") + " --hw " +
-                            source("configs/hw/tni-paper.yaml") +
-                            " --width 64 --height 36 --no-plots --quiet --set "
-                            "hw.dram.preset=lpddr4-3200 --set hw.dram.row_policy=" +
-                            policy + " --out " + out.string() + " --dram-commands " +
-                            (out / "commands.csv").string());
+    const RunResult r =
+        run(city_run("--width 64 --height 36 --set hw.dram.preset=lpddr4-3200 --set "
+                     "hw.dram.row_policy=" +
+                     std::string(policy) + " --out " + out.string() + " --dram-commands " +
+                     (out / "commands.csv").string()));
     ASSERT_EQ(r.code, 0) << r.err;
     const nlohmann::json e = nlohmann::json::parse(slurp(out / "report.json"))["energy"];
     EXPECT_GT(e["dram"]["pj"]["refresh"].get<double>(), 0);  // LPDDR4 refreshes
@@ -242,9 +238,8 @@ TEST(CliEnergy, TheLpddr4TracePricedAloneAgreesWithTheModel) {
 // The culling unit's own L1 (hw.culling.l1: own) is priced as the caches of the table are.
 TEST(CliEnergy, TheCullingUnitsOwnL1IsPriced) {
   const fs::path dir = test::temp_dir("cli_energy_own_l1");
-  const RunResult r = run(
-      "run " + source("configs/scenes/city.yaml") + " --hw " + source("configs/hw/tni-paper.yaml") +
-      " --width 32 --height 18 --no-plots --quiet --set hw.culling.l1=own --out " + dir.string());
+  const RunResult r =
+      run(city_run("--width 32 --height 18 --set hw.culling.l1=own --out " + dir.string()));
   ASSERT_EQ(r.code, 0) << r.err;
   const nlohmann::json rep = nlohmann::json::parse(slurp(dir / "report.json"));
   const nlohmann::json& own = rep["energy"]["caches"].back();
@@ -256,9 +251,7 @@ TEST(CliEnergy, TheCullingUnitsOwnL1IsPriced) {
 
 TEST(CliEnergy, BadEnergyFilesAreOneLine) {
   const fs::path dir = test::temp_dir("cli_energy_bad");
-  const std::string base =
-      "run " + source("configs/scenes/city.yaml") + " --hw " + source("configs/hw/tni-paper.yaml") +
-      " --width 16 --height 9 --no-plots --quiet --out " + (dir / "o").string();
+  const std::string base = city_run("--width 16 --height 9 --out " + (dir / "o").string());
   expect_input_error(base + " --set hw.energy=32nm", {"energy", "32nm", "65nm"});
   expect_input_error(base + " --set hw.energy=" + (dir / "absent.yaml").string(),
                      {"energy", "absent.yaml"});
