@@ -88,6 +88,13 @@ void Dram::accept(tlm::tlm_generic_payload& p, Tick arrival) {
   const bool write = p.is_write();
   if (write && store_bytes_ > 0)
     std::memcpy(writable_line(line), p.get_data_ptr(), engine_.config().request_bytes);
+  if (!write && store_bytes_ > 0 && in_store(line)) {
+    // The bytes are copied out at the delivery, many events from now: ask the host for them now,
+    // or the copy waits on the host's memory (a frame's incoherent rays reach all of a scene)
+    const uint8_t* bytes = line_data(line);
+    __builtin_prefetch(bytes);
+    __builtin_prefetch(bytes + engine_.config().request_bytes - 1);
+  }
   const uint64_t id = next_id_++;
   requesters_.emplace(id, Requester{line, &p});
   engine_.enqueue(line, arrival, id, write);

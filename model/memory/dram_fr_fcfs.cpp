@@ -13,25 +13,52 @@ namespace {
 template <bool kFirstReady>
 class QueueScheduler final : public DramScheduler {
  public:
-  explicit QueueScheduler(const DramConfig& config) : hit_pending_(config.banks) {}
+  explicit QueueScheduler(const DramConfig&) {}
 
+  // Two passes over the queue, with selects where propose() and better() branch (the scheduler
+  // is the host's hottest loop on memory-bound frames, and those branches are coin flips): the
+  // banks with a queued hit and the owner of the column commands, then every proposal against
+  // the best, which is what propose() and better() would pick.
   DramChoice choose(const DramChannel& ch) override {
-    if (kFirstReady) std::fill(hit_pending_.begin(), hit_pending_.end(), uint8_t(0));
-    size_t owner = ch.queue.size();  // the request between its first and last burst, if any
-    for (size_t i = 0; i < ch.queue.size(); ++i) {
+    const size_t n = ch.queue.size();
+    uint64_t hit_banks = 0;  // banks with a queued row hit (DramConfig: at most 64 banks)
+    size_t owner = n;        // the request between its first and last burst, if any
+    for (size_t i = 0; i < n; ++i) {
       const DramRequest& r = ch.queue[i];
       const DramBank& b = ch.banks[r.bank];
-      if (kFirstReady && b.open && b.row == r.row) hit_pending_[r.bank] = 1;
-      if (r.bursts_issued > 0) owner = i;
+      hit_banks |= uint64_t(b.open & (b.row == r.row)) << r.bank;
+      owner = r.bursts_issued > 0 ? i : owner;
     }
-    DramChoice best;
-    for (size_t i = 0; i < ch.queue.size(); ++i) {
-      DramChoice c;
-      if (propose(ch, i, owner, kFirstReady && hit_pending_[ch.queue[i].bank] != 0, c) &&
-          better(ch, c, best))
-        best = c;
+    const bool owned = owner != n;
+    const uint32_t owner_bank = owned ? ch.queue[owner].bank : 0;
+    DramStamps channel;  // the channel's part of every command's earliest cycle
+    for (size_t k = 0; k < kDramCommands; ++k) channel[k] = std::max(ch.earliest[k], ch.free_from);
+    // The best so far as its sort key: (cycle, FR-FCFS: not a column command) in one word, then
+    // the arrival; a later index never wins a tie (the queue is in enqueue order).
+    uint64_t best_key = ~uint64_t(0);
+    Tick best_arrival = 0;
+    size_t best = n;
+    for (size_t i = 0; i < n; ++i) {
+      const DramRequest& r = ch.queue[i];
+      const DramBank& b = ch.banks[r.bank];
+      const bool hit = b.open & (b.row == r.row);
+      const DramCommand cmd = next_command(b, r);
+      // A column command waits for the owner; a PRE for the bank's hits (FR-FCFS) or its started
+      // request (FCFS)
+      const bool held_pre =
+          kFirstReady ? (hit_banks >> r.bank) & 1 : owned & (r.bank == owner_bank);
+      const bool held = hit ? owned & (owner != i) : b.open & held_pre;
+      const size_t k = size_t(cmd);
+      const uint64_t cycle = std::max({b.earliest[k], channel[k], r.arrival_cycle});
+      const uint64_t key = held ? ~uint64_t(0) : cycle << 1 | uint64_t(kFirstReady & !hit);
+      const bool better = key < best_key || (key == best_key && r.arrival < best_arrival);
+      best_key = better ? key : best_key;
+      best_arrival = better ? r.arrival : best_arrival;
+      best = better ? i : best;
     }
-    return best;
+    if (best == n) return DramChoice{};
+    const DramRequest& r = ch.queue[best];
+    return DramChoice{best, next_command(ch.banks[r.bank], r), best_key >> 1, r.bank};
   }
 
   // The new request's proposal weighed against the pick before it came: the other proposals are
@@ -57,6 +84,12 @@ class QueueScheduler final : public DramScheduler {
   }
 
  private:
+  // The command request `r` needs next: RD or WR on a row hit, PRE on another open row, else ACT.
+  static DramCommand next_command(const DramBank& b, const DramRequest& r) {
+    if (b.open & (b.row == r.row)) return r.write ? DramCommand::kWrite : DramCommand::kRead;
+    return b.open ? DramCommand::kPrecharge : DramCommand::kActivate;
+  }
+
   // Request i's proposal into `c`, unless the policy holds it back: its column command while
   // another request owns the column commands (`owner`, queue.size() for none), its PRE while its
   // bank has a queued hit (FR-FCFS: `hit_pending`) or a started request (FCFS).
@@ -65,17 +98,12 @@ class QueueScheduler final : public DramScheduler {
     const DramRequest& r = ch.queue[i];
     const DramBank& b = ch.banks[r.bank];
     const bool owned = owner != ch.queue.size();
-    DramCommand cmd;
-    if (b.open && b.row == r.row) {
-      if (owned && owner != i) return false;  // the column commands are taken
-      cmd = r.write ? DramCommand::kWrite : DramCommand::kRead;
-    } else if (b.open) {
-      // FR-FCFS keeps the row open for its queued hits; both keep it for a started request.
-      if (kFirstReady ? hit_pending : owned && r.bank == ch.queue[owner].bank) return false;
-      cmd = DramCommand::kPrecharge;
-    } else {
-      cmd = DramCommand::kActivate;
-    }
+    const DramCommand cmd = next_command(b, r);
+    if (dram_is_column(cmd) && owned && owner != i) return false;  // the column commands are taken
+    // FR-FCFS keeps the row open for its queued hits; both keep it for a started request.
+    if (cmd == DramCommand::kPrecharge &&
+        (kFirstReady ? hit_pending : owned && r.bank == ch.queue[owner].bank))
+      return false;
     const size_t k = size_t(cmd);
     c = DramChoice{i, cmd, std::max({b.earliest[k], ch.earliest[k], r.arrival_cycle, ch.free_from}),
                    r.bank};
@@ -91,8 +119,6 @@ class QueueScheduler final : public DramScheduler {
     const bool col = dram_is_column(c.command), best_col = dram_is_column(best.command);
     return kFirstReady && col != best_col ? col : older;
   }
-
-  std::vector<uint8_t> hit_pending_;  // bank has a queued row hit
 };
 
 }  // namespace

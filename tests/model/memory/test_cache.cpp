@@ -397,5 +397,42 @@ TEST(Cache, RegistersItsStatisticsByName) {
   EXPECT_DOUBLE_EQ(r.value("trv.l1.3.hit_rate"), 0.5);
 }
 
+// A queued request whose line comes into the cache while it waits (another one's miss) is served
+// from the middle of the queue at that fill, as a merge; the request ahead of it that cannot go
+// stays, in its place, and is served at the next fill.
+TEST(Cache, AQueuedRequestIsServedFromTheMiddleWhenItsLineArrives) {
+  FakeMemory mem;
+  mem.latency = kUnknown;
+  Cache c("c", tiny(512, 2, 1, /*mshrs=*/2), Clock(), &mem);
+  Recorder r;
+  EXPECT_EQ(c.fetch_line(0, 0, &r, 1), kUnknown);
+  EXPECT_EQ(c.fetch_line(64, 0, &r, 2), kUnknown);
+  EXPECT_EQ(c.fetch_line(128, 1 * kNs, &r, 3), kUnknown);  // queued: no MSHR
+  EXPECT_EQ(c.fetch_line(192, 2 * kNs, &r, 4), kUnknown);  // queued
+  EXPECT_EQ(c.fetch_line(128, 3 * kNs, &r, 5), kUnknown);  // queued: 128 is not in yet
+  EXPECT_EQ(c.queued_requests(), 3u);
+
+  c.on_fill(0, 0, 10 * kNs);  // 128's first request takes the MSHR; its second merges
+  EXPECT_EQ(c.queued_requests(), 1u);
+  EXPECT_EQ(c.stats().mshr_merges, 1u);
+  c.on_fill(128, 128, 30 * kNs);  // 192 takes the MSHR
+  EXPECT_EQ(c.queued_requests(), 0u);
+  c.on_fill(64, 64, 40 * kNs);
+  c.on_fill(192, 192, 50 * kNs);
+  EXPECT_EQ(r.fills, (std::vector<Fill>{{0, 1, 10 * kNs},
+                                        {128, 3, 30 * kNs},
+                                        {128, 5, 30 * kNs},
+                                        {64, 2, 40 * kNs},
+                                        {192, 4, 50 * kNs}}));
+  ASSERT_EQ(mem.requests.size(), 4u);
+  EXPECT_EQ(mem.requests[2].line, 128u);
+  EXPECT_EQ(mem.requests[2].now, 11 * kNs);
+  EXPECT_EQ(mem.requests[3].line, 192u);
+  EXPECT_EQ(mem.requests[3].now, 31 * kNs);
+  EXPECT_EQ(c.stats().misses, 4u);
+  EXPECT_EQ(c.stats().mshr_stall_events, 3u);
+  EXPECT_EQ(c.stats().mshr_stall_cycles, 9u + 7u + 28u);  // waits from 1, 3 and 2 ns
+}
+
 }  // namespace
 }  // namespace rtsim::model
