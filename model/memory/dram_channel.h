@@ -23,15 +23,17 @@ inline constexpr size_t kDramNoRequest = ~size_t(0);
 
 using DramStamps = std::array<uint64_t, kDramCommands>;  // earliest legal cycle per command
 
-struct DramRequest {
-  uint64_t id, seq;
+// One host cache line each, what the scheduler reads of every request first: it scans the queue
+// after every command, and on a memory-bound frame the scan waits on the host's memory.
+struct alignas(64) DramRequest {
   Tick arrival;
   uint64_t arrival_cycle;  // first command-clock edge at or after arrival
+  uint64_t row;
   uint32_t bank;
-  uint64_t row, column;
   uint32_t bursts_issued;
-  bool classified;
   bool write;
+  bool classified;
+  uint64_t id, seq, column;
 };
 
 struct DramBank {

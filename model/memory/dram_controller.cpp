@@ -106,10 +106,11 @@ void DramController::add_rules() {
 void DramController::enqueue(uint64_t addr, Tick now, uint64_t id, bool write) {
   const Tick arrival = std::max(now, now_);
   const DramAddress a = mapping_.decode(addr & ~uint64_t(config_.request_bytes - 1));
-  const DramRequest r{
-      id,     next_seq_++, arrival,  (arrival + config_.tCK_ps - 1) / config_.tCK_ps,
-      a.bank, a.row,       a.column, 0,
-      false,  write};
+  const DramRequest r{arrival,     (arrival + config_.tCK_ps - 1) / config_.tCK_ps,
+                      a.row,       a.bank,
+                      0,           write,
+                      false,       id,
+                      next_seq_++, a.column};
   const bool first = stats_.requests + stats_.write_requests == 0;
   stats_.first_arrival_ps = first ? arrival : std::min(stats_.first_arrival_ps, arrival);
   ++(write ? stats_.write_requests : stats_.requests);

@@ -350,8 +350,10 @@ TEST(DramPolicies, AnArrivalIsWeighedAsEveryProposalAgain) {
       const size_t owner = n > 1 && next(4) == 0 ? next(n - 1) : n;
       for (size_t i = 0; i < n; ++i) {
         const uint64_t arrival = next(4) * 1000;  // ties in arrival go by enqueue order
-        ch.queue.push_back(DramRequest{i, i, arrival, arrival / 1000, uint32_t(next(c.banks)),
-                                       next(3), 0, i == owner ? 1u : 0u, false, next(3) == 0});
+        const uint32_t bank = uint32_t(next(c.banks));
+        const uint64_t row = next(3);
+        ch.queue.push_back(DramRequest{arrival, arrival / 1000, row, bank, i == owner ? 1u : 0u,
+                                       next(3) == 0, false, i, i, 0});
       }
       const DramRequest added = ch.queue.back();
       ch.queue.pop_back();
