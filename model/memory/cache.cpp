@@ -51,23 +51,20 @@ Cache::Cache(const char* name, const CacheConfig& cfg, const Clock& clock, LineS
   const size_t n = size_t(cfg_.sets()) * cfg_.ways;
   ways_.assign(n, Way{});
   data_.assign(n * cfg_.line_bytes, 0);
-  set_allocs_.assign(cfg_.sets(), 0);
-  set_known_absent_.assign(cfg_.sets(), 0);
   mshrs_.resize(cfg_.mshrs);
   mshr_free_at_.assign(cfg_.mshrs, 0);
   if (cfg_.ports > 0) banks_.assign(cfg_.banks, PortSchedule(clock_.period(), cfg_.ports));
 }
 
 void Cache::invalidate() {
-  if (awaiting_ > 0 || queued_requests() > 0)
+  if (awaiting_ > 0 || !queued_.empty())
     report_error(kReportInternal, std::string(name()) + ": invalidated with misses in flight");
   std::fill(ways_.begin(), ways_.end(), Way{});
 }
 
 bool Cache::warm(uint64_t line, const uint8_t* bytes) {
   if (line & (cfg_.line_bytes - 1)) misaligned(line);
-  if (awaiting_ > 0 || queued_requests() > 0)
-    return true;  // a window still draining: left as it is
+  if (awaiting_ > 0 || !queued_.empty()) return true;  // a window still draining: left as it is
   const uint32_t base = set_base(line);
   uint32_t victim = base;
   for (uint32_t i = base; i < base + cfg_.ways; ++i) {
@@ -79,7 +76,6 @@ bool Cache::warm(uint64_t line, const uint8_t* bytes) {
   }
   Way& v = ways_[victim];
   v.tag = line;
-  allocated(set_of(line));
   v.lru = ++stamp_;
   v.ready = 0;
   std::memcpy(&data_[size_t(victim) * cfg_.line_bytes], bytes, cfg_.line_bytes);
@@ -148,7 +144,7 @@ Tick Cache::access(uint64_t line, Tick now, FillListener* listener, uint64_t coo
       ++stats_.merge_full_events;
       if (!requeued) ++stats_.mshr_stall_events;
       if (way.ready == kUnknown) {
-        enqueue_waiting({line, listener, cookie, arrival, kNotAbsent});
+        queued_.push_back({line, listener, cookie, arrival});
         return kUnknown;
       }
       stats_.mshr_stall_cycles += ceil_cycles(way.ready - now);
@@ -179,7 +175,7 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
 
   if (issue == kUnknown) {  // nothing frees at a known time: wait for a fill
     if (!requeued) ++stats_.mshr_stall_events;
-    enqueue_waiting({line, listener, cookie, arrival, set_allocs_[set_of(line)]});
+    queued_.push_back({line, listener, cookie, arrival});
     return kUnknown;
   }
   if (issue > now && !requeued) ++stats_.mshr_stall_events;
@@ -194,7 +190,6 @@ Tick Cache::miss(uint64_t line, uint32_t base, Tick now, FillListener* listener,
   Way& v = ways_[victim];
   if (v.tag != kInvalidTag) ++stats_.evictions;
   v.tag = line;
-  allocated(set_of(line));
   v.lru = ++stamp_;
 
   const Tick earliest = issue + hit_ticks_;
@@ -239,72 +234,46 @@ void Cache::on_fill(uint64_t line, uint64_t /*cookie: the line address*/, Tick w
   // Scratch of this depth (a listener's call back in may fill again): no allocation per fill.
   if (fill_depth_ == fill_scratch_.size()) fill_scratch_.push_back(std::make_unique<FillScratch>());
   FillScratch& scratch = *fill_scratch_[fill_depth_++];
-  scratch.out.clear();
-  scratch.bytes.clear();
-  scratch.out.reserve(m.waiters.size());
-  for (const Waiter& w : m.waiters)
-    collect(scratch, w.listener, line, w.cookie, std::max(when, w.earliest));
+  std::vector<Delivery>& out = scratch.out;
+  std::vector<uint8_t>& bytes = scratch.bytes;
+  out.clear();
+  bytes.clear();
+  const auto deliver = [&](FillListener* listener, uint64_t l, uint64_t cookie, Tick t) {
+    out.push_back({listener, l, cookie, t});
+    const uint8_t* data = line_data(l);
+    bytes.insert(bytes.end(), data, data + cfg_.line_bytes);
+  };
+  out.reserve(m.waiters.size());
+  for (const Waiter& w : m.waiters) deliver(w.listener, line, w.cookie, std::max(when, w.earliest));
   m.waiters.clear();
-  if (queued_requests() > 0) serve_queued(scratch, when);
+
+  // The freed MSHR serves the queued requests in arrival order, as accesses made at the fill time.
+  // One that still cannot go (its set is all in flight on unknown fills) is queued again.
+  if (!queued_.empty()) {
+    std::vector<Queued>& waiting = scratch.waiting;
+    waiting.clear();
+    waiting.swap(queued_);
+    for (const Queued& q : waiting) {
+      // Without an MSHR that frees at a known time, only a request whose line is now in the cache
+      // (a hit or a merge) can go; the others stay queued, in order, as access() would leave them.
+      if (awaiting_ == cfg_.mshrs && find_way(q.line) == kNoWay) {
+        queued_.push_back(q);
+        continue;
+      }
+      const Tick t =
+          access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
+      if (t != kUnknown) deliver(q.listener, q.line, q.cookie, t);
+    }
+  }
 
   const Handing outer = handing_;
-  for (size_t i = 0; i < scratch.out.size(); ++i) {
-    const Delivery& d = scratch.out[i];
-    handing_ = {d.line, &scratch.bytes[i * cfg_.line_bytes]};
+  for (size_t i = 0; i < out.size(); ++i) {
+    const Delivery& d = out[i];
+    handing_ = {d.line, &bytes[i * cfg_.line_bytes]};
     if (d.listener) d.listener->on_fill(d.line, d.cookie, d.when);
   }
   handing_ = outer;
   --fill_depth_;
-}
-
-// Each delivery takes the line's bytes as they are when it is decided: a request served below may
-// evict the line before its listener reads it, and the data travel with the delivery.
-void Cache::collect(FillScratch& scratch, FillListener* listener, uint64_t line, uint64_t cookie,
-                    Tick when) {
-  scratch.out.push_back({listener, line, cookie, when});
-  const uint8_t* data = line_data(line);
-  scratch.bytes.insert(scratch.bytes.end(), data, data + cfg_.line_bytes);
-}
-
-// The freed MSHR serves the queued requests in arrival order, as accesses made at the fill time.
-// Without an MSHR that frees at a known time, only a request whose line is now in the cache (a hit
-// or a merge) can go; the others stay queued, in order, as access() would leave them, and so does
-// one that access() queues again (its set all in flight on unknown fills).
-void Cache::serve_queued(FillScratch& scratch, Tick when) {
-  const size_t n = queued_.size();
-  size_t i = 0;
-  // Request i is served; false if access() queued it again (it stays in its place).
-  const auto serve = [&] {
-    const Queued q = queued_[i];
-    unqueue(queued_[i]);
-    const Tick t = access(q.line, std::max(when, q.arrival), q.listener, q.cookie, q.arrival, true);
-    if (queued_.size() > n) {
-      queued_[i] = queued_.back();
-      queued_.pop_back();
-      --queued_served_;
-      return false;
-    }
-    if (t != kUnknown) collect(scratch, q.listener, q.line, q.cookie, t);
-    return true;
-  };
-  for (; i < n && awaiting_ < cfg_.mshrs; ++i)
-    if (!queued_[i].served) serve();
-  if (i < n) {
-    // No MSHR is left to allocate (none can free at a known time until the next fill), so no
-    // line comes into the cache: the requests not known absent ahead of i are all there may be
-    // to serve. Those before i were looked at.
-    size_t behind = 0;
-    for (size_t k = 0; k < i; ++k) behind += !queued_[k].served && !known_absent(queued_[k]);
-    for (; i < n && not_known_absent_ > behind; ++i) {
-      if (queued_[i].served || absent(queued_[i])) continue;
-      if (!serve()) ++behind;  // its MSHR is full: queued again, not known absent
-    }
-  }
-  if (2 * queued_served_ < queued_.size()) return;
-  queued_.erase(
-      std::remove_if(queued_.begin(), queued_.end(), [](const Queued& q) { return q.served; }),
-      queued_.end());
-  queued_served_ = 0;
 }
 
 // An upstream cache of a smaller line asks for an address inside one of ours.

@@ -221,7 +221,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   bool warm(uint64_t line_addr, const uint8_t* bytes);
   // Probes without side effects (tests, debugging).
   bool contains(uint64_t line_addr) const { return find_way(line_addr) != kNoWay; }
-  size_t queued_requests() const { return queued_.size() - queued_served_; }
+  size_t queued_requests() const { return queued_.size(); }
 
  private:
   static constexpr uint64_t kInvalidTag = ~uint64_t(0);  // never line-aligned, never matches
@@ -237,15 +237,11 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     uint32_t merged = 0;          // requests for that line, the first included
     std::vector<Waiter> waiters;  // keeps its capacity: no allocation once warmed up
   };
-  static constexpr uint64_t kNotAbsent = ~uint64_t(0);
   struct Queued {  // a miss that found no MSHR / way with a known free time
     uint64_t line;
     FillListener* listener;
     uint64_t cookie;
     Tick arrival;
-    // Its set's set_allocs_ when its line was last seen absent (kNotAbsent: it was present)
-    uint64_t absent_at;
-    bool served = false;  // a hole in queued_, swept out later
   };
   struct Delivery {
     FillListener* listener;
@@ -257,6 +253,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   struct FillScratch {  // on_fill's lists, kept between fills
     std::vector<Delivery> out;
     std::vector<uint8_t> bytes;
+    std::vector<Queued> waiting;
   };
 
   struct Way {
@@ -271,45 +268,8 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
     const uint8_t* data = nullptr;
   };
 
-  uint32_t set_of(uint64_t line) const { return uint32_t((line >> line_shift_) & set_mask_); }
   uint32_t set_base(uint64_t line) const {  // the global index of the line's set's first way
-    return set_of(line) * cfg_.ways;
-  }
-  // A queued request is known absent while its set has had no allocation since its line was last
-  // seen absent: it cannot go at a fill without an MSHR, and on_fill need not look at it (the
-  // L2s of a memory-bound frame queue hundreds). The counts below say whether any request is not
-  // known absent, so that a fill can stop looking.
-  bool known_absent(const Queued& q) const { return q.absent_at == set_allocs_[set_of(q.line)]; }
-  // Whether q's line is absent, looking at the ways only when it is not known (and then knowing).
-  bool absent(Queued& q) {
-    if (known_absent(q)) return true;
-    if (find_way(q.line) != kNoWay) return false;
-    q.absent_at = set_allocs_[set_of(q.line)];
-    ++set_known_absent_[set_of(q.line)];
-    --not_known_absent_;
-    return true;
-  }
-  void enqueue_waiting(const Queued& q) {
-    queued_.push_back(q);
-    if (known_absent(q))
-      ++set_known_absent_[set_of(q.line)];
-    else
-      ++not_known_absent_;
-  }
-  // q leaves the queue (served).
-  void unqueue(Queued& q) {
-    if (known_absent(q))
-      --set_known_absent_[set_of(q.line)];
-    else
-      --not_known_absent_;
-    q.served = true;
-    ++queued_served_;
-  }
-  // A line is put into `set`: its queued requests are no longer known absent.
-  void allocated(uint32_t set) {
-    ++set_allocs_[set];
-    not_known_absent_ += set_known_absent_[set];
-    set_known_absent_[set] = 0;
+    return uint32_t((line >> line_shift_) & set_mask_) * cfg_.ways;
   }
   uint32_t find_way(uint64_t line_addr) const;              // global way index or kNoWay
   const uint8_t* line_data_elsewhere(uint64_t addr) const;  // line_data() but the latest hit
@@ -330,12 +290,6 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   void count_bank_stall(uint64_t wait, const FillListener* requester);
   // The time a fill of `line` arriving at `when` is written into the array.
   Tick fill_slot(uint64_t line, Tick when);
-  struct FillScratch;
-  // on_fill's delivery to a listener, with the line's bytes as they are now.
-  void collect(FillScratch& scratch, FillListener* listener, uint64_t line, uint64_t cookie,
-               Tick when);
-  // on_fill's service of the queued requests at the fill time `when`.
-  void serve_queued(FillScratch& scratch, Tick when);
 
   // What a hit touches first, together: the host's cache misses on these, not on the arithmetic.
   CacheConfig cfg_;
@@ -346,9 +300,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   uint32_t last_way_ = 0;  // the way of the latest hit: line_data()'s first guess
   std::vector<Way> ways_;  // indexed set * ways + way: a set's ways are adjacent
   std::vector<uint8_t> data_;
-  std::vector<uint64_t> set_allocs_;        // by set: lines put into it, ever (known_absent())
-  std::vector<uint32_t> set_known_absent_;  // by set: its queued requests known absent
-  std::vector<PortSchedule> banks_;         // empty: ideal
+  std::vector<PortSchedule> banks_;  // empty: ideal
   Handing handing_;
   CacheStats stats_;
 
@@ -362,11 +314,7 @@ class Cache : public sc_core::sc_object, public LineSource, public FillListener 
   // them all.
   std::vector<Tick> mshr_free_at_;
   uint32_t awaiting_ = 0;  // MSHRs waiting for a fill of unknown time
-  // In arrival order. A fill serves some from the middle: they stay as holes (served) until
-  // they are half of it, so that the requests that wait are neither moved nor copied per fill.
   std::vector<Queued> queued_;
-  size_t queued_served_ = 0;     // holes in queued_
-  size_t not_known_absent_ = 0;  // queued requests not known absent
   std::vector<std::pair<const FillListener*, uint32_t>> requester_type_;
   std::vector<std::string> type_names_{"other"};
   std::vector<uint64_t> stall_cycles_by_type_{0};
