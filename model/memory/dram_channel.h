@@ -23,8 +23,8 @@ inline constexpr size_t kDramNoRequest = ~size_t(0);
 
 using DramStamps = std::array<uint64_t, kDramCommands>;  // earliest legal cycle per command
 
-// One host cache line each, what the scheduler reads of every request first: it scans the queue
-// after every command, and on a memory-bound frame the scan waits on the host's memory.
+// One host cache line each, the fields the scheduler reads first: it scans the queue after every
+// command, and on a memory-bound frame the scan waits on the host's memory.
 struct alignas(64) DramRequest {
   Tick arrival;
   uint64_t arrival_cycle;  // first command-clock edge at or after arrival
