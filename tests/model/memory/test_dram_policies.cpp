@@ -322,39 +322,54 @@ TEST(DramPolicies, EveryCombinationServesEveryRequestLegally) {
         }
 }
 
+// Random channels for the scheduler's tests: banks open on a few rows, random earliest cycles, a
+// queue of up to 16 reads and writes to them (arrivals tie often) with at most one request between
+// its bursts, never the last.
+class RandomChannels {
+ public:
+  explicit RandomChannels(const DramConfig& c) : c_(c) {}
+  DramChannel next() {
+    DramChannel ch;
+    ch.banks.resize(c_.banks);
+    for (DramBank& b : ch.banks) {
+      b.open = draw(3) != 0;
+      b.row = draw(3);
+      for (uint64_t& e : b.earliest) e = draw(40);
+    }
+    for (uint64_t& e : ch.earliest) e = draw(40);
+    ch.free_from = draw(30);
+    const size_t n = 1 + draw(16);
+    const size_t owner = n > 1 && draw(4) == 0 ? draw(n - 1) : n;
+    for (size_t i = 0; i < n; ++i) {
+      const uint64_t arrival = draw(4) * 1000;  // ties in arrival go by enqueue order
+      const uint32_t bank = uint32_t(draw(c_.banks));
+      const uint64_t row = draw(3);
+      ch.queue.push_back(DramRequest{arrival, arrival / 1000, row, bank, i == owner ? 1u : 0u,
+                                     draw(3) == 0, false, i, i, 0});
+    }
+    return ch;
+  }
+
+ private:
+  uint64_t draw(uint64_t n) {
+    x_ = x_ * 6364136223846793005u + 1442695040888963407u;  // an LCG: the same channels each time
+    return (x_ >> 33) % n;
+  }
+  DramConfig c_;
+  uint64_t x_ = 99;
+};
+
 // A scheduler weighing an arrival against its pick (DramScheduler::add) picks what weighing every
-// proposal again picks, on random channels: banks open on a few rows, random earliest cycles, a
-// queue of reads and writes to them with at most one request between its bursts.
+// proposal again picks.
 TEST(DramPolicies, AnArrivalIsWeighedAsEveryProposalAgain) {
   for (const RegisteredName& name : dram_scheduler_names()) {
     SCOPED_TRACE(name.name);
     const DramConfig c = gt200();
     const std::unique_ptr<DramScheduler> s = dram_schedulers().make(name.name, c);
-    uint64_t x = 99;
-    const auto next = [&x](uint64_t n) {
-      x = x * 6364136223846793005u + 1442695040888963407u;  // an LCG: the same channels each time
-      return (x >> 33) % n;
-    };
+    RandomChannels channels(c);
     for (int trial = 0; trial < 20000; ++trial) {
-      DramChannel ch;
-      ch.banks.resize(c.banks);
-      for (DramBank& b : ch.banks) {
-        b.open = next(3) != 0;
-        b.row = next(3);
-        for (uint64_t& e : b.earliest) e = next(40);
-      }
-      for (uint64_t& e : ch.earliest) e = next(40);
-      ch.free_from = next(30);
-      const size_t n = 1 + next(16);
-      // The request between its bursts, if any: never the one that arrives.
-      const size_t owner = n > 1 && next(4) == 0 ? next(n - 1) : n;
-      for (size_t i = 0; i < n; ++i) {
-        const uint64_t arrival = next(4) * 1000;  // ties in arrival go by enqueue order
-        const uint32_t bank = uint32_t(next(c.banks));
-        const uint64_t row = next(3);
-        ch.queue.push_back(DramRequest{arrival, arrival / 1000, row, bank, i == owner ? 1u : 0u,
-                                       next(3) == 0, false, i, i, 0});
-      }
+      DramChannel ch = channels.next();
+      const size_t n = ch.queue.size();
       const DramRequest added = ch.queue.back();
       ch.queue.pop_back();
       const DramChoice before = s->choose(ch);
@@ -362,6 +377,68 @@ TEST(DramPolicies, AnArrivalIsWeighedAsEveryProposalAgain) {
       const DramChoice want = s->choose(ch), got = s->add(ch, before, n - 1);
       ASSERT_EQ(got.cycle, want.cycle) << "trial " << trial;
       if (want.cycle == kDramNever) continue;
+      ASSERT_EQ(got.index, want.index) << "trial " << trial;
+      ASSERT_EQ(got.command, want.command) << "trial " << trial;
+      ASSERT_EQ(got.bank, want.bank) << "trial " << trial;
+    }
+  }
+}
+
+// The pick is dram_scheduler.h's rules, written out here one request at a time: each request's
+// proposal (RD/WR on a hit unless another request owns the column commands; PRE on another open
+// row unless FR-FCFS sees a queued hit in the bank or FCFS a started request; ACT on a closed
+// bank) at its earliest legal cycle, then the earliest, FR-FCFS's column command first at a tie,
+// then the oldest (arrival, then enqueue order).
+TEST(DramPolicies, ThePickIsTheRulesOnRandomChannels) {
+  for (const RegisteredName& name : dram_scheduler_names()) {
+    SCOPED_TRACE(name.name);
+    const bool first_ready = name.name == "fr-fcfs";
+    const DramConfig c = gt200();
+    const std::unique_ptr<DramScheduler> s = dram_schedulers().make(name.name, c);
+    RandomChannels channels(c);
+    for (int trial = 0; trial < 20000; ++trial) {
+      const DramChannel ch = channels.next();
+      const auto hits = [&ch](const DramRequest& r) {
+        return ch.banks[r.bank].open && ch.banks[r.bank].row == r.row;
+      };
+      const auto started = [](const DramRequest& r) { return r.bursts_issued > 0; };
+      bool found = false;
+      DramChoice want;
+      for (size_t i = 0; i < ch.queue.size(); ++i) {
+        const DramRequest& r = ch.queue[i];
+        const DramBank& b = ch.banks[r.bank];
+        const auto in_bank = [&r](const DramRequest& o) { return o.bank == r.bank; };
+        DramCommand cmd = DramCommand::kActivate;
+        if (hits(r)) {
+          const bool other_started = std::any_of(
+              ch.queue.begin(), ch.queue.end(),
+              [&r](const DramRequest& o) { return o.bursts_issued > 0 && o.seq != r.seq; });
+          if (other_started) continue;
+          cmd = r.write ? DramCommand::kWrite : DramCommand::kRead;
+        } else if (b.open) {
+          const bool held =
+              std::any_of(ch.queue.begin(), ch.queue.end(), [&](const DramRequest& o) {
+                return in_bank(o) && (first_ready ? hits(o) : started(o));
+              });
+          if (held) continue;
+          cmd = DramCommand::kPrecharge;
+        }
+        const size_t k = size_t(cmd);
+        const uint64_t cycle =
+            std::max({b.earliest[k], ch.earliest[k], r.arrival_cycle, ch.free_from});
+        bool better = !found || cycle < want.cycle;
+        if (found && cycle == want.cycle) {
+          const DramRequest& o = ch.queue[want.index];
+          const bool col = dram_is_column(cmd), o_col = dram_is_column(want.command);
+          const bool older = r.arrival != o.arrival ? r.arrival < o.arrival : r.seq < o.seq;
+          better = first_ready && col != o_col ? col : older;
+        }
+        if (better) want = DramChoice{i, cmd, cycle, r.bank};
+        found = found || better;
+      }
+      const DramChoice got = s->choose(ch);
+      ASSERT_EQ(got.cycle, want.cycle) << "trial " << trial;
+      if (!found) continue;
       ASSERT_EQ(got.index, want.index) << "trial " << trial;
       ASSERT_EQ(got.command, want.command) << "trial " << trial;
       ASSERT_EQ(got.bank, want.bank) << "trial " << trial;
