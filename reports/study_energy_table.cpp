@@ -6,8 +6,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <filesystem>
-#include <map>
 #include <tuple>
 #include <vector>
 
@@ -18,36 +16,21 @@ namespace {
 // A point: its scene, machine (the variant's name before its last '-'), integrator and DRAM.
 using Frame = std::tuple<std::string, std::string, std::string, std::string>;
 
-struct Points {
-  std::vector<Frame> frames;                           // in the order they first appear
-  std::vector<std::string> integrators;                // in the order they first appear
-  std::map<std::pair<Frame, std::string>, CsvRow> by;  // (frame, culling) -> row
-  std::string file;
-};
+using Points = StudyPoints<Frame>;
 
 Points read_points(const std::string& run_dir) {
-  Points p;
-  p.file = (std::filesystem::path(run_dir) / "results.csv").string();
-  for (const CsvRow& r : read_results_csv(run_dir)) {
-    const auto [machine, culling] = machine_and_culling(r, p.file);
-    const Frame f{cell(r, "scene", p.file), machine, cell(r, "run.integrator", p.file),
-                  cell(r, "hw.dram.preset", p.file)};
-    if (std::find(p.frames.begin(), p.frames.end(), f) == p.frames.end()) p.frames.push_back(f);
-    const std::string& integrator = std::get<2>(f);
-    if (std::find(p.integrators.begin(), p.integrators.end(), integrator) == p.integrators.end())
-      p.integrators.push_back(integrator);
-    p.by[{f, culling}] = r;
-  }
-  return p;
+  return read_study_points<Frame>(
+      run_dir, [](const CsvRow& r, const std::string& machine, const std::string& file) {
+        return Frame{cell(r, "scene", file), machine, cell(r, "run.integrator", file),
+                     cell(r, "hw.dram.preset", file)};
+      });
 }
 
 // The row of a frame with a culling mode; an InputError when the sweep lacks it or it failed.
 const CsvRow& row(const Points& p, const Frame& f, const char* culling) {
-  const auto it = p.by.find({f, culling});
-  return finished_point(it == p.by.end() ? nullptr : &it->second,
-                        fmt::format("{} on {} ({}, {}) with culling {}", std::get<0>(f),
-                                    std::get<1>(f), std::get<2>(f), std::get<3>(f), culling),
-                        p.file);
+  return p.row(f, culling,
+               fmt::format("{} on {} ({}, {})", std::get<0>(f), std::get<1>(f), std::get<2>(f),
+                           std::get<3>(f)));
 }
 
 // The frames without culling: time, energy and its parts (they add up to the energy), power and
@@ -113,8 +96,12 @@ std::string savings_table(const Points& p, const std::string& integrator) {
 
 std::string energy_table(const std::string& run_dir) {
   const Points p = read_points(run_dir);
+  std::vector<std::string> integrators;  // in the order they first appear
+  for (const Frame& f : p.frames)
+    if (std::find(integrators.begin(), integrators.end(), std::get<2>(f)) == integrators.end())
+      integrators.push_back(std::get<2>(f));
   std::string out;
-  for (const std::string& integrator : p.integrators) {
+  for (const std::string& integrator : integrators) {
     if (!out.empty()) out += "\n\n";
     out += fmt::format(
         "`{}` frames without culling: the frame's energy and its parts (the units' operations; "

@@ -3,6 +3,8 @@
 // formats of the Python renderers they replaced, so that the docs' tables read as before).
 #pragma once
 
+#include <algorithm>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <utility>
@@ -28,6 +30,38 @@ std::pair<std::string, std::string> machine_and_culling(const CsvRow& row, const
 // The row of the point `what` names (`found`: null when the sweep has none); an InputError naming
 // the file when there is none or the point failed.
 const CsvRow& finished_point(const CsvRow* found, const std::string& what, const std::string& file);
+// A culling study's points: its frames (a point but for its culling mode) in the order they first
+// appear, and the row of each frame with each culling mode.
+template <class Frame>
+struct StudyPoints {
+  std::vector<Frame> frames;
+  std::map<std::pair<Frame, std::string>, CsvRow> by;  // (frame, culling) -> row
+  std::string file;                                    // the results.csv they come from
+
+  // The row of frame `f`, which `frame_name` names, with `culling`; an InputError when the sweep
+  // lacks it or it failed.
+  const CsvRow& row(const Frame& f, const std::string& culling,
+                    const std::string& frame_name) const {
+    const auto it = by.find({f, culling});
+    return finished_point(it == by.end() ? nullptr : &it->second,
+                          frame_name + " with culling " + culling, file);
+  }
+};
+
+// RUN_DIR/results.csv's points, each row's frame made by `frame(row, machine, file)`.
+template <class Frame, class MakeFrame>
+StudyPoints<Frame> read_study_points(const std::string& run_dir, MakeFrame frame) {
+  StudyPoints<Frame> p;
+  p.file = (std::filesystem::path(run_dir) / "results.csv").string();
+  for (const CsvRow& r : read_results_csv(run_dir)) {
+    const auto [machine, culling] = machine_and_culling(r, p.file);
+    const Frame f = frame(r, machine, p.file);
+    if (std::find(p.frames.begin(), p.frames.end(), f) == p.frames.end()) p.frames.push_back(f);
+    p.by[{f, culling}] = r;
+  }
+  return p;
+}
+
 // A whole text file; an InputError naming it when it cannot be read.
 std::string read_text_file(const std::string& path);
 

@@ -6,8 +6,6 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <filesystem>
-#include <map>
 #include <tuple>
 #include <vector>
 
@@ -18,31 +16,19 @@ namespace {
 // A point: its scene, machine (the variant's name before its last '-') and integrator.
 using Frame = std::tuple<std::string, std::string, std::string>;
 
-struct Points {
-  std::vector<Frame> frames;                           // in the order they first appear
-  std::map<std::pair<Frame, std::string>, CsvRow> by;  // (frame, culling) -> row
-  std::string file;
-};
+using Points = StudyPoints<Frame>;
 
 Points read_points(const std::string& run_dir) {
-  Points p;
-  p.file = (std::filesystem::path(run_dir) / "results.csv").string();
-  for (const CsvRow& r : read_results_csv(run_dir)) {
-    const auto [machine, culling] = machine_and_culling(r, p.file);
-    const Frame f{cell(r, "scene", p.file), machine, cell(r, "run.integrator", p.file)};
-    if (std::find(p.frames.begin(), p.frames.end(), f) == p.frames.end()) p.frames.push_back(f);
-    p.by[{f, culling}] = r;
-  }
-  return p;
+  return read_study_points<Frame>(
+      run_dir, [](const CsvRow& r, const std::string& machine, const std::string& file) {
+        return Frame{cell(r, "scene", file), machine, cell(r, "run.integrator", file)};
+      });
 }
 
 // The row of a frame with a culling mode; an InputError when the sweep lacks it or it failed.
 const CsvRow& row(const Points& p, const Frame& f, const char* culling) {
-  const auto it = p.by.find({f, culling});
-  return finished_point(it == p.by.end() ? nullptr : &it->second,
-                        fmt::format("{} on {} ({}) with culling {}", std::get<0>(f), std::get<1>(f),
-                                    std::get<2>(f), culling),
-                        p.file);
+  return p.row(f, culling,
+               fmt::format("{} on {} ({})", std::get<0>(f), std::get<1>(f), std::get<2>(f)));
 }
 
 // A cell written as `format` does, or "-" when it is empty (a Whitted frame has no bounces).
