@@ -69,7 +69,11 @@ CacheCounts cache_counts(const model::AcceleratorResult& r) {
   CacheCounts out;
   for (const char* type : {"trv", "list", "ist", "shading"})
     for (const char* level : {"l1", "l2"}) {
-      const nlohmann::json& c = r.stats[type][level];
+      // A type without a cache of its own at a level (shading's L2 is the IST's) has no entry:
+      // looked up with find, as a const json's operator[] must not be asked for a missing key.
+      const auto t = r.stats.find(type);
+      if (t == r.stats.end() || !t->contains(level)) continue;
+      const nlohmann::json& c = (*t)[level];
       if (c.is_object())
         out[std::string(type) + "." + level] = {c["hits"].get<double>(),
                                                 c["accesses"].get<double>()};
