@@ -17,7 +17,11 @@ if [ "${1:-}" = "--sanitize" ]; then
   # BvhTraversal.HitsJustBeforeAFiniteTmaxAreFound (76 s here, 6 s in Release) is the same kind of
   # test: random rays against brute force, on code BvhTraversal.CityEqualsBruteForceAndTheKdTree
   # runs here. The platform example's kitchen (20 s here) runs the code of its city (1 s).
-  select=(-E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$|BvhTraversal\.HitsJustBeforeAFiniteTmaxAreFound$|PlatformExample\.TwoFramesOfTheKitchenComeBackWithNoWrongRecord$')
+  # Three command-line tests run rtsim many times over on code shorter ones run here (this pass was
+  # 983 s of a 1,840 s CI run on 2026-12-07, these 26-43 s of its tests): a sampled animation
+  # (CliSample.* and Cli.AnimateRunsTheFramesAsAResumableSweep stay), a sampled target grown
+  # (SampleTarget.NeymanStrata... stays), an ablation (a sweep of plain runs, as other sweeps here).
+  select=(-E 'ReferenceTracer\.MatchesBruteForceOn(Bunny|Kitchen|Robots)$|BvhTraversal\.HitsJustBeforeAFiniteTmaxAreFound$|PlatformExample\.TwoFramesOfTheKitchenComeBackWithNoWrongRecord$|SampleAnimate\.EachFrameCarriesItsInterval$|SampleTarget\.AnUnmetTargetIsReportedAndGrowMeetsIt$|Cli\.AblationHasARowPerVariantAndItsIdealAndAllRowsArePlainRuns$')
   build=build-asan
   # -O1 -g1, the sanitizers' usual level: this build was 17 of CI's 36 minutes at -O2 -g (one
   # test file: 26 s at -O2 -g, 14 s at -O1 -g1); reports keep their lines.
