@@ -21,15 +21,7 @@ class QueueScheduler final : public DramScheduler {
   // flips).
   DramChoice choose(const DramChannel& ch) override {
     const size_t n = ch.queue.size();
-    uint64_t hit_banks = 0;  // banks with a queued row hit (DramConfig: at most 64 banks)
-    size_t owner = n;        // the request between its first and last burst, if any
-    for (size_t i = 0; i < n; ++i) {
-      const DramRequest& r = ch.queue[i];
-      const DramBank& b = ch.banks[r.bank];
-      hit_banks |= uint64_t(b.open & (b.row == r.row)) << r.bank;
-      owner = r.bursts_issued > 0 ? i : owner;
-    }
-    const Holders holders{hit_banks, owner, owner != n ? ch.queue[owner].bank : 0};
+    const Holders holders = holders_among(ch, n);
     const DramStamps channel = channel_stamps(ch);
     // A later index never wins a tie of key and arrival (the queue is in enqueue order).
     uint64_t best_key = kHeld;
@@ -52,19 +44,12 @@ class QueueScheduler final : public DramScheduler {
   DramChoice add(const DramChannel& ch, const DramChoice& before, size_t added) override {
     const DramRequest& r = ch.queue[added];
     const DramBank& b = ch.banks[r.bank];
-    size_t owner = ch.queue.size();
-    bool hit_pending = false;  // a request before it hits its bank's open row
-    for (size_t i = 0; i < added; ++i) {
-      const DramRequest& q = ch.queue[i];
-      if (q.bursts_issued > 0) owner = i;
-      if (kFirstReady && q.bank == r.bank && b.open && b.row == q.row) hit_pending = true;
-    }
+    const Holders holders = holders_among(ch, added);  // the requests before it
+    const bool hit_pending = (holders.hit_banks >> r.bank) & 1;
     const bool hit = b.open && b.row == r.row;
     if (kFirstReady && hit && !hit_pending && before.cycle != kDramNever &&
         before.command == DramCommand::kPrecharge && before.bank == r.bank)
       return choose(ch);
-    const Holders holders{uint64_t(hit_pending) << r.bank, owner,
-                          owner != ch.queue.size() ? ch.queue[owner].bank : 0};
     const uint64_t key = proposal_key(ch, channel_stamps(ch), added, holders);
     // The pick before wins a tie of key and arrival: it is older in the queue.
     const bool better =
@@ -84,6 +69,19 @@ class QueueScheduler final : public DramScheduler {
     uint32_t owner_bank;
   };
   static constexpr uint64_t kHeld = ~uint64_t(0);  // the key of a proposal held back
+
+  // The holders among the queue's first `count` requests.
+  static Holders holders_among(const DramChannel& ch, size_t count) {
+    uint64_t hit_banks = 0;          // DramConfig: at most 64 banks
+    size_t owner = ch.queue.size();  // none
+    for (size_t i = 0; i < count; ++i) {
+      const DramRequest& r = ch.queue[i];
+      const DramBank& b = ch.banks[r.bank];
+      hit_banks |= uint64_t(b.open & (b.row == r.row)) << r.bank;
+      owner = r.bursts_issued > 0 ? i : owner;
+    }
+    return Holders{hit_banks, owner, owner != ch.queue.size() ? ch.queue[owner].bank : 0};
+  }
 
   // The command request `r` needs next: RD or WR on a row hit, PRE on another open row, else ACT.
   static DramCommand next_command(const DramBank& b, const DramRequest& r) {
